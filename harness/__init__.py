@@ -1,0 +1,1 @@
+"""Validation harness: lecture derivations of *Mathematical Modeling* against Pinocchio and MuJoCo."""

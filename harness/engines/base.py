@@ -1,0 +1,137 @@
+"""What every engine adapter takes (a :class:`State`) and gives (an :class:`Evaluation`), and the map of
+tree-joint quantities to lecture coordinates by virtual work (5.58)-(5.60)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
+
+from harness.compile import compiled
+from harness.errors import InputError
+from harness.export.numeric import NumericTree, instantiate
+from harness.model import System
+
+
+@dataclass(frozen=True)
+class State:
+    """A system at ``(q, q̇)`` with parameter values and inputs, all in lecture coordinates and names."""
+
+    system: System
+    q: np.ndarray
+    qd: np.ndarray
+    params: dict
+    u: dict
+
+    @staticmethod
+    def make(system: System, q, qd=None, params: dict | None = None, u: dict | None = None) -> "State":
+        n = len(system.coordinates)
+        qd = np.zeros(n) if qd is None else qd
+        names = ", ".join(c.name for c in system.coordinates)
+        for label, vec in (("q", q), ("qd", qd)):
+            if len(vec) != n:
+                raise InputError(f"{system.name}: --{label} needs {n} value(s) ({names}), got {len(vec)}")
+            if not all(math.isfinite(float(v)) for v in vec):
+                raise InputError(f"{system.name}: --{label} must be finite numbers, got {list(vec)}")
+        values = system.default_parameters()
+        for name, value in (params or {}).items():
+            system.parameter(name).check(float(value))
+            values[name] = float(value)
+        inputs = {i.name: 0.0 for i in system.inputs}
+        for name, value in (u or {}).items():
+            if name not in inputs:
+                known = ", ".join(inputs) or "none"
+                raise InputError(f"{system.name}: unknown input {name!r} (inputs: {known})")
+            if not math.isfinite(float(value)):
+                raise InputError(f"{system.name}: input {name} must be finite")
+            inputs[name] = float(value)
+        return State(system, np.asarray(q, dtype=float), np.asarray(qd, dtype=float), values, inputs)
+
+    @property
+    def p(self) -> np.ndarray:
+        return np.array([self.params[p.name] for p in self.system.parameters])
+
+    @property
+    def u_vec(self) -> np.ndarray:
+        return np.array([self.u[i.name] for i in self.system.inputs])
+
+    @cached_property
+    def tree(self) -> NumericTree:
+        return instantiate(self.system, self.params)
+
+    # ----- the map theta = phi(q)
+    @cached_property
+    def _map(self):
+        c = compiled(self.system)
+        args = (self.q, self.qd, self.p, self.u_vec)
+        return c("phi", *args).ravel(), c("J_phi", *args), c("J_phi_dot", *args)
+
+    @property
+    def theta(self) -> np.ndarray:
+        return self._map[0]
+
+    @property
+    def J(self) -> np.ndarray:
+        """``J = ∂phi/∂q``."""
+        return self._map[1]
+
+    @property
+    def J_dot(self) -> np.ndarray:
+        return self._map[2]
+
+    @property
+    def theta_dot(self) -> np.ndarray:
+        return self.J @ self.qd
+
+
+@dataclass
+class Evaluation:
+    """Quantities in lecture coordinates. ``C`` is the Christoffel C where the engine gives it, else None.
+    ``calls`` names the engine calls that produced the numbers."""
+
+    engine: str
+    M: np.ndarray
+    Cqd: np.ndarray
+    g: np.ndarray
+    g_gravity: np.ndarray
+    g_spring: np.ndarray
+    f_damper: np.ndarray
+    qdd: np.ndarray
+    C: np.ndarray | None = None
+    extra: dict = field(default_factory=dict)
+    calls: dict = field(default_factory=dict)
+
+
+@dataclass
+class TreeQuantities:
+    """An engine's numbers in its own tree joint coordinates ``theta`` (ordered as ``System.joints``)."""
+
+    M: np.ndarray                  # M_theta
+    Cqd: np.ndarray                # (C theta_dot)_theta
+    g_gravity: np.ndarray
+    g_spring: np.ndarray           # = -(spring generalized forces)
+    f_damper: np.ndarray
+    tau_input: np.ndarray          # generalized forces of the inputs
+    qdd: np.ndarray | None         # theta_ddot from the engine's forward dynamics with the inputs
+    C: np.ndarray | None = None    # Christoffel C_theta, = ½ ∂(C theta_dot)/∂theta_dot
+    extra: dict = field(default_factory=dict)
+    calls: dict = field(default_factory=dict)
+
+
+def to_lecture(engine: str, state: State, t: TreeQuantities) -> Evaluation:
+    """Bring tree-joint quantities to lecture coordinates with ``J = ∂phi/∂q`` (5.58)-(5.60):
+    ``M_q = Jᵀ M J``, ``(C q̇)_q = Jᵀ (M J̇ q̇ + C θ̇)``, ``g_q = Jᵀ g``, ``C_q = Jᵀ (M J̇ + C_θ J)``.
+    Forward dynamics: ``q̈ = J⁻¹ (θ̈ − J̇ q̇)`` when the map is square, else solved from the mapped terms."""
+    J, Jd, qd = state.J, state.J_dot, state.qd
+    M = J.T @ t.M @ J
+    Cqd = J.T @ (t.M @ (Jd @ qd) + t.Cqd)
+    g_gravity, g_spring, f_damper = J.T @ t.g_gravity, J.T @ t.g_spring, J.T @ t.f_damper
+    C = None if t.C is None else J.T @ (t.M @ Jd + t.C @ J)
+    if t.qdd is not None and J.shape[0] == J.shape[1]:
+        qdd = np.linalg.solve(J, t.qdd - Jd @ qd)
+    else:  # more tree joints than lecture coordinates: the map is a constraint; (5.93) in q
+        qdd = np.linalg.solve(M, J.T @ t.tau_input + f_damper - Cqd - g_gravity - g_spring)
+    return Evaluation(engine, M, Cqd, g_gravity + g_spring, g_gravity, g_spring, f_damper, qdd, C,
+                      extra=dict(t.extra), calls=dict(t.calls))

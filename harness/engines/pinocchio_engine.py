@@ -1,0 +1,114 @@
+"""Pinocchio, loading our URDF. Every number comes from a named Pinocchio call; springs, dampers and
+inputs are evaluated from Pinocchio's own frames and Jacobians (``framesForwardKinematics``,
+``computeFrameJacobian``), never from the symbolic model."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+
+from harness.engines.base import State, TreeQuantities, to_lecture
+from harness.errors import EngineError
+from harness.export.numeric import NumericTree
+from harness.export.urdf import urdf_string
+
+LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+
+
+class PinocchioModel:
+    """A Pinocchio model of one :class:`NumericTree` with the index maps to our joint order."""
+
+    def __init__(self, tree: NumericTree, urdf: str | None = None):
+        self.tree = tree
+        self.model = pin.buildModelFromXML(urdf if urdf is not None else urdf_string(tree))
+        self.model.gravity.linear = np.asarray(tree.gravity, dtype=float)
+        self.data = self.model.createData()
+        self.model_no_gravity = self.model.copy()
+        self.model_no_gravity.gravity.linear = np.zeros(3)
+        self.data_no_gravity = self.model_no_gravity.createData()
+        if self.model.nq != self.model.nv:
+            raise EngineError(f"{tree.system}: Pinocchio model has nq != nv (continuous joints?)")
+        self.index = []
+        for j in tree.joints:
+            if not self.model.existJointName(j.name):
+                raise EngineError(f"{tree.system}: joint {j.name} missing in the Pinocchio model")
+            self.index.append(self.model.joints[self.model.getJointId(j.name)].idx_v)
+        self.frames = {p.name: self.model.getFrameId(p.name) for p in tree.points}
+
+    def to_pin(self, theta):
+        v = np.zeros(self.model.nv)
+        v[self.index] = theta
+        return v
+
+    def from_pin(self, v):
+        return np.asarray(v)[self.index]
+
+    def from_pin_matrix(self, A):
+        return np.asarray(A)[np.ix_(self.index, self.index)]
+
+    def point_forces(self, q, v):
+        """Generalized forces of tendons (springs/dampers between points) and joint springs/dampers,
+        from Pinocchio's frame placements and frame Jacobians: ``Σ J_bᵀ f − J_aᵀ f``."""
+        model, data = self.model, self.data
+        pin.computeJointJacobians(model, data, q)
+        pin.framesForwardKinematics(model, data, q)
+        f_spring = np.zeros(model.nv)
+        f_damper = np.zeros(model.nv)
+        for name, a, b, stiffness, rest, damping in self.tree.tendons:
+            fa, fb = self.frames[a], self.frames[b]
+            r = data.oMf[fb].translation - data.oMf[fa].translation
+            length = np.linalg.norm(r)
+            e = r / length
+            J = pin.getFrameJacobian(model, data, fb, LWA)[:3] - pin.getFrameJacobian(model, data, fa, LWA)[:3]
+            length_rate = e @ (J @ v)
+            f_spring += J.T @ (-stiffness * (length - rest) * e)
+            f_damper += J.T @ (-damping * length_rate * e)
+        for joint, (stiffness, rest) in self.tree.joint_stiffness.items():
+            k = self.index[[j.name for j in self.tree.joints].index(joint)]
+            f_spring[k] += -stiffness * (q[k] - rest)
+        for joint, damping in self.tree.joint_damping.items():
+            k = self.index[[j.name for j in self.tree.joints].index(joint)]
+            f_damper[k] += -damping * v[k]
+        return f_spring, f_damper
+
+    def input_forces(self, u: dict):
+        tau = np.zeros(self.model.nv)
+        names = [j.name for j in self.tree.joints]
+        for input_name, joint in self.tree.actuators:
+            tau[self.index[names.index(joint)]] += u[input_name]
+        return tau
+
+    def quantities(self, theta, theta_dot, u: dict) -> TreeQuantities:
+        model, data = self.model, self.data
+        q, v = self.to_pin(theta), self.to_pin(theta_dot)
+        M = pin.crba(model, data, q)
+        M = np.triu(M) + np.triu(M, 1).T
+        g_gravity = pin.computeGeneralizedGravity(model, data, q).copy()
+        Cqd = pin.nonLinearEffects(model, data, q, v) - g_gravity
+        C_pin = pin.computeCoriolisMatrix(model, data, q, v).copy()
+        _, dtau_dv, _ = pin.computeRNEADerivatives(self.model_no_gravity, self.data_no_gravity, q, v,
+                                                   np.zeros(model.nv))
+        C_christoffel = 0.5 * np.asarray(dtau_dv)
+        f_spring, f_damper = self.point_forces(q, v)
+        tau_input = self.input_forces(u)
+        qdd = pin.aba(model, data, q, v, tau_input + f_spring + f_damper).copy()
+        return TreeQuantities(
+            M=self.from_pin_matrix(M), Cqd=self.from_pin(Cqd), g_gravity=self.from_pin(g_gravity),
+            g_spring=-self.from_pin(f_spring), f_damper=self.from_pin(f_damper),
+            tau_input=self.from_pin(tau_input), qdd=self.from_pin(qdd),
+            C=self.from_pin_matrix(C_christoffel),
+            extra={"C_coriolis_matrix": self.from_pin_matrix(C_pin)},
+            calls={"M": "pin.crba", "Cqd": "pin.nonLinearEffects - pin.computeGeneralizedGravity",
+                   "g": "pin.computeGeneralizedGravity + frame-Jacobian springs",
+                   "C": "0.5 * pin.computeRNEADerivatives(g=0, a=0).dtau_dv",
+                   "C_coriolis_matrix": "pin.computeCoriolisMatrix",
+                   "qdd": "pin.aba(tau = inputs + springs + dampers)"})
+
+
+def evaluate(state: State, model: PinocchioModel | None = None):
+    model = model or PinocchioModel(state.tree)
+    t = model.quantities(state.theta, state.theta_dot, state.u)
+    evaluation = to_lecture("pinocchio", state, t)
+    J = state.J
+    evaluation.extra["C_coriolis_matrix"] = J.T @ (t.M @ state.J_dot + t.extra["C_coriolis_matrix"] @ J)
+    return evaluation

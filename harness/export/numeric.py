@@ -1,0 +1,128 @@
+"""A system's kinematic tree with numbers in place of parameters: what the exporters write and what the
+round-trip check expects the engines to load."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import sympy as sp
+
+from harness.errors import ModelError
+from harness.model import WORLD, Damper, JointDamper, JointSpring, Point, Spring, System
+
+# MuJoCo refuses moving bodies whose mass or inertia is below mjMINVAL = 1e-15. A point mass (zero inertia
+# tensor about its centre of mass) is exported to MJCF with this isotropic inertia instead; it changes M by
+# at most 1e-14 kg m², far below the float64 tolerance for the parameter ranges used (M ≥ 1e-3 kg m²).
+MUJOCO_POINT_MASS_INERTIA = 1e-14
+
+
+@dataclass(frozen=True)
+class NumericLink:
+    name: str
+    mass: float
+    com: np.ndarray            # centre of mass in the link frame
+    inertia: np.ndarray        # 3x3 about the centre of mass, link frame
+
+
+@dataclass(frozen=True)
+class NumericJoint:
+    name: str
+    type: str
+    parent: str
+    child: str
+    axis: np.ndarray
+    origin: np.ndarray
+    rpy: np.ndarray
+
+
+@dataclass(frozen=True)
+class NumericPoint:
+    name: str
+    link: str
+    position: np.ndarray
+
+
+@dataclass(frozen=True)
+class NumericTree:
+    system: str
+    links: tuple[NumericLink, ...]
+    joints: tuple[NumericJoint, ...]
+    points: tuple[NumericPoint, ...]
+    gravity: np.ndarray
+    joint_stiffness: dict      # joint -> (stiffness, rest)
+    joint_damping: dict        # joint -> damping
+    tendons: tuple             # (name, point a, point b, stiffness, rest length, damping)
+    actuators: tuple           # (input name, joint)
+
+
+def _value(expr, subs) -> float:
+    value = sp.sympify(expr).xreplace(subs)
+    if not value.is_number:
+        raise ModelError(f"cannot evaluate {expr} numerically (free symbols {value.free_symbols})")
+    return float(value)
+
+
+def point_name(point: Point) -> str:
+    return point.name or f"{point.link}_point"
+
+
+def instantiate(system: System, params: dict[str, float]) -> NumericTree:
+    """Substitute parameter values into the tree; checks that the inertia tensors are physical."""
+    subs = {system.parameter(k).symbol: sp.Float(v) for k, v in params.items()}
+    links = []
+    for link in system.links:
+        mass = _value(link.mass, subs)
+        com = np.array([_value(v, subs) for v in link.com_vector])
+        inertia = np.array(link.inertia.matrix.xreplace(subs).evalf(), dtype=float)
+        check_inertia(f"{system.name}: link {link.name}", mass, inertia)
+        links.append(NumericLink(link.name, mass, com, inertia))
+    joints = tuple(NumericJoint(j.name, j.type, j.parent, j.child, np.array(j.axis, dtype=float),
+                                np.array([_value(v, subs) for v in j.origin_vector]),
+                                np.array(j.rpy, dtype=float)) for j in system.joints)
+    points: dict[str, NumericPoint] = {}
+    tendons: dict[tuple, list] = {}
+    joint_stiffness, joint_damping, actuators = {}, {}, []
+    for f in system.forces:
+        for pt in (getattr(f, "a", None), getattr(f, "b", None), getattr(f, "point", None)):
+            if pt is not None:
+                points[point_name(pt)] = NumericPoint(point_name(pt), pt.link,
+                                                      np.array([_value(v, subs) for v in pt.vector]))
+        if isinstance(f, (Spring, Damper)):
+            key = (point_name(f.a), point_name(f.b))
+            entry = tendons.setdefault(key, [f.name, key[0], key[1], 0.0, 0.0, 0.0])
+            if isinstance(f, Spring):
+                entry[3], entry[4] = _value(f.stiffness, subs), _value(f.rest_length, subs)
+            else:
+                entry[5] = _value(f.damping, subs)
+        elif isinstance(f, JointSpring):
+            joint_stiffness[f.joint] = (_value(f.stiffness, subs), _value(f.rest, subs))
+        elif isinstance(f, JointDamper):
+            joint_damping[f.joint] = _value(f.damping, subs)
+        elif type(f).__name__ == "JointInput":
+            actuators.append((f.input, f.joint))
+    gravity = np.zeros(3)
+    if system.gravity is not None:
+        gravity = _value(system.gravity.g, subs) * np.array(system.gravity.direction, dtype=float)
+    return NumericTree(system.name, tuple(links), joints, tuple(points.values()), gravity, joint_stiffness,
+                       joint_damping, tuple(tuple(t) for t in tendons.values()), tuple(actuators))
+
+
+def check_inertia(where: str, mass: float, inertia: np.ndarray, atol: float = 1e-12) -> None:
+    """Mass non-negative; inertia symmetric, positive semi-definite, principal moments satisfying the
+    triangle inequality ``A + B >= C``."""
+    if not np.all(np.isfinite(inertia)) or not np.isfinite(mass):
+        raise ModelError(f"{where}: mass/inertia must be finite")
+    if mass < 0:
+        raise ModelError(f"{where}: mass {mass} must be non-negative")
+    if not np.allclose(inertia, inertia.T, atol=atol):
+        raise ModelError(f"{where}: inertia tensor must be symmetric")
+    moments = np.linalg.eigvalsh(inertia)
+    scale = max(abs(moments).max(), 1e-300)
+    if moments.min() < -atol * scale:
+        raise ModelError(f"{where}: inertia tensor is not positive (semi-)definite, principal moments {moments}")
+    a, b, c = sorted(moments)
+    if a + b < c * (1 - 1e-12) - atol * scale:
+        raise ModelError(f"{where}: principal moments {moments} violate the triangle inequality A + B >= C")
+    if mass == 0 and scale > 1e-300 and moments.max() > 0:
+        raise ModelError(f"{where}: a massless link cannot have rotational inertia")

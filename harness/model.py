@@ -1,0 +1,487 @@
+"""The modeling vocabulary: a lecture system described once, symbolically.
+
+A :class:`System` is composed of small value objects, in the lecture's words:
+
+* :class:`Parameter` – a lecture symbol with default value, unit and physical assumption;
+* :class:`Coordinate` – a lecture (generalized) coordinate ``q_j``;
+* :class:`Input` – an input ``u`` (motor torque, driving force) of the equations of motion;
+* :class:`Link` – a body-fixed coordinate system ``(0_k x_k y_k z_k)`` carrying an optional
+  rigid body (mass ``m``, centre of mass ``p_k^{s}``, inertia tensor ``I_k^{s}`` about the centre
+  of mass in the body frame, (5.13)); a point mass is a body with zero inertia tensor;
+* :class:`Joint` – an elementary joint of chapter 4: a fixed offset (homogeneous transformation
+  ``d``, ``R`` (4.21)) followed by a rotation about / translation along a body axis by the tree
+  joint coordinate ``theta``;
+* force elements – :class:`Spring`, :class:`Damper` (between two points), :class:`JointSpring`,
+  :class:`JointDamper`, :class:`JointInput` (acting on a tree joint), :class:`PointForce` and
+  :class:`BodyTorque` (external force / torque turned into generalized forces by (5.73));
+* the map ``theta = phi(q)`` from lecture coordinates to tree joint coordinates (``Joint.phi``).
+
+Nothing here derives anything: :mod:`harness.derive` does, following chapter 5.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from dataclasses import dataclass, field, fields
+from typing import Iterable
+
+import sympy as sp
+
+from harness.errors import ModelError
+
+WORLD = "world"
+
+Expr = sp.Expr | float | int
+
+
+def _sym(value) -> sp.Expr:
+    return sp.sympify(value)
+
+
+def _vec3(value, what: str) -> sp.Matrix:
+    m = sp.Matrix(value) if not isinstance(value, sp.MatrixBase) else sp.Matrix(value)
+    if m.shape not in ((3, 1), (1, 3)):
+        raise ModelError(f"{what} must have 3 components, got shape {m.shape}")
+    return m.reshape(3, 1)
+
+
+# --------------------------------------------------------------------------- symbols and values
+ASSUMPTIONS = ("positive", "nonnegative", "real")
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """A model parameter named as in the lecture (``m_1``, ``l_s1``, ``I_zz2``, ``c_e``)."""
+
+    name: str
+    default: float
+    unit: str
+    description: str
+    assumption: str = "positive"
+
+    def __post_init__(self):
+        if self.assumption not in ASSUMPTIONS:
+            raise ModelError(f"parameter {self.name}: assumption must be one of {ASSUMPTIONS}")
+        if not self.unit:
+            raise ModelError(f"parameter {self.name}: give a unit (use '1' for dimensionless)")
+        self.check(self.default)
+
+    @property
+    def symbol(self) -> sp.Symbol:
+        return sp.Symbol(self.name, **{self.assumption: True})
+
+    def check(self, value: float) -> None:
+        """Raise :class:`ModelError` when ``value`` violates this parameter's assumption."""
+        import math
+
+        if not isinstance(value, (int, float)) or not math.isfinite(value):
+            raise ModelError(f"parameter {self.name}={value!r}: must be a finite number")
+        if self.assumption == "positive" and not value > 0:
+            raise ModelError(f"parameter {self.name}={value}: must be positive ({self.description})")
+        if self.assumption == "nonnegative" and not value >= 0:
+            raise ModelError(f"parameter {self.name}={value}: must be non-negative ({self.description})")
+
+
+@dataclass(frozen=True)
+class Coordinate:
+    """A lecture (generalized) coordinate ``q_j`` and its unit (``rad`` or ``m``)."""
+
+    name: str
+    unit: str
+    description: str
+
+    @property
+    def symbol(self) -> sp.Symbol:
+        return sp.Symbol(self.name, real=True)
+
+    @property
+    def rate(self) -> sp.Symbol:
+        """The symbol of the generalized velocity ``q̇_j``."""
+        return sp.Symbol(f"{self.name}_dot", real=True)
+
+
+@dataclass(frozen=True)
+class Input:
+    """An input of the equations of motion (motor torque ``tau_1``, driving force ``f_e``)."""
+
+    name: str
+    unit: str
+    description: str
+
+    @property
+    def symbol(self) -> sp.Symbol:
+        return sp.Symbol(self.name, real=True)
+
+
+# --------------------------------------------------------------------------- bodies and joints
+@dataclass(frozen=True)
+class Inertia:
+    """Inertia tensor about the centre of mass, in the body-fixed frame (5.13), symmetric."""
+
+    xx: Expr
+    yy: Expr
+    zz: Expr
+    xy: Expr = 0
+    xz: Expr = 0
+    yz: Expr = 0
+
+    @property
+    def matrix(self) -> sp.Matrix:
+        s = [_sym(v) for v in (self.xx, self.yy, self.zz, self.xy, self.xz, self.yz)]
+        return sp.Matrix([[s[0], s[3], s[4]], [s[3], s[1], s[5]], [s[4], s[5], s[2]]])
+
+    @staticmethod
+    def zero() -> "Inertia":
+        return Inertia(0, 0, 0)
+
+    @staticmethod
+    def cuboid(m: Expr, a: Expr, b: Expr, c: Expr) -> "Inertia":
+        """Homogeneous cuboid of mass ``m`` with edges ``a``, ``b``, ``c`` along x, y, z (3.128)."""
+        m, a, b, c = map(_sym, (m, a, b, c))
+        return Inertia(m * (b**2 + c**2) / 12, m * (a**2 + c**2) / 12, m * (a**2 + b**2) / 12)
+
+
+@dataclass(frozen=True)
+class Link:
+    """A body-fixed frame; with ``mass`` it carries a rigid body (or a point mass at ``com``)."""
+
+    name: str
+    mass: Expr = 0
+    com: tuple = (0, 0, 0)
+    inertia: Inertia = field(default_factory=Inertia.zero)
+    description: str = ""
+
+    @property
+    def com_vector(self) -> sp.Matrix:
+        return _vec3(self.com, f"link {self.name}: com")
+
+    @property
+    def has_mass(self) -> bool:
+        return _sym(self.mass) != 0
+
+    @property
+    def is_point_mass(self) -> bool:
+        return self.has_mass and self.inertia.matrix.is_zero_matrix
+
+
+JOINT_TYPES = ("revolute", "prismatic")
+_AXES = {"x": (1, 0, 0), "y": (0, 1, 0), "z": (0, 0, 1)}
+
+
+@dataclass(frozen=True)
+class Joint:
+    """An elementary joint: ``H_parent^child = H(origin, rpy) · H_axis(theta)`` (4.21), (4.9).
+
+    ``phi`` is this tree joint's coordinate as a function of the lecture coordinates,
+    ``theta = phi(q)``; by default the lecture coordinate with the joint's name (identity map).
+    """
+
+    name: str
+    type: str
+    parent: str
+    child: str
+    axis: tuple = (0, 0, 1)
+    origin: tuple = (0, 0, 0)
+    rpy: tuple = (0, 0, 0)
+    phi: Expr | None = None
+
+    def __post_init__(self):
+        if self.type not in JOINT_TYPES:
+            raise ModelError(f"joint {self.name}: type must be one of {JOINT_TYPES}, got {self.type!r}")
+        if isinstance(self.axis, str):
+            object.__setattr__(self, "axis", _AXES[self.axis])
+        a = [float(v) for v in self.axis]
+        if abs(sum(v * v for v in a) - 1.0) > 1e-12:
+            raise ModelError(f"joint {self.name}: axis {self.axis} must be a unit vector")
+        if any(not _sym(v).is_number for v in self.rpy):
+            raise ModelError(f"joint {self.name}: rpy must be numbers (they are exported as such)")
+
+    @property
+    def theta(self) -> sp.Symbol:
+        """The tree joint coordinate ``theta`` (the engines' coordinate)."""
+        return sp.Symbol(f"theta_{self.name}", real=True)
+
+    @property
+    def axis_vector(self) -> sp.Matrix:
+        return sp.Matrix([sp.nsimplify(v) for v in self.axis])
+
+    @property
+    def origin_vector(self) -> sp.Matrix:
+        return _vec3(self.origin, f"joint {self.name}: origin")
+
+
+# --------------------------------------------------------------------------- force elements
+@dataclass(frozen=True)
+class Point:
+    """A point fixed in a link frame (``WORLD`` for the inertial frame), e.g. ``p_2^{e2}``."""
+
+    link: str
+    position: tuple = (0, 0, 0)
+    name: str = ""
+
+    @property
+    def vector(self) -> sp.Matrix:
+        return _vec3(self.position, f"point {self.name or self.link}")
+
+
+@dataclass(frozen=True)
+class Gravity:
+    """Gravity ``g`` along the unit vector ``e_g`` (5.20): ``V = -m g e_g^T p_0^S``."""
+
+    g: Expr
+    direction: tuple = (0, 0, -1)
+
+
+@dataclass(frozen=True)
+class Spring:
+    """Linear spring between two points, ``V = c/2 (|r| - s_0)^2`` (3.84)."""
+
+    name: str
+    a: Point
+    b: Point
+    stiffness: Expr
+    rest_length: Expr = 0
+
+
+@dataclass(frozen=True)
+class Damper:
+    """Linear damper between two points acting along their connecting line:
+    ``f = -d (d|r|/dt) r/|r|`` on ``b`` (and its reaction on ``a``), (3.88)."""
+
+    name: str
+    a: Point
+    b: Point
+    damping: Expr
+
+
+@dataclass(frozen=True)
+class JointSpring:
+    """Torsion/linear spring on a tree joint, ``V = c/2 (theta - theta_0)^2``."""
+
+    name: str
+    joint: str
+    stiffness: Expr
+    rest: Expr = 0
+
+
+@dataclass(frozen=True)
+class JointDamper:
+    """Viscous friction in a tree joint, generalized force ``-d theta_dot`` on that joint."""
+
+    name: str
+    joint: str
+    damping: Expr
+
+
+@dataclass(frozen=True)
+class JointInput:
+    """An input acting on a tree joint (motor torque between the two links, or axial force)."""
+
+    name: str
+    joint: str
+    input: str
+
+
+@dataclass(frozen=True)
+class PointForce:
+    """External force ``f^e`` at a point; components in ``frame`` (world or a link: follower force).
+    Generalized force by (5.73): ``f_q = J_v^T f^e``."""
+
+    name: str
+    point: Point
+    force: tuple
+    frame: str = WORLD
+
+
+@dataclass(frozen=True)
+class BodyTorque:
+    """External torque ``tau^e`` on a link, components in ``frame``; ``f_q = J_omega^T tau^e`` (5.73)."""
+
+    name: str
+    link: str
+    torque: tuple
+    frame: str = WORLD
+
+
+ForceElement = Spring | Damper | JointSpring | JointDamper | JointInput | PointForce | BodyTorque
+
+
+# --------------------------------------------------------------------------- the system
+@dataclass(frozen=True)
+class System:
+    """One lecture system, modeled once."""
+
+    name: str
+    title: str
+    lecture: str
+    parameters: tuple[Parameter, ...]
+    coordinates: tuple[Coordinate, ...]
+    links: tuple[Link, ...]
+    joints: tuple[Joint, ...]
+    gravity: Gravity | None = None
+    forces: tuple = ()
+    inputs: tuple[Input, ...] = ()
+    doc: str = ""
+    status: str = "modeled"
+
+    def __post_init__(self):
+        validate(self)
+
+    # ----- lookups
+    @property
+    def q(self) -> list[sp.Symbol]:
+        return [c.symbol for c in self.coordinates]
+
+    @property
+    def qd(self) -> list[sp.Symbol]:
+        return [c.rate for c in self.coordinates]
+
+    @property
+    def p(self) -> list[sp.Symbol]:
+        return [p.symbol for p in self.parameters]
+
+    @property
+    def u(self) -> list[sp.Symbol]:
+        return [i.symbol for i in self.inputs]
+
+    @property
+    def theta(self) -> list[sp.Symbol]:
+        return [j.theta for j in self.joints]
+
+    @property
+    def phi(self) -> sp.Matrix:
+        """``theta = phi(q)``, one row per tree joint."""
+        return sp.Matrix([sp.sympify(j.phi) if j.phi is not None else sp.Symbol(j.name, real=True)
+                          for j in self.joints])
+
+    def link(self, name: str) -> Link:
+        for link in self.links:
+            if link.name == name:
+                return link
+        raise ModelError(f"{self.name}: no link named {name!r}")
+
+    def joint(self, name: str) -> Joint:
+        for joint in self.joints:
+            if joint.name == name:
+                return joint
+        raise ModelError(f"{self.name}: no joint named {name!r}")
+
+    def parameter(self, name: str) -> Parameter:
+        for p in self.parameters:
+            if p.name == name:
+                return p
+        known = ", ".join(p.name for p in self.parameters)
+        raise ModelError(f"{self.name}: unknown parameter {name!r} (known: {known})")
+
+    def joint_of_link(self, link: str) -> Joint | None:
+        for joint in self.joints:
+            if joint.child == link:
+                return joint
+        return None
+
+    def chain(self, link: str) -> list[Joint]:
+        """Joints from the world to ``link`` (root first)."""
+        out = []
+        while link != WORLD:
+            joint = self.joint_of_link(link)
+            if joint is None:
+                raise ModelError(f"{self.name}: link {link!r} is attached to nothing")
+            out.append(joint)
+            link = joint.parent
+        return out[::-1]
+
+    def default_parameters(self) -> dict[str, float]:
+        return {p.name: float(p.default) for p in self.parameters}
+
+    def fingerprint(self) -> str:
+        """A hash of everything that defines the model (keys the derivation cache)."""
+        return hashlib.sha256(_canonical(self).encode()).hexdigest()[:20]
+
+
+def _canonical(obj) -> str:
+    if isinstance(obj, (sp.Basic, sp.MatrixBase)):
+        return sp.srepr(obj)
+    if isinstance(obj, (list, tuple)):
+        return "(" + ",".join(_canonical(o) for o in obj) + ")"
+    if hasattr(obj, "__dataclass_fields__"):
+        inner = ",".join(f"{f.name}={_canonical(getattr(obj, f.name))}" for f in fields(obj))
+        return f"{type(obj).__name__}({inner})"
+    return repr(obj)
+
+
+# --------------------------------------------------------------------------- validation
+def _undeclared(exprs: Iterable, declared: set) -> list[str]:
+    """Names of symbols in ``exprs`` that are not the declared symbols (same name *and* assumptions)."""
+    used: set = set()
+    for e in exprs:
+        used |= sp.sympify(e).free_symbols
+    return sorted(s.name for s in used - declared)
+
+
+def validate(system: System) -> None:
+    """Catch modeling mistakes when the model is loaded; each message names the field and the fix."""
+    where = f"model {system.name}"
+    pnames = [p.name for p in system.parameters]
+    qnames = [c.name for c in system.coordinates]
+    unames = [i.name for i in system.inputs]
+    for kind, names in (("parameter", pnames), ("coordinate", qnames), ("input", unames)):
+        dup = {n for n in names if names.count(n) > 1}
+        if dup:
+            raise ModelError(f"{where}: duplicate {kind} name(s) {sorted(dup)}")
+    link_names = [link.name for link in system.links]
+    if WORLD in link_names:
+        raise ModelError(f"{where}: do not declare a link named {WORLD!r}; it is the inertial frame")
+    children = [j.child for j in system.joints]
+    for link in link_names:
+        if children.count(link) != 1:
+            raise ModelError(f"{where}: link {link!r} must be the child of exactly one joint "
+                             f"(found {children.count(link)}); attach it with a Joint")
+    known_links = set(link_names) | {WORLD}
+    for j in system.joints:
+        if j.parent not in known_links or j.child not in known_links:
+            raise ModelError(f"{where}: joint {j.name} connects unknown link(s) {j.parent!r} -> {j.child!r}")
+    for link in link_names:
+        system.chain(link)  # raises on a cycle-free chain that does not reach the world
+        if len(system.chain(link)) > len(system.joints):
+            raise ModelError(f"{where}: the joints form a loop through {link!r}")
+    static = set(system.p)
+    for link in system.links:
+        bad = _undeclared([link.mass, *link.com, *link.inertia.matrix], static)
+        if bad:
+            raise ModelError(f"{where}: link {link.name} uses undeclared symbol(s) {bad}; "
+                             f"declare them as Parameter and use Parameter.symbol")
+    for j in system.joints:
+        bad = _undeclared([*j.origin], static)
+        if bad:
+            raise ModelError(f"{where}: joint {j.name} origin uses undeclared symbol(s) {bad}")
+    phi = system.phi
+    bad = _undeclared(list(phi), static | set(system.q))
+    if bad:
+        raise ModelError(f"{where}: theta = phi(q) uses {bad}, which are neither coordinates "
+                         f"nor parameters; set Joint.phi for every joint whose name is not a coordinate")
+    for f in system.forces:
+        values = [getattr(f, a) for a in ("stiffness", "rest_length", "damping", "rest") if hasattr(f, a)]
+        values += list(getattr(f, "force", ())) + list(getattr(f, "torque", ()))
+        values += [*getattr(getattr(f, "a", None), "position", ()), *getattr(getattr(f, "b", None), "position", ()),
+                   *getattr(getattr(f, "point", None), "position", ())]
+        bad = _undeclared(values, static | set(system.q) | set(system.qd) | set(system.u))
+        if bad:
+            raise ModelError(f"{where}: force {f.name} uses undeclared symbol(s) {bad}")
+    jac = phi.jacobian(system.q)
+    if jac.shape != (len(system.joints), len(system.coordinates)):
+        raise ModelError(f"{where}: map Jacobian has shape {jac.shape}")
+    for f in system.forces:
+        for attr in ("a", "b", "point"):
+            pt = getattr(f, attr, None)
+            if pt is not None and pt.link not in known_links:
+                raise ModelError(f"{where}: force {f.name} is attached to unknown link {pt.link!r}")
+        if isinstance(f, (JointSpring, JointDamper, JointInput)):
+            system.joint(f.joint)
+        if isinstance(f, JointInput) and f.input not in unames:
+            raise ModelError(f"{where}: force {f.name} uses undeclared input {f.input!r}")
+    if system.gravity is not None:
+        d = [float(v) for v in system.gravity.direction]
+        if abs(sum(v * v for v in d) - 1.0) > 1e-12:
+            raise ModelError(f"{where}: gravity direction e_g must be a unit vector")
+    if not any(link.has_mass for link in system.links):
+        raise ModelError(f"{where}: no link has mass")

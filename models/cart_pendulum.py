@@ -1,0 +1,52 @@
+"""Cart with pendulum, Exercise 5.2 (Figure 5.7), solution (5.92).
+
+A cart of mass ``m_W`` moves along ``e_x`` (position ``s``), held by a linear spring (``c_W``, relaxed
+length ``s_W0``) to the inertial frame: the spring's potential is ``c_W/2 (s - s_W0)²``, modeled as a spring
+on the cart's prismatic joint. Viscous friction ``f_R = -d_R ṡ`` and the driving force ``f^e`` act on the
+cart. A homogeneous cuboid rod (density ``rho_S``, length ``l_S``, width ``b_S``, height ``h_S``) hangs from a
+frictionless pivot on the cart; ``phi`` is measured from the downward vertical, gravity acts in ``-e_y``.
+Its mass is ``m_S = rho_S l_S b_S h_S`` and its inertia about the centre of mass ``I_zz^S = m_S (l_S² + b_S²)/12``
+(3.128); the centre of mass lies at ``l_S/2`` from the pivot.
+"""
+
+from harness.model import (Coordinate, Gravity, Inertia, Input, Joint, JointDamper, JointInput, JointSpring,
+                           Link, Parameter, System, WORLD)
+
+m_W = Parameter("m_W", 5.0, "kg", "mass of the cart")
+c_W = Parameter("c_W", 100.0, "N/m", "spring constant of the cart's spring")
+s_W0 = Parameter("s_W0", 0.2, "m", "relaxed length of the cart's spring", assumption="real")
+d_R = Parameter("d_R", 2.0, "N s/m", "viscous friction coefficient of the cart")
+rho_S = Parameter("rho_S", 2700.0, "kg/m^3", "density of the pendulum rod")
+l_S = Parameter("l_S", 0.6, "m", "length of the pendulum rod")
+b_S = Parameter("b_S", 0.04, "m", "width of the pendulum rod (in the plane of motion)")
+h_S = Parameter("h_S", 0.02, "m", "height of the pendulum rod (normal to the plane)")
+g = Parameter("g", 9.81, "m/s^2", "acceleration due to gravity")
+
+m_S = rho_S.symbol * l_S.symbol * b_S.symbol * h_S.symbol
+
+SYSTEM = System(
+    name="cart_pendulum",
+    title="Cart with pendulum",
+    lecture="Exercise 5.2; (5.92)",
+    parameters=(m_W, c_W, s_W0, d_R, rho_S, l_S, b_S, h_S, g),
+    coordinates=(Coordinate("s", "m", "position of the cart"),
+                 Coordinate("phi", "rad", "angle of the rod from the downward vertical")),
+    links=(
+        Link("cart", m_W.symbol, (0, 0, 0), Inertia.cuboid(m_W.symbol, 0.4, 0.2, 0.2),
+             description="the cart; its rotational inertia never enters (it only translates)"),
+        Link("rod", m_S, (0, -l_S.symbol / 2, 0), Inertia.cuboid(m_S, b_S.symbol, l_S.symbol, h_S.symbol),
+             description="homogeneous cuboid rod, long axis along -y of its frame"),
+    ),
+    joints=(
+        Joint("s", "prismatic", WORLD, "cart", axis="x"),
+        Joint("phi", "revolute", "cart", "rod", axis="z"),
+    ),
+    gravity=Gravity(g.symbol, (0, -1, 0)),
+    inputs=(Input("f_e", "N", "driving force on the cart"),),
+    forces=(
+        JointSpring("spring_W", "s", c_W.symbol, s_W0.symbol),
+        JointDamper("friction_R", "s", d_R.symbol),
+        JointInput("drive", "s", "f_e"),
+    ),
+    doc=__doc__,
+)

@@ -1,0 +1,69 @@
+"""Planar manipulator, Examples 4.1, 4.3, 5.1 and 5.5 (Figures 4.7, 5.2, 5.9).
+
+Two links rotate about ``z``: link 1 by ``phi_1`` about the origin, link 2 by the *relative* angle
+``phi_2`` about the end of link 1 (``d_1^2 = [l_1, 0, 0]``, (4.33)). Centres of mass at ``p_1^{s1} =
+[l_s1, 0, 0]``, ``p_2^{s2} = [l_s2, 0, 0]``, end effector at ``p_2^{e2} = [l_2, 0, 0]`` (4.34). The links'
+inertia tensors about their centres of mass are diagonal in the body frames (5.24). Gravity acts in
+``e_g = [0, -1, 0]`` (5.28).
+
+A linear spring (``c_e``, ``s_0e``) and a linear damper (``d_e``) connect the end effector with the fixed
+bearing ``A`` at ``p_0^A = [l_0A, h_0A, 0]`` (5.29). Both act along the line between the two points, as a
+spring/damper element does (the spring's potential uses the length ``|r_e|``). Note: (5.109) writes the
+damper force as ``d_e ṙ_e`` (the full relative velocity, not only its component along ``r_e``); the harness
+models the axial element and reports (5.109)/(5.110) against it. Viscous friction ``d_2`` acts in joint 2,
+motor torques ``tau_1``, ``tau_2`` in joints 1 and 2 (5.111).
+"""
+
+from harness.model import (Coordinate, Damper, Gravity, Inertia, Input, Joint, JointDamper, JointInput, Link,
+                           Parameter, Point, Spring, System, WORLD)
+
+m_1 = Parameter("m_1", 2.0, "kg", "mass of link 1")
+m_2 = Parameter("m_2", 1.5, "kg", "mass of link 2")
+l_1 = Parameter("l_1", 1.0, "m", "length of link 1")
+l_2 = Parameter("l_2", 0.8, "m", "length of link 2")
+l_s1 = Parameter("l_s1", 0.5, "m", "joint 1 to centre of mass of link 1")
+l_s2 = Parameter("l_s2", 0.4, "m", "joint 2 to centre of mass of link 2")
+I_xx1 = Parameter("I_xx1", 0.002, "kg m^2", "inertia of link 1 about x_1 through s1")
+I_yy1 = Parameter("I_yy1", 0.17, "kg m^2", "inertia of link 1 about y_1 through s1")
+I_zz1 = Parameter("I_zz1", 0.168, "kg m^2", "inertia of link 1 about z_1 through s1")
+I_xx2 = Parameter("I_xx2", 0.001, "kg m^2", "inertia of link 2 about x_2 through s2")
+I_yy2 = Parameter("I_yy2", 0.081, "kg m^2", "inertia of link 2 about y_2 through s2")
+I_zz2 = Parameter("I_zz2", 0.08, "kg m^2", "inertia of link 2 about z_2 through s2")
+c_e = Parameter("c_e", 50.0, "N/m", "stiffness of the spring end effector - A")
+s_0e = Parameter("s_0e", 0.5, "m", "relaxed length of the spring")
+d_e = Parameter("d_e", 5.0, "N s/m", "damping coefficient of the damper end effector - A")
+d_2 = Parameter("d_2", 0.3, "N m s/rad", "viscous friction in joint 2")
+l_0A = Parameter("l_0A", 1.2, "m", "x position of bearing A")
+h_0A = Parameter("h_0A", -0.6, "m", "y position of bearing A", assumption="real")
+g = Parameter("g", 9.81, "m/s^2", "acceleration due to gravity")
+
+end_effector = Point("link_2", (l_2.symbol, 0, 0), "e2")
+bearing_A = Point(WORLD, (l_0A.symbol, h_0A.symbol, 0), "A")
+
+SYSTEM = System(
+    name="planar_manipulator",
+    title="Planar manipulator",
+    lecture="Examples 4.1, 4.3, 5.1, 5.5; (4.35), (5.22)-(5.30), (5.109)-(5.112)",
+    parameters=(m_1, m_2, l_1, l_2, l_s1, l_s2, I_xx1, I_yy1, I_zz1, I_xx2, I_yy2, I_zz2,
+                c_e, s_0e, d_e, d_2, l_0A, h_0A, g),
+    coordinates=(Coordinate("phi_1", "rad", "angle of link 1 against x_0"),
+                 Coordinate("phi_2", "rad", "angle of link 2 relative to link 1")),
+    links=(
+        Link("link_1", m_1.symbol, (l_s1.symbol, 0, 0), Inertia(I_xx1.symbol, I_yy1.symbol, I_zz1.symbol)),
+        Link("link_2", m_2.symbol, (l_s2.symbol, 0, 0), Inertia(I_xx2.symbol, I_yy2.symbol, I_zz2.symbol)),
+    ),
+    joints=(
+        Joint("phi_1", "revolute", WORLD, "link_1", axis="z"),
+        Joint("phi_2", "revolute", "link_1", "link_2", axis="z", origin=(l_1.symbol, 0, 0)),
+    ),
+    gravity=Gravity(g.symbol, (0, -1, 0)),
+    inputs=(Input("tau_1", "N m", "motor torque in joint 1"), Input("tau_2", "N m", "motor torque in joint 2")),
+    forces=(
+        Spring("spring_e", bearing_A, end_effector, c_e.symbol, s_0e.symbol),
+        Damper("damper_e", bearing_A, end_effector, d_e.symbol),
+        JointDamper("friction_2", "phi_2", d_2.symbol),
+        JointInput("motor_1", "phi_1", "tau_1"),
+        JointInput("motor_2", "phi_2", "tau_2"),
+    ),
+    doc=__doc__,
+)
