@@ -1,6 +1,11 @@
 """MuJoCo, loading our MJCF. Every number comes from a named MuJoCo call or ``MjData`` field:
 ``mj_fullM`` (the dense mass matrix; MuJoCo 4 no longer keeps it in ``MjData.qM``), ``qfrc_bias``
-(at zero velocity: gravity alone), ``qfrc_spring``, ``qfrc_damper`` (tendons and joints), ``qacc``."""
+(at zero velocity: gravity alone), ``qfrc_spring``, ``qfrc_damper`` (tendons and joints), ``qacc``.
+
+MuJoCo has no Coriolis matrix. The Christoffel ``C = ½ ∂(C θ̇)/∂θ̇`` is obtained from ``qfrc_bias`` by
+polarization: ``b(v) = qfrc_bias(v) − qfrc_bias(0)`` is exactly quadratic in ``v``, so
+``C e_j = (b(v + s e_j) − b(v − s e_j)) / (4 s)`` holds for any step ``s`` with no truncation error, only
+round-off (not a finite-difference approximation)."""
 
 from __future__ import annotations
 
@@ -29,6 +34,25 @@ class MujocoModel:
         self.actuators = {name: mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_ACTUATOR, name)
                           for name, _ in tree.actuators}
 
+    def _bias(self, theta, velocity):
+        """``qfrc_bias`` (Coriolis, centrifugal and gravity) at one state, from ``mj_forward``."""
+        d = self.data_rest
+        d.qpos[self.qpos_index] = theta
+        d.qvel[:] = 0.0
+        d.qvel[self.dof_index] = velocity
+        mujoco.mj_forward(self.model, d)
+        return self._pick(d.qfrc_bias)
+
+    def christoffel(self, theta, theta_dot):
+        n = len(theta_dot)
+        step = max(1.0, float(np.max(np.abs(theta_dot))) if n else 1.0)
+        C = np.zeros((n, n))
+        for j in range(n):
+            e = np.zeros(n)
+            e[j] = step
+            C[:, j] = (self._bias(theta, theta_dot + e) - self._bias(theta, theta_dot - e)) / (4 * step)
+        return C
+
     def _pick(self, vec):
         return np.asarray(vec)[self.dof_index].copy()
 
@@ -43,15 +67,17 @@ class MujocoModel:
             mujoco.mj_forward(m, data)
         M = np.zeros((m.nv, m.nv))
         mujoco.mj_fullM(m, d, M)
+        gravity = self._pick(d0.qfrc_bias)
+        C = self.christoffel(theta, theta_dot)  # reuses data_rest
         tau_input = np.zeros(m.nv)
         tau_input[:] = d.qfrc_actuator
         if d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > 0:
             raise EngineError(f"{self.tree.system}: MuJoCo reported a bad qacc")
         return TreeQuantities(
-            M=M[np.ix_(self.dof_index, self.dof_index)], Cqd=self._pick(d.qfrc_bias - d0.qfrc_bias),
-            g_gravity=self._pick(d0.qfrc_bias), g_spring=-self._pick(d.qfrc_spring),
-            f_damper=self._pick(d.qfrc_damper), tau_input=self._pick(tau_input), qdd=self._pick(d.qacc),
-            calls={"M": "mj_fullM", "Cqd": "qfrc_bias(qvel) - qfrc_bias(qvel=0)", "g": "qfrc_bias(qvel=0) - qfrc_spring",
+            M=M[np.ix_(self.dof_index, self.dof_index)], Cqd=self._pick(d.qfrc_bias) - gravity,
+            g_gravity=gravity, g_spring=-self._pick(d.qfrc_spring),
+            f_damper=self._pick(d.qfrc_damper), tau_input=self._pick(tau_input), qdd=self._pick(d.qacc), C=C,
+            calls={"C": "polarization of qfrc_bias(qvel ± s e_j) / 4s", "M": "mj_fullM", "Cqd": "qfrc_bias(qvel) - qfrc_bias(qvel=0)", "g": "qfrc_bias(qvel=0) - qfrc_spring",
                    "f_damper": "qfrc_damper", "qdd": "mj_forward -> qacc"})
 
 

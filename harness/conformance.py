@@ -1,0 +1,187 @@
+"""Conformance checks of one system: our derivation against Pinocchio and MuJoCo on hypothesis states.
+
+Tolerance policy (the only one; never tuned per test)
+-----------------------------------------------------
+Every quantity is compared as ``max|X_engine − X_symbolic| / scale ≤ FLOAT64_RTOL · amplification``.
+
+* ``FLOAT64_RTOL = 1e-12``: all three evaluate the same closed-form quantities in float64 (machine epsilon
+  2.2e-16) with at most a few thousand operations for these trees; a few hundred ulps of round-off stay
+  well below 1e-12 of the quantity's scale, while any modeling or export mistake (a moved centre of
+  mass, a wrong axis, a missing term) shows up at 1e-6 or larger.
+* ``scale`` is the magnitude of the terms that make up the quantity, not of the (possibly cancelling or
+  vanishing) result. With ``v = max(1, |q̇|)`` (per second): ``M``: max|M|; ``C``: max(|C|, |Ṁ|, |M| v);
+  ``C q̇``: that times ``v``; ``g`` (gravity and spring parts) and ``f``: at least ``|M| v²``, the generalized
+  force that gives an acceleration of ``v²`` — so that a force which vanishes at the state (``g`` of a
+  hanging pendulum) is not compared with the engine's round-off relative to zero; ``q̈``: the
+  accelerations each term alone would cause, ``max|M⁻¹| · max|term|``, at least ``v²``.
+* ``amplification`` is 1, except for ``q̈``, where solving ``M q̈ = …`` amplifies relative round-off by
+  up to the condition number ``κ(M)``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from hypothesis import HealthCheck, given, settings
+
+from harness.engines import pinocchio_engine, mujoco_engine, symbolic
+from harness.engines.base import Evaluation, State
+from harness.model import System
+from harness.strategies import states
+
+FLOAT64_RTOL = 1e-12
+ENGINE_QUANTITIES = ("M", "Cqd", "g", "f_damper", "qdd")
+
+
+@dataclass
+class Finding:
+    """One comparison at one state."""
+
+    system: str
+    check: str
+    engine: str
+    error: float
+    tolerance: float
+
+    @property
+    def passed(self) -> bool:
+        return self.error <= self.tolerance
+
+
+class ConformanceFailure(AssertionError):
+    """A check exceeded its tolerance; the message names system, quantity, engine and the state."""
+
+    def __init__(self, finding: Finding, state: State):
+        self.finding, self.state = finding, state
+        super().__init__(
+            f"{finding.system}: {finding.check} from {finding.engine} differs from the symbolic model by "
+            f"{finding.error:.3e} (relative; tolerance {finding.tolerance:.1e}) at "
+            f"q={_fmt(state.q)}, qd={_fmt(state.qd)}, u={_fmt(state.u)}, params={_fmt(state.params)}")
+
+
+def _fmt(value) -> str:
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{k}={float(v)!r}" for k, v in value.items()) + "}"
+    return "[" + ", ".join(repr(float(v)) for v in np.ravel(value)) + "]"
+
+
+def _max(x) -> float:
+    x = np.asarray(x, dtype=float)
+    return float(np.max(np.abs(x))) if x.size else 0.0
+
+
+def _relative(a, b, scale) -> float:
+    diff = _max(np.asarray(a) - np.asarray(b))
+    if diff == 0.0:
+        return 0.0
+    if not math.isfinite(diff):
+        return math.inf
+    return diff / max(scale, _max(a), _max(b), 1e-300)
+
+
+def scales(ref: Evaluation) -> dict[str, float]:
+    """The scale of each quantity from the magnitudes of its terms (see the module docstring)."""
+    v = max(1.0, _max(ref.extra["qd"]))
+    M = _max(ref.M)
+    force_floor = M * v * v  # the generalized force that gives an acceleration of max(1, |q̇|²) per s²
+    C = max(_max(ref.C), _max(ref.extra["M_dot"]), M * v)
+    terms = max(_max(ref.extra["f_np"]), _max(ref.Cqd), _max(ref.g_gravity), _max(ref.g_spring), force_floor)
+    return {"M": M, "C": C, "Cqd": C * v, "skew": C,
+            "g": max(_max(ref.g_gravity), _max(ref.g_spring), force_floor),
+            "f_damper": max(_max(ref.f_damper), force_floor),
+            "qdd": max(_max(np.linalg.inv(ref.M)) * terms, v * v)}
+
+
+def compare(state: State, ref: Evaluation, other: Evaluation) -> list[Finding]:
+    """Engine ``other`` against the symbolic reference at one state."""
+    s = scales(ref)
+    kappa = float(np.linalg.cond(ref.M))
+    out = []
+    for name in ENGINE_QUANTITIES:
+        amplification = kappa if name == "qdd" else 1.0
+        out.append(Finding(state.system.name, name, other.engine,
+                           _relative(getattr(other, name), getattr(ref, name), s[name]), FLOAT64_RTOL * amplification))
+    if other.C is not None:
+        out.append(Finding(state.system.name, "C (Christoffel)", other.engine,
+                           _relative(other.C, ref.C, s["C"]), FLOAT64_RTOL))
+    if "C_coriolis_matrix" in other.extra:
+        out.append(Finding(state.system.name, "C (computeCoriolisMatrix)", other.engine,
+                           _relative(other.extra["C_coriolis_matrix"], ref.C, s["C"]), FLOAT64_RTOL))
+    return out
+
+
+def self_checks(state: State, ref: Evaluation) -> list[Finding]:
+    """Properties of the derivation itself: M symmetric and positive definite, Ṁ − 2C skew (Note 5.4)."""
+    s = scales(ref)
+    name = state.system.name
+    M = ref.M
+    eig_min = float(np.linalg.eigvalsh(0.5 * (M + M.T)).min())
+    N = ref.extra["M_dot"] - 2 * ref.C
+    return [
+        Finding(name, "M symmetric", "symbolic", _relative(M, M.T, s["M"]), FLOAT64_RTOL),
+        Finding(name, "M positive definite", "symbolic", 0.0 if eig_min > 0 else math.inf, FLOAT64_RTOL),
+        Finding(name, "Mdot - 2C skew", "symbolic", _relative(N, -N.T, s["skew"]), FLOAT64_RTOL),
+    ]
+
+
+def evaluate_all(state: State, engines=("pinocchio", "mujoco"), pin_urdf=None, mj_xml=None) -> list[Finding]:
+    """All checks at one state. ``pin_urdf``/``mj_xml`` may replace the exported model text (to show that a
+    wrong export is caught)."""
+    ref = symbolic.evaluate(state)
+    ref.extra["qd"] = state.qd
+    findings = self_checks(state, ref)
+    for engine in engines:
+        if engine == "pinocchio":
+            model = pinocchio_engine.PinocchioModel(state.tree, urdf=pin_urdf(state.tree) if pin_urdf else None)
+            findings += compare(state, ref, pinocchio_engine.evaluate(state, model))
+        elif engine == "mujoco":
+            model = mujoco_engine.MujocoModel(state.tree, xml=mj_xml(state.tree) if mj_xml else None)
+            findings += compare(state, ref, mujoco_engine.evaluate(state, model))
+    return findings
+
+
+@dataclass
+class Summary:
+    """Largest error per (check, engine) over all examples, and the shrunk counterexample of a failure."""
+
+    system: str
+    examples: int = 0
+    worst: dict = field(default_factory=dict)   # (check, engine) -> Finding
+    failure: str | None = None
+
+    @property
+    def passed(self) -> bool:
+        return self.failure is None and all(f.passed for f in self.worst.values())
+
+    def record(self, findings):
+        for f in findings:
+            key = (f.check, f.engine)
+            if key not in self.worst or f.error / f.tolerance > self.worst[key].error / self.worst[key].tolerance:
+                self.worst[key] = f
+
+
+def run(system: System, engines=("pinocchio", "mujoco"), examples: int | None = None,
+        random_parameters: bool = True, pin_urdf=None, mj_xml=None) -> Summary:
+    """Run every check on hypothesis states; on a failure, hypothesis shrinks it to a minimal state."""
+    summary = Summary(system.name)
+
+    def check(state: State):
+        findings = evaluate_all(state, engines, pin_urdf, mj_xml)
+        summary.examples += 1
+        summary.record(findings)
+        for f in findings:
+            if not f.passed:
+                raise ConformanceFailure(f, state)
+
+    overrides = {"suppress_health_check": [HealthCheck.too_slow, HealthCheck.data_too_large], "deadline": None}
+    if examples is not None:
+        overrides["max_examples"] = examples
+    test = settings(**overrides)(given(states(system, random_parameters))(check))
+    try:
+        test()
+    except ConformanceFailure as failure:  # the shrunk (minimal) counterexample
+        summary.failure = str(failure)
+        summary.record([failure.finding])
+    return summary
