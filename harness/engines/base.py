@@ -47,7 +47,9 @@ class State:
             if not math.isfinite(float(value)):
                 raise InputError(f"{system.name}: input {name} must be finite")
             inputs[name] = float(value)
-        return State(system, np.asarray(q, dtype=float), np.asarray(qd, dtype=float), values, inputs)
+        state = State(system, np.asarray(q, dtype=float), np.asarray(qd, dtype=float), values, inputs)
+        state.tree  # instantiating checks that masses and inertia tensors are physical
+        return state
 
     @property
     def p(self) -> np.ndarray:

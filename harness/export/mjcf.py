@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import mujoco
 import numpy as np
+from lxml import etree
 
 from harness.export.numeric import MUJOCO_POINT_MASS_INERTIA, NumericTree
 from harness.model import WORLD
@@ -97,7 +98,93 @@ def mjcf_spec(tree: NumericTree) -> mujoco.MjSpec:
     return spec
 
 
+def _numbers(values) -> str:
+    """Shortest decimals that read back as the same float64 (``repr``, at most 17 significant digits)."""
+    return " ".join(repr(float(v)).removesuffix(".0") for v in values)
+
+
+def _joint_stiffness(m, i):
+    return [m.jnt_stiffness[i], *m.jnt_stiffnesspoly[i]]
+
+
+def _joint_damping(m, i):
+    return [m.dof_damping[m.jnt_dofadr[i]], *m.dof_dampingpoly[m.jnt_dofadr[i]]]
+
+
+# (element, attribute) -> (object type whose id the element has, its values in the compiled model). An
+# <inertial> has the id of its enclosing body; a tendon's stiffness/damping are polynomials like a joint's.
+_OBJ = mujoco.mjtObj
+_FIELDS = {
+    ("option", "gravity"): (None, lambda m, i: m.opt.gravity),
+    ("body", "pos"): (_OBJ.mjOBJ_BODY, lambda m, i: m.body_pos[i]),
+    ("body", "quat"): (_OBJ.mjOBJ_BODY, lambda m, i: m.body_quat[i]),
+    ("inertial", "pos"): (_OBJ.mjOBJ_BODY, lambda m, i: m.body_ipos[i]),
+    ("inertial", "quat"): (_OBJ.mjOBJ_BODY, lambda m, i: m.body_iquat[i]),
+    ("inertial", "mass"): (_OBJ.mjOBJ_BODY, lambda m, i: [m.body_mass[i]]),
+    ("inertial", "diaginertia"): (_OBJ.mjOBJ_BODY, lambda m, i: m.body_inertia[i]),
+    ("joint", "pos"): (_OBJ.mjOBJ_JOINT, lambda m, i: m.jnt_pos[i]),
+    ("joint", "axis"): (_OBJ.mjOBJ_JOINT, lambda m, i: m.jnt_axis[i]),
+    ("joint", "springref"): (_OBJ.mjOBJ_JOINT, lambda m, i: [m.qpos_spring[m.jnt_qposadr[i]]]),
+    ("joint", "stiffness"): (_OBJ.mjOBJ_JOINT, _joint_stiffness),
+    ("joint", "damping"): (_OBJ.mjOBJ_JOINT, _joint_damping),
+    ("site", "pos"): (_OBJ.mjOBJ_SITE, lambda m, i: m.site_pos[i]),
+    ("site", "quat"): (_OBJ.mjOBJ_SITE, lambda m, i: m.site_quat[i]),
+    ("spatial", "stiffness"): (_OBJ.mjOBJ_TENDON, lambda m, i: [m.tendon_stiffness[i], *m.tendon_stiffnesspoly[i]]),
+    ("spatial", "damping"): (_OBJ.mjOBJ_TENDON, lambda m, i: [m.tendon_damping[i], *m.tendon_dampingpoly[i]]),
+    ("spatial", "springlength"): (_OBJ.mjOBJ_TENDON, lambda m, i: m.tendon_lengthspring[i]),
+    ("general", "gear"): (_OBJ.mjOBJ_ACTUATOR, lambda m, i: m.actuator_gear[i]),
+}
+_ID_TAGS = {_OBJ.mjOBJ_BODY: "body", _OBJ.mjOBJ_JOINT: "joint", _OBJ.mjOBJ_SITE: "site",
+            _OBJ.mjOBJ_TENDON: "spatial", _OBJ.mjOBJ_ACTUATOR: "general"}
+_NAME_ATTRIBUTES = {"name", "model", "joint", "site"}
+
+
+def _is_number_list(text: str) -> bool:
+    try:
+        [float(v) for v in text.split()]
+    except ValueError:
+        return False
+    return bool(text.split())
+
+
+def _element_id(root, model: mujoco.MjModel, obj, element) -> int:
+    """Id of ``element`` (of kind ``obj``) in ``model``: by name, else by document order (body 0 is the
+    world; a tendon's ``<site site=...>`` references are not sites, hence only ``<worldbody>`` is searched
+    for bodies, joints and sites)."""
+    if (name := element.get("name")) is not None:
+        return mujoco.mj_name2id(model, obj, name)
+    scope = root.find("worldbody") if obj in (_OBJ.mjOBJ_BODY, _OBJ.mjOBJ_JOINT, _OBJ.mjOBJ_SITE) else root
+    return list(scope.iter(_ID_TAGS[obj])).index(element) + (1 if obj == _OBJ.mjOBJ_BODY else 0)
+
+
+def _full_precision(xml: str, model: mujoco.MjModel) -> str:
+    """``xml`` (from ``MjSpec.to_xml``) with every number replaced by the float64 of the compiled ``model``.
+
+    Measured with MuJoCo 4.0.0: ``MjSpec.to_xml()`` prints numbers with 6 significant digits (``pos="0.333333"``)
+    and has no precision option, so the text loads into a model ~1e-6 (relative) off the spec it was written
+    from. Each numeric attribute is rewritten from the model array it compiles into (``_FIELDS``), the
+    element found by its name or, unnamed, by its position among the elements of its kind (MuJoCo numbers
+    bodies, joints, sites, tendons, actuators in document order; ``<inertial>`` takes its body's). Only
+    as many values are written as ``to_xml`` wrote (it drops trailing defaults, e.g. the zero polynomial
+    terms of ``stiffness``); a numeric attribute without an entry in ``_FIELDS`` raises rather than stay
+    rounded.
+    """
+    root = etree.fromstring(xml.encode())
+    for element in root.iter(etree.Element):
+        for attribute, text in element.attrib.items():
+            if attribute in _NAME_ATTRIBUTES or not _is_number_list(text):
+                continue
+            if (element.tag, attribute) not in _FIELDS:
+                raise NotImplementedError(f"MJCF <{element.tag} {attribute}=...>: no full-precision source")
+            obj, values = _FIELDS[element.tag, attribute]
+            owner = element.getparent() if element.tag == "inertial" else element
+            index = None if obj is None else _element_id(root, model, obj, owner)
+            element.set(attribute, _numbers(list(values(model, index))[:len(text.split())]))
+    return etree.tostring(root, encoding="unicode") + "\n"
+
+
 def mjcf_string(tree: NumericTree) -> str:
+    """The MJCF text of ``mjcf_spec(tree)``, loading into the same model as the spec (see _full_precision)."""
     spec = mjcf_spec(tree)
-    spec.compile()
-    return spec.to_xml()
+    model = spec.compile()
+    return _full_precision(spec.to_xml(), model)

@@ -1,0 +1,21 @@
+# The two commands of the README. Both set up the pinned environment in .venv first (idempotent).
+VENV   := .venv
+PYTHON := $(VENV)/bin/python
+
+.PHONY: setup check test
+
+setup: $(VENV)/.installed
+
+$(VENV)/.installed: pyproject.toml
+	python3 -m venv $(VENV)
+	$(PYTHON) -m pip install --quiet --disable-pip-version-check -e .
+	touch $@
+
+# main job: exported files current, conformance of every system against both engines, results written
+check: setup
+	$(VENV)/bin/harness export --check
+	$(VENV)/bin/harness check --out reports
+
+# the test suite (fixed-seed hypothesis profile `ci`; HYPOTHESIS_PROFILE=long for the randomized one)
+test: setup
+	$(PYTHON) -m pytest -n 2 -q

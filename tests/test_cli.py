@@ -1,0 +1,58 @@
+"""The CLI contract of DESIGN.md: `list`, `eval --json` (same numbers from every engine), bad input as one
+line on stderr with exit 2 and no traceback."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import models
+from harness import cli
+
+
+def run(*args):
+    return subprocess.run([sys.executable, "-m", "harness.cli", *args], capture_output=True, text=True, timeout=300)
+
+
+def test_list_shows_every_system():
+    out = run("list").stdout
+    for name, system in models.catalogue().items():
+        assert name in out and system.lecture in out
+
+
+def test_eval_planar_manipulator_agrees_across_engines(capsys):
+    results = {}
+    for engine in ("symbolic", "pinocchio", "mujoco"):
+        assert cli.main(["eval", "planar_manipulator", "--engine", engine, "--q", "0.3", "-0.7",
+                         "--qd", "1", "2", "--json"]) == 0
+        results[engine] = json.loads(capsys.readouterr().out)
+    ref = results["symbolic"]
+    assert ref["q"] == [0.3, -0.7] and ref["qd"] == [1.0, 2.0] and "m_1" in ref["params"]
+    for engine in ("pinocchio", "mujoco"):
+        for key in ("M", "C", "Cqd", "g", "qdd"):
+            a, b = np.array(results[engine][key]), np.array(ref[key])
+            assert a.shape == b.shape
+            assert np.max(np.abs(a - b)) <= 1e-12 * max(1.0, np.max(np.abs(b))), (engine, key)
+
+
+@pytest.mark.parametrize("args, message", [
+    (["eval", "no_such_system", "--q", "0"], "unknown system 'no_such_system'"),
+    (["eval", "pendulum", "--engine", "bullet", "--q", "0"], "invalid choice: 'bullet'"),
+    (["eval", "pendulum", "--q", "0", "1"], "--q needs 1 value(s) (phi), got 2"),
+    (["eval", "pendulum", "--q", "0", "--qd", "nan"], "--qd must be finite"),
+    (["eval", "pendulum", "--q", "0", "--param", "m=-2"], "m=-2.0: must be positive"),
+    (["eval", "pendulum", "--q", "0", "--param", "mass=2"], "unknown parameter 'mass'"),
+    (["eval", "pendulum", "--q", "0", "--param", "m=heavy"], "is not a number"),
+    (["eval", "planar_manipulator", "--q", "0", "0", "--input", "tau_9=1"], "unknown input 'tau_9'"),
+    (["eval", "planar_manipulator", "--q", "0", "0", "--param", "I_zz1=1"], "triangle inequality"),
+    (["check", "no_such_system"], "unknown system"),
+    (["frobnicate"], "invalid choice"),
+])
+def test_bad_input_is_one_clear_line(args, message):
+    result = run(*args)
+    assert result.returncode == 2
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and message in lines[0], result.stderr
+    assert "Traceback" not in result.stderr

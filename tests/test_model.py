@@ -1,0 +1,111 @@
+"""Unit tests of the modeling core: validation, kinematics (chapter 4), derivation (chapter 5), cache."""
+
+import json
+
+import numpy as np
+import pytest
+import sympy as sp
+
+import models
+from harness import cache
+from harness.derive import christoffel, derive
+from harness.errors import ModelError
+from harness.export.numeric import check_inertia
+from harness.kinematics import rotation, rpy_rotation
+from harness.model import Coordinate, Gravity, Inertia, Joint, Link, Parameter, System
+
+
+def _pendulum(**changes):
+    m, l, g = Parameter("m", 1.0, "kg", "mass"), Parameter("l", 1.0, "m", "length"), Parameter("g", 9.81, "m/s^2", "g")
+    fields = dict(name="p", title="p", lecture="-", parameters=(m, l, g),
+                  coordinates=(Coordinate("phi", "rad", "angle"),),
+                  links=(Link("bob", m.symbol, (0, 0, -l.symbol)),),
+                  joints=(Joint("phi", "revolute", "world", "bob", axis="x"),),
+                  gravity=Gravity(g.symbol, (0, 0, -1)))
+    fields.update(changes)
+    return System(**fields)
+
+
+def test_elementary_rotations_match_4_9():
+    a = sp.Symbol("a")
+    assert rotation((0, 0, 1), a) == sp.Matrix([[sp.cos(a), -sp.sin(a), 0], [sp.sin(a), sp.cos(a), 0], [0, 0, 1]])
+    general = rotation((0, 0.6, 0.8), a).subs(a, 0.4)
+    assert np.allclose(np.array(general * general.T, dtype=float), np.eye(3))
+    assert rpy_rotation((0, 0, sp.pi / 2)) == rotation((0, 0, 1), sp.pi / 2)
+
+
+def test_pendulum_equation_3_111():
+    d = derive(models.get("pendulum"), use_cache=False)
+    m, l, g = sp.symbols("m l g", positive=True)
+    phi = sp.Symbol("phi", real=True)
+    assert sp.simplify(d.M[0, 0] - m * l**2) == 0
+    assert sp.simplify(d.g[0] - m * g * l * sp.sin(phi)) == 0
+    assert d.C == sp.zeros(1, 1)
+
+
+def test_christoffel_symbols_are_symmetric_in_i_j():
+    s = models.get("planar_manipulator")
+    d = derive(s)
+    q = s.q
+    for k in range(2):
+        for i in range(2):
+            for j in range(2):
+                assert sp.simplify(christoffel(d.M, q, i, j, k) - christoffel(d.M, q, j, i, k)) == 0
+
+
+def test_cache_hit_and_corrupted_cache_is_rebuilt(tmp_path, monkeypatch):
+    monkeypatch.setenv("HARNESS_CACHE_DIR", str(tmp_path))
+    s = models.get("cart_pendulum")
+    first = derive(s)
+    assert not first.from_cache
+    second = derive(s)
+    assert second.from_cache and second.M == first.M
+    (entry,) = tmp_path.glob("*.json")
+    doc = json.loads(entry.read_text())
+    doc["entries"]["M"] = doc["entries"]["M"].replace("2", "3")  # damage without fixing the checksum
+    entry.write_text(json.dumps(doc))
+    third = derive(s)
+    assert not third.from_cache and third.M == first.M
+    entry.write_text("{not json")
+    assert not derive(s).from_cache
+
+
+def test_cache_key_changes_with_the_model():
+    assert _pendulum().fingerprint() != _pendulum(gravity=Gravity(sp.Symbol("g", positive=True), (0, -1, 0))).fingerprint()
+
+
+@pytest.mark.parametrize("change, message", [
+    (dict(links=(Link("bob", 1.0, (0, 0, -1)), Link("loose", 1.0))), "link 'loose' must be the child of exactly one joint"),
+    (dict(links=(Link("bob", sp.Symbol("M", positive=True), (0, 0, -1)),)), "undeclared symbol(s) ['M']"),
+    (dict(joints=(Joint("phi", "revolute", "nowhere", "bob", axis="x"),)), "connects unknown link"),
+    (dict(joints=(Joint("theta", "revolute", "world", "bob", axis="x"),)), "set Joint.phi"),
+    (dict(links=(Link("bob", 0, (0, 0, -1)),)), "no link has mass"),
+])
+def test_modeling_mistakes_are_caught_at_load(change, message):
+    with pytest.raises(ModelError) as exc:
+        _pendulum(**change)
+    assert message in str(exc.value)
+
+
+def test_joint_and_parameter_mistakes():
+    with pytest.raises(ModelError, match="unit vector"):
+        Joint("j", "revolute", "world", "b", axis=(1, 1, 0))
+    with pytest.raises(ModelError, match="type must be"):
+        Joint("j", "ball", "world", "b")
+    with pytest.raises(ModelError, match="give a unit"):
+        Parameter("m", 1.0, "", "mass")
+    with pytest.raises(ModelError, match="must be positive"):
+        Parameter("m", -1.0, "kg", "mass")
+
+
+def test_inertia_checks():
+    check_inertia("ok", 1.0, np.diag([1.0, 2.0, 3.0]))
+    check_inertia("point mass", 1.0, np.zeros((3, 3)))
+    with pytest.raises(ModelError, match="positive"):
+        check_inertia("x", 1.0, np.diag([1.0, -2.0, 3.0]))
+    with pytest.raises(ModelError, match="triangle inequality"):
+        check_inertia("x", 1.0, np.diag([1.0, 1.0, 3.0]))
+    with pytest.raises(ModelError, match="symmetric"):
+        check_inertia("x", 1.0, np.array([[1.0, 0.5, 0], [0, 1.0, 0], [0, 0, 1.0]]))
+    cuboid = np.array(Inertia.cuboid(2.0, 0.1, 0.2, 0.3).matrix, dtype=float)
+    check_inertia("cuboid", 2.0, cuboid)

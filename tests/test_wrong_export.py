@@ -1,0 +1,40 @@
+"""A deliberately wrong export must make the check fail, naming system, quantity, engine and a shrunk
+counterexample."""
+
+import re
+
+import pytest
+
+import models
+from harness import cli, conformance
+from harness.engines import pinocchio_engine
+from harness.export.urdf import urdf_string
+
+
+def _com_moved(tree):
+    """The URDF with link_2's centre of mass moved by 1 cm: the symbolic model and MJCF stay right."""
+    text = urdf_string(tree)
+    link = text.index('<link name="link_2">')
+    start = text.index('<origin xyz="', link) + len('<origin xyz="')
+    x, rest = text[start:].split(" ", 1)
+    return text[:start] + repr(float(x) + 0.01) + " " + rest
+
+
+def test_moved_centre_of_mass_fails_with_shrunk_counterexample():
+    summary = conformance.run(models.get("planar_manipulator"), engines=("pinocchio",), pin_urdf=_com_moved)
+    assert not summary.passed
+    message = summary.failure
+    assert message.startswith("planar_manipulator: ")
+    assert "from pinocchio" in message
+    assert re.search(r": (M|Cqd|g|qdd|C \(Christoffel\)|C \(computeCoriolisMatrix\)) from", message)
+    assert "q=[" in message and "params={" in message
+    # hypothesis shrinks towards simple values: the counterexample is not a random-looking state
+    q = re.search(r"q=\[([^\]]*)\]", message).group(1)
+    assert all(len(v.strip()) <= 6 for v in q.split(",")), message
+
+
+def test_cli_check_exits_nonzero_on_wrong_export(monkeypatch, capsys):
+    monkeypatch.setattr(pinocchio_engine, "urdf_string", _com_moved)
+    assert cli.main(["check", "planar_manipulator"]) == 1
+    out = capsys.readouterr().out
+    assert "FAILED planar_manipulator:" in out and "from pinocchio" in out
