@@ -26,13 +26,14 @@ from dataclasses import dataclass, field
 import numpy as np
 from hypothesis import HealthCheck, given, settings
 
+from harness import roundtrip
 from harness.engines import pinocchio_engine, mujoco_engine, symbolic
 from harness.engines.base import Evaluation, State
 from harness.model import System
 from harness.strategies import states
 
 FLOAT64_RTOL = 1e-12
-ENGINE_QUANTITIES = ("M", "Cqd", "g", "f_damper", "qdd")
+ENGINE_QUANTITIES = ("M", "Cqd", "g", "g_spring", "f_damper", "qdd")
 
 
 @dataclass
@@ -44,6 +45,7 @@ class Finding:
     engine: str
     error: float
     tolerance: float
+    detail: str = ""   # e.g. the exported item with the largest round-trip error
 
     @property
     def passed(self) -> bool:
@@ -56,7 +58,8 @@ class ConformanceFailure(AssertionError):
     def __init__(self, finding: Finding, state: State):
         self.finding, self.state = finding, state
         super().__init__(
-            f"{finding.system}: {finding.check} from {finding.engine} differs from the symbolic model by "
+            f"{finding.system}: {finding.check}{f' ({finding.detail})' if finding.detail else ''} from "
+            f"{finding.engine} differs from the symbolic model by "
             f"{finding.error:.3e} (relative; tolerance {finding.tolerance:.1e}) at "
             f"q={_fmt(state.q)}, qd={_fmt(state.qd)}, u={_fmt(state.u)}, params={_fmt(state.params)}")
 
@@ -90,6 +93,7 @@ def scales(ref: Evaluation) -> dict[str, float]:
     terms = max(_max(ref.extra["f_np"]), _max(ref.Cqd), _max(ref.g_gravity), _max(ref.g_spring), force_floor)
     return {"M": M, "C": C, "Cqd": C * v, "skew": C,
             "g": max(_max(ref.g_gravity), _max(ref.g_spring), force_floor),
+            "g_spring": max(_max(ref.g_spring), force_floor),
             "f_damper": max(_max(ref.f_damper), force_floor),
             "qdd": max(_max(np.linalg.inv(ref.M)) * terms, v * v)}
 
@@ -136,9 +140,16 @@ def evaluate_all(state: State, engines=("pinocchio", "mujoco"), pin_urdf=None, m
         if engine == "pinocchio":
             model = pinocchio_engine.PinocchioModel(state.tree, urdf=pin_urdf(state.tree) if pin_urdf else None)
             findings += compare(state, ref, pinocchio_engine.evaluate(state, model))
+            items = roundtrip.pinocchio_roundtrip(state.tree, model)
         elif engine == "mujoco":
             model = mujoco_engine.MujocoModel(state.tree, xml=mj_xml(state.tree) if mj_xml else None)
             findings += compare(state, ref, mujoco_engine.evaluate(state, model))
+            items = roundtrip.mujoco_roundtrip(state.tree, model)
+        else:
+            continue
+        worst = max(items, key=lambda item: item.error)
+        findings.append(Finding(state.system.name, "export round trip", engine, worst.error,
+                                roundtrip.ROUNDTRIP_RTOL, detail=worst.item))
     return findings
 
 

@@ -14,14 +14,15 @@ import numpy as np
 
 from harness.engines.base import State, TreeQuantities, to_lecture
 from harness.errors import EngineError
-from harness.export.mjcf import mjcf_spec
+from harness.export.mjcf import mjcf_string
 from harness.export.numeric import NumericTree
 
 
 class MujocoModel:
     def __init__(self, tree: NumericTree, xml: str | None = None):
         self.tree = tree
-        self.model = mujoco.MjModel.from_xml_string(xml) if xml is not None else mjcf_spec(tree).compile()
+        # MuJoCo loads the MJCF text we export (the same text as urdf/<system>.xml for default parameters)
+        self.model = mujoco.MjModel.from_xml_string(xml if xml is not None else mjcf_string(tree))
         self.data = mujoco.MjData(self.model)
         self.data_rest = mujoco.MjData(self.model)
         self.qpos_index, self.dof_index = [], []
