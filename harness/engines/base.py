@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
+import sympy as sp
 
 from harness.compile import compiled
 from harness.errors import InputError
@@ -86,6 +87,34 @@ class State:
     @property
     def theta_dot(self) -> np.ndarray:
         return self.J @ self.qd
+
+    @cached_property
+    def loads(self) -> list["Load"]:
+        """External forces and torques of the model (PointForce, BodyTorque) with their components
+        evaluated at this state; each engine turns them into generalized forces with its own Jacobians."""
+        from harness.export.numeric import point_name
+        from harness.model import BodyTorque, PointForce
+
+        s = self.system
+        out = []
+        for f in s.forces:
+            if isinstance(f, (PointForce, BodyTorque)):
+                vector = f.force if isinstance(f, PointForce) else f.torque
+                fn = sp.lambdify([s.q, s.qd, s.p, s.u], sp.Matrix(vector), modules="numpy")
+                value = np.asarray(fn(self.q, self.qd, self.p, self.u_vec), dtype=float).ravel()
+                where = point_name(f.point) if isinstance(f, PointForce) else f.link
+                out.append(Load("force" if isinstance(f, PointForce) else "torque", where, f.frame, value))
+        return out
+
+
+@dataclass(frozen=True)
+class Load:
+    """A force at a named point, or a torque on a link, components in ``frame`` (world or a link)."""
+
+    kind: str
+    where: str
+    frame: str
+    vector: np.ndarray
 
 
 @dataclass

@@ -15,6 +15,7 @@ import numpy as np
 from harness.engines.base import State, TreeQuantities, to_lecture
 from harness.errors import EngineError
 from harness.export.mjcf import mjcf_string
+from harness.model import WORLD
 from harness.export.numeric import NumericTree
 
 
@@ -57,21 +58,44 @@ class MujocoModel:
     def _pick(self, vec):
         return np.asarray(vec)[self.dof_index].copy()
 
-    def quantities(self, theta, theta_dot, u: dict) -> TreeQuantities:
+    def applied(self, loads) -> np.ndarray:
+        """External forces/torques as ``qfrc_applied``, by ``mj_applyFT`` at the current kinematics."""
+        m, d = self.model, self.data
+        qfrc = np.zeros(m.nv)
+        for load in loads:
+            R = np.eye(3)
+            if load.frame != WORLD:
+                R = d.xmat[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, load.frame)].reshape(3, 3)
+            vector, zero = R @ load.vector, np.zeros(3)
+            if load.kind == "force":
+                site = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, load.where)
+                body, point = m.site_bodyid[site], d.site_xpos[site].copy()
+                mujoco.mj_applyFT(m, d, vector, zero, point, body, qfrc)
+            else:
+                body = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, load.where)
+                mujoco.mj_applyFT(m, d, zero, vector, d.xpos[body].copy(), body, qfrc)
+        return qfrc
+
+    def quantities(self, theta, theta_dot, u: dict, loads=()) -> TreeQuantities:
         m, d, d0 = self.model, self.data, self.data_rest
         for data, vel in ((d, theta_dot), (d0, np.zeros_like(theta_dot))):
             data.qpos[self.qpos_index] = theta
             data.qvel[self.dof_index] = vel
             data.ctrl[:] = 0.0
+            data.qfrc_applied[:] = 0.0
             for name, aid in self.actuators.items():
                 data.ctrl[aid] = u[name]
+            mujoco.mj_kinematics(m, data)
+            mujoco.mj_comPos(m, data)
+            if data is d:
+                data.qfrc_applied[:] = self.applied(loads)
             mujoco.mj_forward(m, data)
         M = np.zeros((m.nv, m.nv))
         mujoco.mj_fullM(m, d, M)
         gravity = self._pick(d0.qfrc_bias)
         C = self.christoffel(theta, theta_dot)  # reuses data_rest
         tau_input = np.zeros(m.nv)
-        tau_input[:] = d.qfrc_actuator
+        tau_input[:] = d.qfrc_actuator + d.qfrc_applied
         if d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > 0:
             raise EngineError(f"{self.tree.system}: MuJoCo reported a bad qacc")
         return TreeQuantities(
@@ -84,4 +108,4 @@ class MujocoModel:
 
 def evaluate(state: State, model: MujocoModel | None = None):
     model = model or MujocoModel(state.tree)
-    return to_lecture("mujoco", state, model.quantities(state.theta, state.theta_dot, state.u))
+    return to_lecture("mujoco", state, model.quantities(state.theta, state.theta_dot, state.u, state.loads))

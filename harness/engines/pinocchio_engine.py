@@ -11,6 +11,7 @@ from harness.engines.base import State, TreeQuantities, to_lecture
 from harness.errors import EngineError
 from harness.export.numeric import NumericTree
 from harness.export.urdf import urdf_string
+from harness.model import WORLD
 
 LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 
@@ -71,14 +72,23 @@ class PinocchioModel:
             f_damper[k] += -damping * v[k]
         return f_spring, f_damper
 
-    def input_forces(self, u: dict):
-        tau = np.zeros(self.model.nv)
+    def input_forces(self, q, u: dict, loads=()):
+        """Inputs on joints, and external forces/torques by (5.73) with Pinocchio's frame Jacobians
+        (call after :meth:`point_forces`, which computes the kinematics at ``q``)."""
+        model, data = self.model, self.data
+        tau = np.zeros(model.nv)
         names = [j.name for j in self.tree.joints]
         for input_name, joint in self.tree.actuators:
             tau[self.index[names.index(joint)]] += u[input_name]
+        for load in loads:
+            R = np.eye(3) if load.frame == WORLD else data.oMf[model.getFrameId(load.frame)].rotation
+            vector = R @ load.vector
+            fid = self.frames[load.where] if load.kind == "force" else model.getFrameId(load.where)
+            J = pin.getFrameJacobian(model, data, fid, LWA)
+            tau += (J[:3] if load.kind == "force" else J[3:]).T @ vector
         return tau
 
-    def quantities(self, theta, theta_dot, u: dict) -> TreeQuantities:
+    def quantities(self, theta, theta_dot, u: dict, loads=()) -> TreeQuantities:
         model, data = self.model, self.data
         q, v = self.to_pin(theta), self.to_pin(theta_dot)
         M = pin.crba(model, data, q)
@@ -90,7 +100,7 @@ class PinocchioModel:
                                                    np.zeros(model.nv))
         C_christoffel = 0.5 * np.asarray(dtau_dv)
         f_spring, f_damper = self.point_forces(q, v)
-        tau_input = self.input_forces(u)
+        tau_input = self.input_forces(q, u, loads)
         qdd = pin.aba(model, data, q, v, tau_input + f_spring + f_damper).copy()
         return TreeQuantities(
             M=self.from_pin_matrix(M), Cqd=self.from_pin(Cqd), g_gravity=self.from_pin(g_gravity),
@@ -107,7 +117,7 @@ class PinocchioModel:
 
 def evaluate(state: State, model: PinocchioModel | None = None):
     model = model or PinocchioModel(state.tree)
-    t = model.quantities(state.theta, state.theta_dot, state.u)
+    t = model.quantities(state.theta, state.theta_dot, state.u, state.loads)
     evaluation = to_lecture("pinocchio", state, t)
     J = state.J
     evaluation.extra["C_coriolis_matrix"] = J.T @ (t.M @ state.J_dot + t.extra["C_coriolis_matrix"] @ J)
