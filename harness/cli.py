@@ -96,8 +96,10 @@ def cmd_check(args) -> int:
                       "checks": [{"check": f.check, "engine": f.engine, "max_error": f.error,
                                   "tolerance": f.tolerance, "passed": f.passed}
                                  for f in sorted(summary.worst.values(), key=lambda f: (f.check, f.engine))]}
-        except HarnessError as exc:  # one system's failure never loses the others' results
-            record = {"system": system.name, "passed": False, "examples": 0, "failure": str(exc), "checks": []}
+        except Exception as exc:  # noqa: BLE001 - one system raising never loses the others' results
+            reason = str(exc) if isinstance(exc, HarnessError) else f"{type(exc).__name__}: {exc}"
+            record = {"system": system.name, "passed": False, "examples": 0, "failure": f"{system.name}: {reason}",
+                      "checks": []}
         record["seconds"] = round(time.perf_counter() - start, 2)
         results.append(record)
     doc = {"tolerance_policy": conformance.__doc__.split("Tolerance policy")[1].strip(" -\n"),

@@ -56,3 +56,21 @@ def test_bad_input_is_one_clear_line(args, message):
     lines = result.stderr.strip().splitlines()
     assert len(lines) == 1 and message in lines[0], result.stderr
     assert "Traceback" not in result.stderr
+
+
+def test_one_system_raising_does_not_lose_the_others(monkeypatch, capsys, tmp_path):
+    from harness import conformance
+
+    real_run = conformance.run
+
+    def flaky(system, **kwargs):
+        if system.name == "pendulum":
+            raise RuntimeError("simulated crash")
+        return real_run(system, **kwargs)
+
+    monkeypatch.setattr(conformance, "run", flaky)
+    assert cli.main(["check", "pendulum", "cart_pendulum", "--examples", "5", "--out", str(tmp_path)]) == 1
+    doc = json.loads((tmp_path / "results.json").read_text())
+    by_name = {r["system"]: r for r in doc["systems"]}
+    assert by_name["pendulum"]["failure"] == "pendulum: RuntimeError: simulated crash"
+    assert by_name["cart_pendulum"]["passed"] and by_name["cart_pendulum"]["checks"]
