@@ -41,7 +41,7 @@ class CompiledModel:
         """Evaluate quantity ``name`` (one of :data:`QUANTITIES`) at one state."""
         s = self.system
         qd = np.zeros(len(s.q)) if qd is None else qd
-        p = [s.default_parameters()[k] for k in s.default_parameters()] if p is None else p
+        p = list(s.default_parameters().values()) if p is None else p
         u = np.zeros(len(s.u)) if u is None else u
         return np.asarray(self._functions[name](q, qd, p, u), dtype=float)
 

@@ -386,6 +386,8 @@ class System:
             joint = self.joint_of_link(link)
             if joint is None:
                 raise ModelError(f"{self.name}: link {link!r} is attached to nothing")
+            if joint in out:
+                raise ModelError(f"{self.name}: the joints form a loop through link {link!r}")
             out.append(joint)
             link = joint.parent
         return out[::-1]
@@ -441,9 +443,7 @@ def validate(system: System) -> None:
         if j.parent not in known_links or j.child not in known_links:
             raise ModelError(f"{where}: joint {j.name} connects unknown link(s) {j.parent!r} -> {j.child!r}")
     for link in link_names:
-        system.chain(link)  # raises on a cycle-free chain that does not reach the world
-        if len(system.chain(link)) > len(system.joints):
-            raise ModelError(f"{where}: the joints form a loop through {link!r}")
+        system.chain(link)  # raises when the chain does not reach the world or loops
     static = set(system.p)
     for link in system.links:
         bad = _undeclared([link.mass, *link.com, *link.inertia.matrix], static)

@@ -109,3 +109,10 @@ def test_inertia_checks():
         check_inertia("x", 1.0, np.array([[1.0, 0.5, 0], [0, 1.0, 0], [0, 0, 1.0]]))
     cuboid = np.array(Inertia.cuboid(2.0, 0.1, 0.2, 0.3).matrix, dtype=float)
     check_inertia("cuboid", 2.0, cuboid)
+
+
+def test_joint_loop_is_caught():
+    with pytest.raises(ModelError, match="loop"):
+        _pendulum(links=(Link("bob", 1.0, (0, 0, -1)), Link("a", 1.0), Link("b", 1.0)),
+                  joints=(Joint("phi", "revolute", "world", "bob", axis="x"),
+                          Joint("ja", "revolute", "b", "a", phi=0), Joint("jb", "revolute", "a", "b", phi=0)))

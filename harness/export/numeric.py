@@ -9,7 +9,7 @@ import numpy as np
 import sympy as sp
 
 from harness.errors import ModelError
-from harness.model import WORLD, Damper, JointDamper, JointSpring, Point, Spring, System
+from harness.model import Damper, JointDamper, JointInput, JointSpring, Point, Spring, System
 
 # MuJoCo refuses moving bodies whose mass or inertia is below mjMINVAL = 1e-15. A point mass (zero inertia
 # tensor about its centre of mass) is exported to MJCF with this isotropic inertia instead; it changes M by
@@ -99,7 +99,7 @@ def instantiate(system: System, params: dict[str, float]) -> NumericTree:
             joint_stiffness[f.joint] = (_value(f.stiffness, subs), _value(f.rest, subs))
         elif isinstance(f, JointDamper):
             joint_damping[f.joint] = _value(f.damping, subs)
-        elif type(f).__name__ == "JointInput":
+        elif isinstance(f, JointInput):
             actuators.append((f.input, f.joint))
     gravity = np.zeros(3)
     if system.gravity is not None:
