@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from functools import cached_property
+from functools import cache, cached_property
 
 import numpy as np
 import sympy as sp
@@ -92,19 +92,25 @@ class State:
     def loads(self) -> list["Load"]:
         """External forces and torques of the model (PointForce, BodyTorque) with their components
         evaluated at this state; each engine turns them into generalized forces with its own Jacobians."""
-        from harness.export.numeric import point_name
-        from harness.model import BodyTorque, PointForce
+        args = (self.q, self.qd, self.p, self.u_vec)
+        return [Load(kind, where, frame, np.asarray(fn(*args), dtype=float).ravel())
+                for kind, where, frame, fn in _load_functions(self.system)]
 
-        s = self.system
-        out = []
-        for f in s.forces:
-            if isinstance(f, (PointForce, BodyTorque)):
-                vector = f.force if isinstance(f, PointForce) else f.torque
-                fn = sp.lambdify([s.q, s.qd, s.p, s.u], sp.Matrix(vector), modules="numpy")
-                value = np.asarray(fn(self.q, self.qd, self.p, self.u_vec), dtype=float).ravel()
-                where = point_name(f.point) if isinstance(f, PointForce) else f.link
-                out.append(Load("force" if isinstance(f, PointForce) else "torque", where, f.frame, value))
-        return out
+
+@cache
+def _load_functions(system: System) -> list:
+    """``(kind, point or link, frame, compiled components)`` of each external load, compiled once."""
+    from harness.export.numeric import point_name
+    from harness.model import BodyTorque, PointForce
+
+    args = [system.q, system.qd, system.p, system.u]
+    out = []
+    for f in system.forces:
+        if isinstance(f, PointForce):
+            out.append(("force", point_name(f.point), f.frame, sp.lambdify(args, sp.Matrix(f.force), "numpy")))
+        elif isinstance(f, BodyTorque):
+            out.append(("torque", f.link, f.frame, sp.lambdify(args, sp.Matrix(f.torque), "numpy")))
+    return out
 
 
 @dataclass(frozen=True)
@@ -151,6 +157,11 @@ class TreeQuantities:
     calls: dict = field(default_factory=dict)
 
 
+def coriolis_to_lecture(state: State, M_theta: np.ndarray, C_theta: np.ndarray) -> np.ndarray:
+    """``C_q = Jᵀ (M_θ J̇ + C_θ J)``: half the q̇-derivative of the mapped ``C q̇`` (quadratic in q̇)."""
+    return state.J.T @ (M_theta @ state.J_dot + C_theta @ state.J)
+
+
 def to_lecture(engine: str, state: State, t: TreeQuantities) -> Evaluation:
     """Bring tree-joint quantities to lecture coordinates with ``J = ∂phi/∂q`` (5.58)-(5.60):
     ``M_q = Jᵀ M J``, ``(C q̇)_q = Jᵀ (M J̇ q̇ + C θ̇)``, ``g_q = Jᵀ g``, ``C_q = Jᵀ (M J̇ + C_θ J)``.
@@ -159,7 +170,7 @@ def to_lecture(engine: str, state: State, t: TreeQuantities) -> Evaluation:
     M = J.T @ t.M @ J
     Cqd = J.T @ (t.M @ (Jd @ qd) + t.Cqd)
     g_gravity, g_spring, f_damper = J.T @ t.g_gravity, J.T @ t.g_spring, J.T @ t.f_damper
-    C = None if t.C is None else J.T @ (t.M @ Jd + t.C @ J)
+    C = None if t.C is None else coriolis_to_lecture(state, t.M, t.C)
     if t.qdd is not None and J.shape[0] == J.shape[1]:
         qdd = np.linalg.solve(J, t.qdd - Jd @ qd)
     else:  # more tree joints than lecture coordinates: the map is a constraint; (5.93) in q

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from harness.engines.base import State, TreeQuantities, to_lecture
+from harness.engines.base import State, TreeQuantities, coriolis_to_lecture, to_lecture
 from harness.errors import EngineError
 from harness.export.numeric import NumericTree
 from harness.export.urdf import urdf_string
@@ -119,6 +119,5 @@ def evaluate(state: State, model: PinocchioModel | None = None):
     model = model or PinocchioModel(state.tree)
     t = model.quantities(state.theta, state.theta_dot, state.u, state.loads)
     evaluation = to_lecture("pinocchio", state, t)
-    J = state.J
-    evaluation.extra["C_coriolis_matrix"] = J.T @ (t.M @ state.J_dot + t.extra["C_coriolis_matrix"] @ J)
+    evaluation.extra["C_coriolis_matrix"] = coriolis_to_lecture(state, t.M, t.extra["C_coriolis_matrix"])
     return evaluation
