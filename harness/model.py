@@ -99,6 +99,11 @@ class Coordinate:
         """The symbol of the generalized velocity ``q̇_j``."""
         return sp.Symbol(f"{self.name}_dot", real=True)
 
+    @property
+    def accel(self) -> sp.Symbol:
+        """The symbol of the generalized acceleration ``q̈_j`` (for printed equations of motion)."""
+        return sp.Symbol(f"{self.name}_ddot", real=True)
+
 
 @dataclass(frozen=True)
 class Input:

@@ -14,17 +14,27 @@ from harness.model import System
 
 
 @cache
-def catalogue() -> dict[str, System]:
-    """Every registered system by name, in module order."""
-    systems = {}
+def _modules() -> dict:
+    modules = {}
     for info in sorted(pkgutil.iter_modules(__path__), key=lambda m: m.name):
         if info.name.startswith("_"):
             continue
         module = importlib.import_module(f"{__name__}.{info.name}")
         system = getattr(module, "SYSTEM", None)
         if isinstance(system, System):
-            systems[system.name] = system
-    return systems
+            modules[system.name] = module
+    return modules
+
+
+def catalogue() -> dict[str, System]:
+    """Every registered system by name, in module order."""
+    return {name: module.SYSTEM for name, module in _modules().items()}
+
+
+def claims(name: str) -> list:
+    """The lecture's printed equations for system ``name`` (the module's ``CLAIMS``)."""
+    get(name)
+    return list(getattr(_modules()[name], "CLAIMS", []))
 
 
 def get(name: str) -> System:

@@ -50,3 +50,24 @@ SYSTEM = System(
     ),
     doc=__doc__,
 )
+
+# ----------------------------------------------------------------------------- the lecture's printed equations
+import sympy as _sp  # noqa: E402
+
+from harness.claims import Claim  # noqa: E402
+
+_s, _phi = SYSTEM.coordinates
+_mS_printed = rho_S.symbol * l_S.symbol * b_S.symbol * g.symbol * h_S.symbol
+_I_zz_printed = m_S * (l_S.symbol**2 + b_S.symbol**2) / 12
+CLAIMS = [
+    Claim("Solution of Exc. 5.2 (m_S)", "parameter", _mS_printed, "mass of the rod m_S = rho_S l_S b_S g h_S",
+          reference=m_S),
+    Claim("Solution of Exc. 5.2 (I_zz^S)", "parameter", _I_zz_printed, "I_zz^S = m_S (l_S² + b_S²)/12",
+          reference=SYSTEM.links[1].inertia.matrix[2, 2]),
+    Claim("(5.92a)", "eom", (m_W.symbol + m_S) * _s.accel + m_S * l_S.symbol * _sp.cos(_phi.symbol) * _phi.accel / 2
+          - m_S * l_S.symbol * _sp.sin(_phi.symbol) * _phi.rate**2 / 2 + c_W.symbol * (_s.symbol - s_W0.symbol)
+          - (_sp.Symbol("f_e", real=True) - d_R.symbol * _s.rate), "cart equation", index=(0,)),
+    Claim("(5.92b)", "eom", m_S * l_S.symbol * _sp.cos(_phi.symbol) * _phi.accel / 2
+          + (_I_zz_printed + m_S * l_S.symbol**2 / 4) * _phi.accel + m_S * g.symbol * l_S.symbol * _sp.sin(_phi.symbol) / 2,
+          "pendulum equation", index=(1,)),
+]

@@ -22,3 +22,15 @@ SYSTEM = System(
     gravity=Gravity(g.symbol, (0, 0, -1)),
     doc=__doc__,
 )
+
+# ----------------------------------------------------------------------------- the lecture's printed equations
+from harness.claims import Claim  # noqa: E402
+import sympy as _sp  # noqa: E402
+
+_phi = SYSTEM.coordinates[0]
+CLAIMS = [
+    Claim("(3.109)", "position:bob", _sp.Matrix([0, l.symbol * _sp.sin(_phi.symbol), -l.symbol * _sp.cos(_phi.symbol)]),
+          "position of the mass: y = l sin(phi), z = -l cos(phi)"),
+    Claim("(3.111)", "eom", m.symbol * l.symbol**2 * _phi.accel + m.symbol * g.symbol * l.symbol * _sp.sin(_phi.symbol),
+          "m l² phi'' = -m g l sin(phi)"),
+]

@@ -67,3 +67,31 @@ SYSTEM = System(
     ),
     doc=__doc__,
 )
+
+# ----------------------------------------------------------------------------- the lecture's printed equations
+import sympy as _sp  # noqa: E402
+
+from harness.claims import Claim  # noqa: E402
+
+_p1, _p2 = (c.symbol for c in SYSTEM.coordinates)
+_w1, _w2 = (c.rate for c in SYSTEM.coordinates)
+_c2, _s2 = _sp.cos(_p2), _sp.sin(_p2)
+_m1, _m2, _l1, _l2, _ls1, _ls2 = (x.symbol for x in (m_1, m_2, l_1, l_2, l_s1, l_s2))
+_Izz1, _Izz2 = I_zz1.symbol, I_zz2.symbol
+CLAIMS = [
+    Claim("(4.35a)", "position:link_1", _sp.Matrix([_ls1 * _sp.cos(_p1), _ls1 * _sp.sin(_p1), 0]),
+          "centre of mass of link 1"),
+    Claim("(4.35b)", "position:link_2", _sp.Matrix([_l1 * _sp.cos(_p1) + _ls2 * _sp.cos(_p1 + _p2),
+                                                    _l1 * _sp.sin(_p1) + _ls2 * _sp.sin(_p1 + _p2), 0]),
+          "centre of mass of link 2"),
+    Claim("(4.35c)", "position:e2", _sp.Matrix([_l1 * _sp.cos(_p1) + _l2 * _sp.cos(_p1 + _p2),
+                                                _l1 * _sp.sin(_p1) + _l2 * _sp.sin(_p1 + _p2), 0]),
+          "end effector", note="printed with l_e2; (4.34) defines the end effector at l_2: read as l_2"),
+    Claim("(5.27)", "M", _sp.Matrix([
+        [_m1 * _ls1**2 + _m2 * (_l1**2 + 2 * _l1 * _ls2 * _c2 + _ls2**2) + _Izz1 + _Izz2,
+         _m2 * _ls2 * (_ls2 + _l1 * _c2) + _Izz2],
+        [_m2 * _ls2 * (_ls2 + _l1 * _c2) + _Izz2, _m2 * _ls2**2 + _Izz2]]), "mass matrix"),
+    Claim("(5.112)", "C", _sp.Matrix([
+        [-_m2 * _l1 * _ls2 * _s2 * _w2, -_m2 * _l1 * _ls2 * _s2 * (_w1 + _w2)],
+        [-_m2 * _l1 * _ls2 * _s2 * _w1, 0]]), "Coriolis matrix 'for checking'"),
+]

@@ -1,0 +1,269 @@
+"""The third oracle: equations *printed in the lecture*, transcribed per system ("claims"), checked against
+our derivation and both engines on hypothesis states.
+
+A model module lists ``CLAIMS = [Claim(...), ...]``. Each claim is the printed expression, transcribed
+faithfully (typos included) in the model's symbols, and names the quantity it claims to equal:
+
+* ``"M"``, ``"C"``, ``"Cqd"``, ``"g"``, ``"f_np"``, ``"T"``, ``"V"`` – compared with the derivation and, where an
+  engine gives the quantity (M, C, Cqd, g), with Pinocchio and MuJoCo;
+* ``"eom"`` – printed equations of motion, one residual ``lhs − rhs`` per row in ``q, q̇, q̈`` (symbols
+  ``Coordinate.accel``), which must vanish at ``q̈`` from the forward dynamics of the derivation and of each
+  engine;
+* ``"position:<point>"`` / ``"parameter"`` – kinematics or a parameter relation, checked against our
+  kinematics (derivation only: ``reference`` gives the derived expression).
+
+Classification (computed, never typed in):
+
+* **confirmed** – agrees with the derivation and every engine that gives the quantity;
+* **C differs, C·q̇ agrees** – a printed C that is not the Christoffel C but gives the same C·q̇ (C is not
+  unique): not wrong as an equation of motion;
+* **convention-dependent** – fails as printed but holds under one of the claim's declared alternative
+  conventions (a substitution only the figure can decide): the report names it;
+* **erratum** – disagrees with the derivation *and* with every engine that gives the quantity, while those
+  agree with each other; reported with the printed and the corrected expression and a minimal
+  counterexample state shrunk by hypothesis;
+* **engines disagree** – the derivation and an engine disagree with each other: a finding of its own.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import sympy as sp
+from hypothesis import HealthCheck, given, settings
+
+from harness.compile import compiled
+from harness.conformance import FLOAT64_RTOL, scales
+from harness.engines import mujoco_engine, pinocchio_engine, symbolic
+from harness.engines.base import State
+from harness.kinematics import link_poses, point_position
+from harness.model import Point, System
+from harness.strategies import states
+
+ENGINE_QUANTITIES = {"M", "C", "Cqd", "g"}
+QUANTITIES = ENGINE_QUANTITIES | {"f_np", "T", "V", "eom", "parameter"}
+
+
+@dataclass(frozen=True)
+class Claim:
+    """One printed equation. ``printed`` is a sympy expression or Matrix in the model's symbols (``q``,
+    ``Coordinate.rate``, ``Coordinate.accel``, parameters, inputs)."""
+
+    equation: str                       # "(5.112)"
+    quantity: str                       # "M", "C", "Cqd", "g", "f_np", "T", "V", "eom", "position:<point>", "parameter"
+    printed: object                     # sympy Expr or Matrix, as printed
+    description: str = ""
+    index: tuple | None = None          # only this element/row of the quantity, e.g. (1, 0) or (0,)
+    reference: object = None            # derived expression for "parameter" claims
+    conventions: dict = field(default_factory=dict)  # name -> substitution dict (alternative conventions)
+    note: str = ""                      # transcription remarks (e.g. "printed l_e2 read as l_2")
+
+    def __post_init__(self):
+        kind = self.quantity.split(":")[0]
+        if kind not in QUANTITIES | {"position"}:
+            raise ValueError(f"claim {self.equation}: unknown quantity {self.quantity!r}")
+
+
+@dataclass
+class Verdict:
+    claim: Claim
+    system: str
+    classification: str
+    errors: dict                        # source -> largest relative error seen
+    counterexample: str | None = None
+    corrected: str | None = None
+    convention: str | None = None
+    examples: int = 0
+
+
+def _symbols(system: System):
+    accel = [c.accel for c in system.coordinates]
+    return [system.q, system.qd, accel, system.p, system.u]
+
+
+def _derived(system: System, claim: Claim):
+    """The derived symbolic quantity the claim is compared with (for the 'corrected' expression)."""
+    c = compiled(system)
+    d = c.derivation
+    kind = claim.quantity.split(":")[0]
+    if kind == "eom":
+        qdd = sp.Matrix([co.accel for co in system.coordinates])
+        expr = d.M * qdd + d.C * sp.Matrix(system.qd) + d.g - d.f_np
+    elif kind == "position":
+        name = claim.quantity.split(":", 1)[1]
+        expr = _point(system, name)
+    elif kind == "parameter":
+        expr = sp.sympify(claim.reference)
+    elif kind == "Cqd":
+        expr = d.C * sp.Matrix(system.qd)
+    else:
+        expr = getattr(d, kind)
+    return _select(sp.Matrix(expr) if isinstance(expr, sp.MatrixBase) else sp.Matrix([expr]), claim.index)
+
+
+def _point(system: System, name: str) -> sp.Matrix:
+    for f in system.forces:
+        for pt in (getattr(f, "a", None), getattr(f, "b", None), getattr(f, "point", None)):
+            if isinstance(pt, Point) and pt.name == name:
+                return _position(system, pt)
+    for link in system.links:
+        if link.name == name:
+            return _position(system, Point(link.name, link.com))
+    raise ValueError(f"{system.name}: no point or link named {name!r} for a position claim")
+
+
+def _position(system: System, point: Point) -> sp.Matrix:
+    poses = link_poses(system)
+    return point_position(poses, point).xreplace(dict(zip(system.theta, system.phi)))
+
+
+def _select(m: sp.Matrix, index):
+    if index is None:
+        return m
+    if len(index) == 2:
+        return sp.Matrix([m[index]])
+    return m[index[0], :] if m.shape[0] > 1 and m.shape[1] > 1 else sp.Matrix([m[index[0]]])
+
+
+def _as_matrix(expr) -> sp.Matrix:
+    return sp.Matrix(expr) if isinstance(expr, (sp.MatrixBase, list, tuple)) else sp.Matrix([expr])
+
+
+def _lambdify(system: System, expr):
+    return sp.lambdify(_symbols(system), _as_matrix(expr), modules="numpy")
+
+
+def _relative(a, b, scale):
+    diff = float(np.max(np.abs(np.asarray(a, float) - np.asarray(b, float)))) if np.size(a) else 0.0
+    if diff == 0.0:
+        return 0.0
+    if not math.isfinite(diff):
+        return math.inf
+    return diff / max(scale, float(np.max(np.abs(a))), float(np.max(np.abs(b))), 1e-300)
+
+
+class _Disagrees(AssertionError):
+    pass
+
+
+def _engine_values(claim: Claim, state: State, engines):
+    """The claimed quantity from each source, with the scale and tolerance it is compared at."""
+    ref = symbolic.evaluate(state)
+    ref.extra["qd"] = state.qd
+    s = scales(ref)
+    kappa = float(np.linalg.cond(ref.M))
+    kind = claim.quantity.split(":")[0]
+    evaluations = {"derivation": ref}
+    if kind in ENGINE_QUANTITIES | {"eom"}:
+        if "pinocchio" in engines:
+            evaluations["pinocchio"] = pinocchio_engine.evaluate(state)
+        if "mujoco" in engines:
+            evaluations["mujoco"] = mujoco_engine.evaluate(state)
+    return evaluations, s, kappa
+
+
+def _value_of(claim: Claim, ev):
+    return {"M": ev.M, "C": ev.C, "Cqd": ev.Cqd, "g": ev.g}[claim.quantity]
+
+
+def evaluate_claim(system: System, claim: Claim, state: State, engines=("pinocchio", "mujoco"),
+                   substitution: dict | None = None) -> dict[str, float]:
+    """Relative error of the printed expression against each source at one state (relative to tolerance:
+    a value ≤ 1 means 'agrees')."""
+    evaluations, s, kappa = _engine_values(claim, state, engines)
+    printed = _as_matrix(claim.printed)
+    if substitution:
+        printed = printed.xreplace(substitution)
+    fn = _lambdify(system, printed)
+    kind = claim.quantity.split(":")[0]
+    out = {}
+    for source, ev in evaluations.items():
+        qdd = ev.qdd
+        args = (state.q, state.qd, qdd, state.p, state.u_vec)
+        value = np.asarray(fn(*args), dtype=float)
+        if kind == "eom":
+            terms = max(s["qdd"] * float(np.max(np.abs(ev.M))), s["g"])
+            residual = value
+            out[source] = _relative(residual, np.zeros_like(residual), terms) / (FLOAT64_RTOL * kappa)
+            continue
+        if kind in ENGINE_QUANTITIES:
+            reference = _select(sp.Matrix(_value_of(claim, ev)), claim.index)
+            scale = s[kind]
+        elif source == "derivation":
+            derived_fn = _lambdify(system, _derived(system, claim))
+            reference = np.asarray(derived_fn(*args), dtype=float)
+            scale = {"f_np": s["g"], "T": s["M"] * max(1.0, float(np.max(np.abs(state.qd)))) ** 2,
+                     "V": s["g"]}.get(kind, 1.0)
+        else:
+            continue
+        reference = np.asarray(reference, dtype=float).reshape(value.shape)
+        out[source] = _relative(value, reference, scale) / FLOAT64_RTOL
+    if kind == "C":  # C is not unique: does the printed C give the same C q̇?
+        ref = evaluations["derivation"]
+        printed_cqd = value.reshape(-1, len(state.qd)) @ state.qd if claim.index is None else None
+        if printed_cqd is not None:
+            out["Cqd (from printed C)"] = _relative(printed_cqd, ref.Cqd, s["Cqd"]) / FLOAT64_RTOL
+    return out
+
+
+def classify(system: System, claim: Claim, engines=("pinocchio", "mujoco"), examples: int | None = None) -> Verdict:
+    """Classify a claim on hypothesis states; a failing claim is shrunk to a minimal counterexample."""
+    worst: dict[str, float] = {}
+    count = [0]
+
+    def check(state: State):
+        errors = evaluate_claim(system, claim, state, engines)
+        count[0] += 1
+        for k, v in errors.items():
+            worst[k] = max(worst.get(k, 0.0), v)
+        if any(v > 1 for k, v in errors.items() if not k.startswith("Cqd (from")):
+            raise _Disagrees(_state_text(state))
+
+    failure = _run(system, check, examples)
+    verdict = Verdict(claim, system.name, "confirmed", worst, examples=count[0])
+    if failure is None:
+        return verdict
+    verdict.counterexample = failure
+    verdict.corrected = str(_derived(system, claim))
+    if claim.quantity == "C" and worst.get("Cqd (from printed C)", math.inf) <= 1:
+        verdict.classification = "C differs, C·q̇ agrees"
+        return verdict
+    for name, substitution in claim.conventions.items():
+        ok = _run(system, _holds_with(system, claim, engines, substitution), examples)
+        if ok is None:
+            verdict.classification, verdict.convention = "convention-dependent", name
+            return verdict
+    sources = [k for k in worst if not k.startswith("Cqd (from")]
+    if all(worst[k] > 1 for k in sources):
+        verdict.classification = "erratum"
+    else:
+        verdict.classification = "engines disagree"
+    return verdict
+
+
+def _holds_with(system, claim, engines, substitution):
+    def check(state: State):
+        errors = evaluate_claim(system, claim, state, engines, substitution)
+        if any(v > 1 for k, v in errors.items() if not k.startswith("Cqd (from")):
+            raise _Disagrees(_state_text(state))
+    return check
+
+
+def _run(system: System, check, examples):
+    overrides = {"suppress_health_check": [HealthCheck.too_slow, HealthCheck.data_too_large], "deadline": None}
+    if examples is not None:
+        overrides["max_examples"] = examples
+    test = settings(**overrides)(given(states(system))(check))
+    try:
+        test()
+    except _Disagrees as failure:
+        return str(failure)
+    return None
+
+
+def _state_text(state: State) -> str:
+    from harness.conformance import _fmt
+
+    return f"q={_fmt(state.q)}, qd={_fmt(state.qd)}, u={_fmt(state.u)}, params={_fmt(state.params)}"

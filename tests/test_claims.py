@@ -1,0 +1,47 @@
+"""The claims machinery classifies correctly (confirmed, erratum, C differs but C q̇ agrees,
+convention-dependent), and every printed equation of every system can be evaluated and classified."""
+
+import pytest
+import sympy as sp
+
+import models
+from harness.claims import Claim, classify
+
+SYSTEM = models.get("planar_manipulator")
+(p1, p2), (w1, w2) = SYSTEM.q, SYSTEM.qd
+m_2, l_1, l_s2 = (SYSTEM.parameter(n).symbol for n in ("m_2", "l_1", "l_s2"))
+h = m_2 * l_1 * l_s2 * sp.sin(p2)
+CHRISTOFFEL = sp.Matrix([[-h * w2, -h * (w1 + w2)], [h * w1, 0]])
+
+
+def test_correct_claim_is_confirmed():
+    assert classify(SYSTEM, Claim("(t1)", "C", CHRISTOFFEL), examples=20).classification == "confirmed"
+
+
+def test_wrong_claim_is_an_erratum_with_minimal_counterexample():
+    wrong = CHRISTOFFEL.copy()
+    wrong[1, 0] = -wrong[1, 0]
+    verdict = classify(SYSTEM, Claim("(t2)", "C", wrong), examples=20)
+    assert verdict.classification == "erratum"
+    assert verdict.counterexample and "q=[" in verdict.counterexample and verdict.corrected
+
+
+def test_other_C_with_same_C_qd_is_not_an_erratum():
+    other = CHRISTOFFEL + 0.7 * sp.Matrix([[w2, -w1], [w2, -w1]])  # adds S with S q̇ = 0
+    assert classify(SYSTEM, Claim("(t3)", "C", other), examples=20).classification == "C differs, C·q̇ agrees"
+
+
+def test_convention_dependent_claim():
+    # printed with the angle of link 2 counted the other way round: holds after phi_2 -> -phi_2
+    flipped = sp.Matrix(CHRISTOFFEL).xreplace({p2: -p2, w2: -w2})
+    claim = Claim("(t4)", "C", flipped, conventions={"phi_2 counted clockwise": {p2: -p2, w2: -w2}})
+    verdict = classify(SYSTEM, claim, examples=20)
+    assert verdict.classification == "convention-dependent" and verdict.convention == "phi_2 counted clockwise"
+
+
+@pytest.mark.parametrize("name", list(models.catalogue()))
+def test_every_printed_equation_is_classified(name):
+    system = models.get(name)
+    for claim in models.claims(name):
+        verdict = classify(system, claim, examples=20)
+        assert verdict.classification != "engines disagree", (claim.equation, verdict.errors)
