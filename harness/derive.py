@@ -106,6 +106,10 @@ def derive_uncached(system: System) -> Derivation:
         if system.gravity is not None:
             e_g = sp.Matrix(system.gravity.direction)
             V_gravity += -sp.sympify(link.mass) * sp.sympify(system.gravity.g) * (e_g.T * p_s)[0]  # (5.20)
+    for k, joint in enumerate(system.joints):  # armature: I_a theta_dot_k² / 2 in T
+        if sp.sympify(joint.armature) != 0:
+            row = J_phi[k, :]
+            M += sp.sympify(joint.armature) * row.T * row
     M = _simplify_matrix(M)
 
     V_spring = sp.Integer(0)

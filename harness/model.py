@@ -84,11 +84,14 @@ class Parameter:
 
 @dataclass(frozen=True)
 class Coordinate:
-    """A lecture (generalized) coordinate ``q_j`` and its unit (``rad`` or ``m``)."""
+    """A lecture (generalized) coordinate ``q_j`` and its unit (``rad`` or ``m``). ``range`` bounds the states
+    the conformance checks draw (e.g. away from a coordinate singularity; a rope length kept positive);
+    ``None`` means the default range (angles in [-π, π], lengths in [-1, 1] m)."""
 
     name: str
     unit: str
     description: str
+    range: tuple | None = None
 
     @property
     def symbol(self) -> sp.Symbol:
@@ -189,6 +192,7 @@ class Joint:
     origin: tuple = (0, 0, 0)
     rpy: tuple = (0, 0, 0)
     phi: Expr | None = None
+    armature: Expr = 0     # rotor inertia reflected onto this joint (MuJoCo armature), adds to M_theta[k, k]
 
     def __post_init__(self):
         if self.type not in JOINT_TYPES:

@@ -72,7 +72,8 @@ def parameters(draw, system: System) -> dict[str, float]:
 @st.composite
 def states(draw, system: System, random_parameters: bool = True) -> State:
     """A random state ``(q, q̇, parameters, u)`` of ``system``."""
-    q = [draw(_float(-ANGLE, ANGLE) if c.unit == "rad" else _float(-LENGTH, LENGTH)) for c in system.coordinates]
+    q = [draw(_float(*c.range) if c.range else _float(-ANGLE, ANGLE) if c.unit == "rad" else _float(-LENGTH, LENGTH))
+         for c in system.coordinates]
     qd = [draw(_float(-RATE, RATE)) for _ in system.coordinates]
     params = draw(parameters(system)) if random_parameters else system.default_parameters()
     u = {i.name: draw(_float(-INPUT, INPUT)) for i in system.inputs}

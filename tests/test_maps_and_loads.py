@@ -1,4 +1,4 @@
-"""The parts of the core the lecture systems of the skeleton do not exercise: a linear map (absolute angles),
+"""The parts of the core the lecture systems of the skeleton do not exercise: a linear map (absolute angles), rotor inertia as engine armature,
 a nonlinear map theta = phi(q), external follower forces at points and torques on bodies (5.73) — checked
 against both engines exactly like a catalogue system."""
 
@@ -16,18 +16,20 @@ I_yy = Parameter("I_yy", 0.04, "kg m^2", "inertia about y")
 I_zz = Parameter("I_zz", 0.04, "kg m^2", "inertia about z")
 d = Parameter("d", 0.5, "N s/m", "damper tip - world")
 g = Parameter("g", 9.81, "m/s^2", "gravity")
+I_a = Parameter("I_a", 0.02, "kg m^2", "rotor inertia reflected onto joint 2 (armature)")
 phi_1, phi_2 = sp.Symbol("phi_1", real=True), sp.Symbol("phi_2", real=True)
 rod = dict(mass=m.symbol, com=(l.symbol / 2, 0, 0), inertia=Inertia(I_xx.symbol, I_yy.symbol, I_zz.symbol))
 tip = Point("link_2", (l.symbol, 0, 0), "tip")
 
 ABSOLUTE_ANGLES = System(
     name="double_pendulum_absolute", title="double pendulum in absolute angles", lecture="(test)",
-    parameters=(m, l, I_xx, I_yy, I_zz, d, g),
+    parameters=(m, l, I_xx, I_yy, I_zz, d, g, I_a),
     coordinates=(Coordinate("phi_1", "rad", "absolute angle of link 1"),
                  Coordinate("phi_2", "rad", "absolute angle of link 2")),
     links=(Link("link_1", **rod), Link("link_2", **rod)),
     joints=(Joint("joint_1", "revolute", WORLD, "link_1", axis="z", phi=phi_1),
-            Joint("joint_2", "revolute", "link_1", "link_2", axis="z", origin=(l.symbol, 0, 0), phi=phi_2 - phi_1)),
+            Joint("joint_2", "revolute", "link_1", "link_2", axis="z", origin=(l.symbol, 0, 0), phi=phi_2 - phi_1,
+                  armature=I_a.symbol)),
     gravity=Gravity(g.symbol, (0, -1, 0)),
     inputs=(Input("f", "N", "follower force at the tip"), Input("tau", "N m", "torque on link 1")),
     forces=(PointForce("follower", tip, (0, sp.Symbol("f", real=True), 0), frame="link_2"),

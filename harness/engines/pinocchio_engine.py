@@ -23,6 +23,9 @@ class PinocchioModel:
         self.tree = tree
         self.model = pin.buildModelFromXML(urdf if urdf is not None else urdf_string(tree))
         self.model.gravity.linear = np.asarray(tree.gravity, dtype=float)
+        for j in tree.joints:  # URDF has no rotor inertia: Pinocchio's armature is set from the model
+            if j.armature:
+                self.model.armature[self.model.joints[self.model.getJointId(j.name)].idx_v] = j.armature
         self.data = self.model.createData()
         self.model_no_gravity = self.model.copy()
         self.model_no_gravity.gravity.linear = np.zeros(3)

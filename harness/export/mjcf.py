@@ -73,7 +73,7 @@ def mjcf_spec(tree: NumericTree) -> mujoco.MjSpec:
             body.fullinertia = [inertia[0, 0], inertia[1, 1], inertia[2, 2], inertia[0, 1], inertia[0, 2], inertia[1, 2]]
             joint = body.add_joint(name=j.name, type=_JOINT_TYPE[j.type], axis=j.axis)
             joint.limited = mujoco.mjtLimited.mjLIMITED_FALSE
-            joint.armature = 0.0
+            joint.armature = j.armature  # zero unless the model has rotor inertia
             if j.name in tree.joint_stiffness:
                 # MuJoCo 4: stiffness/damping are polynomial coefficient vectors; [0] is the linear one
                 stiffness, joint.springref = tree.joint_stiffness[j.name]
@@ -127,6 +127,7 @@ _FIELDS = {
     ("joint", "springref"): (_OBJ.mjOBJ_JOINT, lambda m, i: [m.qpos_spring[m.jnt_qposadr[i]]]),
     ("joint", "stiffness"): (_OBJ.mjOBJ_JOINT, _joint_stiffness),
     ("joint", "damping"): (_OBJ.mjOBJ_JOINT, _joint_damping),
+    ("joint", "armature"): (_OBJ.mjOBJ_JOINT, lambda m, i: [m.dof_armature[m.jnt_dofadr[i]]]),
     ("site", "pos"): (_OBJ.mjOBJ_SITE, lambda m, i: m.site_pos[i]),
     ("site", "quat"): (_OBJ.mjOBJ_SITE, lambda m, i: m.site_quat[i]),
     ("spatial", "stiffness"): (_OBJ.mjOBJ_TENDON, lambda m, i: [m.tendon_stiffness[i], *m.tendon_stiffnesspoly[i]]),

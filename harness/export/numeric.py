@@ -34,6 +34,7 @@ class NumericJoint:
     axis: np.ndarray
     origin: np.ndarray
     rpy: np.ndarray
+    armature: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -79,7 +80,7 @@ def instantiate(system: System, params: dict[str, float]) -> NumericTree:
         links.append(NumericLink(link.name, mass, com, inertia))
     joints = tuple(NumericJoint(j.name, j.type, j.parent, j.child, np.array(j.axis, dtype=float),
                                 np.array([_value(v, subs) for v in j.origin_vector]),
-                                np.array(j.rpy, dtype=float)) for j in system.joints)
+                                np.array(j.rpy, dtype=float), _value(j.armature, subs)) for j in system.joints)
     points: dict[str, NumericPoint] = {}
     tendons: dict[tuple, list] = {}
     joint_stiffness, joint_damping, actuators = {}, {}, []
