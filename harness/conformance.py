@@ -161,6 +161,7 @@ class Summary:
     examples: int = 0
     worst: dict = field(default_factory=dict)   # (check, engine) -> Finding
     failure: str | None = None
+    not_applicable: dict = field(default_factory=dict)  # engine -> reason it does not apply
 
     @property
     def passed(self) -> bool:
@@ -177,6 +178,8 @@ def run(system: System, engines=("pinocchio", "mujoco"), examples: int | None = 
         random_parameters: bool = True, pin_urdf=None, mj_xml=None) -> Summary:
     """Run every check on hypothesis states; on a failure, hypothesis shrinks it to a minimal state."""
     summary = Summary(system.name)
+    summary.not_applicable = {e: system.engine_note(e) for e in engines if system.engine_note(e)}
+    engines = tuple(e for e in engines if e not in summary.not_applicable)
 
     def check(state: State):
         findings = evaluate_all(state, engines, pin_urdf, mj_xml)

@@ -332,6 +332,12 @@ class System:
     inputs: tuple[Input, ...] = ()
     doc: str = ""
     status: str = "modeled"
+    # engines that do not apply to this system, with the reason the report gives: (("mujoco", "…"), …)
+    not_in_engines: tuple = ()
+
+    def engine_note(self, engine: str) -> str | None:
+        """Why ``engine`` does not apply to this system (None when it does)."""
+        return dict(self.not_in_engines).get(engine)
 
     def __post_init__(self):
         validate(self)
