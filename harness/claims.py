@@ -9,6 +9,8 @@ faithfully (typos included) in the model's symbols, and names the quantity it cl
 * ``"eom"`` – printed equations of motion, one residual ``lhs − rhs`` per row in ``q, q̇, q̈`` (symbols
   ``Coordinate.accel``), which must vanish at ``q̈`` from the forward dynamics of the derivation and of each
   engine;
+* ``"equilibrium"`` – a printed equilibrium ``q*`` (all coordinates, in parameters): at ``(q*, q̇ = 0, u = 0)``
+  the forward dynamics of the derivation and of each engine must give ``q̈ = 0``;
 * ``"position:<point>"`` / ``"parameter"`` – kinematics or a parameter relation, checked against our
   kinematics (derivation only: ``reference`` gives the derived expression).
 
@@ -43,7 +45,7 @@ from harness.model import Point, System
 from harness.strategies import states
 
 ENGINE_QUANTITIES = {"M", "C", "Cqd", "g"}
-QUANTITIES = ENGINE_QUANTITIES | {"f_np", "T", "V", "eom", "parameter"}
+QUANTITIES = ENGINE_QUANTITIES | {"f_np", "T", "V", "eom", "parameter", "equilibrium"}
 
 
 @dataclass(frozen=True)
@@ -88,6 +90,9 @@ def _derived(system: System, claim: Claim):
     c = compiled(system)
     d = c.derivation
     kind = claim.quantity.split(":")[0]
+    if kind == "equilibrium":  # the equation an equilibrium solves: g(q*) - f_np(q*, 0, 0) = 0
+        rest = {x: 0 for x in [*system.qd, *system.u]}
+        return sp.Matrix(d.g - d.f_np.xreplace(rest))
     if kind == "eom":
         qdd = sp.Matrix([co.accel for co in system.coordinates])
         expr = d.M * qdd + d.C * sp.Matrix(system.qd) + d.g - d.f_np
@@ -156,7 +161,7 @@ def _engine_values(claim: Claim, state: State, engines):
     kappa = float(np.linalg.cond(ref.M))
     kind = claim.quantity.split(":")[0]
     evaluations = {"derivation": ref}
-    if kind in ENGINE_QUANTITIES | {"eom"}:
+    if kind in ENGINE_QUANTITIES | {"eom", "equilibrium"}:
         if "pinocchio" in engines:
             evaluations["pinocchio"] = pinocchio_engine.evaluate(state)
         if "mujoco" in engines:
@@ -172,12 +177,19 @@ def evaluate_claim(system: System, claim: Claim, state: State, engines=("pinocch
                    substitution: dict | None = None) -> dict[str, float]:
     """Relative error of the printed expression against each source at one state (relative to tolerance:
     a value ≤ 1 means 'agrees')."""
-    evaluations, s, kappa = _engine_values(claim, state, engines)
     printed = _as_matrix(claim.printed)
     if substitution:
         printed = printed.xreplace(substitution)
     fn = _lambdify(system, printed)
     kind = claim.quantity.split(":")[0]
+    if kind == "equilibrium":
+        n = len(system.coordinates)
+        q_star = np.asarray(fn(state.q, state.qd, np.zeros(n), state.p, state.u_vec), dtype=float).ravel()
+        state = State.make(system, q_star, np.zeros(n), state.params, {})
+        evaluations, s, kappa = _engine_values(claim, state, engines)
+        return {source: _relative(ev.qdd, np.zeros(n), s["qdd"]) / (FLOAT64_RTOL * kappa)
+                for source, ev in evaluations.items()}
+    evaluations, s, kappa = _engine_values(claim, state, engines)
     out = {}
     for source, ev in evaluations.items():
         qdd = ev.qdd
@@ -210,6 +222,7 @@ def evaluate_claim(system: System, claim: Claim, state: State, engines=("pinocch
 
 def classify(system: System, claim: Claim, engines=("pinocchio", "mujoco"), examples: int | None = None) -> Verdict:
     """Classify a claim on hypothesis states; a failing claim is shrunk to a minimal counterexample."""
+    engines = tuple(e for e in engines if not system.engine_note(e))
     worst: dict[str, float] = {}
     count = [0]
 

@@ -202,8 +202,6 @@ class Joint:
         a = [float(v) for v in self.axis]
         if abs(sum(v * v for v in a) - 1.0) > 1e-12:
             raise ModelError(f"joint {self.name}: axis {self.axis} must be a unit vector")
-        if any(not _sym(v).is_number for v in self.rpy):
-            raise ModelError(f"joint {self.name}: rpy must be numbers (they are exported as such)")
 
     @property
     def theta(self) -> sp.Symbol:
@@ -466,7 +464,7 @@ def validate(system: System) -> None:
             raise ModelError(f"{where}: link {link.name} uses undeclared symbol(s) {bad}; "
                              f"declare them as Parameter and use Parameter.symbol")
     for j in system.joints:
-        bad = _undeclared([*j.origin], static)
+        bad = _undeclared([*j.origin, *j.rpy], static)
         if bad:
             raise ModelError(f"{where}: joint {j.name} origin uses undeclared symbol(s) {bad}")
     phi = system.phi

@@ -30,6 +30,7 @@ import pinocchio as pin
 
 from harness.engines.mujoco_engine import MujocoModel
 from harness.engines.pinocchio_engine import PinocchioModel
+from harness.export.mjcf import fused_links
 from harness.export.numeric import MUJOCO_POINT_MASS_INERTIA, NumericTree
 from harness.model import WORLD
 
@@ -183,8 +184,18 @@ def mujoco_roundtrip(tree: NumericTree, model: MujocoModel) -> list[RoundTripErr
     def body_name(bid):
         return mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, bid)
 
+    fused = fused_links(tree)
+    child_of = {j.parent: j.child for j in tree.joints}
+
+    def body_of(link):  # a fused massless link lives in its child's body
+        while link in fused:
+            link = child_of[link]
+        return link
+
     out = [_names(E, "dofs", [len(tree.joints)], [m.nv])]
     for link in tree.links:
+        if link.name in fused:
+            continue  # no body of its own; its joint is checked in the child's body below
         bid = find(mujoco.mjtObj.mjOBJ_BODY, link.name)
         if bid < 0:
             out.append(_missing(E, link.name))
@@ -207,12 +218,17 @@ def mujoco_roundtrip(tree: NumericTree, model: MujocoModel) -> list[RoundTripErr
             continue
         bid = m.jnt_bodyid[jid]
         kind = _MJ_TYPE.get(mujoco.mjtJoint(m.jnt_type[jid]), str(mujoco.mjtJoint(m.jnt_type[jid])))
-        out += [_names(E, f"{j.name} bodies", [j.parent, j.child], [body_name(m.body_parentid[bid]), body_name(bid)]),
+        parent = j.parent
+        while parent in fused:  # the placement of a fused chain is the first joint's
+            parent = next(k.parent for k in tree.joints if k.child == parent)
+        out += [_names(E, f"{j.name} bodies", [body_of(parent), body_of(j.child)],
+                       [body_name(m.body_parentid[bid]), body_name(bid)]),
                 _names(E, f"{j.name} type", [j.type], [kind]),
                 _numbers(E, f"{j.name} axis", j.axis, m.jnt_axis[jid]),
-                _numbers(E, f"{j.name} anchor", np.zeros(3), m.jnt_pos[jid]),
-                _numbers(E, f"{j.name} origin", j.origin, m.body_pos[bid]),
-                _numbers(E, f"{j.name} rotation", rpy_matrix(j.rpy), _quat_matrix(m.body_quat[bid]))]
+                _numbers(E, f"{j.name} anchor", np.zeros(3), m.jnt_pos[jid])]
+        if j.parent not in fused:
+            out += [_numbers(E, f"{j.name} origin", j.origin, m.body_pos[bid]),
+                    _numbers(E, f"{j.name} rotation", rpy_matrix(j.rpy), _quat_matrix(m.body_quat[bid]))]
     for point in tree.points:
         sid = find(mujoco.mjtObj.mjOBJ_SITE, point.name)
         if sid < 0:

@@ -1,5 +1,6 @@
 """The parts of the core the lecture systems of the skeleton do not exercise: a linear map (absolute angles), rotor inertia as engine armature,
-a nonlinear map theta = phi(q), external follower forces at points and torques on bodies (5.73) — checked
+a nonlinear map theta = phi(q), a massless link between two non-commuting hinges (fused into one MuJoCo
+body), external follower forces at points and torques on bodies (5.73) — checked
 against both engines exactly like a catalogue system."""
 
 import sympy as sp
@@ -49,7 +50,19 @@ NONLINEAR_MAP = System(
 )
 
 
-@pytest.mark.parametrize("system", [ABSOLUTE_ANGLES, NONLINEAR_MAP], ids=lambda s: s.name)
+a, b = sp.Symbol("a", real=True), sp.Symbol("b", real=True)
+MASSLESS_GIMBAL = System(
+    name="gimbal_pendulum", title="two hinges at one point through a massless link", lecture="(test)",
+    parameters=(m, l, I_xx, I_yy, I_zz, g),
+    coordinates=(Coordinate("a", "rad", "about z"), Coordinate("b", "rad", "about the turned y")),
+    links=(Link("gimbal", 0), Link("rod", m.symbol, (0, 0.1, -l.symbol), Inertia(I_xx.symbol, I_yy.symbol, I_zz.symbol))),
+    joints=(Joint("a", "revolute", WORLD, "gimbal", axis="z", origin=(0.2, 0, 0), rpy=(0.3, 0, 0)),
+            Joint("b", "revolute", "gimbal", "rod", axis="y")),
+    gravity=Gravity(g.symbol, (0, 0, -1)),
+)
+
+
+@pytest.mark.parametrize("system", [ABSOLUTE_ANGLES, NONLINEAR_MAP, MASSLESS_GIMBAL], ids=lambda s: s.name)
 def test_mapped_system_agrees_with_both_engines(system):
     summary = conformance.run(system)
     assert summary.failure is None, summary.failure

@@ -33,6 +33,34 @@ def rpy_quat(rpy) -> np.ndarray:
     return quat
 
 
+def fused_links(tree: NumericTree) -> set[str]:
+    """Massless links MuJoCo cannot hold as bodies (moving bodies need mass and inertia > mjMINVAL): each is
+    merged with its only child into one MuJoCo body carrying both joints in order. MuJoCo applies the joints
+    of a body in sequence, each about/along its axis in the frame moved by the previous ones, which is our
+    chain exactly when the child's joint sits at the massless link's origin (zero origin and rpy) and
+    nothing is attached to the massless link."""
+    with_points = {p.link for p in tree.points}
+    out = set()
+    for link in tree.links:
+        children = [j for j in tree.joints if j.parent == link.name]
+        if link.mass == 0 and link.name not in with_points and len(children) == 1 \
+                and not np.any(children[0].origin) and not np.any(children[0].rpy):
+            out.add(link.name)
+    return out
+
+
+def _add_joint(body, j, tree: NumericTree) -> None:
+    joint = body.add_joint(name=j.name, type=_JOINT_TYPE[j.type], axis=j.axis)
+    joint.limited = mujoco.mjtLimited.mjLIMITED_FALSE
+    joint.armature = j.armature  # zero unless the model has rotor inertia
+    if j.name in tree.joint_stiffness:
+        # MuJoCo 4: stiffness/damping are polynomial coefficient vectors; [0] is the linear one
+        stiffness, joint.springref = tree.joint_stiffness[j.name]
+        joint.stiffness = [stiffness, 0.0, 0.0]
+    if j.name in tree.joint_damping:
+        joint.damping = [tree.joint_damping[j.name], 0.0, 0.0]
+
+
 def mjcf_spec(tree: NumericTree) -> mujoco.MjSpec:
     spec = mujoco.MjSpec()
     spec.modelname = tree.system
@@ -56,14 +84,24 @@ def mjcf_spec(tree: NumericTree) -> mujoco.MjSpec:
     spec.option.disableflags = int(flags)
 
     bodies = {WORLD: spec.worldbody}
+    carried = {}  # fused massless link -> (parent body, pos, quat, joints waiting for the child's body)
+    fused = fused_links(tree)
     links = {link.name: link for link in tree.links}
     pending = list(tree.joints)
     while pending:
         for j in list(pending):
-            if j.parent not in bodies:
+            if j.parent in carried:
+                parent, pos, quat, joints = carried[j.parent]
+            elif j.parent in bodies:
+                parent, pos, quat, joints = bodies[j.parent], j.origin, rpy_quat(j.rpy), []
+            else:
+                continue
+            pending.remove(j)
+            if j.child in fused:
+                carried[j.child] = (parent, pos, quat, joints + [j])
                 continue
             link = links[j.child]
-            body = bodies[j.parent].add_body(name=link.name, pos=j.origin, quat=rpy_quat(j.rpy))
+            body = parent.add_body(name=link.name, pos=pos, quat=quat)
             body.explicitinertial = True
             body.mass = link.mass
             body.ipos = link.com
@@ -71,17 +109,9 @@ def mjcf_spec(tree: NumericTree) -> mujoco.MjSpec:
             if not np.any(inertia):
                 inertia = np.eye(3) * MUJOCO_POINT_MASS_INERTIA
             body.fullinertia = [inertia[0, 0], inertia[1, 1], inertia[2, 2], inertia[0, 1], inertia[0, 2], inertia[1, 2]]
-            joint = body.add_joint(name=j.name, type=_JOINT_TYPE[j.type], axis=j.axis)
-            joint.limited = mujoco.mjtLimited.mjLIMITED_FALSE
-            joint.armature = j.armature  # zero unless the model has rotor inertia
-            if j.name in tree.joint_stiffness:
-                # MuJoCo 4: stiffness/damping are polynomial coefficient vectors; [0] is the linear one
-                stiffness, joint.springref = tree.joint_stiffness[j.name]
-                joint.stiffness = [stiffness, 0.0, 0.0]
-            if j.name in tree.joint_damping:
-                joint.damping = [tree.joint_damping[j.name], 0.0, 0.0]
+            for joint in joints + [j]:
+                _add_joint(body, joint, tree)
             bodies[j.child] = body
-            pending.remove(j)
     for point in tree.points:
         bodies[point.link].add_site(name=point.name, pos=point.position)
     for name, a, b, stiffness, rest, damping in tree.tendons:

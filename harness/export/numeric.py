@@ -80,7 +80,8 @@ def instantiate(system: System, params: dict[str, float]) -> NumericTree:
         links.append(NumericLink(link.name, mass, com, inertia))
     joints = tuple(NumericJoint(j.name, j.type, j.parent, j.child, np.array(j.axis, dtype=float),
                                 np.array([_value(v, subs) for v in j.origin_vector]),
-                                np.array(j.rpy, dtype=float), _value(j.armature, subs)) for j in system.joints)
+                                np.array([_value(v, subs) for v in j.rpy]), _value(j.armature, subs))
+                   for j in system.joints)
     points: dict[str, NumericPoint] = {}
     tendons: dict[tuple, list] = {}
     joint_stiffness, joint_damping, actuators = {}, {}, []

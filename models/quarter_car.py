@@ -1,0 +1,74 @@
+"""Quarter-car vertical model, Exercise A.4 (Figures A.8, A.9); (A.38)-(A.42).
+
+Wheel mass ``m_R`` at height ``x_R`` and body mass ``m_A`` at height ``x_A`` move along ``e_z``; gravity acts in
+``-e_z``. All springs are unstretched for ``x_A = x_R = x_U = 0``. The suspension (spring ``c_A``, damper
+``d_A``) acts between wheel and body, the tyre (spring ``c_R``, damper ``d_R``) between the road at ``x_U(t)``
+and the wheel (A.38).
+
+Tree: the wheel slides on a prismatic joint from the world (``theta = x_R``), the body on a prismatic joint
+from the wheel (``theta = x_A - x_R``: a linear map). The suspension spring and damper are a joint spring and
+damper of that relative joint. The road moves: with the inputs ``x_U`` and ``v_U = ẋ_U`` the tyre force
+``c_R (x_U - x_R) + d_R (v_U - ẋ_R)`` splits exactly into a spring ``c_R`` and a damper ``d_R`` on the wheel's
+joint (the parts in ``x_R``, ``ẋ_R``) and an external force ``c_R x_U + d_R v_U`` on the wheel (the road's part),
+which each engine applies through its own Jacobian.
+
+The lecture allows a velocity-dependent suspension damping ``d_A(v_RA)``; the model uses a constant ``d_A``
+(the engines' joint damping is linear). A nonlinear damper law belongs to the scenes.
+"""
+
+import sympy as sp
+
+from harness.claims import Claim
+from harness.model import (Coordinate, Gravity, Input, Joint, JointDamper, JointSpring, Link, Parameter, Point,
+                           PointForce, System, WORLD)
+
+m_A = Parameter("m_A", 400.0, "kg", "quarter of the vehicle body mass")
+m_R = Parameter("m_R", 40.0, "kg", "wheel mass")
+c_A = Parameter("c_A", 2.0e4, "N/m", "suspension spring stiffness")
+d_A = Parameter("d_A", 1.5e3, "N s/m", "suspension damping (constant, see docstring)")
+c_R = Parameter("c_R", 2.0e5, "N/m", "tyre stiffness")
+d_R = Parameter("d_R", 1.0e2, "N s/m", "tyre damping")
+g = Parameter("g", 9.81, "m/s^2", "acceleration due to gravity")
+
+x_U = Input("x_U", "m", "road displacement x_U(t)")
+v_U = Input("v_U", "m/s", "road velocity dx_U/dt")
+x_R = Coordinate("x_R", "m", "height of the wheel")
+x_A = Coordinate("x_A", "m", "height of the vehicle body")
+
+SYSTEM = System(
+    name="quarter_car",
+    title="Quarter-car vertical model",
+    lecture="Exercise A.4; (A.38)-(A.42)",
+    parameters=(m_A, m_R, c_A, d_A, c_R, d_R, g),
+    coordinates=(x_R, x_A),
+    links=(Link("wheel", m_R.symbol, description="lumped wheel mass"),
+           Link("body", m_A.symbol, description="lumped body mass")),
+    joints=(Joint("wheel_z", "prismatic", WORLD, "wheel", axis="z", phi=x_R.symbol),
+            Joint("suspension", "prismatic", "wheel", "body", axis="z", phi=x_A.symbol - x_R.symbol)),
+    gravity=Gravity(g.symbol, (0, 0, -1)),
+    inputs=(x_U, v_U),
+    forces=(
+        JointSpring("tyre_spring", "wheel_z", c_R.symbol),
+        JointDamper("tyre_damper", "wheel_z", d_R.symbol),
+        PointForce("road", Point("wheel", (0, 0, 0), "wheel_centre"),
+                   (0, 0, c_R.symbol * x_U.symbol + d_R.symbol * v_U.symbol)),
+        JointSpring("suspension_spring", "suspension", c_A.symbol),
+        JointDamper("suspension_damper", "suspension", d_A.symbol),
+    ),
+    doc=__doc__,
+)
+
+# ----------------------------------------------------------------------------- the lecture's printed equations
+_f_cA = c_A.symbol * (x_R.symbol - x_A.symbol)
+_f_dA = d_A.symbol * (x_R.rate - x_A.rate)
+_f_cR = c_R.symbol * (x_U.symbol - x_R.symbol)
+_f_dR = d_R.symbol * (v_U.symbol - x_R.rate)
+_mass_g = (m_A.symbol + m_R.symbol) * g.symbol
+CLAIMS = [
+    Claim("(A.39a)", "eom", m_A.symbol * x_A.accel - (_f_cA + _f_dA - m_A.symbol * g.symbol), "body", index=(1,)),
+    Claim("(A.39b)", "eom", m_R.symbol * x_R.accel - (_f_cR + _f_dR - _f_cA - _f_dA - m_R.symbol * g.symbol),
+          "wheel", index=(0,)),
+    Claim("(A.41), (A.42)", "equilibrium",
+          sp.Matrix([-_mass_g / c_R.symbol, -_mass_g / c_R.symbol - m_A.symbol * g.symbol / c_A.symbol]),
+          "static deflections for x_U = 0"),
+]

@@ -1,0 +1,45 @@
+"""Sphere rolling down an inclined plane, Exercise 3.17 (Figure 3.38).
+
+A homogeneous sphere (mass ``m``, radius ``R``, inertia ``2/5 m R²`` about its centre, (3.16)) on a plane
+inclined by ``alpha``; gravity acts in ``-e_z``. The plane frame is the world frame pitched by ``alpha`` about
+``e_y`` (roll-pitch-yaw ``(0, alpha, 0)``), so its ``x`` axis points down the slope. The lecture coordinate is
+the rolling angle ``phi`` about the plane's ``y`` axis; rolling without slipping ties the centre's position
+along the slope to it, ``x = R phi`` (a map with two tree joints, slide and hinge, for one coordinate).
+
+Printed result: ``phi'' = 5/(7R) g sin(alpha)`` for ``mu_H >= 2/7 tan(alpha)``. The rolling condition (the
+friction the contact must transmit, and slipping below the threshold) is a contact phenomenon: it is checked
+with the scenes, where MuJoCo simulates the sphere on the plane with friction on both sides of the threshold.
+"""
+
+import sympy as sp
+
+from harness.claims import Claim
+from harness.model import Coordinate, Gravity, Inertia, Joint, Link, Parameter, System, WORLD
+
+m = Parameter("m", 2.0, "kg", "mass of the sphere")
+R = Parameter("R", 0.1, "m", "radius of the sphere")
+alpha = Parameter("alpha", 0.35, "rad", "inclination of the plane")
+g = Parameter("g", 9.81, "m/s^2", "acceleration due to gravity")
+phi = Coordinate("phi", "rad", "rolling angle of the sphere (positive rolling down the slope)")
+
+_I = sp.Rational(2, 5) * m.symbol * R.symbol**2
+
+SYSTEM = System(
+    name="rolling_sphere",
+    title="Sphere rolling down an inclined plane",
+    lecture="Exercise 3.17; rolling condition mu_H >= 2/7 tan(alpha)",
+    parameters=(m, R, alpha, g),
+    coordinates=(phi,),
+    links=(Link("carrier", 0, description="massless frame at the sphere's centre, sliding along the slope"),
+           Link("sphere", m.symbol, inertia=Inertia(_I, _I, _I))),
+    joints=(Joint("x", "prismatic", WORLD, "carrier", axis="x", rpy=(0, alpha.symbol, 0),
+                  phi=R.symbol * phi.symbol),
+            Joint("roll", "revolute", "carrier", "sphere", axis="y", phi=phi.symbol)),
+    gravity=Gravity(g.symbol, (0, 0, -1)),
+    doc=__doc__,
+)
+
+CLAIMS = [
+    Claim("Exercise 3.17", "eom", phi.accel - sp.Rational(5, 7) / R.symbol * g.symbol * sp.sin(alpha.symbol),
+          "phi'' = 5/(7R) g sin(alpha) while rolling"),
+]
