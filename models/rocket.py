@@ -1,0 +1,39 @@
+"""Single-stage rocket with time-varying mass, Exercise 3.6.
+
+Height ``h`` above the Earth's surface along ``e_h = e_z``, gravity ``g`` in ``-e_z``; mass ``m(t) = m_0 - m_f(t)``
+with the fuel ejection rate ``m_f' = u(t)`` at the relative velocity ``-w e_h``. The solution reads
+``h' = v``, ``v' = -g + w u / m``, ``m' = -u``: the thrust ``w u`` acts on the current mass ``m``.
+
+Engine treatment: rigid-body engines have constant masses. The model holds the *current* mass ``m`` as a
+parameter (every drawn state has its own ``m``) and the thrust ``w u`` as an external force, so the engines
+check the instantaneous dynamics ``m h'' = -m g + w u``. Mass depletion ``m' = -u`` is not mechanics of a
+rigid body: the scenes integrate it beside the engines (MuJoCo's ``body_mass`` updated each step).
+"""
+
+from harness.claims import Claim
+from harness.model import Coordinate, Gravity, Input, Joint, Link, Parameter, Point, PointForce, System, WORLD
+
+m = Parameter("m", 500.0, "kg", "current mass of the rocket m(t) = m_0 - m_f(t)")
+w = Parameter("w", 2500.0, "m/s", "relative velocity of the ejected fuel")
+g = Parameter("g", 9.81, "m/s^2", "gravitational acceleration")
+u = Input("u", "kg/s", "fuel ejection rate dm_f/dt")
+h = Coordinate("h", "m", "height above the Earth's surface", range=(0.0, 1.0e5))
+
+SYSTEM = System(
+    name="rocket",
+    title="Single-stage rocket (instantaneous mass)",
+    lecture="Exercise 3.6",
+    parameters=(m, w, g),
+    coordinates=(h,),
+    links=(Link("rocket", m.symbol),),
+    joints=(Joint("h", "prismatic", WORLD, "rocket", axis="z"),),
+    gravity=Gravity(g.symbol, (0, 0, -1)),
+    inputs=(u,),
+    forces=(PointForce("thrust", Point("rocket", (0, 0, 0), "nozzle"), (0, 0, w.symbol * u.symbol)),),
+    doc=__doc__,
+)
+
+CLAIMS = [
+    Claim("Solution of Exercise 3.6", "eom", h.accel - (-g.symbol + w.symbol * u.symbol / m.symbol),
+          "v' = -g + w u / m"),
+]

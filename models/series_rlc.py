@@ -1,0 +1,44 @@
+"""Series resonant circuit, Example 1.1 (Figure 1.4); (1.6)-(1.10).
+
+Electrical: resistor ``R`` (1.6), capacitor ``C`` (1.7), inductor ``L`` (1.8), source voltage ``u`` in series
+(1.9). With the capacitor charge ``Q = C u_c`` as coordinate and the current ``i_l = Q̇``, the mesh equation
+(1.9c) is ``L Q̈ + R Q̇ + Q / C = u``: Lagrange's equations with ``T = L Q̇²/2`` (magnetic energy),
+``V = Q²/(2C)`` (electric energy) and the dissipation of ``R``.
+
+Engine treatment (honest analogue): no rigid-body engine simulates circuits. The engines get the
+*mechanical analogue* — a mass ``L`` on a prismatic joint, a joint spring of stiffness ``1/C``, joint damping
+``R`` and a motor force ``u`` — so they check the analogue's M, g, f_np and forward dynamics (force-voltage
+analogy), not any electrical law; the state equation (1.10) in ``(i_l, u_c)`` is checked as a printed claim.
+"""
+
+from harness.claims import Claim
+from harness.model import (Coordinate, Input, Joint, JointDamper, JointInput, JointSpring, Link, Parameter, System,
+                           WORLD)
+
+R = Parameter("R", 10.0, "Ohm", "resistance")
+L = Parameter("L", 0.5, "H", "inductance (analogue: mass)")
+C = Parameter("C", 1.0e-3, "F", "capacitance (analogue: compliance 1/stiffness)")
+u = Input("u", "V", "source voltage (analogue: force)")
+Q = Coordinate("Q", "C", "charge of the capacitor, Q = C u_c; Q_dot = i_l")
+
+SYSTEM = System(
+    name="series_rlc",
+    title="Series resonant circuit (mechanical analogue in the engines)",
+    lecture="Example 1.1; (1.6)-(1.10)",
+    parameters=(R, L, C),
+    coordinates=(Q,),
+    links=(Link("charge", L.symbol, description="analogue mass L"),),
+    joints=(Joint("Q", "prismatic", WORLD, "charge", axis="x"),),
+    inputs=(u,),
+    forces=(JointSpring("capacitor", "Q", 1 / C.symbol),
+            JointDamper("resistor", "Q", R.symbol),
+            JointInput("source", "Q", "u")),
+    doc=__doc__,
+)
+
+# (1.10), first row: d/dt i_l = (-u_c - R i_l + u)/L with i_l = Q_dot, u_c = Q/C. The second row,
+# d/dt u_c = i_l / C, is the definition of the coordinate (Q = C u_c) and holds identically.
+CLAIMS = [
+    Claim("(1.10)", "eom", Q.accel - (-Q.symbol / C.symbol - R.symbol * Q.rate + u.symbol) / L.symbol,
+          "d/dt i_l = (-u_c - R i_l + u)/L"),
+]

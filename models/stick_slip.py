@@ -1,0 +1,45 @@
+"""Mass on a rough surface: dry friction and structural change, Section 3.5.2; (3.76)-(3.80).
+
+A mass ``m`` slides along ``e_x`` on a horizontal rough surface under an external force ``f_e``; gravity in
+``-e_z`` presses it on the surface (``f_N = m g``, (3.76b)). Coulomb's law: it sticks while ``|f_e| <= mu_H f_N``
+and ``ẋ = 0`` (3.80a); otherwise it slides with ``f_C = mu_C f_N sgn(ẋ)`` (3.78), (3.79), (3.80b).
+
+This model is the *sliding* branch (3.80b): the friction force ``-mu_C m g sgn(ẋ)`` is an external force
+evaluated from the friction law and applied by each engine through its Jacobian (at ``ẋ = 0`` it vanishes).
+Sticking and the switching between the branches are events of the trajectory: the stick-slip scene checks
+them (MuJoCo's own dry friction, ``frictionloss``, against the event-located symbolic simulation).
+"""
+
+import sympy as sp
+
+from harness.claims import Claim
+from harness.model import (Coordinate, Gravity, Input, Joint, JointInput, Link, Parameter, Point, PointForce,
+                           System, WORLD)
+
+m = Parameter("m", 1.0, "kg", "mass")
+mu_H = Parameter("mu_H", 0.3, "1", "static friction coefficient")
+mu_C = Parameter("mu_C", 0.2, "1", "sliding friction coefficient")
+g = Parameter("g", 9.81, "m/s^2", "acceleration due to gravity")
+f_e = Input("f_e", "N", "external horizontal force")
+x = Coordinate("x", "m", "position of the mass")
+
+SYSTEM = System(
+    name="stick_slip",
+    title="Dry friction: sticking and sliding",
+    lecture="Section 3.5.2; (3.76)-(3.80)",
+    parameters=(m, mu_H, mu_C, g),
+    coordinates=(x,),
+    links=(Link("mass", m.symbol),),
+    joints=(Joint("x", "prismatic", WORLD, "mass", axis="x"),),
+    gravity=Gravity(g.symbol, (0, 0, -1)),
+    inputs=(f_e,),
+    forces=(JointInput("push", "x", "f_e"),
+            PointForce("sliding_friction", Point("mass", (0, 0, 0), "contact"),
+                       (-mu_C.symbol * m.symbol * g.symbol * sp.sign(x.rate), 0, 0))),
+    doc=__doc__,
+)
+
+CLAIMS = [
+    Claim("(3.79)", "eom", m.symbol * x.accel - (f_e.symbol - mu_C.symbol * m.symbol * g.symbol * sp.sign(x.rate)),
+          "m x'' = f_e - mu_C m g sgn(x')"),
+]
