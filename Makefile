@@ -11,10 +11,12 @@ $(VENV)/.installed: pyproject.toml
 	$(PYTHON) -m pip install --quiet --disable-pip-version-check -e .
 	touch $@
 
-# main job: exported files current, conformance of every system against both engines, results written
+# main job: exported files current, conformance of every system against both engines, the lecture's
+# printed equations classified (errata report); results written to reports/
 check: setup
 	$(VENV)/bin/harness export --check
 	$(VENV)/bin/harness check --out reports
+	$(VENV)/bin/harness claims --out reports
 
 # the test suite (fixed-seed hypothesis profile `ci`; HYPOTHESIS_PROFILE=long for the randomized one)
 test: setup
