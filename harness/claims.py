@@ -4,7 +4,8 @@ our derivation and both engines on hypothesis states.
 A model module lists ``CLAIMS = [Claim(...), ...]``. Each claim is the printed expression, transcribed
 faithfully (typos included) in the model's symbols, and names the quantity it claims to equal:
 
-* ``"M"``, ``"C"``, ``"Cqd"``, ``"g"``, ``"f_np"``, ``"T"``, ``"V"`` – compared with the derivation and, where an
+* ``"M"``, ``"C"``, ``"Cqd"``, ``"g"``, ``"f_np"``, ``"T"``, ``"V"`` (up to a constant: its zero level is a
+  choice) – compared with the derivation and, where an
   engine gives the quantity (M, C, Cqd, g), with Pinocchio and MuJoCo;
 * ``"eom"`` – printed equations of motion, one residual ``lhs − rhs`` per row in ``q, q̇, q̈`` (symbols
   ``Coordinate.accel``), which must vanish at ``q̈`` from the forward dynamics of the derivation and of each
@@ -136,8 +137,15 @@ def _as_matrix(expr) -> sp.Matrix:
     return sp.Matrix(expr) if isinstance(expr, (sp.MatrixBase, list, tuple)) else sp.Matrix([expr])
 
 
+_COMPILED_CLAIMS: dict = {}
+
+
 def _lambdify(system: System, expr):
-    return sp.lambdify(_symbols(system), _as_matrix(expr), modules="numpy")
+    """Compiled once per (system, expression): classification evaluates the same claim hundreds of times."""
+    key = (system.fingerprint(), sp.srepr(_as_matrix(expr)))
+    if key not in _COMPILED_CLAIMS:
+        _COMPILED_CLAIMS[key] = sp.lambdify(_symbols(system), _as_matrix(expr), modules="numpy")
+    return _COMPILED_CLAIMS[key]
 
 
 def _relative(a, b, scale):
@@ -206,6 +214,10 @@ def evaluate_claim(system: System, claim: Claim, state: State, engines=("pinocch
         elif source == "derivation":
             derived_fn = _lambdify(system, _derived(system, claim))
             reference = np.asarray(derived_fn(*args), dtype=float)
+            if kind == "V":  # a potential is defined up to a constant: compare V(q) - V(0)
+                at_zero = (np.zeros_like(state.q), state.qd, qdd, state.p, state.u_vec)
+                value = value - np.asarray(fn(*at_zero), dtype=float)
+                reference = reference - np.asarray(derived_fn(*at_zero), dtype=float)
             scale = {"f_np": s["g"], "T": s["M"] * max(1.0, float(np.max(np.abs(state.qd)))) ** 2,
                      "V": s["g"]}.get(kind, 1.0)
         else:

@@ -233,8 +233,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--engine", default="symbolic", choices=("symbolic", "pinocchio", "mujoco"))
     p.add_argument("--q", nargs="+", type=float, required=True)
     p.add_argument("--qd", nargs="+", type=float)
-    p.add_argument("--param", nargs="*", metavar="NAME=VALUE")
-    p.add_argument("--input", nargs="*", metavar="NAME=VALUE")
+    p.add_argument("--param", nargs="*", action="extend", metavar="NAME=VALUE")
+    p.add_argument("--input", nargs="*", action="extend", metavar="NAME=VALUE")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_eval)
 

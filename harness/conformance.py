@@ -14,6 +14,9 @@ Every quantity is compared as ``max|X_engine − X_symbolic| / scale ≤ FLOAT64
   force that gives an acceleration of ``v²`` — so that a force which vanishes at the state (``g`` of a
   hanging pendulum) is not compared with the engine's round-off relative to zero; ``q̈``: the
   accelerations each term alone would cause, ``max|M⁻¹| · max|term|``, at least ``v²``.
+* mapped engine quantities (``θ = φ(q)`` not the identity) are compared at least at the scale of the mapped
+  tree terms (``|J|²|M_θ|``, ``|J|²|C_θ| + |J||J̇||M_θ|``, …): the map multiplies the tree's round-off, e.g. by
+  ``1/r²`` for a ball of radius ``r`` rolling on a beam.
 * ``amplification`` is 1, except for ``q̈``, where solving ``M q̈ = …`` amplifies relative round-off by
   up to the condition number ``κ(M)``.
 """
@@ -100,7 +103,9 @@ def scales(ref: Evaluation) -> dict[str, float]:
 
 def compare(state: State, ref: Evaluation, other: Evaluation) -> list[Finding]:
     """Engine ``other`` against the symbolic reference at one state."""
-    s = scales(ref)
+    s = dict(scales(ref))
+    for name, value in other.extra.get("map_scale", {}).items():  # round-off grown by the map θ = φ(q)
+        s[name] = max(s[name], value)
     kappa = float(np.linalg.cond(ref.M))
     out = []
     for name in ENGINE_QUANTITIES:

@@ -175,5 +175,18 @@ def to_lecture(engine: str, state: State, t: TreeQuantities) -> Evaluation:
         qdd = np.linalg.solve(J, t.qdd - Jd @ qd)
     else:  # more tree joints than lecture coordinates: the map is a constraint; (5.93) in q
         qdd = np.linalg.solve(M, J.T @ t.tau_input + f_damper - Cqd - g_gravity - g_spring)
+    # The map multiplies the tree's round-off: scales of the mapped terms (|J|, |J̇| times the tree terms),
+    # used by the tolerance policy so that a large J (a small rolling radius) is not mistaken for an error.
+    a, ad = _max_abs(J), _max_abs(Jd)
+    extra = dict(t.extra)
+    extra["map_scale"] = {"M": a * a * _max_abs(t.M),
+                          "C": a * a * _max_abs(t.C) + a * ad * _max_abs(t.M),
+                          "Cqd": a * (_max_abs(t.M) * ad * _max_abs(qd) + _max_abs(t.Cqd)),
+                          "g": a * max(_max_abs(t.g_gravity), _max_abs(t.g_spring)),
+                          "g_spring": a * _max_abs(t.g_spring), "f_damper": a * _max_abs(t.f_damper)}
     return Evaluation(engine, M, Cqd, g_gravity + g_spring, g_gravity, g_spring, f_damper, qdd, C,
-                      extra=dict(t.extra), calls=dict(t.calls))
+                      extra=extra, calls=dict(t.calls))
+
+
+def _max_abs(x) -> float:
+    return float(np.max(np.abs(x))) if x is not None and np.size(x) else 0.0

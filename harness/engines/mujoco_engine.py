@@ -76,7 +76,7 @@ class MujocoModel:
                 mujoco.mj_applyFT(m, d, zero, vector, d.xpos[body].copy(), body, qfrc)
         return qfrc
 
-    def quantities(self, theta, theta_dot, u: dict, loads=()) -> TreeQuantities:
+    def quantities(self, theta, theta_dot, u: dict, loads=(), christoffel: bool = True) -> TreeQuantities:
         m, d, d0 = self.model, self.data, self.data_rest
         for data, vel in ((d, theta_dot), (d0, np.zeros_like(theta_dot))):
             data.qpos[self.qpos_index] = theta
@@ -93,7 +93,7 @@ class MujocoModel:
         M = np.zeros((m.nv, m.nv))
         mujoco.mj_fullM(m, d, M)
         gravity = self._pick(d0.qfrc_bias)
-        C = self.christoffel(theta, theta_dot)  # reuses data_rest
+        C = self.christoffel(theta, theta_dot) if christoffel else None  # reuses data_rest
         tau_input = np.zeros(m.nv)
         tau_input[:] = d.qfrc_actuator + d.qfrc_applied
         if d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > 0:

@@ -91,17 +91,21 @@ class PinocchioModel:
             tau += (J[:3] if load.kind == "force" else J[3:]).T @ vector
         return tau
 
-    def quantities(self, theta, theta_dot, u: dict, loads=()) -> TreeQuantities:
+    def quantities(self, theta, theta_dot, u: dict, loads=(), christoffel: bool = True) -> TreeQuantities:
+        """Everything in tree coordinates; ``christoffel=False`` skips the two Coriolis matrices (for
+        simulation, where only the forward dynamics is needed)."""
         model, data = self.model, self.data
         q, v = self.to_pin(theta), self.to_pin(theta_dot)
         M = pin.crba(model, data, q)
         M = np.triu(M) + np.triu(M, 1).T
         g_gravity = pin.computeGeneralizedGravity(model, data, q).copy()
         Cqd = pin.nonLinearEffects(model, data, q, v) - g_gravity
-        C_pin = pin.computeCoriolisMatrix(model, data, q, v).copy()
-        _, dtau_dv, _ = pin.computeRNEADerivatives(self.model_no_gravity, self.data_no_gravity, q, v,
-                                                   np.zeros(model.nv))
-        C_christoffel = 0.5 * np.asarray(dtau_dv)
+        extra, C_christoffel = {}, None
+        if christoffel:
+            extra["C_coriolis_matrix"] = self.from_pin_matrix(pin.computeCoriolisMatrix(model, data, q, v))
+            _, dtau_dv, _ = pin.computeRNEADerivatives(self.model_no_gravity, self.data_no_gravity, q, v,
+                                                       np.zeros(model.nv))
+            C_christoffel = self.from_pin_matrix(0.5 * np.asarray(dtau_dv))
         f_spring, f_damper = self.point_forces(q, v)
         tau_input = self.input_forces(q, u, loads)
         qdd = pin.aba(model, data, q, v, tau_input + f_spring + f_damper).copy()
@@ -109,8 +113,7 @@ class PinocchioModel:
             M=self.from_pin_matrix(M), Cqd=self.from_pin(Cqd), g_gravity=self.from_pin(g_gravity),
             g_spring=-self.from_pin(f_spring), f_damper=self.from_pin(f_damper),
             tau_input=self.from_pin(tau_input), qdd=self.from_pin(qdd),
-            C=self.from_pin_matrix(C_christoffel),
-            extra={"C_coriolis_matrix": self.from_pin_matrix(C_pin)},
+            C=C_christoffel, extra=extra,
             calls={"M": "pin.crba", "Cqd": "pin.nonLinearEffects - pin.computeGeneralizedGravity",
                    "g": "pin.computeGeneralizedGravity + frame-Jacobian springs",
                    "C": "0.5 * pin.computeRNEADerivatives(g=0, a=0).dtau_dv",

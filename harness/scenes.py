@@ -1,0 +1,118 @@
+"""Scenes: a system + parameter values + initial state + inputs u(t) + horizon + the effects it calls for.
+
+Only the effects a scene names are simulated: :func:`pruned` removes every other force element (and gravity)
+from the system *before* it is derived and exported, so the symbolic right-hand side contains only those
+terms and the exported MJCF has the other effects switched off by its flags.
+
+Effects: ``gravity``; ``springs`` (Spring, JointSpring); ``dampers`` (Damper, JointDamper); ``inputs``
+(JointInput); ``external`` (PointForce, BodyTorque: follower forces, drag, thrust, dry sliding friction).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from harness.errors import InputError
+from harness.model import (BodyTorque, Damper, JointDamper, JointInput, JointSpring, PointForce, Spring, System)
+
+EFFECTS = ("gravity", "springs", "dampers", "inputs", "external")
+_EFFECT_OF = {Spring: "springs", JointSpring: "springs", Damper: "dampers", JointDamper: "dampers",
+              JointInput: "inputs", PointForce: "external", BodyTorque: "external"}
+
+
+# --------------------------------------------------------------------------- input signals u(t)
+@dataclass(frozen=True)
+class Constant:
+    value: float
+
+    def __call__(self, t: float) -> float:
+        return self.value
+
+
+@dataclass(frozen=True)
+class Step:
+    """``before`` until ``time``, then ``after``."""
+
+    time: float
+    after: float
+    before: float = 0.0
+
+    def __call__(self, t: float) -> float:
+        return self.after if t >= self.time else self.before
+
+
+@dataclass(frozen=True)
+class Sine:
+    amplitude: float
+    frequency: float          # Hz
+    offset: float = 0.0
+    phase: float = 0.0
+
+    def __call__(self, t: float) -> float:
+        return self.offset + self.amplitude * math.sin(2 * math.pi * self.frequency * t + self.phase)
+
+
+@dataclass(frozen=True)
+class Bump:
+    """A smooth road bump ``height (1 - cos(2π (t - start)/duration))/2`` on ``[start, start + duration]``;
+    ``rate=True`` gives its time derivative (the road velocity)."""
+
+    height: float
+    start: float
+    duration: float
+    rate: bool = False
+
+    def __call__(self, t: float) -> float:
+        if not self.start <= t <= self.start + self.duration:
+            return 0.0
+        w = 2 * math.pi / self.duration
+        if self.rate:
+            return self.height * w * math.sin(w * (t - self.start)) / 2
+        return self.height * (1 - math.cos(w * (t - self.start))) / 2
+
+
+# --------------------------------------------------------------------------- scenes
+@dataclass(frozen=True)
+class Scene:
+    """One simulation taken from the lecture text."""
+
+    name: str
+    description: str
+    q0: tuple
+    qd0: tuple
+    horizon: float
+    effects: frozenset
+    inputs: dict = field(default_factory=dict)      # input name -> signal
+    params: dict = field(default_factory=dict)      # parameter overrides
+
+    def __post_init__(self):
+        unknown = set(self.effects) - set(EFFECTS)
+        if unknown:
+            raise InputError(f"scene {self.name}: unknown effect(s) {sorted(unknown)}; effects are {EFFECTS}")
+
+    def u(self, t: float, system: System) -> np.ndarray:
+        return np.array([self.inputs[i.name](t) if i.name in self.inputs else 0.0 for i in system.inputs])
+
+    @property
+    def conservative(self) -> bool:
+        return not ({"dampers", "inputs", "external"} & set(self.effects))
+
+
+def effects_of(system: System) -> frozenset:
+    """Every effect the system has."""
+    found = {_EFFECT_OF[type(f)] for f in system.forces}
+    if system.gravity is not None:
+        found.add("gravity")
+    return frozenset(found)
+
+
+def pruned(system: System, effects) -> System:
+    """The system with only ``effects``: other force elements and gravity removed (and unused inputs)."""
+    effects = frozenset(effects)
+    forces = tuple(f for f in system.forces if _EFFECT_OF[type(f)] in effects)
+    return dataclasses.replace(system, forces=forces,
+                               gravity=system.gravity if "gravity" in effects else None)

@@ -1,0 +1,153 @@
+"""Trajectories of a scene: our compiled symbolic right-hand side, and the forward dynamics of Pinocchio and
+MuJoCo, each integrated with scipy's ``solve_ivp``; MuJoCo also with its own integrator (``mj_step``).
+
+Every source simulates the *pruned* system (only the scene's effects, :func:`harness.scenes.pruned`).
+The reference is the symbolic model with DOP853 at ``rtol = 1e-12``; every other run is compared with it at
+the scene's sample times.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import mujoco
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from harness.compile import compiled
+from harness.engines.base import Load, _load_functions, to_lecture
+from harness.engines.mujoco_engine import MujocoModel
+from harness.engines.pinocchio_engine import PinocchioModel
+from harness.export.numeric import instantiate
+from harness.model import System
+from harness.scenes import Scene, pruned
+
+REFERENCE = {"method": "DOP853", "rtol": 1e-12, "atol": 1e-12}
+
+
+@dataclass
+class Trajectory:
+    source: str
+    t: np.ndarray
+    q: np.ndarray        # (len(t), n)
+    qd: np.ndarray
+    seconds: float
+    evaluations: int
+    energy: np.ndarray | None = None
+    notes: dict = field(default_factory=dict)
+
+
+class Dynamics:
+    """``q̈ = f(t, q, q̇)`` of one scene from one source, in lecture coordinates."""
+
+    def __init__(self, system: System, scene: Scene, source: str):
+        self.system = pruned(system, scene.effects)
+        self.scene = scene
+        self.source = source
+        self.params = {**system.default_parameters(), **scene.params}
+        self.p = np.array([self.params[p.name] for p in self.system.parameters])
+        self.c = compiled(self.system)
+        self.evaluations = 0
+        if source != "symbolic":
+            tree = instantiate(self.system, self.params)
+            self.model = PinocchioModel(tree) if source == "pinocchio" else MujocoModel(tree)
+
+    def __call__(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
+        self.evaluations += 1
+        u = self.scene.u(t, self.system)
+        if self.source == "symbolic":
+            return self.c.forward_dynamics(q, qd, self.p, u)
+        args = (q, qd, self.p, u)
+        theta = self.c("phi", *args).ravel()
+        J, J_dot = self.c("J_phi", *args), self.c("J_phi_dot", *args)
+        loads = [Load(kind, where, frame, np.asarray(fn(*args), dtype=float).ravel())
+                 for kind, where, frame, fn in _load_functions(self.system)]
+        inputs = dict(zip((i.name for i in self.system.inputs), u))
+        tree_quantities = self.model.quantities(theta, J @ qd, inputs, loads, christoffel=False)
+        return to_lecture(self.source, _MapAt(J, J_dot, qd), tree_quantities).qdd
+
+    def energy(self, q: np.ndarray, qd: np.ndarray) -> float:
+        """``E = T + V`` of the pruned system (our derivation)."""
+        u = np.zeros(len(self.system.inputs))
+        return float(self.c("T", q, qd, self.p, u)) + float(self.c("V", q, qd, self.p, u))
+
+
+@dataclass(frozen=True)
+class _MapAt:
+    """What :func:`to_lecture` needs of a state: the map's Jacobian, its rate and q̇."""
+
+    J: np.ndarray
+    J_dot: np.ndarray
+    qd: np.ndarray
+
+
+def sample_times(scene: Scene, samples: int = 201) -> np.ndarray:
+    return np.linspace(0.0, scene.horizon, samples)
+
+
+def integrate(system: System, scene: Scene, source: str, method: str = "DOP853", rtol: float = 1e-12,
+              atol: float = 1e-12, t_eval=None) -> Trajectory:
+    dyn = Dynamics(system, scene, source)
+    n = len(system.coordinates)
+    t_eval = sample_times(scene) if t_eval is None else t_eval
+
+    def rhs(t, y):
+        return np.concatenate([y[n:], dyn(t, y[:n], y[n:])])
+
+    start = time.perf_counter()
+    sol = solve_ivp(rhs, (0.0, scene.horizon), np.concatenate([scene.q0, scene.qd0]).astype(float),
+                    method=method, rtol=rtol, atol=atol, t_eval=t_eval)
+    seconds = time.perf_counter() - start
+    if not sol.success:
+        raise RuntimeError(f"{system.name}/{scene.name}: {source} integration failed: {sol.message}")
+    q, qd = sol.y[:n].T, sol.y[n:].T
+    energy = np.array([dyn.energy(a, b) for a, b in zip(q, qd)])
+    return Trajectory(f"{source} ({method}, rtol={rtol:g})", sol.t, q, qd, seconds, dyn.evaluations, energy)
+
+
+def mujoco_native(system: System, scene: Scene, timestep: float, integrator: str = "RK4") -> Trajectory:
+    """MuJoCo's own integrator on the exported MJCF of the pruned system (identity maps only: the tree
+    coordinates are the lecture coordinates; inputs on joints only)."""
+    dyn = Dynamics(system, scene, "mujoco")
+    s = dyn.system
+    if not np.allclose(dyn.c("J_phi", np.zeros(len(s.q)), np.zeros(len(s.q)), dyn.p, np.zeros(len(s.u))),
+                       np.eye(len(s.q))) or _load_functions(s):
+        raise ValueError(f"{system.name}: MuJoCo's own integrator needs an identity map and no external loads")
+    model = dyn.model
+    m, d = model.model, model.data
+    m.opt.timestep = timestep
+    m.opt.integrator = getattr(mujoco.mjtIntegrator, f"mjINT_{integrator.upper()}")
+    mujoco.mj_resetData(m, d)
+    d.qpos[model.qpos_index] = scene.q0
+    d.qvel[model.dof_index] = scene.qd0
+    t_eval = sample_times(scene)
+    steps = int(round(scene.horizon / timestep))
+    every = max(1, int(round(steps / (len(t_eval) - 1))))
+    out_q, out_qd, out_t = [], [], []
+    start = time.perf_counter()
+    for k in range(steps + 1):
+        if k % every == 0:
+            out_t.append(d.time)
+            out_q.append(d.qpos[model.qpos_index].copy())
+            out_qd.append(d.qvel[model.dof_index].copy())
+        if k == steps:
+            break
+        for name, aid in model.actuators.items():
+            d.ctrl[aid] = scene.inputs[name](d.time) if name in scene.inputs else 0.0
+        mujoco.mj_step(m, d)
+    seconds = time.perf_counter() - start
+    q, qd = np.array(out_q), np.array(out_qd)
+    energy = np.array([dyn.energy(a, b) for a, b in zip(q, qd)])
+    return Trajectory(f"mujoco (mj_step {integrator}, dt={timestep:g})", np.array(out_t), q, qd, seconds, steps,
+                      energy)
+
+
+def max_error(a: Trajectory, b: Trajectory) -> float:
+    """Largest state difference at common sample times, relative to the state's scale (at least 1)."""
+    t = np.intersect1d(np.round(a.t, 9), np.round(b.t, 9))
+    ia = np.isin(np.round(a.t, 9), t)
+    ib = np.isin(np.round(b.t, 9), t)
+    ya, yb = np.hstack([a.q[ia], a.qd[ia]]), np.hstack([b.q[ib], b.qd[ib]])
+    scale = max(1.0, float(np.max(np.abs(yb))))
+    return float(np.max(np.abs(ya - yb))) / scale
