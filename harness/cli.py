@@ -205,6 +205,30 @@ def _errata_markdown(records) -> str:
     return "\n".join(lines) + "\n"
 
 
+def cmd_scenes(args) -> int:
+    """List the scenes; with --run, simulate them and check the trajectories (harness/trajectories.py)."""
+    import models
+    from harness.trajectories import run_scene
+
+    names = args.systems or list(models.catalogue())
+    failed = False
+    for name in names:
+        system = models.get(name)
+        for scene in models.scenes(name):
+            print(f"{name:22s} {scene.name:12s} {scene.horizon:6.2f} s  {', '.join(sorted(scene.effects)):40s} "
+                  f"{scene.description}")
+            if not args.run:
+                continue
+            result = run_scene(system, scene)
+            for check, source, error, tolerance in result.checks:
+                verdict = "ok" if error <= tolerance else "FAIL"
+                print(f"    {check:45s} {source:10s} {error:.2e} / {tolerance:.0e}  {verdict}")
+            for key, value in result.notes.items():
+                print(f"    {key}: {value:.3g}" if isinstance(value, float) else f"    {key}: {value}")
+            failed |= not result.passed
+    return 1 if failed else 0
+
+
 def cmd_export(args) -> int:
     from harness.export import export_files
     from harness.io import atomic_write_text
@@ -251,6 +275,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true")
     p.add_argument("--out", help="folder for claims.json and errata.md")
     p.set_defaults(func=cmd_claims)
+
+    p = sub.add_parser("scenes", help="list the scenes; --run simulates and checks them")
+    p.add_argument("systems", nargs="*")
+    p.add_argument("--run", action="store_true")
+    p.set_defaults(func=cmd_scenes)
 
     p = sub.add_parser("export", help="regenerate urdf/ (URDF, MJCF, coordinate maps)")
     p.add_argument("--dir", default=str(PROJECT_ROOT / "urdf"))

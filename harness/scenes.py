@@ -28,6 +28,7 @@ _EFFECT_OF = {Spring: "springs", JointSpring: "springs", Damper: "dampers", Join
 @dataclass(frozen=True)
 class Constant:
     value: float
+    piecewise_constant = True
 
     def __call__(self, t: float) -> float:
         return self.value
@@ -40,6 +41,7 @@ class Step:
     time: float
     after: float
     before: float = 0.0
+    piecewise_constant = True
 
     def __call__(self, t: float) -> float:
         return self.after if t >= self.time else self.before
@@ -51,6 +53,7 @@ class Sine:
     frequency: float          # Hz
     offset: float = 0.0
     phase: float = 0.0
+    piecewise_constant = False
 
     def __call__(self, t: float) -> float:
         return self.offset + self.amplitude * math.sin(2 * math.pi * self.frequency * t + self.phase)
@@ -65,6 +68,7 @@ class Bump:
     start: float
     duration: float
     rate: bool = False
+    piecewise_constant = False
 
     def __call__(self, t: float) -> float:
         if not self.start <= t <= self.start + self.duration:
@@ -96,6 +100,11 @@ class Scene:
 
     def u(self, t: float, system: System) -> np.ndarray:
         return np.array([self.inputs[i.name](t) if i.name in self.inputs else 0.0 for i in system.inputs])
+
+    @property
+    def inputs_vary_within_steps(self) -> bool:
+        """True when an input changes continuously: MuJoCo holds ``ctrl`` over a step (zero-order hold)."""
+        return any(not getattr(signal, "piecewise_constant", False) for signal in self.inputs.values())
 
     @property
     def conservative(self) -> bool:

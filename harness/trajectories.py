@@ -8,7 +8,9 @@
   hundred steps and a few periods by at most ~1e4 for the (non-chaotic) scenes.
 * **MuJoCo's own RK4** (``mj_step``, where the map is the identity and no external load is applied): its
   global error is O(dt⁴); at ``dt`` and ``dt/2`` the error must fall by at least 8 (order ≥ 3) unless both are
-  already at round-off (< 1e-10), and be below ``ENGINE_TOL`` at ``dt/2``.
+  already at round-off (< 1e-10), and be below ``ENGINE_TOL`` at ``dt/2``. MuJoCo holds ``ctrl`` constant over
+  a step (zero-order hold), so with an input that varies within steps the error is O(dt): there the error
+  must fall by at least 1.8 (order ≥ 0.85) and is reported, not bounded.
 * **invariants**: a conservative scene keeps ``E = T + V`` within ``INVARIANT_TOL = 1e-8`` of its scale;
   otherwise the power balance ``E(t) − E(0) = ∫ q̇ᵀ f_np dt`` (3.101) holds to the same tolerance.
 * **pruning**: the scene run with every effect of the system switched on but idle (its coefficients zero)
@@ -144,11 +146,16 @@ def run_scene(system: System, scene: Scene, engines=("pinocchio", "mujoco"), muj
         else:
             e1, e2 = sim.max_error(coarse, ref), sim.max_error(fine, ref)
             result.trajectories["mujoco mj_step"] = fine
-            result.add(f"mj_step RK4 dt={dt / 2:g}", "mujoco", e2, ENGINE_TOL)
             ratio = e1 / e2 if e2 > 0 else np.inf
             result.notes["mj_step RK4 error ratio dt -> dt/2"] = ratio
-            result.add("mj_step RK4 convergence (error ratio >= 8)", "mujoco",
-                       0.0 if (ratio >= 8 or max(e1, e2) < 1e-10) else 1.0, 0.0)
+            if scene.inputs_vary_within_steps:
+                result.notes[f"mj_step RK4 error at dt={dt / 2:g} (zero-order-hold input)"] = e2
+                result.add("mj_step RK4 convergence, zero-order-hold input (ratio >= 1.8)", "mujoco",
+                           0.0 if ratio >= 1.8 else 1.0, 0.0)
+            else:
+                result.add(f"mj_step RK4 dt={dt / 2:g}", "mujoco", e2, ENGINE_TOL)
+                result.add("mj_step RK4 convergence (error ratio >= 8)", "mujoco",
+                           0.0 if (ratio >= 8 or max(e1, e2) < 1e-10) else 1.0, 0.0)
     balance, _ = _energy_balance(system, scene)
     result.add("energy constant" if scene.conservative else "power balance (3.101)", "symbolic", balance,
                INVARIANT_TOL)

@@ -31,6 +31,12 @@ def catalogue() -> dict[str, System]:
     return {name: module.SYSTEM for name, module in _modules().items()}
 
 
+def scenes(name: str) -> list:
+    """The scenes of system ``name`` (the module's ``SCENES``)."""
+    get(name)
+    return list(getattr(_modules()[name], "SCENES", []))
+
+
 def claims(name: str) -> list:
     """The lecture's printed equations for system ``name`` (the module's ``CLAIMS``)."""
     get(name)

@@ -71,3 +71,12 @@ CLAIMS = [
           + (_I_zz_printed + m_S * l_S.symbol**2 / 4) * _phi.accel + m_S * g.symbol * l_S.symbol * _sp.sin(_phi.symbol) / 2,
           "pendulum equation", index=(1,)),
 ]
+
+# ----------------------------------------------------------------------------- scenes
+from harness.scenes import Scene, Sine  # noqa: E402
+
+SCENES = [
+    Scene("shaken", "Exercise 5.2: the cart driven by f^e = 5 sin(2π 0.8 t) N against its spring and friction",
+          (0.2, 0.3), (0.0, 0.0), 4.0, frozenset({"gravity", "springs", "dampers", "inputs"}),
+          inputs={"f_e": Sine(5.0, 0.8)}),
+]

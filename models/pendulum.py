@@ -34,3 +34,11 @@ CLAIMS = [
     Claim("(3.111)", "eom", m.symbol * l.symbol**2 * _phi.accel + m.symbol * g.symbol * l.symbol * _sp.sin(_phi.symbol),
           "m l² phi'' = -m g l sin(phi)"),
 ]
+
+# ----------------------------------------------------------------------------- scenes
+from harness.scenes import Scene  # noqa: E402
+
+SCENES = [
+    Scene("swing", "Example 3.12: released at 60° from rest, gravity only (conservative)", (1.0472,), (0.0,), 4.0,
+          frozenset({"gravity"})),
+]

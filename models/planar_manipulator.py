@@ -95,3 +95,15 @@ CLAIMS = [
         [-_m2 * _l1 * _ls2 * _s2 * _w2, -_m2 * _l1 * _ls2 * _s2 * (_w1 + _w2)],
         [-_m2 * _l1 * _ls2 * _s2 * _w1, 0]]), "Coriolis matrix 'for checking'"),
 ]
+
+# ----------------------------------------------------------------------------- scenes
+from harness.scenes import Constant, Scene, Step  # noqa: E402
+
+SCENES = [
+    Scene("driven", "Example 5.5: tau_1 steps to 5 N m at 0.6 s, tau_2 = -1 N m, against the spring c_e, the "
+          "damper d_e and the joint friction d_2", (0.3, -0.7), (0.0, 0.0), 3.0,
+          frozenset({"gravity", "springs", "dampers", "inputs"}),
+          inputs={"tau_1": Step(0.6, 5.0), "tau_2": Constant(-1.0)}),
+    Scene("swing", "Examples 4.1/5.1: free swing under gravity alone (conservative)", (0.3, -0.7), (0.0, 0.0), 3.0,
+          frozenset({"gravity"})),
+]
