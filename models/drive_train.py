@@ -1,0 +1,119 @@
+"""Drive train, Example 3.16 (Figure 3.37); (3.136)-(3.142). Variant with the motor's rotor as a body.
+
+A motor (rotor inertia ``I_m``, torque ``tau_m``) drives a body with moment of inertia ``I_1`` through a lossless
+gear with ratio ``i_g`` (input speed / output speed), ``φ̇_1 = φ̇_m / i_g`` (3.136); a linear torsion spring
+``c`` and a rotational damper ``d`` connect it with a second body ``I_2``, on which the load torque ``tau_l``
+acts against the positive sense of rotation (``−tau_l`` in (3.138c), ``b_e = [0, −1]ᵀ`` (3.142)). All bodies
+turn about parallel ``z`` axes, counter-clockwise positive, all angles counted from the relaxed spring;
+there is no gravity (it does not enter (3.138)). The lecture coordinates are ``q = [phi_1, phi_2]ᵀ``, the
+absolute angles of the two bodies (3.141).
+
+Tree and map ``theta = phi(q)`` (three tree joints, two lecture coordinates; the gear is a constraint):
+
+* ``phi_m`` – the rotor, a body with axial moment of inertia ``I_m`` on a revolute joint to the world, at
+  ``phi_m = i_g phi_1`` (3.136 integrated, both sides counted from zero; the gear does not reverse the sense
+  of rotation, as in (3.136)). The motor torque ``tau_m`` acts in this joint (against the housing).
+* ``phi_1`` – body 1 (``I_1``) on a revolute joint to the world (identity map).
+* ``phi_21`` – body 2 (``I_2``) on a revolute joint on body 1 (same axis), at the shaft's twist
+  ``phi_21 = phi_2 − phi_1``; the torsion spring ``c`` and the damper ``d`` act in this joint,
+  ``V = c/2 (phi_1 − phi_2)²`` and ``−d (φ̇_2 − φ̇_1)``, as in (3.138b, c).
+
+The rotor's kinetic energy ``½ I_m φ̇_m² = ½ i_g² I_m φ̇_1²`` is where the reflected rotor inertia of (3.140a)
+comes from: ``M_q = Jᵀ M_θ J`` with ``J = ∂phi/∂q`` puts ``i_g² I_m`` onto ``phi_1``, and the motor torque
+in ``phi_m`` becomes ``i_g tau_m`` on ``phi_1`` (``b_u = [i_g, 0]ᵀ``). The companion model
+``drive_train_armature`` gives the same equations without a rotor body: it puts ``i_g² I_m`` as engine
+armature (rotor inertia) on the joint ``phi_1`` and the motor torque ``i_g tau_m`` directly on body 1; both
+models must agree with each other, with (3.140)-(3.142) and with both engines.
+
+The lecture gives only the moments of inertia about the axes of rotation. The bodies' masses (centres of
+mass on their axes) and their transverse moments of inertia never enter the dynamics (the bodies only
+turn about ``z``); they are set to a stated mass and to ``3/4`` of the axial moment (a physical tensor: a
+solid cylinder of length ``√1.5`` times its radius).
+"""
+
+from harness.model import (BodyTorque, Coordinate, Inertia, Input, Joint, JointDamper, JointInput, JointSpring,
+                           Link, Parameter, System, WORLD)
+
+I_m = Parameter("I_m", 0.002, "kg m^2", "moment of inertia of the motor's rotor")
+I_1 = Parameter("I_1", 0.5, "kg m^2", "moment of inertia of body 1 (gear output side)")
+I_2 = Parameter("I_2", 0.8, "kg m^2", "moment of inertia of body 2 (load side)")
+i_g = Parameter("i_g", 10.0, "1", "gear ratio (input speed / output speed)")
+c = Parameter("c", 200.0, "N m/rad", "stiffness of the torsion spring between bodies 1 and 2")
+d = Parameter("d", 1.5, "N m s/rad", "damping constant of the rotational damper between bodies 1 and 2")
+m_m = Parameter("m_m", 0.5, "kg", "mass of the rotor (centre of mass on its axis; does not enter)")
+m_1 = Parameter("m_1", 5.0, "kg", "mass of body 1 (centre of mass on its axis; does not enter)")
+m_2 = Parameter("m_2", 8.0, "kg", "mass of body 2 (centre of mass on its axis; does not enter)")
+
+tau_m = Input("tau_m", "N m", "motor torque")
+tau_l = Input("tau_l", "N m", "load torque on body 2")
+
+phi_1 = Coordinate("phi_1", "rad", "angle of body 1")
+phi_2 = Coordinate("phi_2", "rad", "angle of body 2")
+
+
+def _disc(I):
+    """Axial moment ``I`` about ``z``; transverse moments ``3/4 I`` (never enter, see the docstring)."""
+    return Inertia(3 * I / 4, 3 * I / 4, I)
+
+
+SYSTEM = System(
+    name="drive_train",
+    title="Drive train (rotor as a body coupled by the gear)",
+    lecture="Example 3.16; (3.136)-(3.142)",
+    parameters=(I_m, I_1, I_2, i_g, c, d, m_m, m_1, m_2),
+    coordinates=(phi_1, phi_2),
+    links=(
+        Link("rotor", m_m.symbol, inertia=_disc(I_m.symbol), description="the motor's rotor"),
+        Link("body_1", m_1.symbol, inertia=_disc(I_1.symbol), description="body 1 on the gear's output side"),
+        Link("body_2", m_2.symbol, inertia=_disc(I_2.symbol), description="body 2 carrying the load torque"),
+    ),
+    joints=(
+        Joint("phi_m", "revolute", WORLD, "rotor", axis="z", phi=i_g.symbol * phi_1.symbol),     # (3.136)
+        Joint("phi_1", "revolute", WORLD, "body_1", axis="z"),
+        Joint("phi_21", "revolute", "body_1", "body_2", axis="z", phi=phi_2.symbol - phi_1.symbol),
+    ),
+    gravity=None,
+    inputs=(tau_m, tau_l),
+    forces=(
+        JointSpring("spring_c", "phi_21", c.symbol),
+        JointDamper("damper_d", "phi_21", d.symbol),
+        JointInput("motor", "phi_m", "tau_m"),
+        BodyTorque("load", "body_2", (0, 0, -tau_l.symbol)),  # b_e = [0, -1] (3.142)
+    ),
+    doc=__doc__,
+)
+
+# ----------------------------------------------------------------------------- the lecture's printed equations
+import sympy as _sp  # noqa: E402
+
+from harness.claims import Claim  # noqa: E402
+
+_p1, _p2 = phi_1.symbol, phi_2.symbol
+_w1, _w2 = phi_1.rate, phi_2.rate
+_a1, _a2 = phi_1.accel, phi_2.accel
+_Im, _I1, _I2, _ig, _c, _d = (x.symbol for x in (I_m, I_1, I_2, i_g, c, d))
+_tm, _tl = tau_m.symbol, tau_l.symbol
+
+_q, _qd, _qdd = _sp.Matrix([_p1, _p2]), _sp.Matrix([_w1, _w2]), _sp.Matrix([_a1, _a2])
+_M = _sp.diag(_I1 + _ig**2 * _Im, _I2)                  # (3.141)
+_K = _sp.Matrix([[_c, -_c], [-_c, _c]])                 # (3.142)
+_D = _sp.Matrix([[_d, -_d], [-_d, _d]])                 # (3.142)
+_b_e, _b_u = _sp.Matrix([0, -1]), _sp.Matrix([_ig, 0])  # (3.142)
+
+CLAIMS = [
+    Claim("(3.139)", "parameter", _tm * _ig - _Im * _ig**2 * _a1, "gear torque on the output side τ_1 = τ_m i_g − I_m i_g² φ̈_1",
+          reference=_I1 * _a1 + _c * (_p1 - _p2) + _d * (_w1 - _w2),
+          note="τ_1 is a constraint (gear) torque: compared with τ_1 = I_1 φ̈_1 + c (φ_1 − φ_2) + d (φ̇_1 − φ̇_2), "
+               "the angular momentum balance of body 1 (3.138b), at the derived accelerations"),
+    Claim("(3.140a)", "eom", (_I1 + _ig**2 * _Im) * _a1 - (_tm * _ig - _c * (_p1 - _p2) - _d * (_w1 - _w2)),
+          "(I_1 + i_g² I_m) φ̈_1 = τ_m i_g − c (φ_1 − φ_2) − d (φ̇_1 − φ̇_2)", index=(0,)),
+    Claim("(3.140b)", "eom", _I2 * _a2 - (_c * (_p1 - _p2) + _d * (_w1 - _w2) - _tl),
+          "I_2 φ̈_2 = c (φ_1 − φ_2) + d (φ̇_1 − φ̇_2) − τ_l", index=(1,)),
+    Claim("(3.141)", "M", _M, "M = diag(I_1 + i_g² I_m, I_2)"),
+    Claim("(3.141), (3.142)", "g", _K * _q, "potential forces K q (torsion spring)",
+          note="(3.141) M q̈ + D q̇ + K q = b_e τ_l + b_u τ_m read as g = K q, f_np = −D q̇ + b_e τ_l + b_u τ_m"),
+    Claim("(3.141), (3.142)", "f_np", -_D * _qd + _b_e * _tl + _b_u * _tm, "non-potential forces −D q̇ + b_e τ_l + b_u τ_m",
+          note="(3.141) M q̈ + D q̇ + K q = b_e τ_l + b_u τ_m read as g = K q, f_np = −D q̇ + b_e τ_l + b_u τ_m"),
+    Claim("(3.141)", "eom", _M * _qdd + _D * _qd + _K * _q - _b_e * _tl - _b_u * _tm,
+          "M q̈ + D q̇ + K q = b_e τ_l + b_u τ_m"),
+]

@@ -1,0 +1,109 @@
+"""Drive train, Example 3.16 (Figure 3.37); (3.136)-(3.142). Variant with the rotor inertia as armature.
+
+The same drive train as ``drive_train`` (motor with rotor inertia ``I_m`` and torque ``tau_m``, lossless gear
+with ratio ``i_g`` (3.136), body 1 ``I_1``, torsion spring ``c`` and damper ``d`` to body 2 ``I_2``, load torque
+``tau_l`` against the positive sense of rotation; all axes parallel to ``z``, counter-clockwise positive,
+angles counted from the relaxed spring, no gravity; ``q = [phi_1, phi_2]ᵀ``), but without a rotor body:
+the motor is eliminated as in (3.139), (3.140a).
+
+* ``phi_1`` – body 1 (``I_1``) on a revolute joint to the world (identity map), with the rotor inertia
+  reflected through the gear as the joint's **armature** ``i_g² I_m`` (``Joint(armature=...)``: MuJoCo's
+  ``dof_armature``, Pinocchio's ``model.armature``, ``+ i_g² I_m`` on ``M_θ[phi_1, phi_1]`` in the derivation).
+  The motor torque enters through the gear as the torque ``i_g tau_m`` on body 1 (``b_u = [i_g, 0]ᵀ``, the
+  ``tau_m i_g`` of (3.139)), applied as an external torque about ``z``.
+* ``phi_21`` – body 2 (``I_2``) on a revolute joint on body 1 (same axis), at ``phi_21 = phi_2 − phi_1``; the
+  torsion spring ``c`` and the damper ``d`` act in this joint, as in (3.138b, c).
+
+How the two models relate: in ``drive_train`` the rotor is a body on its own tree joint at
+``phi_m = i_g phi_1`` and its kinetic energy ``½ I_m φ̇_m²`` is mapped to ``phi_1`` by ``J = ∂phi/∂q``; here the
+engines themselves add the reflected inertia ``i_g² I_m`` as armature. Both must give (3.140)-(3.142):
+the same ``M = diag(I_1 + i_g² I_m, I_2)``, ``C = 0``, ``K q``, ``D q̇`` and inputs.
+
+The lecture gives only the moments of inertia about the axes of rotation. The bodies' masses (centres of
+mass on their axes) and their transverse moments of inertia never enter the dynamics; they are set to a
+stated mass and to ``3/4`` of the axial moment (a physical tensor), as in ``drive_train``.
+"""
+
+from harness.model import (BodyTorque, Coordinate, Inertia, Input, Joint, JointDamper, JointSpring, Link,
+                           Parameter, System, WORLD)
+
+I_m = Parameter("I_m", 0.002, "kg m^2", "moment of inertia of the motor's rotor")
+I_1 = Parameter("I_1", 0.5, "kg m^2", "moment of inertia of body 1 (gear output side)")
+I_2 = Parameter("I_2", 0.8, "kg m^2", "moment of inertia of body 2 (load side)")
+i_g = Parameter("i_g", 10.0, "1", "gear ratio (input speed / output speed)")
+c = Parameter("c", 200.0, "N m/rad", "stiffness of the torsion spring between bodies 1 and 2")
+d = Parameter("d", 1.5, "N m s/rad", "damping constant of the rotational damper between bodies 1 and 2")
+m_1 = Parameter("m_1", 5.0, "kg", "mass of body 1 (centre of mass on its axis; does not enter)")
+m_2 = Parameter("m_2", 8.0, "kg", "mass of body 2 (centre of mass on its axis; does not enter)")
+
+tau_m = Input("tau_m", "N m", "motor torque")
+tau_l = Input("tau_l", "N m", "load torque on body 2")
+
+phi_1 = Coordinate("phi_1", "rad", "angle of body 1")
+phi_2 = Coordinate("phi_2", "rad", "angle of body 2")
+
+
+def _disc(I):
+    """Axial moment ``I`` about ``z``; transverse moments ``3/4 I`` (never enter, see the docstring)."""
+    return Inertia(3 * I / 4, 3 * I / 4, I)
+
+
+SYSTEM = System(
+    name="drive_train_armature",
+    title="Drive train (rotor inertia as armature)",
+    lecture="Example 3.16; (3.136)-(3.142)",
+    parameters=(I_m, I_1, I_2, i_g, c, d, m_1, m_2),
+    coordinates=(phi_1, phi_2),
+    links=(
+        Link("body_1", m_1.symbol, inertia=_disc(I_1.symbol), description="body 1 on the gear's output side"),
+        Link("body_2", m_2.symbol, inertia=_disc(I_2.symbol), description="body 2 carrying the load torque"),
+    ),
+    joints=(
+        Joint("phi_1", "revolute", WORLD, "body_1", axis="z", armature=i_g.symbol**2 * I_m.symbol),  # (3.140a)
+        Joint("phi_21", "revolute", "body_1", "body_2", axis="z", phi=phi_2.symbol - phi_1.symbol),
+    ),
+    gravity=None,
+    inputs=(tau_m, tau_l),
+    forces=(
+        JointSpring("spring_c", "phi_21", c.symbol),
+        JointDamper("damper_d", "phi_21", d.symbol),
+        BodyTorque("motor", "body_1", (0, 0, i_g.symbol * tau_m.symbol)),  # b_u = [i_g, 0] (3.142)
+        BodyTorque("load", "body_2", (0, 0, -tau_l.symbol)),               # b_e = [0, -1] (3.142)
+    ),
+    doc=__doc__,
+)
+
+# ----------------------------------------------------------------------------- the lecture's printed equations
+import sympy as _sp  # noqa: E402
+
+from harness.claims import Claim  # noqa: E402
+
+_p1, _p2 = phi_1.symbol, phi_2.symbol
+_w1, _w2 = phi_1.rate, phi_2.rate
+_a1, _a2 = phi_1.accel, phi_2.accel
+_Im, _I1, _I2, _ig, _c, _d = (x.symbol for x in (I_m, I_1, I_2, i_g, c, d))
+_tm, _tl = tau_m.symbol, tau_l.symbol
+
+_q, _qd, _qdd = _sp.Matrix([_p1, _p2]), _sp.Matrix([_w1, _w2]), _sp.Matrix([_a1, _a2])
+_M = _sp.diag(_I1 + _ig**2 * _Im, _I2)                  # (3.141)
+_K = _sp.Matrix([[_c, -_c], [-_c, _c]])                 # (3.142)
+_D = _sp.Matrix([[_d, -_d], [-_d, _d]])                 # (3.142)
+_b_e, _b_u = _sp.Matrix([0, -1]), _sp.Matrix([_ig, 0])  # (3.142)
+
+CLAIMS = [
+    Claim("(3.139)", "parameter", _tm * _ig - _Im * _ig**2 * _a1, "gear torque on the output side τ_1 = τ_m i_g − I_m i_g² φ̈_1",
+          reference=_I1 * _a1 + _c * (_p1 - _p2) + _d * (_w1 - _w2),
+          note="τ_1 is a constraint (gear) torque: compared with τ_1 = I_1 φ̈_1 + c (φ_1 − φ_2) + d (φ̇_1 − φ̇_2), "
+               "the angular momentum balance of body 1 (3.138b), at the derived accelerations"),
+    Claim("(3.140a)", "eom", (_I1 + _ig**2 * _Im) * _a1 - (_tm * _ig - _c * (_p1 - _p2) - _d * (_w1 - _w2)),
+          "(I_1 + i_g² I_m) φ̈_1 = τ_m i_g − c (φ_1 − φ_2) − d (φ̇_1 − φ̇_2)", index=(0,)),
+    Claim("(3.140b)", "eom", _I2 * _a2 - (_c * (_p1 - _p2) + _d * (_w1 - _w2) - _tl),
+          "I_2 φ̈_2 = c (φ_1 − φ_2) + d (φ̇_1 − φ̇_2) − τ_l", index=(1,)),
+    Claim("(3.141)", "M", _M, "M = diag(I_1 + i_g² I_m, I_2)"),
+    Claim("(3.141), (3.142)", "g", _K * _q, "potential forces K q (torsion spring)",
+          note="(3.141) M q̈ + D q̇ + K q = b_e τ_l + b_u τ_m read as g = K q, f_np = −D q̇ + b_e τ_l + b_u τ_m"),
+    Claim("(3.141), (3.142)", "f_np", -_D * _qd + _b_e * _tl + _b_u * _tm, "non-potential forces −D q̇ + b_e τ_l + b_u τ_m",
+          note="(3.141) M q̈ + D q̇ + K q = b_e τ_l + b_u τ_m read as g = K q, f_np = −D q̇ + b_e τ_l + b_u τ_m"),
+    Claim("(3.141)", "eom", _M * _qdd + _D * _qd + _K * _q - _b_e * _tl - _b_u * _tm,
+          "M q̈ + D q̇ + K q = b_e τ_l + b_u τ_m"),
+]
