@@ -86,8 +86,18 @@ def _symbols(system: System):
     return [system.q, system.qd, accel, system.p, system.u]
 
 
+_DERIVED: dict = {}
+
+
 def _derived(system: System, claim: Claim):
-    """The derived symbolic quantity the claim is compared with (for the 'corrected' expression)."""
+    """The derived symbolic quantity the claim is compared with (also the 'corrected' expression)."""
+    key = (id(system), id(claim))
+    if key not in _DERIVED:
+        _DERIVED[key] = _derive_claimed(system, claim)
+    return _DERIVED[key]
+
+
+def _derive_claimed(system: System, claim: Claim):
     c = compiled(system)
     d = c.derivation
     kind = claim.quantity.split(":")[0]
@@ -140,9 +150,10 @@ def _as_matrix(expr) -> sp.Matrix:
 _COMPILED_CLAIMS: dict = {}
 
 
-def _lambdify(system: System, expr):
-    """Compiled once per (system, expression): classification evaluates the same claim hundreds of times."""
-    key = (system.fingerprint(), sp.srepr(_as_matrix(expr)))
+def _lambdify(system: System, expr, key=None):
+    """Compiled once per ``key`` (classification evaluates the same claim hundreds of times)."""
+    if key is None:
+        return sp.lambdify(_symbols(system), _as_matrix(expr), modules="numpy")
     if key not in _COMPILED_CLAIMS:
         _COMPILED_CLAIMS[key] = sp.lambdify(_symbols(system), _as_matrix(expr), modules="numpy")
     return _COMPILED_CLAIMS[key]
@@ -188,7 +199,7 @@ def evaluate_claim(system: System, claim: Claim, state: State, engines=("pinocch
     printed = _as_matrix(claim.printed)
     if substitution:
         printed = printed.xreplace(substitution)
-    fn = _lambdify(system, printed)
+    fn = _lambdify(system, printed, key=("printed", id(system), id(claim), id(substitution)))
     kind = claim.quantity.split(":")[0]
     if kind == "equilibrium":
         n = len(system.coordinates)
@@ -212,7 +223,7 @@ def evaluate_claim(system: System, claim: Claim, state: State, engines=("pinocch
             reference = _select(sp.Matrix(_value_of(claim, ev)), claim.index)
             scale = s[kind]
         elif source == "derivation":
-            derived_fn = _lambdify(system, _derived(system, claim))
+            derived_fn = _lambdify(system, _derived(system, claim), key=("derived", id(system), id(claim)))
             reference = np.asarray(derived_fn(*args), dtype=float)
             if kind == "V":  # a potential is defined up to a constant: compare V(q) - V(0)
                 at_zero = (np.zeros_like(state.q), state.qd, qdd, state.p, state.u_vec)

@@ -409,8 +409,12 @@ class System:
         return {p.name: float(p.default) for p in self.parameters}
 
     def fingerprint(self) -> str:
-        """A hash of everything that defines the model (keys the derivation cache)."""
-        return hashlib.sha256(_canonical(self).encode()).hexdigest()[:20]
+        """A hash of everything that defines the model (keys the derivation cache); computed once."""
+        cached = self.__dict__.get("_fingerprint")
+        if cached is None:
+            cached = hashlib.sha256(_canonical(self).encode()).hexdigest()[:20]
+            object.__setattr__(self, "_fingerprint", cached)  # frozen: a cache, not state
+        return cached
 
 
 def _canonical(obj) -> str:
