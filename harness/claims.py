@@ -150,6 +150,11 @@ def _as_matrix(expr) -> sp.Matrix:
 _COMPILED_CLAIMS: dict = {}
 
 
+def _accel_coefficients(system: System, printed: sp.Matrix, key):
+    """``∂R/∂q̈`` of a printed residual ``R`` (its 'mass matrix' rows), compiled."""
+    return _lambdify(system, printed.jacobian([c.accel for c in system.coordinates]), key=("accel",) + key)
+
+
 def _lambdify(system: System, expr, key=None):
     """Compiled once per ``key`` (classification evaluates the same claim hundreds of times)."""
     if key is None:
@@ -215,7 +220,11 @@ def evaluate_claim(system: System, claim: Claim, state: State, engines=("pinocch
         args = (state.q, state.qd, qdd, state.p, state.u_vec)
         value = np.asarray(fn(*args), dtype=float)
         if kind == "eom":
-            terms = max(s["qdd"] * float(np.max(np.abs(ev.M))), s["g"])
+            # the residual's own q̈ coefficients ∂R/∂q̈ give its unit: M (a force row) or 1 (solved for q̈)
+            key = (id(system), id(claim), id(substitution))
+            coefficients = np.abs(np.asarray(_accel_coefficients(system, printed, key)(*args), dtype=float))
+            terms = s["qdd"] * float(np.max(coefficients)) if np.any(coefficients) else \
+                max(s["qdd"] * float(np.max(np.abs(ev.M))), s["g"])
             residual = value
             out[source] = _relative(residual, np.zeros_like(residual), terms) / (FLOAT64_RTOL * kappa)
             continue

@@ -180,7 +180,10 @@ def to_lecture(engine: str, state: State, t: TreeQuantities) -> Evaluation:
     a, ad = _max_abs(J), _max_abs(Jd)
     extra = dict(t.extra)
     extra["map_scale"] = {"M": a * a * _max_abs(t.M),
-                          "C": a * a * _max_abs(t.C) + a * ad * _max_abs(t.M),
+                          # C_θ is made of terms of size |M_θ| |θ̇| even where they cancel (a pulley turning
+                          # about its centre of mass: C_θ = 0 up to Pinocchio's round-off of m v ω terms)
+                          "C": max(a * a * _max_abs(t.C) + a * ad * _max_abs(t.M),
+                                   _max_abs(np.abs(J).T @ np.abs(t.M) @ np.abs(J)) * max(1.0, _max_abs(J @ qd))),
                           "Cqd": a * (_max_abs(t.M) * ad * _max_abs(qd) + _max_abs(t.Cqd)),
                           "g": a * max(_max_abs(t.g_gravity), _max_abs(t.g_spring)),
                           "g_spring": a * _max_abs(t.g_spring), "f_damper": a * _max_abs(t.f_damper)}

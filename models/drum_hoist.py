@@ -1,0 +1,83 @@
+"""Drum hoist, Exercise A.8 (Figures A.15, A.16), solution (A.70)-(A.86).
+
+A drum (mass ``m_T``, moment of inertia ``I_T`` about its axis through its centre ``S``) rolls without slipping
+on a horizontal surface with its outer radius ``r_a``. A massless rope leaves the drum's inner radius ``r_i``
+horizontally at the top (lever arm ``r_i + r_a`` about the contact point, (A.77)), runs over a massless,
+frictionless pulley and carries a block of mass ``m_B``. A linear spring (stiffness ``c``, unstretched length
+``s_f0``) pulls the drum's centre back, ``f_f = c (x_T - s_f0)`` (A.85). Gravity acts on the block and the drum.
+
+Frames and signs, as the lecture's balances read: ``x`` horizontal towards the pulley, ``y`` pointing *down*
+(the weight ``m_B g`` of the block acts in ``+y``, (A.80)), hence ``z = x × y`` into the drawing plane and
+gravity ``e_g = [0, 1, 0]``. The degree of freedom is the position ``x_T`` of the drum's centre (A.78)-(A.79):
+rolling gives the drum's rotation ``phi = x_T / r_a`` (positive about ``z``, clockwise in the drawing) and the
+block's descent ``y_B = x_T + r_i phi = (r_i + r_a)/r_a x_T``.
+
+Tree and map theta = phi(q) (rolling and rope are constraints, three tree joints for one coordinate): the
+prismatic joint ``x_T`` (axis ``x``, the drum's centre at height ``r_a`` above the ground, i.e. at ``y = -r_a``)
+carries a massless frame, the revolute joint ``phi`` (axis ``z``) the drum, ``theta_phi = x_T / r_a``; the block
+hangs on the prismatic joint ``y_B`` (axis ``y``) below the pulley, ``theta_yB = (r_i + r_a)/r_a x_T``, with
+``y_B = 0`` at ``x_T = 0``. The spring is a spring on the joint ``x_T`` with rest position ``s_f0``.
+Inertia: the lecture gives only ``I_T`` about the drum's axis; the transverse moments never enter (the drum
+turns about ``z`` only) and are set equal to ``I_T``, which is a physical tensor. The block is a point mass
+(it only translates).
+
+The spring force at rest (A.76), ``f_f = (r_i + r_a)/r_a m_B g``, is claimed as the equilibrium it
+implies with ``f_f = c (x_T - s_f0)`` (A.85): ``x_T* = s_f0 + (r_i + r_a) m_B g / (r_a c)``. Not transcribed
+as claims: the other static forces (A.70)-(A.75), (A.77) and the rope and friction forces (A.81), (A.84):
+they are constraint forces, which the harness does not compute.
+"""
+
+from harness.model import Coordinate, Gravity, Inertia, Joint, JointSpring, Link, Parameter, System, WORLD
+
+m_T = Parameter("m_T", 20.0, "kg", "mass of the drum")
+I_T = Parameter("I_T", 0.4, "kg m^2", "moment of inertia of the drum about its axis (through S)")
+r_a = Parameter("r_a", 0.2, "m", "outer radius of the drum (rolls on the surface)")
+r_i = Parameter("r_i", 0.1, "m", "inner radius of the drum (carries the rope)")
+m_B = Parameter("m_B", 10.0, "kg", "mass of the block")
+c = Parameter("c", 500.0, "N/m", "stiffness of the spring at the drum's centre")
+s_f0 = Parameter("s_f0", 0.5, "m", "unstretched length of the spring")
+g = Parameter("g", 9.81, "m/s^2", "acceleration due to gravity")
+
+x_T = Coordinate("x_T", "m", "position of the drum's centre")
+
+SYSTEM = System(
+    name="drum_hoist",
+    title="Drum hoist",
+    lecture="Exercise A.8; (A.76), (A.78), (A.79), (A.86)",
+    parameters=(m_T, I_T, r_a, r_i, m_B, c, s_f0, g),
+    coordinates=(x_T,),
+    links=(
+        Link("drum_centre", description="massless frame at the drum's centre S (merged with the drum in MuJoCo)"),
+        Link("drum", m_T.symbol, (0, 0, 0), Inertia(I_T.symbol, I_T.symbol, I_T.symbol),
+             description="the drum, centre of mass on its axis"),
+        Link("block", m_B.symbol, (0, 0, 0), description="the block (point mass, only translates)"),
+    ),
+    joints=(
+        Joint("x_T", "prismatic", WORLD, "drum_centre", axis="x", origin=(0, -r_a.symbol, 0)),
+        Joint("phi", "revolute", "drum_centre", "drum", axis="z", phi=x_T.symbol / r_a.symbol),
+        Joint("y_B", "prismatic", WORLD, "block", axis="y", origin=(2, 0, 0),
+              phi=(r_i.symbol + r_a.symbol) / r_a.symbol * x_T.symbol),
+    ),
+    gravity=Gravity(g.symbol, (0, 1, 0)),
+    forces=(JointSpring("spring_f", "x_T", c.symbol, s_f0.symbol),),
+    doc=__doc__,
+)
+
+# ----------------------------------------------------------------------------- the lecture's printed equations
+from harness.claims import Claim  # noqa: E402
+
+_x = x_T.symbol
+_mT, _IT, _ra, _ri, _mB, _c, _sf0, _g = (p.symbol for p in (m_T, I_T, r_a, r_i, m_B, c, s_f0, g))
+CLAIMS = [
+    Claim("(A.78)", "parameter", _x / _ra, "rolling: angle of the drum phi = x_T / r_a",
+          reference=SYSTEM.joint("phi").phi),
+    Claim("(A.79)", "position:block", (_ri + _ra) / _ra * _x, "descent of the block y_B = (r_i + r_a)/r_a x_T",
+          index=(1,)),
+    Claim("(A.86)", "eom", x_T.accel - ((_ri + _ra) * _mB * _g * _ra - _c * (_x - _sf0) * _ra**2)
+          / ((_ri + _ra)**2 * _mB + _IT + _mT * _ra**2), "equation of motion solved for the acceleration",
+          note="printed for v_T_dot with v_T = x_T_dot: read as x_T_ddot"),
+    Claim("(A.76)", "equilibrium", _sf0 + (1 + _ri / _ra) * _mB * _g / _c,
+          "spring force at rest f_f = (1 + r_i/r_a) m_B g",
+          note="printed as the spring force f_f; with f_f = c (x_T - s_f0) (A.85) the rest position is "
+               "x_T* = s_f0 + f_f / c"),
+]

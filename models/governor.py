@@ -1,0 +1,90 @@
+"""Centrifugal governor, Exercise A.7 (Figure A.14), solution (A.59)-(A.69).
+
+A massless linkage turns about the vertical ``e_z`` axis by the angle ``phi`` (``phi_dot = omega_phi``), driven
+by the external torque ``tau`` about ``e_z`` ((A.65): ``f_phi = tau``, ``f_alpha = 0``). Two massless arms of
+length ``l`` hang from a pin on the axis at height ``h``; each carries a point mass ``m`` at its end. ``alpha``
+is the angle of the arms from the downward vertical, the same for both arms (symmetric structure). Gravity
+acts in ``-e_z``. The mass in the plane of ``x`` rotated by ``phi`` sits at (A.59)
+``p_0^m = [l sin(alpha) cos(phi), l sin(alpha) sin(phi), h - l cos(alpha)]``, the other one opposite to it,
+``[-l sin(alpha) cos(phi), -l sin(alpha) sin(phi), h - l cos(alpha)]``. The sleeve ``A`` and its rods are
+massless and add nothing to T, V (the lecture's own assumption).
+
+Tree and map theta = phi(q) (symmetric arms): the joint ``phi`` turns the (massless) spindle about ``z`` at
+the pin height ``h``; arm 1 hangs from the spindle by a revolute joint about the spindle's ``y`` axis with
+``theta_alpha_1 = -alpha`` (a rotation by ``-alpha`` about ``y`` swings ``[0, 0, -l]`` towards ``+x``); arm 2 hangs
+from arm 1 about the same pin axis with the *relative* angle ``theta_alpha_2 = 2 alpha`` (absolute ``+alpha``:
+the mirror image). Arm 2 is a child of arm 1 rather than of the spindle because MuJoCo refuses a massless
+moving body with two children ("mass and inertia of moving bodies must be larger than mjMINVAL"); the
+massless spindle is merged with arm 1 into one MuJoCo body. The external torque is a torque on the joint
+``phi`` (between the world and the turning linkage), which is the same generalized force as (A.65).
+
+Singularity: ``M = diag(2 m l² sin²(alpha), 2 m l²)`` is singular at ``alpha = 0`` and ``alpha = pi`` (masses on
+the axis, ``phi`` undefined). The drawn states keep ``alpha`` in ``[0.2, pi - 0.2]``, 0.2 rad away from both.
+
+Not transcribed as claims: the steady state (A.68), (A.69) ``alpha_s = arccos(g / (l phi_dot_s²))`` — the
+claims core has no kind for "q̈ = 0 at a printed stationary state"; (A.67) with ``alpha_dot = 0``,
+``tau = 0`` is the equation it is derived from.
+"""
+
+import math
+
+from harness.model import Coordinate, Gravity, Input, Joint, JointInput, Link, Parameter, System, WORLD
+
+m = Parameter("m", 2.0, "kg", "each of the two point masses")
+l = Parameter("l", 0.5, "m", "length of an arm (pin to point mass)")
+h = Parameter("h", 1.0, "m", "height of the arms' pin on the axis of rotation")
+g = Parameter("g", 9.81, "m/s^2", "acceleration due to gravity")
+
+alpha = Coordinate("alpha", "rad", "angle of the arms from the downward vertical", range=(0.2, math.pi - 0.2))
+
+SYSTEM = System(
+    name="governor",
+    title="Centrifugal governor",
+    lecture="Exercise A.7; (A.59)-(A.67)",
+    parameters=(m, l, h, g),
+    coordinates=(Coordinate("phi", "rad", "angle of rotation about the vertical axis e_z"), alpha),
+    links=(
+        Link("spindle", description="massless linkage turning about e_z (merged with arm_1 in MuJoCo)"),
+        Link("arm_1", m.symbol, (0, 0, -l.symbol), description="point mass m at the end of arm 1"),
+        Link("arm_2", m.symbol, (0, 0, -l.symbol), description="point mass m at the end of arm 2"),
+    ),
+    joints=(
+        Joint("phi", "revolute", WORLD, "spindle", axis="z", origin=(0, 0, h.symbol)),
+        Joint("alpha_1", "revolute", "spindle", "arm_1", axis="y", phi=-alpha.symbol),
+        Joint("alpha_2", "revolute", "arm_1", "arm_2", axis="y", phi=2 * alpha.symbol),
+    ),
+    gravity=Gravity(g.symbol, (0, 0, -1)),
+    inputs=(Input("tau", "N m", "external torque about e_z driving the governor"),),
+    forces=(JointInput("drive", "phi", "tau"),),
+    doc=__doc__,
+)
+
+# ----------------------------------------------------------------------------- the lecture's printed equations
+import sympy as _sp  # noqa: E402
+
+from harness.claims import Claim  # noqa: E402
+
+_phi, _alpha = SYSTEM.coordinates
+_p, _a = _phi.symbol, _alpha.symbol
+_wp, _wa = _phi.rate, _alpha.rate
+_m, _l, _h, _g = m.symbol, l.symbol, h.symbol, g.symbol
+_tau = _sp.Symbol("tau", real=True)
+_sa, _ca = _sp.sin(_a), _sp.cos(_a)
+CLAIMS = [
+    Claim("(A.59)", "position:arm_1", _sp.Matrix([_l * _sa * _sp.cos(_p), _l * _sa * _sp.sin(_p), _h - _l * _ca]),
+          "position of the point mass rotated by phi against the x axis"),
+    Claim("(A.62)", "T", _m * _l**2 * (_wa**2 + _wp**2 * _sa**2), "kinetic energy of both point masses",
+          note="printed with omega_alpha, omega_phi: read as alpha_dot, phi_dot"),
+    Claim("(A.63)", "V", 2 * _m * _g * (_h - _l * _ca), "potential energy, zero at p_0z^m = 0"),
+    Claim("(A.65)", "f_np", _sp.Matrix([_tau, 0]), "generalized forces f_phi = tau, f_alpha = 0"),
+    Claim("(A.66a)", "eom", 2 * _m * _l**2 * (_phi.accel * _sa**2 + 2 * _wp * _wa * _sa * _ca) - 0 - _tau,
+          "Euler-Lagrange equation of phi", index=(0,)),
+    Claim("(A.66b)", "eom", 2 * _m * _l**2 * _alpha.accel - 2 * _m * _l * _sa * (_l * _wp**2 * _ca - _g) - 0,
+          "Euler-Lagrange equation of alpha", index=(1,)),
+    Claim("(A.67a)", "eom", 2 * _m * _l**2 * _sa**2 * _phi.accel - (_tau - 4 * _m * _l**2 * _wp * _wa * _sa * _ca),
+          "phi_ddot solved", index=(0,),
+          note="printed solved, phi_ddot = (tau - 4 m l² phi_dot alpha_dot sin cos)/(2 m l² sin²(alpha)); "
+               "transcribed multiplied by the printed denominator (non-zero in the drawn states) so that the "
+               "residual is a generalized force, the unit the claims core scales eom residuals in"),
+    Claim("(A.67b)", "eom", _alpha.accel - _sa * (_l * _wp**2 * _ca - _g) / _l, "alpha_ddot solved", index=(1,)),
+]

@@ -1,0 +1,119 @@
+"""Rotationally constrained hollow cylinder, Exercise A.12 (Figure A.20), solution (A.124)-(A.141).
+
+A hollow cylinder 1 (mass ``m_1``, length ``l_1``, inner diameter ``d_2``) turns about the pivot ``K`` at
+``[0, h, 0]`` by the angle ``phi``, measured from the downward vertical, driven by the external torque ``tau_e``
+about ``e_z`` ((A.137): ``f_phi = tau_e``). A cylindrical rod 2 (mass ``m_2``, length ``l_2``, diameter ``d_2``)
+slides inside it along the common axis; ``s`` is the distance from ``K`` to the rod's inner end, the point of
+application ``p_0^d`` (A.135) of the friction force. A linear spring (stiffness ``c``, unstretched length
+``s_0``) acts between the cylinders, ``V_f = c/2 (s - s_0)²`` (A.130). Gravity acts in ``-e_y``. Centres of
+mass (A.125), (A.126): ``p_0^{s1} = [0, h, 0] + l_1/2 [sin(phi), -cos(phi), 0]`` (base area neglected),
+``p_0^{s2} = [0, h, 0] + (s + l_2/2) [sin(phi), -cos(phi), 0]``.
+
+Friction (A.134)-(A.136): a velocity-proportional force with a coefficient proportional to the contact area
+``A(s) = (l_1 - s) d_2 pi``, ``f_d = d_0 (l_1 - s) d_2 pi s_dot``, acting on rod 2 at ``p_0^d`` along the axis,
+``f_d [-sin(phi), cos(phi), 0]``; generalized forces ``f_s = -f_d``, ``f_phi = 0``. The harness's joint dampers
+have constant coefficients (MuJoCo's joint damping is a polynomial in the velocity only), so the friction is
+modeled as the lecture does: an external force at ``p_0^d`` whose components depend on ``s``, ``s_dot``,
+``phi``; each engine turns it into generalized forces with its own Jacobians (5.73). Its reaction on
+cylinder 1 acts along the axis at a point that does not move along the axis, so it does no virtual work and
+is left out, as in the lecture. It appears in ``f_np``, not in the damper check ``f_damper``.
+
+Tree: the revolute joint ``phi`` (axis ``z``) at ``[0, h, 0]`` carries cylinder 1, whose axis points along
+``-y`` of its frame; the prismatic joint ``s`` along ``-y`` of cylinder 1 carries rod 2 (identity map). The
+spring is a spring on the joint ``s``, the torque a torque on cylinder 1. Inertia tensors about the centres of
+mass are diagonal in the body frames: ``I_yy`` about the cylinder's axis, ``I_xx``, ``I_zz`` transverse; only
+``I_zz1``, ``I_zz2`` (the lecture's ``I_{1,zz}^{(S)}``, ``I_{2,zz}^{(S)}``) enter. The outer diameter ``d_1``
+enters nothing here and is not a parameter.
+
+The drawn states keep ``s`` in ``[0, 0.4]`` m, so that the contact length ``l_1 - s`` stays positive for every
+drawn ``l_1`` (at least 0.4 m) and the friction coefficient ``d(s)`` non-negative.
+
+The equilibria (A.140), (A.141) ``phi_R = k pi``, ``s_R = m_2 g cos(phi_R)/c + s_0`` are two claims, the
+lower (``k = 0``) and the upper (``k = 1``) one; further ``k`` repeat them.
+"""
+
+import sympy as sp
+
+from harness.model import (BodyTorque, Coordinate, Gravity, Inertia, Input, Joint, JointSpring, Link, Parameter,
+                           Point, PointForce, System, WORLD)
+
+m_1 = Parameter("m_1", 1.0, "kg", "mass of the hollow cylinder 1")
+l_1 = Parameter("l_1", 0.8, "m", "length of the hollow cylinder 1")
+I_xx1 = Parameter("I_xx1", 0.054, "kg m^2", "inertia of cylinder 1 about x_1 through s1 (transverse)")
+I_yy1 = Parameter("I_yy1", 0.0005, "kg m^2", "inertia of cylinder 1 about y_1 through s1 (its axis)")
+I_zz1 = Parameter("I_zz1", 0.054, "kg m^2", "inertia of cylinder 1 about z_1 through s1 (I_{1,zz}^{(S)})")
+m_2 = Parameter("m_2", 0.6, "kg", "mass of the rod 2")
+l_2 = Parameter("l_2", 0.6, "m", "length of the rod 2")
+d_2 = Parameter("d_2", 0.04, "m", "diameter of the rod 2 (inner diameter of cylinder 1)")
+I_xx2 = Parameter("I_xx2", 0.018, "kg m^2", "inertia of rod 2 about x_2 through s2 (transverse)")
+I_yy2 = Parameter("I_yy2", 0.00012, "kg m^2", "inertia of rod 2 about y_2 through s2 (its axis)")
+I_zz2 = Parameter("I_zz2", 0.018, "kg m^2", "inertia of rod 2 about z_2 through s2 (I_{2,zz}^{(S)})")
+h = Parameter("h", 1.0, "m", "height of the pivot K")
+c = Parameter("c", 200.0, "N/m", "stiffness of the spring between the cylinders")
+s_0 = Parameter("s_0", 0.3, "m", "unstretched length of the spring")
+d_0 = Parameter("d_0", 50.0, "N s/m^3", "friction coefficient per contact area, d(s) = d_0 A(s)")
+g = Parameter("g", 9.81, "m/s^2", "acceleration due to gravity")
+
+phi = Coordinate("phi", "rad", "angle of the cylinders from the downward vertical")
+s = Coordinate("s", "m", "distance from the pivot K to the inner end of rod 2", range=(0.0, 0.4))
+_phi, _s = phi.symbol, s.symbol
+f_d = d_0.symbol * (l_1.symbol - _s) * d_2.symbol * sp.pi * s.rate  # (A.134)
+
+SYSTEM = System(
+    name="hollow_cylinder",
+    title="Rotationally constrained hollow cylinder",
+    lecture="Exercise A.12; (A.125)-(A.141)",
+    parameters=(m_1, l_1, I_xx1, I_yy1, I_zz1, m_2, l_2, d_2, I_xx2, I_yy2, I_zz2, h, c, s_0, d_0, g),
+    coordinates=(phi, s),
+    links=(
+        Link("cylinder_1", m_1.symbol, (0, -l_1.symbol / 2, 0), Inertia(I_xx1.symbol, I_yy1.symbol, I_zz1.symbol),
+             description="hollow cylinder, axis along -y of its frame"),
+        Link("rod_2", m_2.symbol, (0, -l_2.symbol / 2, 0), Inertia(I_xx2.symbol, I_yy2.symbol, I_zz2.symbol),
+             description="rod sliding in cylinder 1, frame at its inner end p_0^d"),
+    ),
+    joints=(
+        Joint("phi", "revolute", WORLD, "cylinder_1", axis="z", origin=(0, h.symbol, 0)),
+        Joint("s", "prismatic", "cylinder_1", "rod_2", axis=(0, -1, 0)),
+    ),
+    gravity=Gravity(g.symbol, (0, -1, 0)),
+    inputs=(Input("tau_e", "N m", "external torque about e_z on cylinder 1"),),
+    forces=(
+        JointSpring("spring", "s", c.symbol, s_0.symbol),
+        BodyTorque("torque_e", "cylinder_1", (0, 0, sp.Symbol("tau_e", real=True))),
+        PointForce("friction_d", Point("rod_2", (0, 0, 0), "d"), (-f_d * sp.sin(_phi), f_d * sp.cos(_phi), 0)),
+    ),
+    doc=__doc__,
+)
+
+# ----------------------------------------------------------------------------- the lecture's printed equations
+from harness.claims import Claim  # noqa: E402
+
+_wp, _ws = phi.rate, s.rate
+_m1, _l1, _m2, _l2, _h, _c, _s0, _g = (p.symbol for p in (m_1, l_1, m_2, l_2, h, c, s_0, g))
+_I1, _I2 = I_zz1.symbol, I_zz2.symbol
+_tau_e = sp.Symbol("tau_e", real=True)
+_f_d = d_0.symbol * (_l1 - _s) * d_2.symbol * sp.pi * _ws
+_e = sp.Matrix([sp.sin(_phi), -sp.cos(_phi), 0])
+_K = sp.Matrix([0, _h, 0])
+CLAIMS = [
+    Claim("(A.125)", "position:cylinder_1", _K + _l1 / 2 * _e, "centre of mass of the hollow cylinder"),
+    Claim("(A.126)", "position:rod_2", _K + (_s + _l2 / 2) * _e, "centre of mass of the rod"),
+    Claim("(A.135)", "position:d", sp.Matrix([_s * sp.sin(_phi), _h - _s * sp.cos(_phi), 0]),
+          "point of application of the friction force"),
+    Claim("(A.128), (A.129)", "T", (_I1 + _I2) * _wp**2 / 2 + _m1 * _l1**2 * _wp**2 / 8
+          + _m2 * (_ws**2 + _wp**2 * (_s + _l2 / 2)**2) / 2, "kinetic energy T = T_r + T_t1 + T_t2",
+          note="I_{1,zz}^{(S)}, I_{2,zz}^{(S)} read as I_zz1, I_zz2"),
+    Claim("(A.130), (A.131)", "V", _c * (_s - _s0)**2 / 2 + _m1 * _g * (_h - _l1 / 2 * sp.cos(_phi))
+          + _m2 * _g * (_h - (_s + _l2 / 2) * sp.cos(_phi)), "potential energy V = V_f + V_1 + V_2"),
+    Claim("(A.138)", "f_np", sp.Matrix([_tau_e, -_f_d]), "generalized forces f_phi = tau_e, f_s = -f_d",
+          note="f_d from (A.134): d_0 (l_1 - s) d_2 pi s_dot"),
+    Claim("(A.139a)", "eom", (_m1 * _l1**2 / 4 + _m2 * (_s + _l2 / 2)**2 + _I1 + _I2) * phi.accel
+          + 2 * _m2 * (_s + _l2 / 2) * _wp * _ws + _g * (_m1 * _l1 / 2 + _m2 * (_s + _l2 / 2)) * sp.sin(_phi) - _tau_e,
+          "equation of motion of phi", index=(0,), note="I_{1,zz}^{(S)}, I_{2,zz}^{(S)} read as I_zz1, I_zz2"),
+    Claim("(A.139b)", "eom", _m2 * s.accel + _c * (_s - _s0) - _m2 * _g * sp.cos(_phi) - _m2 * _wp**2 * (_s + _l2 / 2)
+          - (-_f_d), "equation of motion of s", index=(1,), note="f_d from (A.134)"),
+    Claim("(A.140), (A.141) k = 0", "equilibrium", sp.Matrix([0, _m2 * _g * sp.cos(0) / _c + _s0]),
+          "lower equilibrium phi_R = 0, s_R = m_2 g cos(phi_R)/c + s_0 = s_0 + m_2 g/c (tau_e = 0)"),
+    Claim("(A.140), (A.141) k = 1", "equilibrium", sp.Matrix([sp.pi, _m2 * _g * sp.cos(sp.pi) / _c + _s0]),
+          "upper equilibrium phi_R = pi, s_R = m_2 g cos(phi_R)/c + s_0 = s_0 - m_2 g/c (tau_e = 0)"),
+]
