@@ -272,9 +272,16 @@ def classify(system: System, claim: Claim, engines=("pinocchio", "mujoco"), exam
         return verdict
     verdict.counterexample = failure
     verdict.corrected = str(_derived(system, claim))
-    if claim.quantity == "C" and worst.get("Cqd (from printed C)", math.inf) <= 1:
-        verdict.classification = "C differs, C·q̇ agrees"
-        return verdict
+    if claim.quantity == "C":  # C is not unique: search separately for a state where C·q̇ differs
+        def cqd_check(state: State):
+            if evaluate_claim(system, claim, state, engines).get("Cqd (from printed C)", 0.0) > 1:
+                raise _Disagrees(_state_text(state))
+
+        cqd_failure = _run(system, cqd_check, examples)
+        if cqd_failure is None:
+            verdict.classification = "C differs, C·q̇ agrees"
+            return verdict
+        verdict.counterexample = cqd_failure
     for name, substitution in claim.conventions.items():
         ok = _run(system, _holds_with(system, claim, engines, substitution), examples)
         if ok is None:

@@ -50,6 +50,10 @@ class PinocchioModel:
     def from_pin_matrix(self, A):
         return np.asarray(A)[np.ix_(self.index, self.index)]
 
+    def frame_jacobian(self, frame: int) -> np.ndarray:
+        """``6 x nv`` frame Jacobian (LOCAL_WORLD_ALIGNED); eigenpy hands a ``6 x 1`` matrix back as a 1-D array."""
+        return np.asarray(pin.getFrameJacobian(self.model, self.data, frame, LWA)).reshape(6, self.model.nv)
+
     def point_forces(self, q, v):
         """Generalized forces of tendons (springs/dampers between points) and joint springs/dampers,
         from Pinocchio's frame placements and frame Jacobians: ``Σ J_bᵀ f − J_aᵀ f``."""
@@ -63,7 +67,7 @@ class PinocchioModel:
             r = data.oMf[fb].translation - data.oMf[fa].translation
             length = np.linalg.norm(r)
             e = r / length
-            J = pin.getFrameJacobian(model, data, fb, LWA)[:3] - pin.getFrameJacobian(model, data, fa, LWA)[:3]
+            J = self.frame_jacobian(fb)[:3] - self.frame_jacobian(fa)[:3]
             length_rate = e @ (J @ v)
             f_spring += J.T @ (-stiffness * (length - rest) * e)
             f_damper += J.T @ (-damping * length_rate * e)
@@ -87,7 +91,7 @@ class PinocchioModel:
             R = np.eye(3) if load.frame == WORLD else data.oMf[model.getFrameId(load.frame)].rotation
             vector = R @ load.vector
             fid = self.frames[load.where] if load.kind == "force" else model.getFrameId(load.where)
-            J = pin.getFrameJacobian(model, data, fid, LWA)
+            J = self.frame_jacobian(fid)
             tau += (J[:3] if load.kind == "force" else J[3:]).T @ vector
         return tau
 

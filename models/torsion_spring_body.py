@@ -1,0 +1,107 @@
+"""Rigid body with torsional spring, Exercise A.13 (Figure A.21), solution (A.142)-(A.158).
+
+A beam of two rigidly connected slender rods turns about the origin by ``phi``; gravity acts in ``-e_y``.
+At ``phi = 0`` rod 1 (length ``L_s``, mass ``m``) stands on the pivot along ``+y`` (centre of gravity
+``[0, L_s/2, 0]``, (A.142)) and rod 2 (length ``L_s/2``, mass ``m/2``) sits on its top end along ``+x``
+(centre of gravity ``[L_s/4, L_s, 0]``, (A.143)). The rotation (A.148) is ``p_0^s(phi) = R_z(-phi) p_0^s(0)``:
+``phi`` turns the beam *clockwise*, so the joint axis is ``-z`` (``theta_phi = phi``, identity map).
+
+The beam is one rigid body; the core has no fixed joints, so the model composes it here, as the lecture
+does: total mass ``3m/2``, centre of gravity (3.31), (A.144), and the inertia tensor about it by Steiner's
+theorem (3.126), (A.146), in three dimensions. Each rod is a homogeneous cuboid whose width in the plane of
+motion is neglected, as the exercise does (``I_zz,s^(S) = m_s L_s²/12``), but which keeps a thickness ``b`` along
+``z``: ``b`` enters only ``I_xx``, ``I_yy`` (never the planar motion), and keeps the beam from being an exactly
+planar body, whose tensor ``I_zz = I_xx + I_yy`` MuJoCo rejects once rounded ("A + B >= C"). The beam's tensor
+has a product of inertia ``I_xy``.
+
+The torsional spring ``c_F`` at the pivot is relaxed at ``phi = 0`` (A.152). The force ``f`` (magnitude ``f``,
+an input) acts at the top end of rod 1, ``p_0^f = [L_s sin(phi), L_s cos(phi), 0]`` (A.153), along rod 2's
+axis: a follower force with body components ``[f, 0, 0]`` (A.154).
+"""
+
+import sympy as sp
+
+from harness.model import (Coordinate, Gravity, Inertia, Input, Joint, JointSpring, Link, Parameter, Point,
+                           PointForce, System, WORLD)
+
+m = Parameter("m", 2.0, "kg", "mass of rod 1 (rod 2 has m/2)")
+L_s = Parameter("L_s", 1.0, "m", "length of rod 1 (rod 2 has L_s/2)")
+b = Parameter("b", 0.03, "m", "thickness of the rods along z (does not enter the planar motion)")
+c_F = Parameter("c_F", 30.0, "N m/rad", "stiffness of the torsional spring, relaxed at phi = 0")
+g = Parameter("g", 9.81, "m/s^2", "acceleration due to gravity")
+
+phi = Coordinate("phi", "rad", "angle of the beam, clockwise from its drawn position")
+f = Input("f", "N", "magnitude of the force along rod 2's axis")
+
+_m, _L, _b = m.symbol, L_s.symbol, b.symbol
+
+# the two rods, positions at phi = 0 (A.142), (A.143) and inertia tensors about their own centres of gravity
+m_s1, p_s1, I_s1 = _m, sp.Matrix([0, _L / 2, 0]), Inertia.cuboid(_m, 0, _L, _b).matrix              # along y
+m_s2, p_s2, I_s2 = _m / 2, sp.Matrix([_L / 4, _L, 0]), Inertia.cuboid(_m / 2, _L / 2, 0, _b).matrix  # along x
+
+# the beam: mass, centre of gravity (3.31), inertia about it by Steiner's theorem (3.126)
+m_beam = m_s1 + m_s2
+p_s = (m_s1 * p_s1 + m_s2 * p_s2) / m_beam
+
+
+def steiner(mass, r):
+    """Inertia tensor of a mass ``mass`` at offset ``r`` from the reference point (3.126)."""
+    return mass * ((r.T * r)[0] * sp.eye(3) - r * r.T)
+
+
+I_s = (I_s1 + steiner(m_s1, p_s1 - p_s) + I_s2 + steiner(m_s2, p_s2 - p_s)).applyfunc(sp.factor)
+
+SYSTEM = System(
+    name="torsion_spring_body",
+    title="Rigid body with torsional spring",
+    lecture="Exercise A.13; (A.142)-(A.158)",
+    parameters=(m, L_s, b, c_F, g),
+    coordinates=(phi,),
+    links=(Link("beam", m_beam, tuple(p_s),
+                Inertia(I_s[0, 0], I_s[1, 1], I_s[2, 2], I_s[0, 1], I_s[0, 2], I_s[1, 2]),
+                description="rod 1 (along y_1) and rod 2 (along x_1 at the top of rod 1), rigidly connected"),),
+    joints=(Joint("phi", "revolute", WORLD, "beam", axis=(0, 0, -1)),),
+    gravity=Gravity(g.symbol, (0, -1, 0)),
+    inputs=(f,),
+    forces=(
+        JointSpring("spring_F", "phi", c_F.symbol),
+        PointForce("force_f", Point("beam", (0, _L, 0), "f"), (f.symbol, 0, 0), frame="beam"),
+    ),
+    doc=__doc__,
+)
+
+# ----------------------------------------------------------------------------- the lecture's printed equations
+from harness.claims import Claim  # noqa: E402
+
+_p, _pd, _pdd = phi.symbol, phi.rate, phi.accel
+_g, _c, _f = g.symbol, c_F.symbol, f.symbol
+_p_s_printed = sp.Matrix([_L / 12, 2 * _L / 3, 0])
+_p_f_printed = sp.Matrix([_L * sp.sin(_p), _L * sp.cos(_p), 0])                     # (A.153)
+_f_printed = sp.Matrix([_f * sp.cos(_p), -_f * sp.sin(_p), 0])                      # (A.154)
+CLAIMS = [
+    Claim("(A.144)", "parameter", _p_s_printed, "centre of gravity of the beam at phi = 0", reference=p_s),
+    Claim("(A.145a)", "parameter", _m * _L**2 / 12, "I_zz^(s1) of rod 1", reference=I_s1[2, 2]),
+    Claim("(A.145b)", "parameter", _m * _L**2 / 96, "I_zz^(s2) of rod 2", reference=I_s2[2, 2]),
+    Claim("(A.147a)", "parameter", sp.Matrix([_L / 12, _L / 6, 0]), "p_s,s1 = p_0^s - p_0^s1",
+          reference=p_s - p_s1),
+    Claim("(A.147b)", "parameter", sp.Matrix([-_L / 6, -_L / 3, 0]), "p_s,s2 = p_0^s - p_0^s2",
+          reference=p_s - p_s2),
+    Claim("(A.146)", "parameter", 19 * _m * _L**2 / 96, "I_zz^(s) of the beam about its centre of gravity",
+          reference=I_s[2, 2]),
+    Claim("(A.148)", "position:beam", sp.Matrix([_L / 12 * sp.cos(_p) + 2 * _L / 3 * sp.sin(_p),
+                                                 -_L / 12 * sp.sin(_p) + 2 * _L / 3 * sp.cos(_p), 0]),
+          "centre of gravity of the beam"),
+    Claim("(A.153)", "position:f", _p_f_printed, "point of application of f"),
+    Claim("(A.150), (A.151)", "T",
+          sp.Rational(65, 192) * _m * _pd**2 * _L**2 + sp.Rational(19, 192) * _m * _pd**2 * _L**2, "T_t + T_r"),
+    Claim("(A.156)", "T", sp.Rational(7, 16) * _m * _pd**2 * _L**2, "kinetic part of the Lagrangian"),
+    Claim("(A.152)", "V", -_L / 8 * _m * _g * sp.sin(_p) + _m * _g * _L * sp.cos(_p) + _c * _p**2 / 2,
+          "V_g + V_F"),
+    Claim("(A.156)", "V", -(_L / 8 * _m * _g * sp.sin(_p) - _m * _g * _L * sp.cos(_p) - _c * _p**2 / 2),
+          "potential part of the Lagrangian L = T - V"),
+    Claim("(A.154), (A.155)", "f_np", (_f_printed.T * _p_f_printed.diff(_p))[0],
+          "f_q,f = f^T dp_0^f/dphi with the printed force (A.154) and point (A.153)"),
+    Claim("(A.155)", "f_np", _f * _L, "generalized force of f"),
+    Claim("(A.158)", "eom", sp.Rational(7, 8) * _m * _L**2 * _pdd - _m * _g * _L * sp.cos(_p) / 8
+          - _m * _g * _L * sp.sin(_p) + _c * _p - _f * _L, "equation of motion"),
+]

@@ -1,0 +1,99 @@
+"""Trebuchet, phase 1 (projectile sliding on the ground), Exercise A.15 (Figure A.23), solution (A.175)-(A.185).
+
+Frames, masses and angles as in phase 2 (``models/trebuchet_free.py``): the machine moves in the x-z plane,
+gravity acts in ``-e_z`` (A.183); the arm turns by ``theta`` about ``-e_y`` (short end ``l`` at
+``l [cos theta, 0, sin theta]``, long end at ``-L [cos theta, 0, sin theta]``); the point mass ``M`` hangs on a
+massless rod ``h`` at the absolute angle ``phi`` (about ``+e_y``), the point mass ``m`` on the massless sling
+``r`` at the absolute angle ``psi`` (about ``-e_y``) (A.176). As there, the arm's mass ``m_A`` sits at the pivot
+(its moment of inertia is neglected): it enters neither ``T`` nor ``V``; MuJoCo needs it (no massless moving body).
+
+Phase 1: the projectile slides (without friction) on the ground at the height ``h_m = -L sin theta_0`` of its
+start, ``theta = theta_0`` being the arm's initial angle. The constraint (A.177)
+``L sin theta + r cos psi = L sin theta_0`` makes ``psi`` a function of ``theta`` (A.178):
+``psi(theta) = arccos(L/r (sin theta_0 - sin theta))``. Lecture coordinates ``q = [theta, phi]``; the
+projectile's potential is constant in this phase (A.185).
+
+Tree and map: the tree of phase 2 with three joints and two lecture coordinates: ``theta`` (revolute about
+``-y``, ``theta``), ``weight`` (revolute about ``+y`` at ``[l, 0, 0]``, ``theta + phi``), ``sling`` (revolute about
+``-y`` at ``[-L, 0, 0]``, ``psi(theta) - theta``). The ground's normal force is the constraint force and does no
+work; it never appears (the map is the constraint).
+
+Singular points and drawn states: ``d psi/d theta = (L/r) cos theta / sqrt(1 - u²)`` with
+``u = L/r (sin theta_0 - sin theta)`` blows up where ``|u| = 1`` (the sling vertical: the projectile would have
+to leave the ground or the arm's tip to sink below it). Random parameters are drawn in ``[default/2, 2 default]``,
+so ``L/r ≤ 4 · 2/3 = 8/3`` and ``theta_0 ∈ [0.1, 0.4]``; the drawn range ``theta ∈ [0.1, 0.4]`` keeps
+``|sin theta_0 - sin theta| ≤ 0.29`` and so ``|u| ≤ 0.78`` (``psi`` at least 0.67 rad away from 0 and π).
+States with ``theta > theta_0`` (the arm's tip below the ground: ``psi > π/2``) are drawn too; the equations
+hold there as well. ``theta_0`` is small (0.2 rad) so that one fixed range of ``theta`` suits every drawn
+``theta_0`` (a range cannot depend on the parameters).
+"""
+
+import sympy as sp
+
+from harness.model import Coordinate, Gravity, Joint, Link, Parameter, System, WORLD
+
+M = Parameter("M", 100.0, "kg", "mass of the counterweight (point mass)")
+m = Parameter("m", 5.0, "kg", "mass of the projectile (point mass)")
+L = Parameter("L", 2.0, "m", "length of the long (throwing) end of the arm")
+l = Parameter("l", 0.5, "m", "length of the short end of the arm (counterweight side)")
+h = Parameter("h", 0.6, "m", "length of the counterweight's pendulum rod")
+r = Parameter("r", 3.0, "m", "length of the sling")
+theta_0 = Parameter("theta_0", 0.2, "rad", "initial angle of the arm (projectile on the ground at -L sin theta_0)")
+m_A = Parameter("m_A", 20.0, "kg", "mass of the throwing arm, at the pivot (it enters neither T nor V, see above)")
+g = Parameter("g", 9.81, "m/s^2", "acceleration due to gravity")
+
+theta = Coordinate("theta", "rad", "angle of the throwing arm (A.175); drawn in [0.1, 0.4] (see above)",
+                   range=(0.1, 0.4))
+phi = Coordinate("phi", "rad", "absolute angle of the counterweight's rod from the downward vertical")
+
+psi = sp.acos(L.symbol / r.symbol * (sp.sin(theta_0.symbol) - sp.sin(theta.symbol)))  # (A.178)
+
+SYSTEM = System(
+    name="trebuchet",
+    title="Trebuchet, phase 1 (projectile on the ground)",
+    lecture="Exercise A.15, phase 1; (A.175)-(A.185)",
+    parameters=(M, m, L, l, h, r, theta_0, m_A, g),
+    coordinates=(theta, phi),
+    links=(
+        Link("arm", m_A.symbol, (0, 0, 0), description="throwing arm: mass at the pivot, no moment of inertia; "
+                                                        "x from the long end towards the short end"),
+        Link("counterweight", M.symbol, (0, 0, -h.symbol), description="point mass M on its rod"),
+        Link("projectile", m.symbol, (0, 0, -r.symbol), description="point mass m on the sling"),
+    ),
+    joints=(
+        Joint("theta", "revolute", WORLD, "arm", axis=(0, -1, 0)),
+        Joint("weight", "revolute", "arm", "counterweight", axis=(0, 1, 0), origin=(l.symbol, 0, 0),
+              phi=theta.symbol + phi.symbol),
+        Joint("sling", "revolute", "arm", "projectile", axis=(0, -1, 0), origin=(-L.symbol, 0, 0),
+              phi=psi - theta.symbol),
+    ),
+    gravity=Gravity(g.symbol, (0, 0, -1)),
+    doc=__doc__,
+)
+
+# ----------------------------------------------------------------------------- the lecture's printed equations
+from harness.claims import Claim  # noqa: E402
+
+_th, _ph = theta.symbol, phi.symbol
+_thd, _phd = theta.rate, phi.rate
+_M, _m, _L, _l, _h, _r, _g, _th0 = (x.symbol for x in (M, m, L, l, h, r, g, theta_0))
+_psi = sp.acos(_L / _r * (sp.sin(_th0) - sp.sin(_th)))   # (A.178), as printed
+_psid = sp.diff(_psi, _th) * _thd                        # (A.182)
+_V_1 = _M * _g * (_l * sp.sin(_th) - _h * sp.cos(_ph))   # (A.183), (A.185)
+
+CLAIMS = [
+    Claim("(A.176a)", "position:counterweight",
+          sp.Matrix([_l * sp.cos(_th) - _h * sp.sin(_ph), 0, _l * sp.sin(_th) - _h * sp.cos(_ph)]),
+          "position of the counterweight"),
+    Claim("(A.176b), (A.178)", "position:projectile",
+          sp.Matrix([-_L * sp.cos(_th) + _r * sp.sin(_psi), 0, -_L * sp.sin(_th) - _r * sp.cos(_psi)]),
+          "position of the projectile with psi = psi(theta); its z-component is the constraint (A.177)"),
+    Claim("(A.181a), (A.182)", "T",
+          _M * (_l**2 * _thd**2 + _h**2 * _phd**2 + 2 * _l * _h * _thd * _phd * sp.sin(_th + _ph)) / 2
+          + _m * (_L * sp.sin(_th) * _thd + _r * sp.cos(_psi) * _psid)**2 / 2,
+          "kinetic energy T_1 with psi = psi(theta), psi_dot = ∂psi/∂theta theta_dot"),
+    Claim("(A.183), (A.185)", "g", sp.Matrix([sp.diff(_V_1, _th), sp.diff(_V_1, _ph)]),
+          "potential forces ∂V_1/∂q (5.96) of V_1 = V_M",
+          note="V_1 is printed up to the constant V_M,0 and without the projectile's potential, which is constant "
+               "in phase 1; compared as g = ∂V_1/∂q, which no constant changes"),
+]

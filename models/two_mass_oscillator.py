@@ -1,0 +1,99 @@
+"""Rotatory two-mass oscillator, Exercise 5.3 (Figure 5.8), solution (5.103)-(5.108).
+
+Two rigid bodies rotate about the common ``x_0`` axis, which is a principal axis of inertia of both, with
+their centres of mass on it (no products of inertia, no unbalance). Lecture coordinates are the *absolute*
+angles ``phi_1``, ``phi_2`` of the bodies about ``x_0``. The kinematic tree is a chain: body 1 turns about
+``x_0`` by ``theta_phi_1 = phi_1``; body 2 is mounted on body 1 (0.5 m further along ``x``, a value that
+never enters) and turns by the *relative* angle ``theta_phi_2rel = phi_2 - phi_1`` (the linear map
+``theta = phi(q)``). So the torsion spring ``c_12`` and the rotary damper ``d_12`` between the bodies act on
+the relative joint, ``c_1`` and ``d_1`` between body 1 and the inertial system on joint 1:
+``V = c_1/2 phi_1² + c_12/2 (phi_2 - phi_1)²`` (5.104), relaxed at ``phi_1 = 0`` and ``phi_1 - phi_2 = 0``.
+
+External torques ``tau_1``, ``tau_2`` act on bodies 1 and 2 about ``x_0``. Figure 5.8 is not in the text; the
+solution (5.105) counts them *against* the positive sense of ``phi_1``, ``phi_2`` (``tau_e1 = -tau_1 - …``,
+``tau_e2 = -tau_2 + …``), and (5.107) agrees, so the model applies ``-tau_1``, ``-tau_2`` about ``x_0``.
+No gravity is mentioned (and with the centres of mass on the axis it would not act). Only ``I_xx,1``,
+``I_xx,2`` enter the motion; the masses and the inertias about ``y``, ``z`` (discs) are there because an
+engine needs a physical body.
+"""
+
+from harness.model import (BodyTorque, Coordinate, Inertia, Input, Joint, JointDamper, JointSpring, Link,
+                           Parameter, System, WORLD)
+
+I_xx1 = Parameter("I_xx1", 0.02, "kg m^2", "inertia of body 1 about its axis of rotation x (I_xx,1^s1)")
+I_yy1 = Parameter("I_yy1", 0.011, "kg m^2", "inertia of body 1 about y through s1 (does not enter)")
+I_zz1 = Parameter("I_zz1", 0.011, "kg m^2", "inertia of body 1 about z through s1 (does not enter)")
+I_xx2 = Parameter("I_xx2", 0.05, "kg m^2", "inertia of body 2 about its axis of rotation x (I_xx,2^s2)")
+I_yy2 = Parameter("I_yy2", 0.027, "kg m^2", "inertia of body 2 about y through s2 (does not enter)")
+I_zz2 = Parameter("I_zz2", 0.027, "kg m^2", "inertia of body 2 about z through s2 (does not enter)")
+m_1 = Parameter("m_1", 4.0, "kg", "mass of body 1 (does not enter)")
+m_2 = Parameter("m_2", 6.0, "kg", "mass of body 2 (does not enter)")
+c_1 = Parameter("c_1", 40.0, "N m/rad", "torsion spring between the inertial system and body 1")
+c_12 = Parameter("c_12", 25.0, "N m/rad", "torsion spring between body 1 and body 2")
+d_1 = Parameter("d_1", 0.2, "N m s/rad", "rotary damper between the inertial system and body 1")
+d_12 = Parameter("d_12", 0.1, "N m s/rad", "rotary damper between body 1 and body 2")
+
+phi_1 = Coordinate("phi_1", "rad", "absolute angle of body 1 about x_0")
+phi_2 = Coordinate("phi_2", "rad", "absolute angle of body 2 about x_0")
+
+tau_1 = Input("tau_1", "N m", "external torque on body 1, counted against phi_1 (5.105a)")
+tau_2 = Input("tau_2", "N m", "external torque on body 2, counted against phi_2 (5.105b)")
+
+SYSTEM = System(
+    name="two_mass_oscillator",
+    title="Rotatory two-mass oscillator",
+    lecture="Exercise 5.3; (5.103)-(5.108)",
+    parameters=(I_xx1, I_yy1, I_zz1, I_xx2, I_yy2, I_zz2, m_1, m_2, c_1, c_12, d_1, d_12),
+    coordinates=(phi_1, phi_2),
+    links=(
+        Link("body_1", m_1.symbol, (0, 0, 0), Inertia(I_xx1.symbol, I_yy1.symbol, I_zz1.symbol),
+             description="rigid body 1, centre of mass on the axis x_0"),
+        Link("body_2", m_2.symbol, (0, 0, 0), Inertia(I_xx2.symbol, I_yy2.symbol, I_zz2.symbol),
+             description="rigid body 2, centre of mass on the axis x_0"),
+    ),
+    joints=(
+        Joint("phi_1", "revolute", WORLD, "body_1", axis="x"),
+        Joint("phi_2rel", "revolute", "body_1", "body_2", axis="x", origin=(0.5, 0, 0),
+              phi=phi_2.symbol - phi_1.symbol),
+    ),
+    inputs=(tau_1, tau_2),
+    forces=(
+        JointSpring("spring_1", "phi_1", c_1.symbol),
+        JointSpring("spring_12", "phi_2rel", c_12.symbol),
+        JointDamper("damper_1", "phi_1", d_1.symbol),
+        JointDamper("damper_12", "phi_2rel", d_12.symbol),
+        BodyTorque("torque_1", "body_1", (-tau_1.symbol, 0, 0)),
+        BodyTorque("torque_2", "body_2", (-tau_2.symbol, 0, 0)),
+    ),
+    doc=__doc__,
+)
+
+# ----------------------------------------------------------------------------- the lecture's printed equations
+import sympy as _sp  # noqa: E402
+
+from harness.claims import Claim  # noqa: E402
+
+_p1, _p2 = phi_1.symbol, phi_2.symbol
+_w1, _w2 = phi_1.rate, phi_2.rate                     # omega_1, omega_2 of (5.103)
+_I1, _I2 = I_xx1.symbol, I_xx2.symbol
+_c1, _c12, _d1, _d12 = c_1.symbol, c_12.symbol, d_1.symbol, d_12.symbol
+_t1, _t2 = tau_1.symbol, tau_2.symbol
+_SUPERSCRIPT = "I_xx,1 (I_xx,1^s1 in (5.108)) read as I_xx1, I_xx,2 as I_xx2"
+CLAIMS = [
+    Claim("(5.103)", "T", _I1 * _w1**2 / 2 + _I2 * _w2**2 / 2, "T_1 + T_2, omega_i = phi_i'", note=_SUPERSCRIPT),
+    Claim("(5.104)", "V", _c1 * _p1**2 / 2 + _c12 * (_p2 - _p1)**2 / 2, "V_c1 + V_c12"),
+    Claim("(5.105), (5.106)", "f_np", _sp.Matrix([-_t1 - _d1 * _w1 - _d12 * (_w1 - _w2),
+                                                  -_t2 + _d12 * (_w1 - _w2)]),
+          "f_q^np = [tau_e1, tau_e2]"),
+    Claim("(5.107b)", "eom", _I1 * phi_1.accel
+          - (-_c1 * _p1 - _d1 * _w1 + _c12 * (_p2 - _p1) + _d12 * (_w2 - _w1) - _t1),
+          "d/dt omega_1 = (…)/I_xx,1", index=(0,),
+          note="transcribed multiplied by I_xx,1 (residual in N m); " + _SUPERSCRIPT),
+    Claim("(5.107d)", "eom", _I2 * phi_2.accel - (-_c12 * (_p2 - _p1) - _d12 * (_w2 - _w1) - _t2),
+          "d/dt omega_2 = (…)/I_xx,2", index=(1,),
+          note="transcribed multiplied by I_xx,2 (residual in N m); " + _SUPERSCRIPT),
+    Claim("(5.108)", "M", _sp.Matrix([[_I1, 0], [0, _I2]]), "mass matrix", note=_SUPERSCRIPT),
+    Claim("(5.108)", "C", _sp.zeros(2, 2), "Coriolis matrix C = 0"),
+    Claim("(5.108)", "g", _sp.Matrix([_c1 * _p1 + _c12 * (_p1 - _p2), -_c12 * (_p1 - _p2)]),
+          "potential forces"),
+]
