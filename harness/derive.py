@@ -57,9 +57,17 @@ def coriolis_matrix(M: sp.Matrix, q, qd) -> sp.Matrix:
     return sp.Matrix(n, n, lambda k, j: _simplify(sum(christoffel(M, q, i, j, k) * qd[i] for i in range(n))))
 
 
+# Simplification only makes expressions readable and smaller to compile; it never changes their value.
+# trigsimp grows super-linearly with expression size (a closed chain's arccos map took minutes), so
+# expressions above this many operations are left as derived.
+SIMPLIFY_MAX_OPS = 150
+
+
 def _simplify(expr):
+    if sp.count_ops(expr) > SIMPLIFY_MAX_OPS:
+        return expr
     expr = sp.expand(expr)
-    if expr.has(sp.sin, sp.cos):
+    if expr.has(sp.sin, sp.cos) and sp.count_ops(expr) <= SIMPLIFY_MAX_OPS:
         expr = sp.trigsimp(expr)
     return sp.factor_terms(expr)
 

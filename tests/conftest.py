@@ -1,5 +1,5 @@
 """Test configuration: hypothesis runs the fixed-seed ``ci`` profile unless HYPOTHESIS_PROFILE says otherwise,
-and the derivation cache lives in a per-session folder so tests never depend on a developer's cache."""
+and the derivation cache lives in a per-run folder so tests never depend on a developer's cache."""
 
 import pytest
 
@@ -10,7 +10,10 @@ load_hypothesis_profile()
 
 @pytest.fixture(scope="session", autouse=True)
 def _isolated_cache(tmp_path_factory):
+    # one folder per test run, shared by the xdist workers (entries are written atomically)
+    root = tmp_path_factory.getbasetemp()
+    shared = root.parent if root.name.startswith("popen-gw") else root
     mp = pytest.MonkeyPatch()
-    mp.setenv("HARNESS_CACHE_DIR", str(tmp_path_factory.mktemp("derivations")))
+    mp.setenv("HARNESS_CACHE_DIR", str(shared / "derivations"))
     yield
     mp.undo()
