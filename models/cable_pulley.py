@@ -61,6 +61,7 @@ SYSTEM = System(
     name="cable_pulley",
     title="Cable pulley system",
     lecture="Exercise A.9; (A.88)-(A.93)",
+    status="smooth part; Coulomb friction on the incline left to the scenes",
     parameters=(m_L, m_1, I_1, r_1, r_2, m_2, I_2, alpha, mu_c, g),
     coordinates=(s,),
     links=(

@@ -30,6 +30,7 @@ SYSTEM = System(
     name="free_fall_drag",
     title="Free fall with altitude-dependent drag",
     lecture="Exercise 3.9",
+    status="engines: drag applied as an external force from the model's law; mass and gravity checked",
     parameters=(m, A, c_W, rho_0, k, g),
     coordinates=(h,),
     links=(Link("body", m.symbol),),

@@ -23,6 +23,7 @@ SYSTEM = System(
     name="rocket",
     title="Single-stage rocket (instantaneous mass)",
     lecture="Exercise 3.6",
+    status="engines: instantaneous dynamics at the current mass; mass depletion m' = -u left to the scenes",
     parameters=(m, w, g),
     coordinates=(h,),
     links=(Link("rocket", m.symbol),),

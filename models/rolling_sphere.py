@@ -28,6 +28,7 @@ SYSTEM = System(
     name="rolling_sphere",
     title="Sphere rolling down an inclined plane",
     lecture="Exercise 3.17; rolling condition mu_H >= 2/7 tan(alpha)",
+    status="rolling branch; slipping below mu_H = 2/7 tan(alpha) left to the scenes",
     parameters=(m, R, alpha, g),
     coordinates=(phi,),
     links=(Link("carrier", 0, description="massless frame at the sphere's centre, sliding along the slope"),

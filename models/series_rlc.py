@@ -25,6 +25,7 @@ SYSTEM = System(
     name="series_rlc",
     title="Series resonant circuit (mechanical analogue in the engines)",
     lecture="Example 1.1; (1.6)-(1.10)",
+    status="engines: mechanical analogue (mass L, stiffness 1/C, damping R, force u); no electrical law checked",
     parameters=(R, L, C),
     coordinates=(Q,),
     links=(Link("charge", L.symbol, description="analogue mass L"),),

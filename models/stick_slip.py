@@ -27,6 +27,7 @@ SYSTEM = System(
     name="stick_slip",
     title="Dry friction: sticking and sliding",
     lecture="Section 3.5.2; (3.76)-(3.80)",
+    status="sliding branch (3.80b); sticking and switching left to the scenes",
     parameters=(m, mu_H, mu_C, g),
     coordinates=(x,),
     links=(Link("mass", m.symbol),),
