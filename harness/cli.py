@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import platform
 import sys
 import time
@@ -159,24 +160,44 @@ def _markdown(doc) -> str:
     return "\n".join(lines)
 
 
-def cmd_claims(args) -> int:
-    """Classify every printed equation; errata are findings (reported, exit 0), 'engines disagree' fails."""
+def _classify_system(job) -> list[dict]:
+    """Classify the claims of one system (runs in a worker process with --jobs)."""
     import models
     from harness import claims
+    from harness.settings import load_hypothesis_profile
+
+    name, examples = job
+    load_hypothesis_profile()
+    system = models.get(name)
+    out = []
+    for claim in models.claims(name):
+        print(f"classifying {name} {claim.equation} …", file=sys.stderr, flush=True)
+        v = claims.classify(system, claim, examples=examples)
+        out.append({"system": v.system, "equation": v.claim.equation, "quantity": v.claim.quantity,
+                    "description": v.claim.description, "classification": v.classification,
+                    "printed": str(v.claim.printed), "corrected": v.corrected, "convention": v.convention,
+                    "counterexample": v.counterexample, "note": v.claim.note, "examples": v.examples,
+                    "errors_over_tolerance": v.errors})
+    return out
+
+
+def cmd_claims(args) -> int:
+    """Classify every printed equation; errata are findings (reported, exit 0), 'engines disagree' fails."""
+    import multiprocessing
+
+    import models
     from harness.io import atomic_write_text
 
     names = args.systems or list(models.catalogue())
-    verdicts = []
     for name in names:
-        system = models.get(name)
-        for claim in models.claims(name):
-            print(f"classifying {name} {claim.equation} …", file=sys.stderr, flush=True)
-            verdicts.append(claims.classify(system, claim, examples=args.examples))
-    records = [{"system": v.system, "equation": v.claim.equation, "quantity": v.claim.quantity,
-                "description": v.claim.description, "classification": v.classification,
-                "printed": str(v.claim.printed), "corrected": v.corrected, "convention": v.convention,
-                "counterexample": v.counterexample, "note": v.claim.note, "examples": v.examples,
-                "errors_over_tolerance": v.errors} for v in verdicts]
+        models.get(name)  # unknown names fail before any work
+    jobs = [(name, args.examples) for name in names]
+    if args.jobs > 1 and len(jobs) > 1:
+        with multiprocessing.get_context("spawn").Pool(args.jobs) as pool:
+            per_system = pool.map(_classify_system, jobs, chunksize=1)
+    else:
+        per_system = [_classify_system(job) for job in jobs]
+    records = [r for rs in per_system for r in rs]
     if args.json:
         print(json.dumps(records, indent=1))
     else:
@@ -276,6 +297,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("claims", help="check the lecture's printed equations (errata report)")
     p.add_argument("systems", nargs="*")
+    p.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="systems classified in parallel")
     p.add_argument("--examples", type=int, default=None)
     p.add_argument("--json", action="store_true")
     p.add_argument("--out", help="folder for claims.json and errata.md")
