@@ -74,36 +74,6 @@ SYSTEM = System(
 )
 
 # ----------------------------------------------------------------------------- the lecture's printed equations
-import sympy as _sp  # noqa: E402
-
-from harness.claims import Claim  # noqa: E402
-
-_p1, _p2 = phi_1.symbol, phi_2.symbol
-_w1, _w2 = phi_1.rate, phi_2.rate
-_a1, _a2 = phi_1.accel, phi_2.accel
-_Im, _I1, _I2, _ig, _c, _d = (x.symbol for x in (I_m, I_1, I_2, i_g, c, d))
-_tm, _tl = tau_m.symbol, tau_l.symbol
-
-_q, _qd, _qdd = _sp.Matrix([_p1, _p2]), _sp.Matrix([_w1, _w2]), _sp.Matrix([_a1, _a2])
-_M = _sp.diag(_I1 + _ig**2 * _Im, _I2)                  # (3.141)
-_K = _sp.Matrix([[_c, -_c], [-_c, _c]])                 # (3.142)
-_D = _sp.Matrix([[_d, -_d], [-_d, _d]])                 # (3.142)
-_b_e, _b_u = _sp.Matrix([0, -1]), _sp.Matrix([_ig, 0])  # (3.142)
-
-CLAIMS = [
-    Claim("(3.139)", "parameter", _tm * _ig - _Im * _ig**2 * _a1, "gear torque on the output side τ_1 = τ_m i_g − I_m i_g² φ̈_1",
-          reference=_I1 * _a1 + _c * (_p1 - _p2) + _d * (_w1 - _w2),
-          note="τ_1 is a constraint (gear) torque: compared with τ_1 = I_1 φ̈_1 + c (φ_1 − φ_2) + d (φ̇_1 − φ̇_2), "
-               "the angular momentum balance of body 1 (3.138b), at the derived accelerations"),
-    Claim("(3.140a)", "eom", (_I1 + _ig**2 * _Im) * _a1 - (_tm * _ig - _c * (_p1 - _p2) - _d * (_w1 - _w2)),
-          "(I_1 + i_g² I_m) φ̈_1 = τ_m i_g − c (φ_1 − φ_2) − d (φ̇_1 − φ̇_2)", index=(0,)),
-    Claim("(3.140b)", "eom", _I2 * _a2 - (_c * (_p1 - _p2) + _d * (_w1 - _w2) - _tl),
-          "I_2 φ̈_2 = c (φ_1 − φ_2) + d (φ̇_1 − φ̇_2) − τ_l", index=(1,)),
-    Claim("(3.141)", "M", _M, "M = diag(I_1 + i_g² I_m, I_2)"),
-    Claim("(3.141), (3.142)", "g", _K * _q, "potential forces K q (torsion spring)",
-          note="(3.141) M q̈ + D q̇ + K q = b_e τ_l + b_u τ_m read as g = K q, f_np = −D q̇ + b_e τ_l + b_u τ_m"),
-    Claim("(3.141), (3.142)", "f_np", -_D * _qd + _b_e * _tl + _b_u * _tm, "non-potential forces −D q̇ + b_e τ_l + b_u τ_m",
-          note="(3.141) M q̈ + D q̇ + K q = b_e τ_l + b_u τ_m read as g = K q, f_np = −D q̇ + b_e τ_l + b_u τ_m"),
-    Claim("(3.141)", "eom", _M * _qdd + _D * _qd + _K * _q - _b_e * _tl - _b_u * _tm,
-          "M q̈ + D q̇ + K q = b_e τ_l + b_u τ_m"),
-]
+# The same printed equations (3.139)-(3.142) as the rotor-body model, in the same symbols: both models must
+# satisfy them, one through the gear map, one through the engines' armature.
+from models.drive_train import CLAIMS  # noqa: E402,F401
