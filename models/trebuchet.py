@@ -30,17 +30,10 @@ hold there as well. ``theta_0`` is small (0.2 rad) so that one fixed range of ``
 
 import sympy as sp
 
-from harness.model import Coordinate, Gravity, Joint, Link, Parameter, System, WORLD
+from harness.model import Coordinate, Gravity, Parameter, System
+from models.trebuchet_free import LINKS, L, M, g, h, l, m, m_A, mechanism_joints, r
 
-M = Parameter("M", 100.0, "kg", "mass of the counterweight (point mass)")
-m = Parameter("m", 5.0, "kg", "mass of the projectile (point mass)")
-L = Parameter("L", 2.0, "m", "length of the long (throwing) end of the arm")
-l = Parameter("l", 0.5, "m", "length of the short end of the arm (counterweight side)")
-h = Parameter("h", 0.6, "m", "length of the counterweight's pendulum rod")
-r = Parameter("r", 3.0, "m", "length of the sling")
 theta_0 = Parameter("theta_0", 0.2, "rad", "initial angle of the arm (projectile on the ground at -L sin theta_0)")
-m_A = Parameter("m_A", 20.0, "kg", "mass of the throwing arm, at the pivot (it enters neither T nor V, see above)")
-g = Parameter("g", 9.81, "m/s^2", "acceleration due to gravity")
 
 theta = Coordinate("theta", "rad", "angle of the throwing arm (A.175); drawn in [0.1, 0.4] (see above)",
                    range=(0.1, 0.4))
@@ -54,19 +47,8 @@ SYSTEM = System(
     lecture="Exercise A.15, phase 1; (A.175)-(A.185)",
     parameters=(M, m, L, l, h, r, theta_0, m_A, g),
     coordinates=(theta, phi),
-    links=(
-        Link("arm", m_A.symbol, (0, 0, 0), description="throwing arm: mass at the pivot, no moment of inertia; "
-                                                        "x from the long end towards the short end"),
-        Link("counterweight", M.symbol, (0, 0, -h.symbol), description="point mass M on its rod"),
-        Link("projectile", m.symbol, (0, 0, -r.symbol), description="point mass m on the sling"),
-    ),
-    joints=(
-        Joint("theta", "revolute", WORLD, "arm", axis=(0, -1, 0)),
-        Joint("weight", "revolute", "arm", "counterweight", axis=(0, 1, 0), origin=(l.symbol, 0, 0),
-              phi=theta.symbol + phi.symbol),
-        Joint("sling", "revolute", "arm", "projectile", axis=(0, -1, 0), origin=(-L.symbol, 0, 0),
-              phi=psi - theta.symbol),
-    ),
+    links=LINKS,
+    joints=mechanism_joints(psi),
     gravity=Gravity(g.symbol, (0, 0, -1)),
     doc=__doc__,
 )

@@ -43,25 +43,34 @@ theta = Coordinate("theta", "rad", "angle of the throwing arm (A.175)")
 phi = Coordinate("phi", "rad", "absolute angle of the counterweight's rod from the downward vertical")
 psi = Coordinate("psi", "rad", "absolute angle of the sling from the downward vertical")
 
+# The mechanism, shared with phase 1 (models/trebuchet.py), which differs only in the sling's angle.
+LINKS = (
+    Link("arm", m_A.symbol, (0, 0, 0), description="throwing arm: mass at the pivot, no moment of inertia; "
+                                                    "x from the long end towards the short end"),
+    Link("counterweight", M.symbol, (0, 0, -h.symbol), description="point mass M on its rod"),
+    Link("projectile", m.symbol, (0, 0, -r.symbol), description="point mass m on the sling"),
+)
+
+
+def mechanism_joints(psi_of_q) -> tuple:
+    """Arm, counterweight rod and sling; the sling's absolute angle ``psi`` as a function of the coordinates."""
+    return (
+        Joint("theta", "revolute", WORLD, "arm", axis=(0, -1, 0)),
+        Joint("weight", "revolute", "arm", "counterweight", axis=(0, 1, 0), origin=(l.symbol, 0, 0),
+              phi=theta.symbol + phi.symbol),
+        Joint("sling", "revolute", "arm", "projectile", axis=(0, -1, 0), origin=(-L.symbol, 0, 0),
+              phi=psi_of_q - theta.symbol),
+    )
+
+
 SYSTEM = System(
     name="trebuchet_free",
     title="Trebuchet, phase 2 (projectile in the air)",
     lecture="Exercise A.15, phase 2; (A.175)-(A.189)",
     parameters=(M, m, L, l, h, r, m_A, g),
     coordinates=(theta, phi, psi),
-    links=(
-        Link("arm", m_A.symbol, (0, 0, 0), description="throwing arm: mass at the pivot, no moment of inertia; "
-                                                        "x from the long end towards the short end"),
-        Link("counterweight", M.symbol, (0, 0, -h.symbol), description="point mass M on its rod"),
-        Link("projectile", m.symbol, (0, 0, -r.symbol), description="point mass m on the sling"),
-    ),
-    joints=(
-        Joint("theta", "revolute", WORLD, "arm", axis=(0, -1, 0)),
-        Joint("weight", "revolute", "arm", "counterweight", axis=(0, 1, 0), origin=(l.symbol, 0, 0),
-              phi=theta.symbol + phi.symbol),
-        Joint("sling", "revolute", "arm", "projectile", axis=(0, -1, 0), origin=(-L.symbol, 0, 0),
-              phi=psi.symbol - theta.symbol),
-    ),
+    links=LINKS,
+    joints=mechanism_joints(psi.symbol),
     gravity=Gravity(g.symbol, (0, 0, -1)),
     doc=__doc__,
 )
