@@ -51,7 +51,7 @@ phi_1 = Coordinate("phi_1", "rad", "angle of body 1")
 phi_2 = Coordinate("phi_2", "rad", "angle of body 2")
 
 
-def _disc(I):
+def disc_inertia(I):
     """Axial moment ``I`` about ``z``; transverse moments ``3/4 I`` (never enter, see the docstring)."""
     return Inertia(3 * I / 4, 3 * I / 4, I)
 
@@ -63,9 +63,9 @@ SYSTEM = System(
     parameters=(I_m, I_1, I_2, i_g, c, d, m_m, m_1, m_2),
     coordinates=(phi_1, phi_2),
     links=(
-        Link("rotor", m_m.symbol, inertia=_disc(I_m.symbol), description="the motor's rotor"),
-        Link("body_1", m_1.symbol, inertia=_disc(I_1.symbol), description="body 1 on the gear's output side"),
-        Link("body_2", m_2.symbol, inertia=_disc(I_2.symbol), description="body 2 carrying the load torque"),
+        Link("rotor", m_m.symbol, inertia=disc_inertia(I_m.symbol), description="the motor's rotor"),
+        Link("body_1", m_1.symbol, inertia=disc_inertia(I_1.symbol), description="body 1 on the gear's output side"),
+        Link("body_2", m_2.symbol, inertia=disc_inertia(I_2.symbol), description="body 2 carrying the load torque"),
     ),
     joints=(
         Joint("phi_m", "revolute", WORLD, "rotor", axis="z", phi=i_g.symbol * phi_1.symbol),     # (3.136)

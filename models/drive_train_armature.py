@@ -24,28 +24,9 @@ mass on their axes) and their transverse moments of inertia never enter the dyna
 stated mass and to ``3/4`` of the axial moment (a physical tensor), as in ``drive_train``.
 """
 
-from harness.model import (BodyTorque, Coordinate, Inertia, Input, Joint, JointDamper, JointSpring, Link,
-                           Parameter, System, WORLD)
-
-I_m = Parameter("I_m", 0.002, "kg m^2", "moment of inertia of the motor's rotor")
-I_1 = Parameter("I_1", 0.5, "kg m^2", "moment of inertia of body 1 (gear output side)")
-I_2 = Parameter("I_2", 0.8, "kg m^2", "moment of inertia of body 2 (load side)")
-i_g = Parameter("i_g", 10.0, "1", "gear ratio (input speed / output speed)")
-c = Parameter("c", 200.0, "N m/rad", "stiffness of the torsion spring between bodies 1 and 2")
-d = Parameter("d", 1.5, "N m s/rad", "damping constant of the rotational damper between bodies 1 and 2")
-m_1 = Parameter("m_1", 5.0, "kg", "mass of body 1 (centre of mass on its axis; does not enter)")
-m_2 = Parameter("m_2", 8.0, "kg", "mass of body 2 (centre of mass on its axis; does not enter)")
-
-tau_m = Input("tau_m", "N m", "motor torque")
-tau_l = Input("tau_l", "N m", "load torque on body 2")
-
-phi_1 = Coordinate("phi_1", "rad", "angle of body 1")
-phi_2 = Coordinate("phi_2", "rad", "angle of body 2")
-
-
-def _disc(I):
-    """Axial moment ``I`` about ``z``; transverse moments ``3/4 I`` (never enter, see the docstring)."""
-    return Inertia(3 * I / 4, 3 * I / 4, I)
+from harness.model import BodyTorque, Joint, JointDamper, JointSpring, Link, System, WORLD
+# the same parameters, inputs, coordinates and bodies as the rotor-body model (one place)
+from models.drive_train import I_1, I_2, I_m, disc_inertia, c, d, i_g, m_1, m_2, phi_1, phi_2, tau_l, tau_m
 
 
 SYSTEM = System(
@@ -55,8 +36,8 @@ SYSTEM = System(
     parameters=(I_m, I_1, I_2, i_g, c, d, m_1, m_2),
     coordinates=(phi_1, phi_2),
     links=(
-        Link("body_1", m_1.symbol, inertia=_disc(I_1.symbol), description="body 1 on the gear's output side"),
-        Link("body_2", m_2.symbol, inertia=_disc(I_2.symbol), description="body 2 carrying the load torque"),
+        Link("body_1", m_1.symbol, inertia=disc_inertia(I_1.symbol), description="body 1 on the gear's output side"),
+        Link("body_2", m_2.symbol, inertia=disc_inertia(I_2.symbol), description="body 2 carrying the load torque"),
     ),
     joints=(
         Joint("phi_1", "revolute", WORLD, "body_1", axis="z", armature=i_g.symbol**2 * I_m.symbol),  # (3.140a)
