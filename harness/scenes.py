@@ -46,6 +46,10 @@ class Step:
     def __call__(self, t: float) -> float:
         return self.after if t >= self.time else self.before
 
+    @property
+    def breakpoints(self) -> tuple:
+        return (self.time,)
+
 
 @dataclass(frozen=True)
 class Sine:
@@ -69,6 +73,10 @@ class Bump:
     duration: float
     rate: bool = False
     piecewise_constant = False
+
+    @property
+    def breakpoints(self) -> tuple:
+        return (self.start, self.start + self.duration)
 
     def __call__(self, t: float) -> float:
         if not self.start <= t <= self.start + self.duration:
@@ -100,6 +108,13 @@ class Scene:
 
     def u(self, t: float, system: System) -> np.ndarray:
         return np.array([self.inputs[i.name](t) if i.name in self.inputs else 0.0 for i in system.inputs])
+
+    @property
+    def breakpoints(self) -> list[float]:
+        """Times where an input is not smooth: integration restarts there, so that an adaptive integrator
+        cannot step over a short input (a road bump) or smear a jump."""
+        times = {t for signal in self.inputs.values() for t in getattr(signal, "breakpoints", ())}
+        return sorted(t for t in times if 0.0 < t < self.horizon)
 
     @property
     def inputs_vary_within_steps(self) -> bool:

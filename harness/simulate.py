@@ -86,6 +86,23 @@ def sample_times(scene: Scene, samples: int = 201) -> np.ndarray:
     return np.linspace(0.0, scene.horizon, samples)
 
 
+def solve_piecewise(rhs, scene: Scene, y0, method: str, rtol: float, atol: float, t_eval):
+    """``solve_ivp`` restarted at the scene's input breakpoints; returns ``(t, y, nfev)`` at ``t_eval``."""
+    edges = [0.0, *scene.breakpoints, scene.horizon]
+    ts, ys, nfev, y = [], [], 0, np.asarray(y0, dtype=float)
+    for k, (a, b) in enumerate(zip(edges[:-1], edges[1:])):
+        last = k == len(edges) - 2
+        inside = t_eval[(t_eval >= a) & ((t_eval <= b) if last else (t_eval < b))]
+        sol = solve_ivp(rhs, (a, b), y, method=method, rtol=rtol, atol=atol, t_eval=inside, dense_output=True)
+        if not sol.success:
+            raise RuntimeError(f"{scene.name}: integration failed on [{a}, {b}]: {sol.message}")
+        ts.append(sol.t)
+        ys.append(sol.y)
+        nfev += sol.nfev
+        y = sol.sol(b)
+    return np.concatenate(ts), np.concatenate(ys, axis=1), nfev
+
+
 def integrate(system: System, scene: Scene, source: str, method: str = "DOP853", rtol: float = 1e-12,
               atol: float = 1e-12, t_eval=None) -> Trajectory:
     dyn = Dynamics(system, scene, source)
@@ -96,14 +113,11 @@ def integrate(system: System, scene: Scene, source: str, method: str = "DOP853",
         return np.concatenate([y[n:], dyn(t, y[:n], y[n:])])
 
     start = time.perf_counter()
-    sol = solve_ivp(rhs, (0.0, scene.horizon), np.concatenate([scene.q0, scene.qd0]).astype(float),
-                    method=method, rtol=rtol, atol=atol, t_eval=t_eval)
+    t, y, _ = solve_piecewise(rhs, scene, np.concatenate([scene.q0, scene.qd0]), method, rtol, atol, t_eval)
     seconds = time.perf_counter() - start
-    if not sol.success:
-        raise RuntimeError(f"{system.name}/{scene.name}: {source} integration failed: {sol.message}")
-    q, qd = sol.y[:n].T, sol.y[n:].T
+    q, qd = y[:n].T, y[n:].T
     energy = np.array([dyn.energy(a, b) for a, b in zip(q, qd)])
-    return Trajectory(f"{source} ({method}, rtol={rtol:g})", sol.t, q, qd, seconds, dyn.evaluations, energy)
+    return Trajectory(f"{source} ({method}, rtol={rtol:g})", t, q, qd, seconds, dyn.evaluations, energy)
 
 
 def mujoco_native(system: System, scene: Scene, timestep: float, integrator: str = "RK4") -> Trajectory:
@@ -111,8 +125,8 @@ def mujoco_native(system: System, scene: Scene, timestep: float, integrator: str
     coordinates are the lecture coordinates; inputs on joints only)."""
     dyn = Dynamics(system, scene, "mujoco")
     s = dyn.system
-    if not np.allclose(dyn.c("J_phi", np.zeros(len(s.q)), np.zeros(len(s.q)), dyn.p, np.zeros(len(s.u))),
-                       np.eye(len(s.q))) or _load_functions(s):
+    J = dyn.c("J_phi", np.zeros(len(s.q)), np.zeros(len(s.q)), dyn.p, np.zeros(len(s.u)))
+    if J.shape != (len(s.q), len(s.q)) or not np.allclose(J, np.eye(len(s.q))) or _load_functions(s):
         raise ValueError(f"{system.name}: MuJoCo's own integrator needs an identity map and no external loads")
     model = dyn.model
     m, d = model.model, model.data

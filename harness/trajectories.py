@@ -26,7 +26,6 @@ from dataclasses import dataclass, field
 import mujoco
 import numpy as np
 import sympy as sp
-from scipy.integrate import solve_ivp
 
 from harness.compile import compiled
 from harness.model import Damper, Gravity, JointDamper, JointSpring, Spring, System
@@ -69,14 +68,13 @@ def _energy_balance(system: System, scene: Scene) -> tuple[float, float]:
         power = float(qd @ c.generalized_forces(q, qd, p, u))
         return np.concatenate([qd, c.forward_dynamics(q, qd, p, u), [power]])
 
-    y0 = np.concatenate([scene.q0, scene.qd0, [0.0]]).astype(float)
-    sol = solve_ivp(rhs, (0, scene.horizon), y0, method="DOP853", rtol=1e-12, atol=1e-12,
-                    t_eval=sim.sample_times(scene))
+    y0 = np.concatenate([scene.q0, scene.qd0, [0.0]])
+    _, ys, _ = sim.solve_piecewise(rhs, scene, y0, "DOP853", 1e-12, 1e-12, sim.sample_times(scene))
     zeros = np.zeros(len(s.u))
     energy = np.array([float(c("T", y[:n], y[n:2 * n], p, zeros)) + float(c("V", y[:n], y[n:2 * n], p, zeros))
-                       for y in sol.y.T])
-    work = sol.y[2 * n]
-    kinetic = [abs(float(c("T", y[:n], y[n:2 * n], p, zeros))) for y in sol.y.T]
+                       for y in ys.T])
+    work = ys[2 * n]
+    kinetic = [abs(float(c("T", y[:n], y[n:2 * n], p, zeros))) for y in ys.T]
     scale = max(1e-300, float(np.max(np.abs(energy - energy[0]))), float(np.max(kinetic)), float(np.max(np.abs(work))))
     return float(np.max(np.abs(energy - energy[0] - work))) / scale, scale
 
@@ -119,9 +117,9 @@ def _symbolic_with(system: System, scene: Scene, params: dict, prune: bool) -> s
         return np.concatenate([y[n:], c.forward_dynamics(y[:n], y[n:], p, scene.u(t, s))])
 
     start = time.perf_counter()
-    sol = solve_ivp(rhs, (0, scene.horizon), np.concatenate([scene.q0, scene.qd0]).astype(float),
-                    method="DOP853", rtol=1e-10, atol=1e-10, t_eval=sim.sample_times(scene))
-    return sim.Trajectory("symbolic", sol.t, sol.y[:n].T, sol.y[n:].T, time.perf_counter() - start, sol.nfev)
+    t, y, nfev = sim.solve_piecewise(rhs, scene, np.concatenate([scene.q0, scene.qd0]), "DOP853", 1e-10, 1e-10,
+                                     sim.sample_times(scene))
+    return sim.Trajectory("symbolic", t, y[:n].T, y[n:].T, time.perf_counter() - start, nfev)
 
 
 def run_scene(system: System, scene: Scene, engines=("pinocchio", "mujoco"), mujoco_dt: float | None = None) -> SceneResult:

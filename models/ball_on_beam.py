@@ -96,3 +96,11 @@ CLAIMS = [
           + 2 * _mK * _rr * _v * _w1 + _mK * _g * (_rr * _sp.cos(_p1) - _rK * _sp.sin(_p1)) - tau_e.symbol,
           "equation of phi_1", index=(0,), note="printed I_zz^{sB} read as the beam's I_zz^B (I_zzB)"),
 ]
+
+# ----------------------------------------------------------------------------- scenes
+from harness.scenes import Scene, Step  # noqa: E402
+
+SCENES = [
+    Scene("tilt", "Example 5.4: the beam tilted by a torque step, the ball rolls (rolling map in the engines)",
+          (0.0, 0.3), (0.0, 0.0), 2.0, frozenset({"gravity", "inputs"}), inputs={"tau_e": Step(0.5, 2.0)}),
+]

@@ -72,3 +72,13 @@ CLAIMS = [
           sp.Matrix([-_mass_g / c_R.symbol, -_mass_g / c_R.symbol - m_A.symbol * g.symbol / c_A.symbol]),
           "static deflections for x_U = 0"),
 ]
+
+# ----------------------------------------------------------------------------- scenes
+from harness.scenes import Bump, Scene  # noqa: E402
+
+_rest = (-(400.0 + 40.0) * 9.81 / 2.0e5, -(400.0 + 40.0) * 9.81 / 2.0e5 - 400.0 * 9.81 / 2.0e4)  # (A.41), (A.42)
+SCENES = [
+    Scene("bump", "Exercise A.4: from the static deflection over a 5 cm road bump of 0.2 s", _rest, (0.0, 0.0), 2.0,
+          frozenset({"gravity", "springs", "dampers", "external"}),
+          inputs={"x_U": Bump(0.05, 0.3, 0.2), "v_U": Bump(0.05, 0.3, 0.2, rate=True)}),
+]

@@ -122,3 +122,11 @@ CLAIMS = [
           note="the lecture states the equation of motion only in words after (A.107); the residual is that "
                "Euler-Lagrange equation evaluated symbolically with the printed T, V_g, V_F, f_q,f, f_q,f_L"),
 ]
+
+# ----------------------------------------------------------------------------- scenes
+from harness.scenes import Scene  # noqa: E402
+
+SCENES = [
+    Scene("return", "Exercise A.10: released near full extension, the return spring pulls the press back "
+          "(closed chain through the nonlinear map)", (0.25,), (0.0,), 1.0, frozenset({"gravity", "springs"})),
+]
