@@ -16,7 +16,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from harness.compile import compiled
-from harness.engines.base import Load, _load_functions, to_lecture
+from harness.engines.base import Load, load_functions, to_lecture
 from harness.engines.mujoco_engine import MujocoModel
 from harness.engines.pinocchio_engine import PinocchioModel
 from harness.export.numeric import instantiate
@@ -62,7 +62,7 @@ class Dynamics:
         theta = self.c("phi", *args).ravel()
         J, J_dot = self.c("J_phi", *args), self.c("J_phi_dot", *args)
         loads = [Load(kind, where, frame, np.asarray(fn(*args), dtype=float).ravel())
-                 for kind, where, frame, fn in _load_functions(self.system)]
+                 for kind, where, frame, fn in load_functions(self.system)]
         inputs = dict(zip((i.name for i in self.system.inputs), u))
         tree_quantities = self.model.quantities(theta, J @ qd, inputs, loads, christoffel=False)
         return to_lecture(self.source, _MapAt(J, J_dot, qd), tree_quantities).qdd
@@ -126,7 +126,7 @@ def mujoco_native(system: System, scene: Scene, timestep: float, integrator: str
     dyn = Dynamics(system, scene, "mujoco")
     s = dyn.system
     J = dyn.c("J_phi", np.zeros(len(s.q)), np.zeros(len(s.q)), dyn.p, np.zeros(len(s.u)))
-    if J.shape != (len(s.q), len(s.q)) or not np.allclose(J, np.eye(len(s.q))) or _load_functions(s):
+    if J.shape != (len(s.q), len(s.q)) or not np.allclose(J, np.eye(len(s.q))) or load_functions(s):
         raise ValueError(f"{system.name}: MuJoCo's own integrator needs an identity map and no external loads")
     model = dyn.model
     m, d = model.model, model.data

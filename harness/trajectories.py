@@ -19,11 +19,9 @@
 
 from __future__ import annotations
 
-import dataclasses
 import time
 from dataclasses import dataclass, field
 
-import mujoco
 import numpy as np
 import sympy as sp
 

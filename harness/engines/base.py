@@ -94,11 +94,11 @@ class State:
         evaluated at this state; each engine turns them into generalized forces with its own Jacobians."""
         args = (self.q, self.qd, self.p, self.u_vec)
         return [Load(kind, where, frame, np.asarray(fn(*args), dtype=float).ravel())
-                for kind, where, frame, fn in _load_functions(self.system)]
+                for kind, where, frame, fn in load_functions(self.system)]
 
 
 @cache
-def _load_functions(system: System) -> list:
+def load_functions(system: System) -> list:
     """``(kind, point or link, frame, compiled components)`` of each external load, compiled once."""
     from harness.export.numeric import point_name
     from harness.model import BodyTorque, PointForce
