@@ -1,10 +1,15 @@
 # The two commands of the README. Both set up the pinned environment in .venv first (idempotent).
 VENV   := .venv
 PYTHON := $(VENV)/bin/python
+CHROMIUM := /usr/bin/chromium
 
-.PHONY: setup check test
+.PHONY: setup check test bench
 
-setup: $(VENV)/.installed
+setup: $(VENV)/.installed $(CHROMIUM)
+
+# Debian's headless browser for the report's browser test (tests/test_report_browser.py); skipped when present
+$(CHROMIUM):
+	apt-get update && apt-get install -y --no-install-recommends chromium
 
 $(VENV)/.installed: pyproject.toml
 	python3 -m venv $(VENV)
@@ -12,12 +17,19 @@ $(VENV)/.installed: pyproject.toml
 	touch $@
 
 # main job: exported files current, conformance of every system against both engines, the lecture's
-# printed equations classified (errata report); results written to reports/
+# printed equations classified (errata report); results written to reports/, readable from reports/index.html
 check: setup
 	$(VENV)/bin/harness export --check
-	$(VENV)/bin/harness check --out reports
+	$(VENV)/bin/harness check --jobs 2 --out reports
 	$(VENV)/bin/harness claims --out reports
+	$(VENV)/bin/harness report --out reports
 
 # the test suite (fixed-seed hypothesis profile `ci`; HYPOTHESIS_PROFILE=long for the randomized one)
 test: setup
 	$(PYTHON) -m pytest -n 2 -q
+
+# performance studies (on demand, not part of check/test): work-precision of the scenes, evaluation and
+# derivation cost; writes reports/bench.json, reports/bench.md, reports/bench/*.svg. BENCH_ARGS=--quick for ~2 min
+bench: setup
+	$(PYTHON) -m pip install --quiet --disable-pip-version-check -e '.[bench]'
+	$(VENV)/bin/harness bench --out reports $(BENCH_ARGS)

@@ -8,9 +8,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import platform
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -69,66 +67,34 @@ def cmd_eval(args) -> int:
     return 0
 
 
-def _versions() -> dict:
-    import mujoco
-    import pinocchio
-    import sympy
-    import hypothesis
-
-    return {"python": platform.python_version(), "platform": platform.platform(), "pinocchio": pinocchio.__version__,
-            "mujoco": mujoco.__version__, "sympy": sympy.__version__, "numpy": np.__version__,
-            "hypothesis": hypothesis.__version__}
-
-
 def cmd_check(args) -> int:
+    """Conformance of each system; ``--out`` writes results.json, timings.json and summary.md (harness.report)."""
     import models
-    from harness import conformance
-    from harness.io import atomic_write_text
+    from harness.report.results import check_folder, results_document, run_checks, timings_of, write_results
 
-    systems = [models.get(name) for name in args.systems] if args.systems else list(models.catalogue().values())
-    results = []
-    for k, system in enumerate(systems, 1):
-        print(f"[{k}/{len(systems)}] checking {system.name} …", file=sys.stderr, flush=True)
-        start = time.perf_counter()
-        try:
-            summary = conformance.run(system, examples=args.examples)
-            record = {"system": system.name, "passed": summary.passed, "examples": summary.examples,
-                      "failure": summary.failure, "not_applicable": summary.not_applicable,
-                      "checks": [{"check": f.check, "engine": f.engine, "max_error": f.error,
-                                  "tolerance": f.tolerance, "passed": f.passed}
-                                 for f in sorted(summary.worst.values(), key=lambda f: (f.check, f.engine))]}
-        except Exception as exc:  # noqa: BLE001 - one system raising never loses the others' results
-            reason = str(exc) if isinstance(exc, HarnessError) else f"{type(exc).__name__}: {exc}"
-            record = {"system": system.name, "passed": False, "examples": 0, "failure": f"{system.name}: {reason}",
-                      "checks": []}
-        record["seconds"] = round(time.perf_counter() - start, 2)
-        record["lecture"], record["status"] = system.lecture, system.status
-        results.append(record)
-    doc = {"tolerance_policy": conformance.__doc__.split("Tolerance policy")[1].strip(" -\n"),
-           "versions": _versions(), "systems": results,
-           "passed": all(r["passed"] for r in results)}
+    names = args.systems or list(models.catalogue())
+    for name in names:
+        models.get(name)  # unknown names fail before any work
+    if args.out:
+        check_folder(args.out)
+    results, seconds = run_checks(names, examples=args.examples, seed=args.seed, jobs=args.jobs,
+                                  scenes=not args.no_scenes, series_dir=args.out)
+    doc = results_document(results, args.examples, args.seed)
     if args.json:
         print(json.dumps(doc, indent=1))
     else:
         _print_table(results)
     if args.out:
-        out = Path(args.out)
-        atomic_write_text(out / "results.json", json.dumps(doc, indent=1) + "\n")
-        atomic_write_text(out / "summary.md", _markdown(doc))
-        print(f"wrote {out / 'results.json'} and {out / 'summary.md'}", file=sys.stderr)
+        written = write_results(doc, args.out, timings=timings_of(seconds))
+        print(f"wrote {', '.join(map(str, written))}", file=sys.stderr)
     return 0 if doc["passed"] else 1
 
 
-def _rows(results):
-    for r in results:
-        for c in r["checks"]:
-            yield (r["system"], c["check"], c["engine"], f"{c['max_error']:.2e}", f"{c['tolerance']:.1e}",
-                   "ok" if c["passed"] else "FAIL")
-
-
 def _print_table(results):
+    from harness.report.markdown import check_rows
+
     header = ("system", "check", "engine", "max error", "tolerance", "verdict")
-    rows = [header] + list(_rows(results))
+    rows = [header] + list(check_rows(results))
     widths = [max(len(r[i]) for r in rows) for i in range(len(header))]
     for row in rows:
         print("  ".join(c.ljust(w) for c, w in zip(row, widths)))
@@ -137,27 +103,40 @@ def _print_table(results):
             print(f"n/a    {r['system']} in {engine}: {reason}")
         if r["failure"]:
             print(f"FAILED {r['failure']}")
+        for sc in r.get("scenes", []):
+            worst = max(sc["checks"], key=lambda c: c["max_error"] / c["tolerance"] if c["tolerance"] else
+                        (0.0 if c["passed"] else float("inf")), default=None)
+            detail = sc["failure"] or ("" if worst is None else
+                                       f"worst: {worst['check']} ({worst['source']}) {worst['max_error']:.2e}"
+                                       f" / {worst['tolerance']:.0e}")
+            print(f"scene  {r['system']}/{sc['scene']}: {'ok' if sc['passed'] else 'FAIL'}  {detail}")
     print(f"{sum(r['passed'] for r in results)} of {len(results)} systems conformant")
 
 
-def _markdown(doc) -> str:
-    lines = ["# Conformance summary", "",
-             "Largest relative error over all hypothesis examples (random states and parameters), per check and "
-             "engine. Generated by `harness check --out reports`.", "",
-             "| system | check | engine | max error | tolerance | verdict |", "|---|---|---|---|---|---|"]
-    lines += ["| " + " | ".join(row) + " |" for row in _rows(doc["systems"])]
-    treated = [r for r in doc["systems"] if r.get("status", "modeled") != "modeled"]
-    if treated:
-        lines += ["", "## What the engines check where the system is not a plain rigid-body tree", ""]
-        lines += [f"- {r['system']} ({r['lecture']}): {r['status']}" for r in treated]
-    notes = [(r["system"], e, why) for r in doc["systems"] for e, why in r.get("not_applicable", {}).items()]
-    if notes:
-        lines += ["", "## Engines that do not apply", ""] + [f"- {s} in {e}: {why}" for s, e, why in notes]
-    failures = [r for r in doc["systems"] if r["failure"]]
-    if failures:
-        lines += ["", "## Failures", ""] + [f"- {r['failure']}" for r in failures]
-    lines += ["", "Versions: " + ", ".join(f"{k} {v}" for k, v in doc["versions"].items()), ""]
-    return "\n".join(lines)
+def cmd_report(args) -> int:
+    """Checks the systems results.json lacks, then writes summary.md and the static site (harness.report)."""
+    from harness.report import build_report
+
+    result = build_report(args.out, names=args.systems, jobs=args.jobs, examples=args.examples, seed=args.seed,
+                          rerun=args.rerun, scenes=not args.no_scenes)
+    for name, reason in result["failed"].items():
+        print(f"FAILED {reason}", file=sys.stderr)
+    print(f"wrote {Path(args.out) / 'index.html'} ({len(result['pages'])} pages)", file=sys.stderr)
+    return 0 if result["passed"] else 1
+
+
+def cmd_new(args) -> int:
+    """Scaffold ``models/NAME.py`` (harness.scaffold)."""
+    from harness.scaffold import scaffold
+
+    import models
+
+    path = scaffold(args.name, args.dir)
+    print(f"wrote {path}: follow the checklist in its docstring, then run `harness check {args.name}`")
+    if str(path.parent.resolve()) not in {str(Path(p).resolve()) for p in models.__path__}:
+        print(f"note: add {path.parent} to {models.MODELS_PATH_VARIABLE} so that the catalogue finds it",
+              file=sys.stderr)
+    return 0
 
 
 def _classify_system(job) -> list[dict]:
@@ -240,7 +219,13 @@ def cmd_scenes(args) -> int:
     failed = False
     for name in names:
         system = models.get(name)
-        for scene in models.scenes(name):
+        chosen = models.scenes(name)
+        if args.scene:
+            known = [s.name for s in chosen]
+            if args.scene not in known:
+                raise InputError(f"unknown scene {args.scene!r} of {name}; known scenes: {', '.join(known) or 'none'}")
+            chosen = [s for s in chosen if s.name == args.scene]
+        for scene in chosen:
             print(f"{name:22s} {scene.name:12s} {scene.horizon:6.2f} s  {', '.join(sorted(scene.effects)):40s} "
                   f"{scene.description}")
             if not args.run:
@@ -273,6 +258,52 @@ def cmd_export(args) -> int:
     return 0
 
 
+def cmd_validate(args) -> int:
+    """A user's own URDF/MJCF: safe parse, checks, load in the engines (harness/validate.py)."""
+    from harness.validate import validate
+
+    result = validate(args.file, root=args.root, states=args.states)
+    if args.json:
+        print(json.dumps(result.to_json(), indent=1))
+    else:
+        print("\n".join(result.lines()))
+    return 0 if result.passed else 1
+
+
+def cmd_importer(args) -> int:
+    """MuJoCo's URDF importer vs our MJCF and Pinocchio (harness/importer.py): importer.json, importer.md."""
+    from harness import importer
+
+    doc = importer.run(args.systems or None, states=args.states, seed=args.seed)
+    if args.out:
+        for path in importer.write(doc, Path(args.out)):
+            print(f"wrote {path}", file=sys.stderr)
+    print(json.dumps(doc, indent=1) if args.json else importer.markdown(doc), end="")
+    return 0 if doc["summary"]["differ"] == 0 and all(c["detected"] for c in doc["controls"]) else 1
+
+
+def cmd_bench(args) -> int:
+    """The performance studies (harness/bench/); writes bench.json, bench.md and the figures."""
+    from harness.bench import render, run_bench
+
+    if args.render:
+        render(args.out)
+        return 0
+    run_bench(out=args.out, quick=args.quick, scheduler=args.scheduler, systems=args.systems, scenes=args.scenes,
+              workers=args.workers, parts=tuple(args.parts), command="harness bench " + " ".join(sys.argv[2:]))
+    return 0
+
+
+def cmd_hard(args) -> int:
+    """The hard cases (harness/hard/): reports/hard.json and reports/hard/*.svg; exit 1 if a bound fails."""
+    from harness.hard import run
+
+    doc = run(Path(args.out), quick=args.quick, only=args.cases or None,
+              echo=lambda line: print(line, file=sys.stderr))
+    print(f"wrote {Path(args.out) / 'hard.json'}", file=sys.stderr)
+    return 0 if doc["passed"] else 1
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="harness", description=__doc__)
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -292,8 +323,26 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("systems", nargs="*")
     p.add_argument("--examples", type=int, default=None, help="hypothesis examples per system (default: profile)")
     p.add_argument("--json", action="store_true")
-    p.add_argument("--out", help="folder for results.json and summary.md")
+    p.add_argument("--no-scenes", action="store_true", help="skip the trajectory checks of the scenes")
+    p.add_argument("--out", help="folder for results.json, timings.json and summary.md")
+    p.add_argument("--jobs", type=int, default=1, help="systems checked in parallel processes")
+    p.add_argument("--seed", type=int, default=None, help="hypothesis seed (default: the profile's fixed seeds)")
     p.set_defaults(func=cmd_check)
+
+    p = sub.add_parser("report", help="readable reports: index.html, summary.md, results.json")
+    p.add_argument("systems", nargs="*", help="default: every system")
+    p.add_argument("--out", default="reports", help="report folder (default: reports)")
+    p.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="systems checked in parallel")
+    p.add_argument("--examples", type=int, default=None, help="hypothesis examples per system (default: profile)")
+    p.add_argument("--seed", type=int, default=None, help="hypothesis seed (default: the profile's fixed seeds)")
+    p.add_argument("--rerun", action="store_true", help="check every system again, even if results.json has it")
+    p.add_argument("--no-scenes", action="store_true", help="skip the trajectory checks of the scenes")
+    p.set_defaults(func=cmd_report)
+
+    p = sub.add_parser("new", help="scaffold models/NAME.py for a new system")
+    p.add_argument("name", help="system name: a lower-case Python identifier, e.g. pendulum_rod")
+    p.add_argument("--dir", default=None, help="folder for the module (default: models/)")
+    p.set_defaults(func=cmd_new)
 
     p = sub.add_parser("claims", help="check the lecture's printed equations (errata report)")
     p.add_argument("systems", nargs="*")
@@ -306,12 +355,47 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("scenes", help="list the scenes; --run simulates and checks them")
     p.add_argument("systems", nargs="*")
     p.add_argument("--run", action="store_true")
+    p.add_argument("--scene", default=None, help="only the scene with this name")
     p.set_defaults(func=cmd_scenes)
 
     p = sub.add_parser("export", help="regenerate urdf/ (URDF, MJCF, coordinate maps)")
     p.add_argument("--dir", default=str(PROJECT_ROOT / "urdf"))
     p.add_argument("--check", action="store_true", help="only report stale files (exit 1)")
     p.set_defaults(func=cmd_export)
+
+    p = sub.add_parser("bench", help="work-precision, evaluation and derivation cost (harness/bench/)")
+    p.add_argument("--out", default=str(PROJECT_ROOT / "reports"), help="folder for bench.json, bench.md, bench/")
+    p.add_argument("--quick", action="store_true", help="small grids and a representative set (about 2 min)")
+    p.add_argument("--scheduler", default=None, metavar="ADDR", help="run the sweeps on this Dask scheduler")
+    p.add_argument("--workers", type=int, default=None, help="local processes (default: one per CPU)")
+    p.add_argument("--systems", nargs="+", default=None)
+    p.add_argument("--scenes", nargs="+", default=None, help="scene names (stiff variants: SCENE_PARAM_xFACTOR…)")
+    p.add_argument("--parts", nargs="+", default=["workprecision", "evaluation", "derivation", "pruning"],
+                   choices=["workprecision", "evaluation", "derivation", "pruning"])
+    p.add_argument("--render", action="store_true", help="only redraw bench.md and the figures from bench.json")
+    p.set_defaults(func=cmd_bench)
+
+    p = sub.add_parser("validate", help="check a URDF or MJCF file of your own and load it in the engines")
+    p.add_argument("file", help="a .urdf or MJCF .xml file")
+    p.add_argument("--root", default=None, help="folder its mesh/package/include files must stay in "
+                   "(default: the file's folder)")
+    p.add_argument("--states", type=int, default=20, help="random states for the importer comparison")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=cmd_validate)
+
+    p = sub.add_parser("importer", help="MuJoCo's URDF importer vs our MJCF and Pinocchio")
+    p.add_argument("systems", nargs="*", help="default: every system (the test models are always included)")
+    p.add_argument("--out", default=None, help="folder for importer.json and importer.md")
+    p.add_argument("--states", type=int, default=20)
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=cmd_importer)
+
+    p = sub.add_parser("hard", help="hard cases: singularities, stiffness, chaos, long horizons (harness/hard/)")
+    p.add_argument("cases", nargs="*", help="default: the whole catalogue")
+    p.add_argument("--out", default="reports", help="folder for hard.json and hard/*.svg")
+    p.add_argument("--quick", action="store_true", help="the shortened horizons of the test suite")
+    p.set_defaults(func=cmd_hard)
     return parser
 
 

@@ -14,7 +14,7 @@ from dataclasses import dataclass, fields
 import sympy as sp
 
 from harness import cache
-from harness.kinematics import link_poses, point_position
+from harness.kinematics import link_poses, point_position, rotation, rpy_rotation, skew
 from harness.model import (BodyTorque, Damper, JointDamper, JointInput, JointSpring, PointForce, Spring,
                            System)
 
@@ -99,9 +99,11 @@ def derive_uncached(system: System) -> Derivation:
 
     # (5.21): M = Σ m J_vᵀ J_v + J_ωᵀ R I Rᵀ J_ω, with J_ω = J_ω,θ ∂φ/∂q. The rotational part is
     # evaluated as (Rᵀ J_ω)ᵀ I (Rᵀ J_ω), the same product (5.15) grouped to keep expressions small.
+    identity = _identity_map(system) if n >= PER_BODY_MIN_DOF else None
+    per_body = _per_body(system, identity, poses) if identity is not None else None
     M = sp.zeros(n, n)
     V_gravity = sp.Integer(0)
-    for link in system.links:
+    for link in (system.links if per_body is None else ()):
         if not link.has_mass:
             continue
         pose = poses[link.name]
@@ -114,11 +116,13 @@ def derive_uncached(system: System) -> Derivation:
         if system.gravity is not None:
             e_g = sp.Matrix(system.gravity.direction)
             V_gravity += -sp.sympify(link.mass) * sp.sympify(system.gravity.g) * (e_g.T * p_s)[0]  # (5.20)
-    for k, joint in enumerate(system.joints):  # armature: I_a theta_dot_k² / 2 in T
+    for k, joint in enumerate(system.joints if per_body is None else ()):  # armature: I_a theta_dot_k² / 2 in T
         if sp.sympify(joint.armature) != 0:
             row = J_phi[k, :]
             M += sp.sympify(joint.armature) * row.T * row
-    M = _simplify_matrix(M)
+    M = _simplify_matrix(M) if per_body is None else per_body[0]
+    if per_body is not None:
+        V_gravity = per_body[3]
 
     V_spring = sp.Integer(0)
     f_damper = sp.zeros(n, 1)
@@ -155,16 +159,122 @@ def derive_uncached(system: System) -> Derivation:
                 torque = rotation_q(element.frame) * torque
             f_input += J_w.T * torque  # (5.73)
     V = V_gravity + V_spring
-    g_gravity = _simplify_matrix(sp.Matrix([V_gravity]).jacobian(q).T)  # (5.96)
+    g_gravity = _simplify_matrix(sp.Matrix([V_gravity]).jacobian(q).T) if per_body is None else per_body[4]  # (5.96)
     g_spring = _simplify_matrix(sp.Matrix([V_spring]).jacobian(q).T)
-    C = coriolis_matrix(M, q, qd)
+    C = coriolis_matrix(M, q, qd) if per_body is None else per_body[1]
     qd_vec = sp.Matrix(qd)
     T = (qd_vec.T * M * qd_vec)[0] / 2
-    M_dot = _simplify_matrix(M.applyfunc(lambda e: time_derivative(e, q, qd)))
+    M_dot = _simplify_matrix(M.applyfunc(lambda e: time_derivative(e, q, qd))) if per_body is None else per_body[2]
     return Derivation(M=M, C=C, g=g_gravity + g_spring, g_gravity=g_gravity, g_spring=g_spring,
                       f_np=f_damper + f_input, f_damper=f_damper, f_input=f_input, T=T, V=V,
                       M_dot=M_dot, phi=phi, J_phi=J_phi, J_phi_dot=J_phi_dot,
                       seconds=time.perf_counter() - start)
+
+
+# --------------------------------------------------------------------------- large trees: body by body
+# Differentiating the assembled M costs n³ derivatives of its largest expressions: for the 7-DoF arm of
+# models/lightweight_robot.py that did not finish within 15 minutes (measured). From this many degrees of
+# freedom on, a tree whose map θ = φ(q) is the identity gets M, the Christoffel C, Ṁ and V_gravity body by body
+# from the Jacobians and their time derivatives (:func:`_per_body`); every system with fewer degrees of
+# freedom is derived exactly as before (the largest other system has 5).
+PER_BODY_MIN_DOF = 6
+
+
+def is_per_body(system: System) -> bool:
+    """Whether ``system`` is derived body by body (:func:`_per_body`); such a derivation is not cached."""
+    return len(system.q) >= PER_BODY_MIN_DOF and _identity_map(system) is not None
+
+
+def _identity_map(system: System) -> dict | None:
+    """``{theta_j: (q_k, q̇_k)}`` when every tree joint's coordinate is a distinct lecture coordinate, else None."""
+    rates = dict(zip(system.q, system.qd))
+    out = {}
+    for joint, expr in zip(system.joints, system.phi):
+        if expr not in rates or expr in {pair[0] for pair in out.values()}:
+            return None
+        out[joint.theta] = (expr, rates[expr])
+    return out if len(out) == len(system.q) else None
+
+
+def _per_body(system: System, identity: dict, poses) -> tuple:
+    """``(M, C, Ṁ, V_gravity, g_gravity)``: (5.21), the Christoffel ``C`` (5.95), (5.97), ``Ṁ``, (5.20) and
+    ``g = ∂V/∂q`` (5.96) as ``−Σ m g J_vᵀ e_g``, body by body.
+
+    For a body with centre of mass ``p`` (world components), ``J_v = ∂p/∂q`` and the body-frame angular
+    Jacobian ``J_ω`` (``ω = J_ω q̇`` in body components), the Christoffel symbols (5.95) of
+    ``M = m J_vᵀ J_v + J_ωᵀ I J_ω`` sum to (with ``∂_i J_v,k = ∂_k J_v,i`` and the body-frame identity
+    ``∂_i J_ω,k − ∂_k J_ω,i = J_ω,k × J_ω,i`` that follows from ``∂_k R = R S(J_ω,k)``)::
+
+        C = m J_vᵀ J̇_v + J_ωᵀ (I J̇_ω + ½ (I S(ω) + S(ω) I − S(I ω)) J_ω)
+
+    — the matrix (5.97), without differentiating ``M``. The Jacobians follow the chain (4.21): a revolute joint
+    ``l`` with world axis ``z_l`` at ``o_l`` gives ``J_v,l = z_l × (p − o_l)``,
+    ``J̇_v,l = (ω_l⁻ × z_l) × (p − o_l) + z_l × (ω_l⁻ × (p − o_l) + Σ_{m≥l} J_v,m q̇_m)`` (``ω_l⁻``: angular velocity
+    before the joint), ``J_ω,l = (R_l^k)ᵀ a_l``, ``J̇_ω,l = J_ω,l × Σ_{m>l} J_ω,m q̇_m``; a prismatic joint gives
+    ``J_v,l = z_l``, ``J̇_v,l = ω_l⁻ × z_l`` and no ``J_ω`` column. Nothing is expanded: every quantity is a product
+    of the previous link's quantities, so the expressions share their sub-expressions (a small graph, a large
+    tree) and only graph-aware operations may touch them: the compiler's common-subexpression elimination
+    does; ``srepr``, ``count_ops``, ``expand``, ``diff`` would walk the tree (see :func:`derive`).
+    """
+    q, n = system.q, len(system.q)
+    to_q = {theta: pair[0] for theta, pair in identity.items()}
+    column = {j.name: q.index(identity[j.theta][0]) for j in system.joints}
+    rate = {j.name: identity[j.theta][1] for j in system.joints}
+    R = {name: pose.R.xreplace(to_q) for name, pose in poses.items()}
+    d = {name: pose.d.xreplace(to_q) for name, pose in poses.items()}
+    z = {j.name: R[j.child] * j.axis_vector for j in system.joints}
+    M, C, M_dot = sp.zeros(n, n), sp.zeros(n, n), sp.zeros(n, n)
+    V_gravity, g_gravity = sp.Integer(0), sp.zeros(n, 1)
+    for link in system.links:
+        if not link.has_mass:
+            continue
+        chain = system.chain(link.name)
+        p = R[link.name] * link.com_vector + d[link.name]
+        J_v, J_v_dot = sp.zeros(3, n), sp.zeros(3, n)
+        for joint in chain:
+            J_v[:, column[joint.name]] = z[joint.name].cross(p - d[joint.child]) if joint.type == "revolute" \
+                else z[joint.name]
+        omega = sp.zeros(3, 1)  # world angular velocity before the joint, ω_l⁻
+        for l, joint in enumerate(chain):
+            k, z_l = column[joint.name], z[joint.name]
+            if joint.type == "revolute":
+                r = p - d[joint.child]
+                relative = omega.cross(r) + sum((J_v[:, column[m.name]] * rate[m.name] for m in chain[l:]),
+                                                sp.zeros(3, 1))  # ṗ − ȯ_l
+                J_v_dot[:, k] = omega.cross(z_l).cross(r) + z_l.cross(relative)
+                omega = omega + z_l * rate[joint.name]
+            else:
+                J_v_dot[:, k] = omega.cross(z_l)
+        mass = sp.sympify(link.mass)
+        M += mass * J_v.T * J_v
+        C += mass * J_v.T * J_v_dot
+        M_dot += mass * (J_v_dot.T * J_v + J_v.T * J_v_dot)
+        if system.gravity is not None:
+            e_g = sp.Matrix(system.gravity.direction)
+            V_gravity += -mass * sp.sympify(system.gravity.g) * (e_g.T * p)[0]  # (5.20)
+            g_gravity += -mass * sp.sympify(system.gravity.g) * J_v.T * e_g    # (5.96), ∂p/∂q = J_v
+        if link.inertia.matrix.is_zero_matrix:
+            continue
+        J_w, J_w_dot = sp.zeros(3, n), sp.zeros(3, n)
+        later = sp.eye(3)        # R_l^k: from the frame after joint l to the link frame, built backwards
+        after = sp.zeros(3, 1)   # Σ_{m>l} J_ω,m q̇_m; at the end ω in body components
+        for joint in reversed(chain):
+            if joint.type == "revolute":
+                k = column[joint.name]
+                J_w[:, k] = later.T * joint.axis_vector
+                J_w_dot[:, k] = J_w[:, k].cross(after)
+                after = after + J_w[:, k] * rate[joint.name]
+                later = rpy_rotation(joint.rpy) * rotation(joint.axis, to_q[joint.theta]) * later
+            else:
+                later = rpy_rotation(joint.rpy) * later
+        I, w = link.inertia.matrix, after
+        M += J_w.T * I * J_w
+        C += J_w.T * (I * J_w_dot + (I * skew(w) + skew(w) * I - skew(I * w)) * J_w / 2)
+        M_dot += J_w_dot.T * I * J_w + J_w.T * I * J_w_dot
+    for joint in system.joints:  # armature: a constant I_a in M[k, k], nothing in C
+        if sp.sympify(joint.armature) != 0:
+            M[column[joint.name], column[joint.name]] += sp.sympify(joint.armature)
+    return M, C, M_dot, V_gravity, g_gravity
 
 
 def _distance(poses, a, b, in_q) -> sp.Expr:
@@ -183,6 +293,6 @@ def derive(system: System, use_cache: bool = True) -> Derivation:
         if stored is not None and sorted(stored) == sorted(SYMBOLIC_FIELDS):
             return Derivation(**stored, from_cache=True)
     derivation = derive_uncached(system)
-    if use_cache:
+    if use_cache and not is_per_body(system):  # srepr would write out the tree of a per-body graph
         cache.store(key, {name: getattr(derivation, name) for name in SYMBOLIC_FIELDS})
     return derivation

@@ -25,6 +25,7 @@ import hashlib
 from dataclasses import dataclass, field, fields
 from typing import Iterable
 
+import numpy as np
 import sympy as sp
 
 from harness.errors import ModelError
@@ -54,14 +55,17 @@ class Parameter:
     """A model parameter named as in the lecture (``m_1``, ``l_s1``, ``I_zz2``, ``c_e``)."""
 
     name: str
-    default: float
-    unit: str
-    description: str
+    default: float | None = None
+    unit: str = ""
+    description: str = ""
     assumption: str = "positive"
 
     def __post_init__(self):
         if self.assumption not in ASSUMPTIONS:
             raise ModelError(f"parameter {self.name}: assumption must be one of {ASSUMPTIONS}")
+        if self.default is None:
+            raise ModelError(f"parameter {self.name}: give a default value in SI units, "
+                             f"e.g. Parameter({self.name!r}, 1.0, 'kg', 'what it is')")
         if not self.unit:
             raise ModelError(f"parameter {self.name}: give a unit (use '1' for dimensionless)")
         self.check(self.default)
@@ -232,6 +236,18 @@ class Point:
 
 
 @dataclass(frozen=True)
+class Closure:
+    """A point held on a line or plane by a massless guide — the closed chain a nonlinear map θ = φ(q) solves
+    (the toggle press's slide (A.99), the trebuchet's ground (A.177)): ``normalᵀ p_0(point) = value``.
+    The engines impose it themselves in constrained simulations (:mod:`harness.constraints`)."""
+
+    name: str
+    point: Point
+    normal: tuple
+    value: Expr = 0
+
+
+@dataclass(frozen=True)
 class Gravity:
     """Gravity ``g`` along the unit vector ``e_g`` (5.20): ``V = -m g e_g^T p_0^S``."""
 
@@ -332,6 +348,7 @@ class System:
     status: str = "modeled"
     # engines that do not apply to this system, with the reason the report gives: (("mujoco", "…"), …)
     not_in_engines: tuple = ()
+    closures: tuple = ()      # Closure: the closed chain behind a nonlinear map, for the engines' constraints
 
     def engine_note(self, engine: str) -> str | None:
         """Why ``engine`` does not apply to this system (None when it does)."""
@@ -471,6 +488,14 @@ def validate(system: System) -> None:
         bad = _undeclared([*j.origin, *j.rpy], static)
         if bad:
             raise ModelError(f"{where}: joint {j.name} origin uses undeclared symbol(s) {bad}")
+    for j in system.joints:
+        if j.phi is not None and not isinstance(sp.sympify(j.phi), sp.Expr):
+            raise ModelError(f"{where}: joint {j.name}: phi must be one scalar expression theta_{j.name} = phi(q) "
+                             f"(got {type(j.phi).__name__}); a joint has one coordinate")
+    for c in system.coordinates:
+        if c.range is not None and (len(c.range) != 2 or not float(c.range[0]) < float(c.range[1])):
+            raise ModelError(f"{where}: coordinate {c.name}: range must be (low, high) with low < high, "
+                             f"got {c.range}")
     phi = system.phi
     bad = _undeclared(list(phi), static | set(system.q))
     if bad:
@@ -487,6 +512,8 @@ def validate(system: System) -> None:
     jac = phi.jacobian(system.q)
     if jac.shape != (len(system.joints), len(system.coordinates)):
         raise ModelError(f"{where}: map Jacobian has shape {jac.shape}")
+    _check_map(system, phi, jac, where)
+    _check_inertias(system, where)
     for f in system.forces:
         for attr in ("a", "b", "point"):
             pt = getattr(f, attr, None)
@@ -502,3 +529,72 @@ def validate(system: System) -> None:
             raise ModelError(f"{where}: gravity direction e_g must be a unit vector")
     if not any(link.has_mass for link in system.links):
         raise ModelError(f"{where}: no link has mass")
+
+
+def _generic_state(system: System) -> dict:
+    """Default parameters and a generic configuration inside each coordinate's range (no special angle)."""
+    subs = {p.symbol: p.default for p in system.parameters}
+    for k, c in enumerate(system.coordinates):
+        lo, hi = (float(v) for v in c.range) if c.range is not None else (-1.0, 1.0)
+        subs[c.symbol] = lo + (0.37 + 0.11 * k) % 1.0 * (hi - lo)
+    return subs
+
+
+def _check_map(system: System, phi: sp.Matrix, jac: sp.Matrix, where: str) -> None:
+    """``theta = phi(q)`` must determine every lecture coordinate: each appears in the map, and ``J = ∂φ/∂q``
+    has full column rank n at a generic configuration (else ``M_q = Jᵀ M_θ J`` (5.58) is singular)."""
+    n = len(system.coordinates)
+    used = set().union(*(sp.sympify(e).free_symbols for e in phi)) if len(phi) else set()
+    for c in system.coordinates:
+        if c.symbol not in used:
+            raise ModelError(f"{where}: coordinate {c.name} moves no joint; give the joint it drives that name or "
+                             f"set Joint.phi so that theta = phi(q) depends on {c.name}")
+    if len(system.joints) < n:
+        raise ModelError(f"{where}: {n} coordinates but only {len(system.joints)} tree joints; theta = phi(q) "
+                         f"cannot determine q (remove a coordinate or add its joint)")
+    try:
+        J = jac.xreplace({k: sp.Float(v) for k, v in _generic_state(system).items()}).evalf()
+        rank = sp.Matrix(J).rank(iszerofunc=lambda x: abs(complex(x)) < 1e-12)
+    except (TypeError, ValueError):
+        return  # not numeric at the generic state (e.g. a map defined only on part of the range)
+    if rank < n:
+        raise ModelError(f"{where}: the map theta = phi(q) has Jacobian rank {rank} < {n} coordinates at a generic "
+                         f"configuration: two coordinates move the same joints; check Joint.phi")
+
+
+def _check_inertias(system: System, where: str) -> None:
+    """Each body's mass and inertia tensor at the default parameters: positive (semi-)definite, symmetric,
+    principal moments satisfying the triangle inequality A + B >= C."""
+    subs = {p.symbol: p.default for p in system.parameters}
+    for link in system.links:
+        try:
+            mass = float(sp.sympify(link.mass).xreplace(subs))
+            inertia = np.array(link.inertia.matrix.xreplace(subs).evalf(), dtype=float)
+        except (TypeError, ValueError):
+            continue
+        try:
+            check_inertia(f"link {link.name}", mass, inertia)
+        except ModelError as exc:
+            raise ModelError(f"{where}: {exc} at the default parameters; fix Link({link.name!r}, inertia=...): "
+                             f"give the inertia about the centre of mass with principal moments A, B, C > 0 and "
+                             f"A + B >= C (Inertia.cuboid builds a valid one)") from None
+
+
+def check_inertia(where: str, mass: float, inertia: np.ndarray, atol: float = 1e-12) -> None:
+    """Mass non-negative; inertia symmetric, positive semi-definite, principal moments satisfying the
+    triangle inequality ``A + B >= C``."""
+    if not np.all(np.isfinite(inertia)) or not np.isfinite(mass):
+        raise ModelError(f"{where}: mass/inertia must be finite")
+    if mass < 0:
+        raise ModelError(f"{where}: mass {mass} must be non-negative")
+    if not np.allclose(inertia, inertia.T, atol=atol):
+        raise ModelError(f"{where}: inertia tensor must be symmetric")
+    moments = np.linalg.eigvalsh(inertia)
+    scale = max(abs(moments).max(), 1e-300)
+    if moments.min() < -atol * scale:
+        raise ModelError(f"{where}: inertia tensor is not positive (semi-)definite, principal moments {moments}")
+    a, b, c = sorted(moments)
+    if a + b < c * (1 - 1e-12) - atol * scale:
+        raise ModelError(f"{where}: principal moments {moments} violate the triangle inequality A + B >= C")
+    if mass == 0 and scale > 1e-300 and moments.max() > 0:
+        raise ModelError(f"{where}: a massless link cannot have rotational inertia")

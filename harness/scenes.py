@@ -5,7 +5,9 @@ from the system *before* it is derived and exported, so the symbolic right-hand 
 terms and the exported MJCF has the other effects switched off by its flags.
 
 Effects: ``gravity``; ``springs`` (Spring, JointSpring); ``dampers`` (Damper, JointDamper); ``inputs``
-(JointInput); ``external`` (PointForce, BodyTorque: follower forces, drag, thrust, dry sliding friction).
+(JointInput); ``external`` (PointForce, BodyTorque: follower forces, drag, thrust, dry sliding friction);
+``friction`` (dry friction with sticking, switched on in MuJoCo as ``frictionloss``) and ``contact`` (MuJoCo
+contact with friction) come with a scene's structural change (``Scene.events``, :mod:`harness.structural`).
 """
 
 from __future__ import annotations
@@ -17,9 +19,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from harness.errors import InputError
-from harness.model import (BodyTorque, Damper, JointDamper, JointInput, JointSpring, PointForce, Spring, System)
+from harness.model import (BodyTorque, Damper, JointDamper, JointInput, JointSpring, Parameter, PointForce, Spring,
+                           System)
 
-EFFECTS = ("gravity", "springs", "dampers", "inputs", "external")
+EFFECTS = ("gravity", "springs", "dampers", "inputs", "external", "friction", "contact")
 _EFFECT_OF = {Spring: "springs", JointSpring: "springs", Damper: "dampers", JointDamper: "dampers",
               JointInput: "inputs", PointForce: "external", BodyTorque: "external"}
 
@@ -100,6 +103,7 @@ class Scene:
     effects: frozenset
     inputs: dict = field(default_factory=dict)      # input name -> signal
     params: dict = field(default_factory=dict)      # parameter overrides
+    events: tuple = ()                              # structural changes (harness/structural.py)
 
     def __post_init__(self):
         unknown = set(self.effects) - set(EFFECTS)
@@ -123,7 +127,7 @@ class Scene:
 
     @property
     def conservative(self) -> bool:
-        return not ({"dampers", "inputs", "external"} & set(self.effects))
+        return not ({"dampers", "inputs", "external", "friction", "contact"} & set(self.effects))
 
 
 def effects_of(system: System) -> frozenset:
@@ -140,3 +144,41 @@ def pruned(system: System, effects) -> System:
     forces = tuple(f for f in system.forces if _EFFECT_OF[type(f)] in effects)
     return dataclasses.replace(system, forces=forces,
                                gravity=system.gravity if "gravity" in effects else None)
+
+
+IDLE = Parameter("idle", 0.0, "1", "factor of every effect a scene does not call for (0: present but idle)",
+                 assumption="nonnegative")
+
+
+def idle(system: System, effects) -> System:
+    """The system with *every* effect present, those not in ``effects`` multiplied by the parameter ``idle``
+    (set to 0): the same motion as :func:`pruned`, at the cost of evaluating the idle terms. The pruning
+    measurement compares the two."""
+    effects, k = frozenset(effects), IDLE.symbol
+
+    def scaled(f):
+        if _EFFECT_OF[type(f)] in effects or isinstance(f, JointInput):  # an input not driven is already 0
+            return f
+        if isinstance(f, (Spring, JointSpring)):
+            return dataclasses.replace(f, stiffness=k * f.stiffness)
+        if isinstance(f, (Damper, JointDamper)):
+            return dataclasses.replace(f, damping=k * f.damping)
+        if isinstance(f, PointForce):
+            return dataclasses.replace(f, force=tuple(k * c for c in f.force))
+        return dataclasses.replace(f, torque=tuple(k * c for c in f.torque))
+
+    gravity = system.gravity
+    if gravity is not None and "gravity" not in effects:
+        gravity = dataclasses.replace(gravity, g=k * gravity.g)
+    return dataclasses.replace(system, forces=tuple(scaled(f) for f in system.forces), gravity=gravity,
+                               parameters=system.parameters + (IDLE,))
+
+
+def with_idle_effects(system: System, scene: "Scene") -> tuple[System, "Scene"]:
+    """The idle-but-present counterpart of ``scene`` (see :func:`idle`); the scene itself when it calls for
+    every effect the system has (nothing to prune)."""
+    every = effects_of(system) | set(scene.effects)
+    if every == set(scene.effects):
+        return system, scene
+    return idle(system, scene.effects), dataclasses.replace(scene, effects=frozenset(every),
+                                                            params={**scene.params, IDLE.name: 0.0})

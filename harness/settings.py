@@ -7,6 +7,7 @@
 from __future__ import annotations
 
 import os
+from contextlib import contextmanager
 
 from hypothesis import HealthCheck, settings
 
@@ -22,3 +23,27 @@ def load_hypothesis_profile() -> str:
     name = os.environ.get("HYPOTHESIS_PROFILE", "ci")
     settings.load_profile(name)
     return name
+
+
+@contextmanager
+def draws_from_seed_only():
+    """Examples that depend on the seed only, not on which of our modules happen to be imported.
+
+    Hypothesis (6.1xx) draws, with a small probability, literal constants mined from the source of the *local*
+    modules loaded at draw time. The same seed then gives different examples after a scene run imported
+    ``harness.trajectories``, or after any literal was edited anywhere in ``harness/`` or ``models/``: a
+    ``results.json`` would not be reproducible. Inside this context only hypothesis's own constants are used
+    (it patches one private hook of the pinned hypothesis version and restores it on exit)."""
+    from hypothesis.internal.conjecture import providers
+
+    real = providers._get_local_constants
+    empty = type(providers._local_constants)(integers=providers.SortedSet(),
+                                              floats=providers.SortedSet(key=providers.float_to_int),
+                                              bytes=providers.SortedSet(), strings=providers.SortedSet())
+    providers._get_local_constants = lambda: empty
+    providers.CONSTANTS_CACHE.cache.clear()
+    try:
+        yield
+    finally:
+        providers._get_local_constants = real
+        providers.CONSTANTS_CACHE.cache.clear()

@@ -17,7 +17,7 @@ from scipy.integrate import solve_ivp
 
 from harness.compile import compiled
 from harness.engines.base import Load, load_functions, to_lecture
-from harness.engines.mujoco_engine import MujocoModel
+from harness.engines.mujoco_engine import MujocoModel, check_warnings
 from harness.engines.pinocchio_engine import PinocchioModel
 from harness.export.numeric import instantiate
 from harness.model import System
@@ -58,6 +58,17 @@ class Dynamics:
         u = self.scene.u(t, self.system)
         if self.source == "symbolic":
             return self.c.forward_dynamics(q, qd, self.p, u)
+        return self.lecture(t, q, qd).qdd
+
+    def mass_matrix(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
+        """``M(q)`` in lecture coordinates from this source (the symbolic one or the engine's, mapped)."""
+        if self.source == "symbolic":
+            return self.c("M", q, qd, self.p, self.scene.u(t, self.system))
+        return self.lecture(t, q, qd).M
+
+    def lecture(self, t: float, q: np.ndarray, qd: np.ndarray):
+        """The engine's quantities at one state in lecture coordinates (:func:`to_lecture`)."""
+        u = self.scene.u(t, self.system)
         args = (q, qd, self.p, u)
         theta = self.c("phi", *args).ravel()
         J, J_dot = self.c("J_phi", *args), self.c("J_phi_dot", *args)
@@ -65,7 +76,7 @@ class Dynamics:
                  for kind, where, frame, fn in load_functions(self.system)]
         inputs = dict(zip((i.name for i in self.system.inputs), u))
         tree_quantities = self.model.quantities(theta, J @ qd, inputs, loads, christoffel=False)
-        return to_lecture(self.source, _MapAt(J, J_dot, qd), tree_quantities).qdd
+        return to_lecture(self.source, _MapAt(J, J_dot, qd), tree_quantities)
 
     def energy(self, q: np.ndarray, qd: np.ndarray) -> float:
         """``E = T + V`` of the pruned system (our derivation)."""
@@ -120,6 +131,15 @@ def integrate(system: System, scene: Scene, source: str, method: str = "DOP853",
     return Trajectory(f"{source} ({method}, rtol={rtol:g})", t, q, qd, seconds, dyn.evaluations, energy)
 
 
+def held_inputs(scene: Scene, actuators: dict, k: int, timestep: float, ctrl) -> None:
+    """The ``ctrl`` MuJoCo holds over step ``k``: each input at the step's midpoint ``(k + ½) dt`` — on the
+    right side of an input's jump that falls on the step grid (``MjData.time`` accumulates round-off and may
+    sit just before it), and second-order accurate for a smooth input (the midpoint rule)."""
+    t = (k + 0.5) * timestep
+    for name, aid in actuators.items():
+        ctrl[aid] = scene.inputs[name](t) if name in scene.inputs else 0.0
+
+
 def mujoco_native(system: System, scene: Scene, timestep: float, integrator: str = "RK4") -> Trajectory:
     """MuJoCo's own integrator on the exported MJCF of the pruned system (identity maps only: the tree
     coordinates are the lecture coordinates; inputs on joints only)."""
@@ -147,9 +167,9 @@ def mujoco_native(system: System, scene: Scene, timestep: float, integrator: str
             out_qd.append(d.qvel[model.dof_index].copy())
         if k == steps:
             break
-        for name, aid in model.actuators.items():
-            d.ctrl[aid] = scene.inputs[name](d.time) if name in scene.inputs else 0.0
+        held_inputs(scene, model.actuators, k, timestep, d.ctrl)
         mujoco.mj_step(m, d)
+    check_warnings(m, d, f"{system.name} scene {scene.name}")  # an unstable run is a failure, not a trajectory
     seconds = time.perf_counter() - start
     q, qd = np.array(out_q), np.array(out_qd)
     energy = np.array([dyn.energy(a, b) for a, b in zip(q, qd)])
@@ -158,10 +178,12 @@ def mujoco_native(system: System, scene: Scene, timestep: float, integrator: str
 
 
 def max_error(a: Trajectory, b: Trajectory) -> float:
-    """Largest state difference at common sample times, relative to the state's scale (at least 1)."""
+    """Largest difference at common sample times, each state component (q_i, q̇_i) relative to its own scale
+    over the trajectory ``b`` (at least 1 in SI units: a coordinate resting near 0 is compared absolutely), so
+    that a large coordinate (an altitude of 39 km) does not hide the error of a small one (its velocity)."""
     t = np.intersect1d(np.round(a.t, 9), np.round(b.t, 9))
     ia = np.isin(np.round(a.t, 9), t)
     ib = np.isin(np.round(b.t, 9), t)
     ya, yb = np.hstack([a.q[ia], a.qd[ia]]), np.hstack([b.q[ib], b.qd[ib]])
-    scale = max(1.0, float(np.max(np.abs(yb))))
-    return float(np.max(np.abs(ya - yb))) / scale
+    scale = np.maximum(1.0, np.max(np.abs(yb), axis=0))
+    return float(np.max(np.abs(ya - yb) / scale))

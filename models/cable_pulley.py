@@ -111,3 +111,11 @@ CLAIMS = [
           note="printed as the work W_F = f s_1 r_1/(2 r_2) of the constant force over s_1; its generalized "
                "force (5.60) is dW_F/ds_1 = f r_1/(2 r_2)"),
 ]
+
+from harness.scenes import Constant, Scene  # noqa: E402
+
+SCENES = [
+    Scene("haul", "Exercise A.9, (A.93): the load moving uphill at v_0 = 0.5 m/s from s_0 = 0 is accelerated by "
+          "the constant force f = 60 N on R_2 (the smooth part: dry friction mu_c of (A.95) is not modeled)",
+          (0.0,), (0.5,), 2.0, frozenset({"gravity", "external"}), inputs={"f": Constant(60.0)}),
+]

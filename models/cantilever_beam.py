@@ -133,3 +133,12 @@ CLAIMS = [
           note="the lecture omits the evaluation of (A.174); the residuals are (A.174) evaluated symbolically "
                "with the printed L and f_q"),
 ]
+
+from harness.scenes import Scene, Step  # noqa: E402
+
+SCENES = [
+    Scene("drop", "Exercise A.14, (A.174): released from rest with relaxed springs (s = s_10, phi = 0, as drawn "
+          "in Figure A.22); the carriage sinks and the beam tips under gravity against springs and viscous "
+          "friction; the follower force f^e = 10 N steps on at 1 s", (0.3, 0.0), (0.0, 0.0), 3.0,
+          frozenset({"gravity", "springs", "dampers", "external"}), inputs={"f_e": Step(1.0, 10.0)}),
+]

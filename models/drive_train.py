@@ -117,3 +117,13 @@ CLAIMS = [
     Claim("(3.141)", "eom", _M * _qdd + _D * _qd + _K * _q - _b_e * _tl - _b_u * _tm,
           "M q̈ + D q̇ + K q = b_e τ_l + b_u τ_m"),
 ]
+
+from harness.scenes import Constant, Scene, Step  # noqa: E402
+
+SCENES = [
+    Scene("spin_up", "Example 3.16, (3.141): from rest the motor torque tau_m = 2 N m (i_g tau_m = 20 N m on "
+          "body 1) spins the drive train up; the load torque tau_l = 5 N m comes on at 1 s; the shaft twists "
+          "and its oscillation is damped by d", (0.0, 0.0), (0.0, 0.0), 3.0,
+          frozenset({"springs", "dampers", "inputs", "external"}),
+          inputs={"tau_m": Constant(2.0), "tau_l": Step(1.0, 5.0)}),
+]

@@ -58,3 +58,12 @@ SYSTEM = System(
 # The same printed equations (3.139)-(3.142) as the rotor-body model, in the same symbols: both models must
 # satisfy them, one through the gear map, one through the engines' armature.
 from models.drive_train import CLAIMS  # noqa: E402,F401
+
+from harness.scenes import Constant, Scene, Step  # noqa: E402
+
+SCENES = [
+    Scene("spin_up", "Example 3.16, (3.141): the scene spin_up of drive_train with the rotor inertia as "
+          "armature: tau_m = 2 N m from rest, load torque tau_l = 5 N m from 1 s", (0.0, 0.0), (0.0, 0.0), 3.0,
+          frozenset({"springs", "dampers", "external"}),
+          inputs={"tau_m": Constant(2.0), "tau_l": Step(1.0, 5.0)}),
+]

@@ -81,3 +81,11 @@ CLAIMS = [
           note="printed as the spring force f_f; with f_f = c (x_T - s_f0) (A.85) the rest position is "
                "x_T* = s_f0 + f_f / c"),
 ]
+
+from harness.scenes import Scene  # noqa: E402
+
+SCENES = [
+    Scene("release", "Exercise A.8, (A.86): released from rest with the spring relaxed (x_T = s_f0); the block "
+          "sinks, the drum rolls and oscillates about the rest position x_T* = 0.794 m of (A.76), (A.85) "
+          "(conservative)", (0.5,), (0.0,), 3.0, frozenset({"gravity", "springs"})),
+]

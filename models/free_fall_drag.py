@@ -47,3 +47,14 @@ CLAIMS = [
           "m v' = -m g + c_W A rho_0 exp(-h/k) v²/2",
           conventions={"drag written for the falling body (v <= 0): v² = -v|v|": {h.rate**2: -h.rate * sp.Abs(h.rate)}}),
 ]
+
+from harness.scenes import Scene  # noqa: E402
+
+SCENES = [
+    Scene("stratosphere", "Exercise 3.9: the exercise's fall from rest at h(0) = 39 km with its parameters; "
+          "gravity and the thin air's drag rho(h) = rho_0 exp(-h/k) (first 5 s)", (39000.0,), (0.0,), 5.0,
+          frozenset({"gravity", "external"})),
+    Scene("dense_air", "Exercise 3.9: the same body at 2 km, falling at 60 m/s in dense air, accelerates "
+          "towards its terminal velocity (about 90 m/s there; it reaches 78 m/s in 5 s) as the drag grows",
+          (2000.0,), (-60.0,), 5.0, frozenset({"gravity", "external"})),
+]

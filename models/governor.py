@@ -88,3 +88,15 @@ CLAIMS = [
                "residual is a generalized force, the unit the claims core scales eom residuals in"),
     Claim("(A.67b)", "eom", _alpha.accel - _sa * (_l * _wp**2 * _ca - _g) / _l, "alpha_ddot solved", index=(1,)),
 ]
+
+from harness.scenes import Constant, Scene  # noqa: E402
+
+SCENES = [
+    Scene("spin_up", "Exercise A.7, (A.67): spinning at 5 rad/s with the arms at alpha = 0.6 rad, the torque "
+          "tau = 0.5 N m speeds the governor up; the arms rise towards the steady state (A.69)", (0.0, 0.6),
+          (5.0, 0.0), 3.0, frozenset({"gravity", "inputs"}), inputs={"tau": Constant(0.5)}),
+    Scene("coast", "Exercise A.7, (A.67), (A.69): coasting (tau = 0) at 6 rad/s with the arms released at "
+          "alpha = 0.8 rad, below the steady angle arccos(g/(l omega^2)) = 0.99 rad; they swing up to 0.91 rad and "
+          "back while phi_dot drops to 5 rad/s (angular momentum about e_z is conserved) (conservative)",
+          (0.0, 0.8), (6.0, 0.0), 3.0, frozenset({"gravity"})),
+]

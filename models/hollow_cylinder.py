@@ -117,3 +117,12 @@ CLAIMS = [
     Claim("(A.140), (A.141) k = 1", "equilibrium", sp.Matrix([sp.pi, _m2 * _g * sp.cos(sp.pi) / _c + _s0]),
           "upper equilibrium phi_R = pi, s_R = m_2 g cos(phi_R)/c + s_0 = s_0 - m_2 g/c (tau_e = 0)"),
 ]
+
+from harness.scenes import Scene, Step  # noqa: E402
+
+SCENES = [
+    Scene("swing", "Exercise A.12, (A.139): released from rest at phi = 0.6 rad with the rod at s = 0.25 m; the "
+          "rod slides against the spring and the contact-area friction (A.134); the torque tau_e = 2 N m steps on "
+          "at 1.5 s", (0.6, 0.25), (0.0, 0.0), 3.0, frozenset({"gravity", "springs", "external"}),
+          inputs={"tau_e": Step(1.5, 2.0)}),
+]

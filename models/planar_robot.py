@@ -137,3 +137,17 @@ CLAIMS = [
     Claim("(A.122)", "eom", _M_printed * _qdd + _C_printed * _qd + _g_printed - _f_q_printed,
           "M q'' + C q' + g = f_q with the printed (A.120), (A.123)"),
 ]
+
+import math as _math  # noqa: E402
+
+from harness.scenes import Scene, Step  # noqa: E402
+
+# every segment hanging down (segment 3 points along -[cos(phi_3), sin(phi_3)])
+_hanging = (-_math.pi / 2, -_math.pi / 2, _math.pi / 2)
+
+SCENES = [
+    Scene("pushed", "Exercise A.11, (A.122): released from rest near the hanging position (segments turned by "
+          "0.3, -0.2, 0.25 rad); the force f_e = [-f_ex, 0, 0] at the free end of segment 2 steps to f_ex = 5 N at "
+          "1 s", (_hanging[0] + 0.3, _hanging[1] - 0.2, _hanging[2] + 0.25), (0.0, 0.0, 0.0), 3.0,
+          frozenset({"gravity", "external"}), inputs={"f_ex": Step(1.0, 5.0)}),
+]

@@ -58,3 +58,11 @@ CLAIMS = [
           note="f_S is a constraint force: compared with f_S = m_2 g − m_2 Δz̈_2 from (3.45b), (3.46) at the "
                "derived acceleration"),
 ]
+
+from harness.scenes import Scene  # noqa: E402
+
+SCENES = [
+    Scene("release", "Example 3.6, (3.49): both masses released from rest, gravity only; m_2 (1.5 kg) sinks and "
+          "lifts m_1 (2 kg) on the movable pulley, uniform acceleration (conservative)", (0.0,), (0.0,), 2.0,
+          frozenset({"gravity"})),
+]

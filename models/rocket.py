@@ -7,7 +7,8 @@ with the fuel ejection rate ``m_f' = u(t)`` at the relative velocity ``-w e_h``.
 Engine treatment: rigid-body engines have constant masses. The model holds the *current* mass ``m`` as a
 parameter (every drawn state has its own ``m``) and the thrust ``w u`` as an external force, so the engines
 check the instantaneous dynamics ``m h'' = -m g + w u``. Mass depletion ``m' = -u`` is not mechanics of a
-rigid body: the scenes integrate it beside the engines (MuJoCo's ``body_mass`` updated each step).
+rigid body and is not simulated: the burn scene holds the mass at the parameter's value (the 20 kg burnt
+in it are 4 % of the mass; its description says so).
 """
 
 from harness.claims import Claim
@@ -23,7 +24,7 @@ SYSTEM = System(
     name="rocket",
     title="Single-stage rocket (instantaneous mass)",
     lecture="Exercise 3.6",
-    status="engines: instantaneous dynamics at the current mass; mass depletion m' = -u left to the scenes",
+    status="engines: instantaneous dynamics at the current mass; mass depletion m' = -u not simulated",
     parameters=(m, w, g),
     coordinates=(h,),
     links=(Link("rocket", m.symbol),),
@@ -37,4 +38,13 @@ SYSTEM = System(
 CLAIMS = [
     Claim("Solution of Exercise 3.6", "eom", h.accel - (-g.symbol + w.symbol * u.symbol / m.symbol),
           "v' = -g + w u / m"),
+]
+
+from harness.scenes import Scene, Step  # noqa: E402
+
+SCENES = [
+    Scene("burn", "Exercise 3.6: lift-off from rest at h = 0, fuel ejection rate u = 4 kg/s (thrust w u = 10 kN) "
+          "throttled up to 6 kg/s at 2 s. The mass m is the parameter at its current value (500 kg): mass "
+          "depletion m' = -u (here 20 kg, 4 %) is not modeled in the engines", (0.0,), (0.0,), 4.0,
+          frozenset({"gravity", "external"}), inputs={"u": Step(2.0, 6.0, before=4.0)}),
 ]

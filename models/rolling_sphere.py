@@ -44,3 +44,26 @@ CLAIMS = [
     Claim("Exercise 3.17", "eom", phi.accel - sp.Rational(5, 7) / R.symbol * g.symbol * sp.sin(alpha.symbol),
           "phi'' = 5/(7R) g sin(alpha) while rolling"),
 ]
+
+# ----------------------------------------------------------------------------- scenes
+from harness.scenes import Scene  # noqa: E402
+from harness.structural import RollSlip  # noqa: E402
+
+_threshold = sp.Rational(2, 7) * sp.tan(alpha.symbol)
+
+
+def _contact(factor: float) -> RollSlip:
+    """MuJoCo's sphere on the plane with friction ``factor`` times the predicted threshold (default alpha)."""
+    mu = factor * 2 / 7 * float(sp.tan(alpha.default))
+    return RollSlip("sphere", "R", (0, alpha.symbol, 0), _threshold, mu, slide_joint="x", roll_joint="roll")
+
+
+SCENES = [
+    Scene("rolls", "Exercise 3.17: released from rest; with mu_H = 1.2 x 2/7 tan(alpha) the sphere rolls: "
+          "phi'' = 5/(7R) g sin(alpha); MuJoCo's contact must produce the rolling itself, and its threshold "
+          "between rolling and slipping must be 2/7 tan(alpha)", (0.0,), (0.0,), 1.0,
+          frozenset({"gravity", "contact"}), events=(_contact(1.2),)),
+    Scene("slips", "Exercise 3.17: released from rest; with mu_H = 0.8 x 2/7 tan(alpha) the rolling solution "
+          "does not hold: MuJoCo's sphere slips", (0.0,), (0.0,), 1.0,
+          frozenset({"gravity", "contact"}), events=(_contact(0.8),)),
+]

@@ -158,3 +158,11 @@ CLAIMS = [
                "(A.24)-(A.27). (A.27) at phi = 0 is c (l_f^0 - l_f0) e_y, the negative of the force (A.19) "
                "f_c e_y = -c (l_f^0 - l_f0) e_y on the body"),
 ]
+
+from harness.scenes import Scene  # noqa: E402
+
+SCENES = [
+    Scene("swing", "Exercise A.2, (A.28): turned by 0.2 rad out of the equilibrium phi = 0 set by the spring's "
+          "preload (A.18), (A.19) and released from rest; gravity and spring (conservative)", (0.2,), (0.0,), 2.0,
+          frozenset({"gravity", "springs"})),
+]

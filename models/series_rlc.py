@@ -43,3 +43,14 @@ CLAIMS = [
     Claim("(1.10)", "eom", Q.accel - (-Q.symbol / C.symbol - R.symbol * Q.rate + u.symbol) / L.symbol,
           "d/dt i_l = (-u_c - R i_l + u)/L"),
 ]
+
+from harness.scenes import Scene, Step  # noqa: E402
+
+SCENES = [
+    Scene("step", "Example 1.1, (1.9c): the uncharged circuit switched onto a 10 V step at 0.1 s; damped "
+          "oscillation (7 Hz, decay R/(2L) = 10/s) to Q = C u = 0.01 C (mechanical analogue in the engines)",
+          (0.0,), (0.0,), 1.0, frozenset({"springs", "dampers", "inputs"}), inputs={"u": Step(0.1, 10.0)}),
+    Scene("lc_ring", "Example 1.1 with R = 0 (resistor left out): the capacitor charged to Q = 5 mC (5 V) "
+          "discharges through the inductor, undamped LC oscillation (conservative)", (0.005,), (0.0,), 1.0,
+          frozenset({"springs"})),
+]

@@ -93,3 +93,14 @@ CLAIMS = [
           / (_m * _l**2 * _sp.sin(_th)**2),
           "state space: x4'", index=(1,), note="x_2 = theta_dot, x_4 = phi_dot, u = f_xe"),
 ]
+
+from harness.scenes import Scene, Step  # noqa: E402
+
+SCENES = [
+    Scene("conical", "Example 5.3, (5.81): released at theta = 0.8 rad with the azimuth rate phi_dot = 3 rad/s, "
+          "gravity only; the swirl keeps theta within [0.63, 0.8] rad, away from the pole (conservative)",
+          (0.8, 0.0), (0.0, 3.0), 3.0, frozenset({"gravity"})),
+    Scene("pushed", "Example 5.3, (5.78): the conical swing with the external force f^e = [-f_x^e, 0, 0] "
+          "switched on at 1 s, f_x^e = 1.5 N", (0.8, 0.0), (0.0, 3.0), 3.0, frozenset({"gravity", "external"}),
+          inputs={"f_xe": Step(1.0, 1.5)}),
+]

@@ -123,3 +123,12 @@ CLAIMS = [
           note="(3.92) M q̈ + D q̇ + K q = k + b f_L read as g = K q − k, f_np = −D q̇ + b f_L"),
     Claim("(3.92)", "eom", _M * _qdd + _D * _qd + _K * _q - _k - _b * _fL, "M q̈ + D q̇ + K q = k + b f_L"),
 ]
+
+from harness.scenes import Scene, Step  # noqa: E402
+
+SCENES = [
+    Scene("released", "Example 3.10, (3.91)-(3.95): the masses released from rest, displaced from their rest "
+          "position s = (0.474, 0.462, 1.245) m; gravity, springs and dampers; the load f_L steps to 30 N at 1 s",
+          (0.55, 0.40, 1.35), (0.0, 0.0, 0.0), 3.0, frozenset({"gravity", "springs", "dampers", "external"}),
+          inputs={"f_L": Step(1.0, 30.0)}),
+]

@@ -44,3 +44,17 @@ CLAIMS = [
     Claim("(3.79)", "eom", m.symbol * x.accel - (f_e.symbol - mu_C.symbol * m.symbol * g.symbol * sp.sign(x.rate)),
           "m x'' = f_e - mu_C m g sgn(x')"),
 ]
+
+# ----------------------------------------------------------------------------- scenes
+from harness.scenes import Scene, Sine  # noqa: E402
+from harness.structural import StickSlip  # noqa: E402
+
+_amplitude = 1.2 * mu_H.default * m.default * g.default   # 1.2 times the largest force sticking can hold
+
+SCENES = [
+    Scene("stick_slip", "Section 3.5.2, (3.80): from rest under f_e = 1.2 mu_H m g sin(pi t); sticks, breaks "
+          "away where |f_e| = mu_H m g, slides against mu_C m g, comes to rest and sticks again, in both "
+          "directions", (0.0,), (0.0,), 4.0, frozenset({"inputs", "external", "friction"}),
+          inputs={"f_e": Sine(_amplitude, 0.5)},
+          events=(StickSlip("x", "mu_H", "mu_C", m.symbol * g.symbol),)),
+]

@@ -30,7 +30,7 @@ planar motion, ``I_xx1``, ``I_yy1``, ``I_xx2``, ``I_yy2`` complete physical tens
 
 import sympy as sp
 
-from harness.model import (Coordinate, Gravity, Inertia, Input, Joint, Link, Parameter, Point, PointForce, Spring,
+from harness.model import (Closure, Coordinate, Gravity, Inertia, Input, Joint, Link, Parameter, Point, PointForce, Spring,
                            System, WORLD)
 
 m_1 = Parameter("m_1", 2.0, "kg", "mass of leg 1")
@@ -80,6 +80,7 @@ SYSTEM = System(
         PointForce("knee_force", knee, (0, -sp.Symbol("f", real=True), 0)),
         PointForce("load_force", end_point, (-sp.Symbol("f_L", real=True), 0, 0)),
     ),
+    closures=(Closure("slide", end_point, (0, 1, 0), 0),),  # (A.99): the slide keeps e on the x-axis
     doc=__doc__,
 )
 

@@ -105,3 +105,12 @@ CLAIMS = [
     Claim("(A.158)", "eom", sp.Rational(7, 8) * _m * _L**2 * _pdd - _m * _g * _L * sp.cos(_p) / 8
           - _m * _g * _L * sp.sin(_p) + _c * _p - _f * _L, "equation of motion"),
 ]
+
+from harness.scenes import Scene, Step  # noqa: E402
+
+SCENES = [
+    Scene("tip_over", "Exercise A.13, (A.158): released from rest at phi = 0 (spring relaxed); gravity tips the "
+          "beam over and it swings about its tilted equilibrium (0.24 rad) against the torsional "
+          "spring; the follower force f = 5 N along rod 2 steps on at 1 s",
+          (0.0,), (0.0,), 3.0, frozenset({"gravity", "springs", "external"}), inputs={"f": Step(1.0, 5.0)}),
+]

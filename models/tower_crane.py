@@ -198,3 +198,20 @@ CLAIMS = [
           note="the lecture sets the constant V^sT = V^sK = 0 (the model's V differs by the constant potential of "
                "tower and trolley); the printed V is compared through its gradient g = dV/dq"),
 ]
+
+from harness.scenes import Constant, Scene, Step  # noqa: E402
+
+SCENES = [
+    Scene("slew", "Exercise 5.4, Example 5.2: the tower slews by 60 degrees under tau_1 = 150 N m (reversed to "
+          "-150 N m at 2 s), the trolley is driven out along the 3 m jib from 1 m to 2.4 m by f_LK = 15 N (reversed "
+          "at 2 s), the rope is paid out from 1 m to 2 m (f_S = -193 N holds back most of the load's weight "
+          "196 N); the load swings; viscous friction in every joint",
+          (0.0, 1.0, 0.0, 0.0, 1.0), (0.0, 0.0, 0.0, 0.0, 0.0), 4.0, frozenset({"gravity", "dampers", "inputs"}),
+          inputs={"tau_1": Step(2.0, -150.0, before=150.0), "f_LK": Step(2.0, -15.0, before=15.0),
+                  "f_S": Constant(-193.0)}),
+    Scene("swing", "Example 5.2, (5.42): the load released from rest with the rope at phi_3 = 0.3, phi_4 = 0.2 "
+          "rad, held by the constant rope force f_S = -m_L g (the rope first shortens, then pays out to 2.7 m "
+          "as the swinging load pulls harder); tower and trolley free (they recoil), no friction",
+          (0.0, 1.5, 0.3, 0.2, 1.5), (0.0, 0.0, 0.0, 0.0, 0.0), 3.0, frozenset({"gravity", "inputs"}),
+          inputs={"f_S": Constant(-20.0 * 9.81)}),
+]

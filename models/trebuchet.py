@@ -30,7 +30,7 @@ hold there as well. ``theta_0`` is small (0.2 rad) so that one fixed range of ``
 
 import sympy as sp
 
-from harness.model import Coordinate, Gravity, Parameter, System
+from harness.model import Closure, Coordinate, Gravity, Parameter, Point, System
 from models.trebuchet_free import LINKS, L, M, g, h, l, m, m_A, mechanism_joints, r
 
 theta_0 = Parameter("theta_0", 0.2, "rad", "initial angle of the arm (projectile on the ground at -L sin theta_0)")
@@ -50,6 +50,9 @@ SYSTEM = System(
     links=LINKS,
     joints=mechanism_joints(psi),
     gravity=Gravity(g.symbol, (0, 0, -1)),
+    # (A.177): the ground holds the projectile at the height of its start
+    closures=(Closure("ground", Point("projectile", (0, 0, -r.symbol), "projectile_centre"), (0, 0, 1),
+                      -L.symbol * sp.sin(theta_0.symbol)),),
     doc=__doc__,
 )
 
@@ -78,4 +81,20 @@ CLAIMS = [
           "potential forces ∂V_1/∂q (5.96) of V_1 = V_M",
           note="V_1 is printed up to the constant V_M,0 and without the projectile's potential, which is constant "
                "in phase 1; compared as g = ∂V_1/∂q, which no constant changes"),
+]
+
+# ----------------------------------------------------------------------------- scenes
+from harness.scenes import Scene  # noqa: E402
+from harness.structural import LiftOff  # noqa: E402
+from models import trebuchet_free as _free  # noqa: E402
+
+_psi2 = _free.psi.symbol
+_lift_off = LiftOff("trebuchet_free", to_free=(_th, _ph, psi),
+                    height=L.symbol * sp.sin(theta_0.symbol) - L.symbol * sp.sin(_th) - r.symbol * sp.cos(_psi2))
+
+SCENES = [
+    Scene("throw", "Exercise A.15: released from rest with the arm at theta_0 and the counterweight hanging; the "
+          "projectile slides on the ground (phase 1, (A.185)) until the ground's normal force vanishes, then "
+          "flies on its sling (phase 2, (A.187)-(A.189))", (0.2, 0.0), (0.0, 0.0), 1.0, frozenset({"gravity"}),
+          events=(_lift_off,)),
 ]

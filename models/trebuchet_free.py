@@ -117,3 +117,12 @@ CLAIMS = [
           note="(A.187) lumps C q̇ and the gravity terms into one vector g(q, q̇); split here by degree in q̇"),
     Claim("(A.187)-(A.189)", "eom", _M_printed * _qdd + _g_velocity + _g_gravity, "M(q) q̈ + g(q, q̇) = 0"),
 ]
+
+# ----------------------------------------------------------------------------- scenes
+from harness.scenes import Scene  # noqa: E402
+
+SCENES = [
+    Scene("swing", "Exercise A.15, phase 2 alone (A.187): from rest with the arm at 0.2 rad, the counterweight "
+          "hanging and the sling horizontal; the full throw with its lift-off event is trebuchet/throw",
+          (0.2, 0.0, 1.5708), (0.0, 0.0, 0.0), 1.0, frozenset({"gravity"})),
+]

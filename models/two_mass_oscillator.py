@@ -97,3 +97,11 @@ CLAIMS = [
     Claim("(5.108)", "g", _sp.Matrix([_c1 * _p1 + _c12 * (_p1 - _p2), -_c12 * (_p1 - _p2)]),
           "potential forces"),
 ]
+
+from harness.scenes import Scene, Step  # noqa: E402
+
+SCENES = [
+    Scene("twisted", "Exercise 5.3, (5.107): body 1 released from rest at phi_1 = 0.3 rad (body 2 at 0), springs "
+          "and dampers; the torque tau_2 = 1 N m (against phi_2) steps on at 1 s", (0.3, 0.0), (0.0, 0.0), 2.0,
+          frozenset({"springs", "dampers", "external"}), inputs={"tau_2": Step(1.0, 1.0)}),
+]

@@ -7,7 +7,6 @@ import pytest
 import sympy as sp
 
 import models
-from harness import cache
 from harness.derive import christoffel, derive
 from harness.errors import ModelError
 from harness.export.numeric import check_inertia
@@ -80,6 +79,20 @@ def test_cache_key_changes_with_the_model():
     (dict(joints=(Joint("phi", "revolute", "nowhere", "bob", axis="x"),)), "connects unknown link"),
     (dict(joints=(Joint("theta", "revolute", "world", "bob", axis="x"),)), "set Joint.phi"),
     (dict(links=(Link("bob", 0, (0, 0, -1)),)), "no link has mass"),
+    # an inertia tensor that is not positive definite / violates the triangle inequality (at the defaults)
+    (dict(links=(Link("bob", 1.0, (0, 0, -1), Inertia(1.0, -1.0, 1.0)),)), "link bob: inertia tensor is not positive"),
+    (dict(links=(Link("bob", 1.0, (0, 0, -1), Inertia(1.0, 1.0, 3.0)),)), "violate the triangle inequality"),
+    (dict(links=(Link("bob", 1.0, (0, 0, -1), Inertia(1.0, 1.0, 3.0)),)), "fix Link('bob', inertia=...)"),
+    # a map whose dimensions do not match the coordinates
+    (dict(coordinates=(Coordinate("phi", "rad", "angle"), Coordinate("psi", "rad", "unused"))), "coordinate psi moves no joint"),
+    (dict(joints=(Joint("phi", "revolute", "world", "bob", axis="x", phi=(sp.Symbol("phi", real=True),) * 2),)),
+     "phi must be one scalar expression"),
+    (dict(coordinates=(Coordinate("phi", "rad", "a"), Coordinate("psi", "rad", "b")),
+          links=(Link("a", 1.0, (0, 0, -1)), Link("bob", 1.0, (0, 0, -1))),
+          joints=(Joint("j1", "revolute", "world", "a", axis="x", phi=sp.Symbol("phi", real=True) + sp.Symbol("psi", real=True)),
+                  Joint("j2", "revolute", "a", "bob", axis="x", phi=2 * sp.Symbol("phi", real=True) + 2 * sp.Symbol("psi", real=True)))),
+     "Jacobian rank 1 < 2"),
+    (dict(coordinates=(Coordinate("phi", "rad", "angle", range=(1.0, -1.0)),)), "range must be (low, high)"),
 ])
 def test_modeling_mistakes_are_caught_at_load(change, message):
     with pytest.raises(ModelError) as exc:
@@ -96,6 +109,21 @@ def test_joint_and_parameter_mistakes():
         Parameter("m", 1.0, "", "mass")
     with pytest.raises(ModelError, match="must be positive"):
         Parameter("m", -1.0, "kg", "mass")
+    with pytest.raises(ModelError, match="parameter m: give a default value in SI units"):
+        Parameter("m", unit="kg", description="mass")
+    with pytest.raises(ModelError, match="parameter l: give a unit"):
+        Parameter("l", 1.0)
+
+
+def test_a_model_file_that_does_not_load_names_the_file_and_the_fix(tmp_path, monkeypatch):
+    import pkgutil
+
+    (tmp_path / "broken_model.py").write_text("from harness.model import Parameter\nm = Parameter('m', unit='kg')\n")
+    monkeypatch.setattr(models, "__path__", [*models.__path__, str(tmp_path)])
+    (info,) = [i for i in pkgutil.iter_modules([str(tmp_path)]) if i.name == "broken_model"]
+    with pytest.raises(ModelError) as exc:
+        models._load(info)
+    assert "broken_model.py" in str(exc.value) and "give a default value" in str(exc.value)
 
 
 def test_inertia_checks():

@@ -1,18 +1,70 @@
-"""Every scene of every system: trajectories of Pinocchio and MuJoCo (scipy-integrated forward dynamics and
-MuJoCo's own RK4) against the confirmed symbolic reference, invariants, and pruning (harness/trajectories.py
-states the tolerances and their reasons)."""
+"""Scenes: trajectories of Pinocchio and MuJoCo (scipy-integrated forward dynamics, MuJoCo's own integrator, its
+dry friction and contact) against the confirmed symbolic reference, events, invariants and pruning
+(harness/trajectories.py and harness/structural.py state the tolerances and their reasons).
+
+The default run checks one scene per mechanism of the machinery (conservative swing with MuJoCo's RK4, input
+breakpoints, a nonlinear closed-chain map, stick-slip events with MuJoCo's frictionloss, rolling contact and
+its threshold, the trebuchet's lift-off); ``harness check`` (the README's main command) and ``pytest -m slow``
+run every scene of every system."""
 
 import pytest
 
 import models
 from harness.trajectories import run_scene
 
-SCENES = [(name, scene) for name in models.catalogue() for scene in models.scenes(name)]
+ALL = [(name, scene) for name in models.catalogue() for scene in models.scenes(name)]
+DEFAULT = {("pendulum", "swing"), ("quarter_car", "bump"), ("toggle_press", "return"), ("stick_slip", "stick_slip"),
+           ("rolling_sphere", "rolls"), ("trebuchet", "throw")}
 
 
-@pytest.mark.parametrize("name, scene", SCENES, ids=[f"{n}-{s.name}" for n, s in SCENES])
-def test_scene(name, scene):
+def _check(name, scene):
     result = run_scene(models.get(name), scene)
-    failed = [c for c in result.checks if c[2] > c[3]]
+    failed = [c for c in result.checks if not c[2] <= c[3]]
     assert not failed, failed
-    assert any(c[0].startswith("trajectory") for c in result.checks)
+    assert any(c[0].startswith("trajectory") for c in result.checks) or "contact" in scene.effects
+    assert "pruning time ratio (idle / pruned), symbolic" in result.notes
+    return result
+
+
+@pytest.mark.parametrize("name, scene", [(n, s) for n, s in ALL if (n, s.name) in DEFAULT],
+                         ids=[f"{n}-{s.name}" for n, s in ALL if (n, s.name) in DEFAULT])
+def test_scene(name, scene):
+    _check(name, scene)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name, scene", ALL, ids=[f"{n}-{s.name}" for n, s in ALL])
+def test_every_scene(name, scene):
+    _check(name, scene)
+
+
+def test_every_system_has_a_scene():
+    assert [name for name in models.catalogue() if not models.scenes(name)] == []
+
+
+def test_default_scenes_exist():
+    assert DEFAULT <= {(n, s.name) for n, s in ALL}
+
+
+def test_stick_slip_switches_at_the_predicted_threshold():
+    """(3.80): breakaway exactly where |f_e| = mu_H m g, then stick and slip alternate in both directions."""
+    from harness import structural
+
+    system, scene = models.get("stick_slip"), models.scenes("stick_slip")[0]
+    event = scene.events[0]
+    ref = structural.stick_slip(system, scene, event, "symbolic")
+    assert abs(ref.events[0].time - structural.predicted_breakaway(system, scene, event)) < structural.EVENT_TOL
+    assert [e.after for e in ref.events[:4]] == ["slide +", "stick", "slide -", "stick"]
+
+
+def test_rolling_sphere_rolls_above_and_slips_below_the_threshold():
+    """Exercise 3.17: MuJoCo's contact rolls at 1.01 x 2/7 tan(alpha) and slips at 0.99 x."""
+    from harness import structural
+
+    system, scene = models.get("rolling_sphere"), models.scenes("rolling_sphere")[0]
+    event = scene.events[0]
+    mu = event.predicted(system.default_parameters())
+    above = structural.mujoco_rolling(system, scene, event, 1e-3, 1.01 * mu)
+    below = structural.mujoco_rolling(system, scene, event, 1e-3, 0.99 * mu)
+    scale = float(above.qd.max()) * system.default_parameters()["R"]
+    assert structural.rolls(above, scale) and not structural.rolls(below, scale)

@@ -3,7 +3,6 @@ counterexample."""
 
 import re
 
-import pytest
 
 import models
 from harness import cli, conformance

@@ -9,6 +9,8 @@ round-off (not a finite-difference approximation)."""
 
 from __future__ import annotations
 
+from collections import deque
+
 import mujoco
 import numpy as np
 
@@ -18,12 +20,53 @@ from harness.export.mjcf import mjcf_string
 from harness.model import WORLD
 from harness.export.numeric import NumericTree
 
+WARNINGS = {
+    mujoco.mjtWarning.mjWARN_INERTIA: "inertia matrix too close to singular",
+    mujoco.mjtWarning.mjWARN_CONTACTFULL: "too many contacts",
+    mujoco.mjtWarning.mjWARN_CNSTRFULL: "too many constraints",
+    mujoco.mjtWarning.mjWARN_BADQPOS: "NaN, inf or huge value in qpos (the simulation is unstable)",
+    mujoco.mjtWarning.mjWARN_BADQVEL: "NaN, inf or huge value in qvel (the simulation is unstable)",
+    mujoco.mjtWarning.mjWARN_BADQACC: "NaN, inf or huge value in qacc (the simulation is unstable)",
+    mujoco.mjtWarning.mjWARN_BADCTRL: "NaN, inf or huge value in ctrl",
+}
+"""MuJoCo does not fail on these: it counts them in ``MjData.warning`` (and on bad qpos/qvel/qacc resets the
+state and carries on), so without a check a run returns silently wrong numbers."""
+
+_warning_texts: deque[str] = deque(maxlen=16)
+mujoco.set_mju_user_warning(_warning_texts.append)  # not printed: the counters below become our one error line
+
+
+def check_warnings(model: mujoco.MjModel, data: mujoco.MjData, what: str) -> None:
+    """After ``mj_step``: raise :class:`EngineError` if any MuJoCo warning counter of ``data`` is non-zero.
+    ``mj_step`` checks qpos and qvel of the state it steps *from*, so the final state of a run is checked here
+    (``mj_checkPos``, ``mj_checkVel``; they reset ``data`` on a failure). After ``mj_forward`` use
+    :func:`check_state`."""
+    mujoco.mj_checkPos(model, data)
+    mujoco.mj_checkVel(model, data)
+    found = [f"{text} ({data.warning[w].number}x, last index {data.warning[w].lastinfo})"
+             for w, text in WARNINGS.items() if data.warning[w].number > 0]
+    for w in WARNINGS:  # counted once: the next evaluation with the same data starts clean
+        data.warning[w].number = 0
+    _warning_texts.clear()
+    if found:
+        raise EngineError(f"{what}: MuJoCo warning at t={data.time:g} s: " + "; ".join(found))
+
+
+def check_state(model: mujoco.MjModel, data: mujoco.MjData, what: str) -> None:
+    """MuJoCo's checks of ``mj_step`` (``mj_checkAcc``, then ``mj_checkPos``, ``mj_checkVel`` in
+    :func:`check_warnings`) on a state computed by ``mj_forward``, which skips them. Resets ``data`` on a
+    failure."""
+    mujoco.mj_checkAcc(model, data)
+    check_warnings(model, data, what)
+
 
 class MujocoModel:
-    def __init__(self, tree: NumericTree, xml: str | None = None):
+    def __init__(self, tree: NumericTree, xml: str | None = None, spec: mujoco.MjSpec | None = None):
         self.tree = tree
-        # MuJoCo loads the MJCF text we export (the same text as urdf/<system>.xml for default parameters)
-        self.model = mujoco.MjModel.from_xml_string(xml if xml is not None else mjcf_string(tree))
+        if spec is not None:  # a scene's engine configuration (contact, dry friction) on top of the export
+            self.model = spec.compile()
+        else:  # MuJoCo loads the MJCF text we export (the same text as urdf/<system>.xml for default parameters)
+            self.model = mujoco.MjModel.from_xml_string(xml if xml is not None else mjcf_string(tree))
         self.data = mujoco.MjData(self.model)
         self.data_rest = mujoco.MjData(self.model)
         self.qpos_index, self.dof_index = [], []
@@ -96,8 +139,9 @@ class MujocoModel:
         C = self.christoffel(theta, theta_dot) if christoffel else None  # reuses data_rest
         tau_input = np.zeros(m.nv)
         tau_input[:] = d.qfrc_actuator + d.qfrc_applied
-        if d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > 0:
-            raise EngineError(f"{self.tree.system}: MuJoCo reported a bad qacc")
+        check_state(m, d, self.tree.system)
+        if C is not None and not np.all(np.isfinite(C)):
+            raise EngineError(f"{self.tree.system}: MuJoCo's qfrc_bias is not finite at this velocity")
         return TreeQuantities(
             M=M[np.ix_(self.dof_index, self.dof_index)], Cqd=self._pick(d.qfrc_bias) - gravity,
             g_gravity=gravity, g_spring=-self._pick(d.qfrc_spring),

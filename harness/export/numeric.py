@@ -10,6 +10,7 @@ import sympy as sp
 
 from harness.errors import ModelError
 from harness.model import Damper, JointDamper, JointInput, JointSpring, Point, Spring, System
+from harness.model import check_inertia  # noqa: F401  (re-exported: the physical-inertia check lives with the model)
 
 # MuJoCo refuses moving bodies whose mass or inertia is below mjMINVAL = 1e-15. A point mass (zero inertia
 # tensor about its centre of mass) is exported to MJCF with this isotropic inertia instead; it changes M by
@@ -103,28 +104,11 @@ def instantiate(system: System, params: dict[str, float]) -> NumericTree:
             joint_damping[f.joint] = _value(f.damping, subs)
         elif isinstance(f, JointInput):
             actuators.append((f.input, f.joint))
+    for closure in system.closures:  # the guided point: a site/frame the engines constrain
+        pt = closure.point
+        points[point_name(pt)] = NumericPoint(point_name(pt), pt.link, np.array([_value(v, subs) for v in pt.vector]))
     gravity = np.zeros(3)
     if system.gravity is not None:
         gravity = _value(system.gravity.g, subs) * np.array(system.gravity.direction, dtype=float)
     return NumericTree(system.name, tuple(links), joints, tuple(points.values()), gravity, joint_stiffness,
                        joint_damping, tuple(tuple(t) for t in tendons.values()), tuple(actuators))
-
-
-def check_inertia(where: str, mass: float, inertia: np.ndarray, atol: float = 1e-12) -> None:
-    """Mass non-negative; inertia symmetric, positive semi-definite, principal moments satisfying the
-    triangle inequality ``A + B >= C``."""
-    if not np.all(np.isfinite(inertia)) or not np.isfinite(mass):
-        raise ModelError(f"{where}: mass/inertia must be finite")
-    if mass < 0:
-        raise ModelError(f"{where}: mass {mass} must be non-negative")
-    if not np.allclose(inertia, inertia.T, atol=atol):
-        raise ModelError(f"{where}: inertia tensor must be symmetric")
-    moments = np.linalg.eigvalsh(inertia)
-    scale = max(abs(moments).max(), 1e-300)
-    if moments.min() < -atol * scale:
-        raise ModelError(f"{where}: inertia tensor is not positive (semi-)definite, principal moments {moments}")
-    a, b, c = sorted(moments)
-    if a + b < c * (1 - 1e-12) - atol * scale:
-        raise ModelError(f"{where}: principal moments {moments} violate the triangle inequality A + B >= C")
-    if mass == 0 and scale > 1e-300 and moments.max() > 0:
-        raise ModelError(f"{where}: a massless link cannot have rotational inertia")

@@ -1,0 +1,256 @@
+"""``harness bench``: what accuracy costs in time — work-precision of the scenes, evaluation cost, derivation
+cost, effect pruning. Benchmarks, run on demand and reported; never timed unit tests.
+
+Parts: :mod:`~harness.bench.workprecision` (scenes: reference, sweeps, Pareto frontiers, pruning),
+:mod:`~harness.bench.evalcost` (M, C·q̇, g, q̈ per state), :mod:`~harness.bench.derivation` (n-link chains
+against ``sympy.physics.mechanics``), :mod:`~harness.bench.runner` (process pool or Dask cluster),
+:mod:`~harness.bench.figures` (work-precision diagrams), :mod:`~harness.bench.report` (``bench.md``).
+An optional ``harness/bench/lightweight_robot.py`` with ``run(quick: bool = False) -> dict`` is called too.
+
+Outputs (``--out DIR``, default ``reports``): ``DIR/bench.json``, ``DIR/bench.md`` (headline table),
+``DIR/bench/*.svg`` (figures). Wall times depend on the machine and its load: the load average is recorded
+beside them; ratios are measured in the same process and run.
+
+Schema of ``bench.json`` (``schema: 1``; times in seconds, errors relative to the state's scale)::
+
+    {
+      "schema": 1, "generated": ISO-8601 UTC, "quick": bool, "command": str, "seconds": total wall time,
+      "machine": {"cpus": int, "loadavg_start": [1, 5, 15 min], "loadavg_end": [...]},
+      "versions": {package: version}, "runner": {"backend": "process pool" | "dask", "workers" | "scheduler"},
+      "goals": [{"goal": str, "target": str, "measured": float | null, "met": bool | null, "where": str}],
+      "workprecision": {
+        "accuracy": 1e-6, "grid": {"rtols": [...], "fixed_k": [...], "mujoco_k": [...], "repeats": int,
+                                    "budget": int},
+        "scenes": [{
+          "system": str, "scene": str, "description": str, "horizon": float, "effects": [str], "params": {},
+          "reference": {"method", "confirmed_by", "agreement", "tolerance", "confirmed", "seconds",
+                        "evaluations", "radau_seconds", "radau_evaluations"},
+          "runs": [{"engine": "symbolic" | "pinocchio" | "mujoco", "method": str, "rtol": float | null,
+                    "dt": float | null, "error": float ("inf" when diverged), "seconds": median wall time,
+                    "seconds_all": [...], "repeats": int, "evaluations": int,
+                    "skipped": str (instead of error/seconds), "failed": str (optional)}],
+          "summary": {"pareto": {engine: [configuration label, fastest first]},
+                      "fastest_at_accuracy": {engine: {"configuration", "seconds", "error", "evaluations"} | null},
+                      "symbolic_vs_fastest_engine": {"ratio", "fastest_engine_configuration"} (when both exist)},
+          "figure": path relative to DIR}]},
+      "evaluation": {"states": int, "systems": [{"system", "dof", "states",
+                     "symbolic": {"M", "Cqd", "g", "qdd"}, "symbolic_wrapper": {"M", "Cqd", "g"},
+                     "symbolic_batched": {"M", "Cqd", "g", "qdd"} (per state),
+                     "pinocchio": {"M", "nle", "g", "Cqd", "qdd"} | {"skipped"},
+                     "mujoco": {"M", "bias", "qdd"} | {"skipped"},
+                     "ratios": {"one_call_vs_pinocchio", "batched_vs_pinocchio", "qdd_one_call_vs_aba",
+                                "qdd_batched_vs_aba", "qdd_one_call_vs_mj_forward", goals and verdicts}}],
+                     "figure": path},
+      "derivation": {"timeout_per_n": float, "goal", "goal_n", "goal_ratio", "goal_met",
+                     "rows": [{"n", "ours": {"cold_seconds", "derivation_seconds", "cached_seconds",
+                               "count_ops_M", "count_ops_C"} | {"timeout"} | {"error"},
+                               "mechanics": {"seconds", "count_ops_M"} | {"timeout"}, "ratio_cold", "ratio_cached"}],
+                     "figure": path},
+      "pruning": [{"system", "scene", "pruned_seconds", "idle_seconds", "speedup", "pruned_evaluations",
+                   "idle_evaluations", "same_trajectory_error"} | {"system", "scene", "skipped"}],
+      "lightweight_robot": {...} (when harness/bench/lightweight_robot.py exists)
+    }
+"""
+
+from __future__ import annotations
+
+import datetime
+import importlib
+import json
+import math
+import os
+import platform
+import sys
+import time
+from pathlib import Path
+
+import models
+from harness.bench import derivation, evalcost, workprecision as wp
+from harness.bench.runner import Task, run_tasks
+from harness.errors import InputError
+from harness.io import atomic_write_text
+
+SCHEMA = 1
+
+
+def _log(message: str) -> None:
+    print(message, file=sys.stderr, flush=True)
+
+
+def _versions() -> dict:
+    import distributed
+    import mujoco
+    import numpy
+    import pinocchio
+    import scipy
+    import sympy
+
+    return {"python": platform.python_version(), "pinocchio": pinocchio.__version__, "mujoco": mujoco.__version__,
+            "sympy": sympy.__version__, "numpy": numpy.__version__, "scipy": scipy.__version__,
+            "distributed": distributed.__version__}
+
+
+QUICK_SCENES = (("pendulum", "swing"), ("planar_manipulator", "driven"), ("quarter_car", "bump"))
+
+
+def _cases(systems, scenes, quick: bool) -> list[tuple[str, str]]:
+    """Every scene (``--systems``, ``--scenes`` filter); ``--quick`` without filters: :data:`QUICK_SCENES`;
+    stiff variants only in the full run (or by ``--scenes``)."""
+    cases = wp.scene_cases(systems)
+    if quick and not systems and not scenes:
+        return [c for c in cases if c in QUICK_SCENES]
+    stiff = {(s, v.label) for s, vs in wp.STIFF.items() for v in vs}
+    if scenes:
+        known = {label for _, label in cases}
+        unknown = [s for s in scenes if s not in known]
+        if unknown:
+            raise InputError(f"unknown scene(s) {', '.join(unknown)}; scenes: {', '.join(sorted(known))}")
+        return [c for c in cases if c[1] in scenes]
+    return [c for c in cases if not (quick and c in stiff)]  # stiff variants: full run (or --scenes)
+
+
+def run_bench(out="reports", quick: bool = False, scheduler: str | None = None, systems=None, scenes=None,
+              workers: int | None = None, parts=("workprecision", "evaluation", "derivation", "pruning"),
+              command: str = "harness bench") -> dict:
+    """Run the studies, write ``bench.json``, ``bench.md`` and the figures into ``out``; return the document."""
+    from harness.bench import figures, report
+
+    for name in systems or []:
+        models.get(name)  # unknown names fail before any work
+    unknown = set(parts) - {"workprecision", "evaluation", "derivation", "pruning"}
+    if unknown:
+        raise InputError(f"unknown bench part(s) {sorted(unknown)}")
+    out = Path(out)
+    started = time.perf_counter()
+    doc = {"schema": SCHEMA, "generated": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+           "quick": quick, "command": command,
+           "machine": {"cpus": os.cpu_count(), "platform": platform.platform(), "loadavg_start": os.getloadavg()},
+           "versions": _versions(),
+           "runner": {"backend": "dask", "scheduler": str(scheduler)} if scheduler else
+           {"backend": "process pool", "workers": workers or os.cpu_count()}}
+    grid = wp.Grid.make(quick)
+    cases = _cases(systems, scenes, quick) if {"workprecision", "pruning"} & set(parts) else []
+    eval_systems = [s for s in (systems or (evalcost.QUICK if quick else list(models.catalogue())))
+                    if s in models.catalogue()] if "evaluation" in parts else []
+
+    # phase 1: references, pruning, evaluation cost (independent tasks)
+    first = []
+    if "workprecision" in parts:
+        first += [Task("harness.bench.workprecision:reference_task", {"system": s, "scene": c},
+                       f"reference {s}/{c}") for s, c in cases]
+    if "pruning" in parts:
+        first += [Task("harness.bench.workprecision:pruning_task",
+                       {"system": s, "scene": c, "repeats": 3}, f"pruning {s}/{c}") for s, c in cases]
+    first += [Task("harness.bench.evalcost:task", {"system": s, "states": 10_000}, f"evaluation cost {s}")
+              for s in eval_systems]
+    _log(f"bench: {len(first)} tasks (references, pruning, evaluation cost) …")
+    results = run_tasks(first, scheduler=scheduler, workers=workers)
+    by_task = dict(zip((t.label for t in first), results))
+
+    # phase 2: the work-precision sweep against the references
+    if "workprecision" in parts:
+        doc["workprecision"] = _workprecision(cases, by_task, grid, scheduler, workers, out)
+    if "pruning" in parts:
+        doc["pruning"] = [{"system": s, "scene": c, **by_task[f"pruning {s}/{c}"]} for s, c in cases]
+    if eval_systems:
+        rows = [{"system": s, **by_task[f"evaluation cost {s}"]} for s in eval_systems]
+        doc["evaluation"] = {"states": 10_000, "systems": rows}
+    if "derivation" in parts:
+        _log("bench: derivation cost of n-link chains …")
+        ns, timeout = (range(1, 3), 30.0) if quick else (range(1, 9), 120.0)
+        doc["derivation"] = derivation.run(ns, timeout)
+    if Path(__file__).with_name("lightweight_robot.py").exists() and (not systems or "lightweight_robot" in systems):
+        _log("bench: lightweight_robot …")
+        try:
+            doc["lightweight_robot"] = importlib.import_module("harness.bench.lightweight_robot").run(quick=quick)
+        except Exception as exc:  # noqa: BLE001 - its failure is reported, the rest is kept
+            doc["lightweight_robot"] = {"error": f"{type(exc).__name__}: {exc}"}
+    doc["machine"]["loadavg_end"] = os.getloadavg()
+    doc["seconds"] = time.perf_counter() - started
+    doc["goals"] = report.goals(doc)
+    figures.draw_all(doc, out)
+    atomic_write_text(out / "bench.json", json.dumps(_finite(doc), indent=1) + "\n")
+    atomic_write_text(out / "bench.md", report.markdown(doc))
+    _log(f"bench: wrote {out / 'bench.json'}, {out / 'bench.md'} and {out / 'bench'}/*.svg "
+         f"in {doc['seconds']:.0f} s")
+    return doc
+
+
+def render(out="reports") -> dict:
+    """Redraw ``bench.md`` and the figures from an existing ``out/bench.json`` (goals recomputed)."""
+    from harness.bench import figures, report
+
+    path = Path(out) / "bench.json"
+    if not path.exists():
+        raise InputError(f"{path}: no such file (run `harness bench` first)")
+    try:
+        doc = _infinite(json.loads(path.read_text()))
+    except ValueError as exc:
+        raise InputError(f"{path}: not a bench.json ({exc})") from None
+    doc["goals"] = report.goals(doc)
+    figures.draw_all(doc, Path(out))
+    atomic_write_text(path, json.dumps(_finite(doc), indent=1) + "\n")
+    atomic_write_text(Path(out) / "bench.md", report.markdown(doc))
+    return doc
+
+
+def _infinite(obj):
+    """The inverse of :func:`_finite`."""
+    if obj in ("inf", "-inf", "nan"):
+        return float(obj)
+    if isinstance(obj, dict):
+        return {k: _infinite(v) for k, v in obj.items()}
+    if isinstance(obj, list):
+        return [_infinite(v) for v in obj]
+    return obj
+
+
+def _workprecision(cases, by_task, grid: wp.Grid, scheduler, workers, out: Path) -> dict:
+    configs = wp.configurations(grid)
+    tasks, scenes = [], []
+    for s, c in cases:
+        ref = by_task[f"reference {s}/{c}"]
+        meta = {k: v for k, v in ref.items() if k not in ("t", "q", "qd")}
+        scenes.append({"system": s, "scene": c, "reference": meta})
+        if "t" not in ref:  # skipped (structural change) or failed: reported, not swept
+            continue
+        reference = {k: ref[k] for k in ("t", "q", "qd")}
+        for engine, method, setting in configs:
+            tasks.append(Task("harness.bench.workprecision:run_task",
+                              {"system": s, "scene": c, "engine": engine, "method": method, "setting": setting,
+                               "repeats": grid.repeats, "budget": grid.budget, "reference": reference},
+                              f"{s}/{c} {engine} {method} {setting:g}"))
+    _log(f"bench: work-precision sweep, {len(tasks)} runs over {len(cases)} scenes …")
+    results = run_tasks(tasks, scheduler=scheduler, workers=workers)
+    runs: dict = {}
+    for task, r in zip(tasks, results):
+        key = (task.args["system"], task.args["scene"])
+        base = {k: task.args[k] for k in ("engine", "method")}
+        runs.setdefault(key, []).append({**base, **{k: v for k, v in r.items() if k not in ("system", "scene")}})
+    for entry in scenes:
+        key = (entry["system"], entry["scene"])
+        ref = entry.pop("reference")
+        for k in ("description", "horizon", "effects", "params"):
+            if k in ref:
+                entry[k] = ref.pop(k)
+        ref.pop("system", None), ref.pop("scene", None)
+        entry["reference"] = ref
+        entry["runs"] = runs.get(key, [])
+        entry["summary"] = wp.summarize_scene(entry["runs"])
+        entry["figure"] = f"bench/{entry['system']}-{entry['scene']}.svg" if entry["runs"] else None
+    return {"accuracy": wp.ACCURACY, "grid": {"rtols": list(grid.rtols), "fixed_k": list(grid.fixed_k),
+                                              "mujoco_k": list(grid.mujoco_k), "repeats": grid.repeats,
+                                              "budget": grid.budget,
+                                              "pinocchio_methods": list(grid.pinocchio_methods)},
+            "scenes": scenes}
+
+
+def _finite(obj):
+    """JSON has no infinity: ``inf`` becomes the string ``"inf"``."""
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return "inf" if obj > 0 else ("-inf" if obj < 0 else "nan")
+    if isinstance(obj, dict):
+        return {k: _finite(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_finite(v) for v in obj]
+    return obj

@@ -1,0 +1,161 @@
+"""Evaluation cost of ``M``, ``C·q̇``, ``g`` and ``q̈`` per state, all measured in one process and one run.
+
+* **symbolic, one call**: the lambdified functions of :mod:`harness.compile` called directly at one state
+  (``C·q̇`` is the compiled Christoffel ``C`` times ``q̇``; ``q̈`` is :meth:`CompiledModel.forward_dynamics`); the
+  cost of the convenience wrapper ``CompiledModel.__call__`` is reported beside it (where the time goes).
+* **symbolic, batched**: :meth:`CompiledModel.batched` over ``N`` states (default 10⁴), time divided by ``N``.
+* **Pinocchio, per call**: ``crba`` (M), ``nonLinearEffects`` (C·q̇ + g; C·q̇ needs it *and* the next),
+  ``computeGeneralizedGravity`` (g), ``aba`` (q̈), on the model loaded from our URDF, in tree coordinates.
+* **where q̈'s time goes**: the compiled ``f_np`` call, the regularity check of ``M`` and the solve, each per call;
+  and one *fused* lambdified function returning ``M`` and ``f_np − C q̇ − g`` together (shared subexpressions),
+  then the solve — what a single compiled q̈ would cost (measured, not used by the harness); the same with
+  Python's ``math`` on plain floats instead of NumPy scalars (``qdd_math_scalars``; ``call_math_scalars``
+  without the solve).
+* **MuJoCo, per call**: ``mj_fwdPosition + mj_fullM`` (M), ``mj_fwdPosition + mj_fwdVelocity`` (``qfrc_bias``
+  = C·q̇ + g), ``mj_forward`` (q̈).
+
+Each time is the median over 5 repeats of a loop long enough to take ≳ 20 ms. The goals of the issue compare the
+sum ``M + C·q̇ + g``: batched compiled per state ≤ 0.2 × Pinocchio per call, one compiled call ≤ 2 ×.
+"""
+
+from __future__ import annotations
+
+import statistics
+import timeit
+
+import mujoco
+import numpy as np
+import pinocchio as pin
+import sympy as sp
+
+import models
+from harness.compile import check_regular, compiled
+from harness.engines.mujoco_engine import MujocoModel
+from harness.engines.pinocchio_engine import PinocchioModel
+from harness.export.numeric import instantiate
+
+GOAL_BATCHED = 0.2
+GOAL_ONE_CALL = 2.0
+QUICK = ("pendulum", "planar_manipulator", "planar_robot")     # --quick: a representative set
+
+
+def per_call(fn, min_seconds: float = 0.02, repeats: int = 5) -> float:
+    """Median seconds per call of ``fn()``."""
+    timer = timeit.Timer(fn)
+    number = 1
+    while timer.timeit(number) < min_seconds and number < 10**6:
+        number *= 4
+    return statistics.median(timer.repeat(repeats, number)) / number
+
+
+def measure(system: str, states: int = 10_000, seed: int = 0) -> dict:
+    """Every time of the module docstring for one system (seconds per state)."""
+    s = models.get(system)
+    c = compiled(s)
+    n, m = len(s.q), len(s.u)
+    params = s.default_parameters()
+    p = np.array(list(params.values()))
+    rng = np.random.default_rng(seed)
+    Q, QD = rng.uniform(-1, 1, (states, n)), rng.uniform(-1, 1, (states, n))
+    U = np.zeros((states, m))
+    q, qd, u = Q[0], QD[0], U[0]
+    f = c._functions
+    out: dict = {"system": system, "dof": n, "states": states, "symbolic": {}, "symbolic_wrapper": {},
+                 "symbolic_batched": {}}
+    sym = out["symbolic"]
+    sym["M"] = per_call(lambda: f["M"](q, qd, p, u))
+    sym["Cqd"] = per_call(lambda: f["C"](q, qd, p, u) @ qd)
+    sym["g"] = per_call(lambda: f["g"](q, qd, p, u))
+    sym["qdd"] = per_call(lambda: c.forward_dynamics(q, qd, p, u))
+    # where the time of one q̈ goes: the four compiled calls, the check of M's regularity, the solve; and what one
+    # fused function (M and the right-hand side of (5.93) with shared subexpressions) would cost
+    M0 = f["M"](q, qd, p, u)
+    out["qdd_parts"] = {"f_np": per_call(lambda: f["f_np"](q, qd, p, u)),
+                        "check_regular": per_call(lambda: check_regular(s, M0, q)),
+                        "solve": per_call(lambda: np.linalg.solve(M0, np.ones(n)))}
+    d = c.derivation
+    fused = sp.lambdify([s.q, s.qd, s.p, s.u], [d.M, d.f_np - d.C * sp.Matrix(s.qd) - d.g], modules="numpy",
+                        cse=True, docstring_limit=0)
+
+    def fused_qdd():
+        M, rhs = fused(q, qd, p, u)
+        return np.linalg.solve(M, rhs)
+
+    fused_math = sp.lambdify([s.q, s.qd, s.p, s.u], [d.M, d.f_np - d.C * sp.Matrix(s.qd) - d.g],
+                             modules=["math", "numpy"], cse=True, docstring_limit=0)
+    ql, qdl, pl, ul = q.tolist(), qd.tolist(), p.tolist(), u.tolist()
+
+    def fused_math_qdd():
+        M, rhs = fused_math(ql, qdl, pl, ul)
+        return np.linalg.solve(M, rhs)
+
+    for fn in (fused_qdd, fused_math_qdd):
+        assert np.allclose(fn().ravel(), c.forward_dynamics(q, qd, p, u), rtol=1e-12, atol=1e-12)
+    out["symbolic_fused"] = {"qdd": per_call(fused_qdd), "qdd_math_scalars": per_call(fused_math_qdd),
+                             "call_math_scalars": per_call(lambda: fused_math(ql, qdl, pl, ul))}
+    wrap = out["symbolic_wrapper"]
+    wrap["M"] = per_call(lambda: c("M", q, qd, p, u))
+    wrap["Cqd"] = per_call(lambda: c("C", q, qd, p, u) @ qd)
+    wrap["g"] = per_call(lambda: c("g", q, qd, p, u))
+    bat = out["symbolic_batched"]
+    for key, fn in (("M", lambda: c.batched("M", Q, QD, p, U)),
+                    ("Cqd", lambda: np.einsum("nij,nj->ni", c.batched("C", Q, QD, p, U), QD)),
+                    ("g", lambda: c.batched("g", Q, QD, p, U)),
+                    ("qdd", lambda: c.batched_forward_dynamics(Q, QD, p, U))):
+        fn()  # compiles the batched function once, untimed
+        bat[key] = per_call(fn, repeats=3) / states
+    for engine, note in (("pinocchio", s.engine_note("pinocchio")), ("mujoco", s.engine_note("mujoco"))):
+        if note:
+            out[engine] = {"skipped": note}
+    tree = instantiate(s, params)
+    theta = np.asarray(c("phi", q, qd, p, u), dtype=float).ravel()
+    theta_dot = np.asarray(c("J_phi", q, qd, p, u), dtype=float) @ qd
+    if "pinocchio" not in out:
+        pm = PinocchioModel(tree)
+        model, data = pm.model, pm.data
+        pq, pv = pm.to_pin(theta), pm.to_pin(theta_dot)
+        tau = np.zeros(model.nv)
+        out["pinocchio"] = {"M": per_call(lambda: pin.crba(model, data, pq)),
+                            "nle": per_call(lambda: pin.nonLinearEffects(model, data, pq, pv)),
+                            "g": per_call(lambda: pin.computeGeneralizedGravity(model, data, pq)),
+                            "qdd": per_call(lambda: pin.aba(model, data, pq, pv, tau))}
+        out["pinocchio"]["Cqd"] = out["pinocchio"]["nle"] + out["pinocchio"]["g"]
+    if "mujoco" not in out:
+        mm = MujocoModel(tree)
+        mj, d = mm.model, mm.data
+        d.qpos[mm.qpos_index], d.qvel[mm.dof_index] = theta, theta_dot
+        dense = np.zeros((mj.nv, mj.nv))
+
+        def mass():
+            mujoco.mj_fwdPosition(mj, d)
+            mujoco.mj_fullM(mj, d, dense)
+
+        def bias():
+            mujoco.mj_fwdPosition(mj, d)
+            mujoco.mj_fwdVelocity(mj, d)
+
+        out["mujoco"] = {"M": per_call(mass), "bias": per_call(bias),
+                         "qdd": per_call(lambda: mujoco.mj_forward(mj, d))}
+    _ratios(out)
+    return out
+
+
+def _ratios(out: dict) -> None:
+    """The goals: (M + C·q̇ + g) of ours against Pinocchio's three calls."""
+    if "M" not in out.get("pinocchio", {}):
+        return
+    pin_sum = out["pinocchio"]["M"] + out["pinocchio"]["nle"] + out["pinocchio"]["g"]
+    one = sum(out["symbolic"][k] for k in ("M", "Cqd", "g"))
+    batched = sum(out["symbolic_batched"][k] for k in ("M", "Cqd", "g"))
+    out["ratios"] = {"one_call_vs_pinocchio": one / pin_sum, "batched_vs_pinocchio": batched / pin_sum,
+                     "qdd_one_call_vs_aba": out["symbolic"]["qdd"] / out["pinocchio"]["qdd"],
+                     "qdd_batched_vs_aba": out["symbolic_batched"]["qdd"] / out["pinocchio"]["qdd"],
+                     "one_call_goal": GOAL_ONE_CALL, "batched_goal": GOAL_BATCHED,
+                     "one_call_met": one / pin_sum <= GOAL_ONE_CALL, "batched_met": batched / pin_sum <= GOAL_BATCHED}
+    out["ratios"]["qdd_fused_vs_aba"] = out["symbolic_fused"]["qdd"] / out["pinocchio"]["qdd"]
+    if "qdd" in out.get("mujoco", {}):
+        out["ratios"]["qdd_one_call_vs_mj_forward"] = out["symbolic"]["qdd"] / out["mujoco"]["qdd"]
+
+
+def task(system: str, states: int = 10_000) -> dict:
+    return measure(system, states)

@@ -1,0 +1,203 @@
+"""The goals of the benchmark, measured either way, and the headline Markdown (``bench.md``)."""
+
+from __future__ import annotations
+
+import math
+
+from harness.bench import derivation, evalcost, workprecision as wp
+
+
+def _num(x):
+    return x if isinstance(x, (int, float)) and math.isfinite(x) else None
+
+
+def goals(doc: dict) -> list[dict]:
+    out = []
+    rows = [r for r in doc.get("evaluation", {}).get("systems", []) if "ratios" in r]
+    if rows:
+        for key, target, what in (("batched_vs_pinocchio", evalcost.GOAL_BATCHED,
+                                   "batched compiled M, C·q̇, g per state vs Pinocchio per call"),
+                                  ("one_call_vs_pinocchio", evalcost.GOAL_ONE_CALL,
+                                   "one compiled call of M, C·q̇, g vs Pinocchio per call")):
+            worst = max(rows, key=lambda r: r["ratios"][key])
+            ratio = worst["ratios"][key]
+            where = (f"worst {worst['system']} ({worst['dof']} dof); range "
+                     f"{min(r['ratios'][key] for r in rows):.3g} … {ratio:.3g} over {len(rows)} systems")
+            if ratio > target:
+                sym = worst["symbolic"]
+                pin = worst["pinocchio"]
+                if key == "one_call_vs_pinocchio":
+                    where += (f". Per call: our lambdified M {sym['M'] * 1e6:.1f} µs, C·q̇ {sym['Cqd'] * 1e6:.1f} µs, "
+                              f"g {sym['g'] * 1e6:.1f} µs (a Python function building a nested NumPy array) "
+                              f"vs crba {pin['M'] * 1e6:.2f} µs, nonLinearEffects {pin['nle'] * 1e6:.2f} µs, "
+                              f"computeGeneralizedGravity {pin['g'] * 1e6:.2f} µs (C++)")
+                    fused = worst.get("symbolic_fused")
+                    if fused:
+                        where += (f". One fused function of M and f_np − C·q̇ − g on plain floats (Python math) takes "
+                                  f"{fused['call_math_scalars'] * 1e6:.1f} µs, {fused['qdd_math_scalars'] * 1e6:.1f} µs "
+                                  f"with the solve of q̈, against {sym['qdd'] * 1e6:.1f} µs for the harness's q̈")
+                else:
+                    bat = worst["symbolic_batched"]
+                    where += (f". Per state: M {bat['M'] * 1e9:.0f} ns, C·q̇ {bat['Cqd'] * 1e9:.0f} ns, "
+                              f"g {bat['g'] * 1e9:.0f} ns")
+            out.append({"goal": what, "target": f"≤ {target:g} ×", "measured": ratio, "met": ratio <= target,
+                        "where": where})
+    d = doc.get("derivation")
+    if d:
+        row = next((r for r in d["rows"] if r["n"] == d["goal_n"]), None)
+        measured = d.get("goal_ratio")
+        if row is None:
+            where = f"n = {d['goal_n']} not run"
+        elif measured is None:
+            where = "; ".join(f"{side} at n = {d['goal_n']}: " +
+                              (f"did not finish in {row[side]['timeout']:g} s" if "timeout" in row[side]
+                               else row[side].get("error", f"{_seconds(row[side])}"))
+                              for side in ("ours", "mechanics"))
+        else:
+            o = row["ours"]
+            where = (f"ours {o['cold_seconds']:.1f} s = derivation {o['derivation_seconds']:.1f} s (of which "
+                     f"simplification {o['simplify_seconds']:.1f} s) + writing the cache entry "
+                     f"{o.get('store_seconds', float('nan')):.1f} s; mechanics {row['mechanics']['seconds']:.1f} s; "
+                     f"derivation alone {row['ratio_derivation_only']:.2g} ×; cached "
+                     f"{'read back' if o.get('cache_reused') else 'not read back (re-derived)'} in "
+                     f"{o['cached_seconds']:.1f} s; count_ops(M) {o['count_ops_M']} vs {row['mechanics']['count_ops_M']}")
+        last = [r for r in d["rows"] if "cold_seconds" in r["ours"] and "seconds" in r["mechanics"]]
+        if measured is None and last:
+            r = last[-1]
+            o = r["ours"]
+            where += (f"; largest n both finished: n = {r['n']}, ratio {r['ratio_cold']:.3g} (ours "
+                      f"{o['cold_seconds']:.1f} s, of which simplification {o['simplify_seconds']:.1f} s; mechanics "
+                      f"{r['mechanics']['seconds']:.1f} s; count_ops(M) {o['count_ops_M']} vs "
+                      f"{r['mechanics']['count_ops_M']})")
+        out.append({"goal": f"derivation vs sympy.physics.mechanics at n = {d['goal_n']} (cold)",
+                    "target": f"≤ {derivation.GOAL:g} ×", "measured": measured, "met": d.get("goal_met"),
+                    "where": where})
+    scenes = doc.get("workprecision", {}).get("scenes", [])
+    ratios = [(s, s["summary"]["symbolic_vs_fastest_engine"]) for s in scenes
+              if "symbolic_vs_fastest_engine" in s.get("summary", {})]
+    if ratios:
+        worst_scene, worst = max(ratios, key=lambda x: x[1]["ratio"])
+        missed = [f"{s['system']}/{s['scene']} {r['ratio']:.2g} × (vs {r['fastest_engine_configuration']})"
+                  for s, r in ratios if r["ratio"] > 1]
+        fast = worst_scene["summary"]["fastest_at_accuracy"]
+        sym = fast["symbolic"]
+        other = min((v for k, v in fast.items() if k != "symbolic" and v), key=lambda v: v["seconds"])
+        where = (f"{len(ratios) - len(missed)} of {len(ratios)} scenes met" +
+                 (f"; missed: {'; '.join(missed)}. Worst: ours {sym['configuration']} "
+                  f"{sym['evaluations']} evaluations × {sym['seconds'] / max(sym['evaluations'], 1) * 1e6:.0f} µs vs "
+                  f"{other['configuration']} {other['evaluations']} × "
+                  f"{other['seconds'] / max(other['evaluations'], 1) * 1e6:.1f} µs" if missed else ""))
+        out.append({"goal": f"symbolic path at {wp.ACCURACY:g} accuracy vs the fastest engine configuration "
+                            "(worst scene)", "target": "≤ 1 ×", "measured": worst["ratio"],
+                    "met": worst["ratio"] <= 1, "where": where})
+    return out
+
+
+def _seconds(side: dict) -> str:
+    value = side.get("cold_seconds", side.get("seconds"))
+    return f"{value:.1f} s" if value is not None else "?"
+
+
+def _fmt(x, unit=""):
+    if x is None:
+        return "—"
+    if isinstance(x, str):
+        return x
+    return f"{x:.3g}{unit}"
+
+
+def markdown(doc: dict) -> str:
+    load = doc["machine"]
+    lines = ["# Benchmarks: what accuracy costs in time", "",
+             f"Generated by `{doc['command']}` on {doc['generated']} ({'quick' if doc['quick'] else 'full'} run, "
+             f"{doc['seconds']:.0f} s; {load['cpus']} CPUs, load average "
+             f"{' / '.join(f'{x:.2f}' for x in load['loadavg_start'])} at the start, "
+             f"{' / '.join(f'{x:.2f}' for x in load['loadavg_end'])} at the end — wall times depend on the load, "
+             "ratios are measured in the same process and run).", "",
+             "## Goals", "", "| goal | target | measured | met | where the time goes |", "|---|---|---|---|---|"]
+    for g in doc.get("goals", []):
+        met = "—" if g["met"] is None else ("yes" if g["met"] else "**no**")
+        lines.append(f"| {g['goal']} | {g['target']} | {_fmt(_num(g['measured']), ' ×')} | {met} | {g['where']} |")
+    wpd = doc.get("workprecision")
+    if wpd:
+        lines += ["", f"## Work-precision: fastest configuration per engine reaching {wpd['accuracy']:g}", "",
+                  "Error: largest state difference at the 201 sample times against the reference, relative to the "
+                  "state's scale. Time: median wall time of the run. Figures: `bench/<system>-<scene>.svg`.", "",
+                  "| scene | reference (DOP853 1e-12 vs Radau 1e-12) | symbolic | pinocchio | mujoco (mj_step) | "
+                  "symbolic / fastest engine |", "|---|---|---|---|---|---|"]
+        for s in wpd["scenes"]:
+            ref = s["reference"]
+            agreement = (f"{ref['agreement']:.1e} {'ok' if ref['confirmed'] else '**not confirmed**'}"
+                         if "agreement" in ref else ref.get("skipped") or ref.get("error", "—"))
+            fast = s.get("summary", {}).get("fastest_at_accuracy", {})
+            cells = []
+            for engine in ("symbolic", "pinocchio", "mujoco"):
+                f = fast.get(engine)
+                skipped = next((r["skipped"] for r in s.get("runs", []) if r["engine"] == engine and "skipped" in r
+                                and "budget" not in r["skipped"]), None)
+                cells.append(f"{f['configuration'].split(' ', 1)[1]}: {f['seconds'] * 1e3:.3g} ms, "
+                             f"{f['evaluations']} evals" if f else ("n/a" if skipped else "not reached"))
+            ratio = s.get("summary", {}).get("symbolic_vs_fastest_engine")
+            lines.append(f"| {s['system']}/{s['scene']} | {agreement} | {' | '.join(cells)} | "
+                         f"{_fmt(ratio['ratio'] if ratio else None, ' ×')} |")
+    ev = doc.get("evaluation")
+    if ev:
+        lines += ["", f"## Evaluation cost per state (µs; batched over {ev['states']} states)", "",
+                  "| system | dof | ours M+C·q̇+g one call | ours batched | Pinocchio crba+nle+g | ratio one call | "
+                  "ratio batched | ours q̈ one call | ours q̈ batched | pin.aba | mj_forward |",
+                  "|---|---|---|---|---|---|---|---|---|---|---|"]
+        for r in ev["systems"]:
+            if "symbolic" not in r:
+                lines.append(f"| {r['system']} | — | {r.get('error', '—')} |||||||||")
+                continue
+            sym, bat = r["symbolic"], r["symbolic_batched"]
+            pin, mj, ratios = r.get("pinocchio", {}), r.get("mujoco", {}), r.get("ratios", {})
+            one = sum(sym[k] for k in ("M", "Cqd", "g"))
+            batched = sum(bat[k] for k in ("M", "Cqd", "g"))
+            pin_sum = pin["M"] + pin["nle"] + pin["g"] if "M" in pin else None
+            lines.append(" | ".join([f"| {r['system']}", str(r["dof"]), _fmt(one * 1e6), _fmt(batched * 1e6),
+                                     _fmt(pin_sum * 1e6 if pin_sum else None),
+                                     _fmt(ratios.get("one_call_vs_pinocchio")), _fmt(ratios.get("batched_vs_pinocchio")),
+                                     _fmt(sym["qdd"] * 1e6), _fmt(bat["qdd"] * 1e6),
+                                     _fmt(pin["qdd"] * 1e6 if "qdd" in pin else None),
+                                     _fmt(mj["qdd"] * 1e6 if "qdd" in mj else None)]) + " |")
+    d = doc.get("derivation")
+    if d:
+        lines += ["", "## Derivation cost: n-link planar chains (s; count_ops of M)", "",
+                  "`ours cold` = derivation (of which simplification) + writing the cache entry; `ours cached` = the "
+                  "second derive, read from the cache (or re-derived when the entry is not read back)."
+                  + (f" Note: {d['note']}." if d.get("note") else ""), "",
+                  "| n | ours cold | derivation | of which simplification | ours cached | cache read back | "
+                  "sympy.physics.mechanics | ratio cold | ratio derivation alone | ratio cached | count_ops(M) ours | "
+                  "mechanics |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+        for r in d["rows"]:
+            o, m = r["ours"], r["mechanics"]
+
+            def cell(side, key):
+                if "timeout" in side:
+                    return f"> {side['timeout']:g} (time-out)"
+                return _fmt(side.get(key)) if key in side else side.get("error", "—")
+
+            reused = {True: "yes", False: "**no**"}.get(o.get("cache_reused"), "—")
+            lines.append(f"| {r['n']} | {cell(o, 'cold_seconds')} | {cell(o, 'derivation_seconds')} | "
+                         f"{cell(o, 'simplify_seconds')} | {cell(o, 'cached_seconds')} | {reused} | "
+                         f"{cell(m, 'seconds')} | {_fmt(r.get('ratio_cold'))} | {_fmt(r.get('ratio_derivation_only'))} | "
+                         f"{_fmt(r.get('ratio_cached'))} | {cell(o, 'count_ops_M')} | {cell(m, 'count_ops_M')} |")
+    pr = doc.get("pruning")
+    if pr:
+        lines += ["", "## Effect pruning (symbolic path, DOP853 1e-10): all effects on but idle / pruned", "",
+                  "Both take the same steps (same evaluations, same trajectory); the speed-up is the cost of the idle "
+                  "terms per evaluation, and within the timing noise of a loaded machine where it is near 1.", "",
+                  "| scene | pruned (s) | idle (s) | speed-up | same trajectory (error) |", "|---|---|---|---|---|"]
+        for r in pr:
+            if "speedup" in r:
+                lines.append(f"| {r['system']}/{r['scene']} | {r['pruned_seconds']:.3g} | {r['idle_seconds']:.3g} | "
+                             f"{r['speedup']:.2f} × | {r['same_trajectory_error']:.1e} |")
+            else:
+                lines.append(f"| {r['system']}/{r['scene']} | {r.get('skipped', r.get('error', '—'))} ||||")
+    lwr = doc.get("lightweight_robot")
+    if lwr:
+        lines += ["", "## lightweight_robot", "", "See `bench.json` → `lightweight_robot`."
+                  + (f" Error: {lwr['error']}" if "error" in lwr else "")]
+    lines += ["", "Versions: " + ", ".join(f"{k} {v}" for k, v in doc["versions"].items()), ""]
+    return "\n".join(lines)

@@ -1,0 +1,324 @@
+"""Work-precision of the scenes: error against a reference versus wall time and right-hand-side evaluations.
+
+* **reference** (per scene): our symbolic model, DOP853 at ``rtol = atol = 1e-12``, confirmed by Radau at the
+  same tolerance (:data:`harness.simulate.REFERENCE`, the check of :mod:`harness.trajectories`): both must
+  agree to :data:`harness.trajectories.REFERENCE_TOL`.
+* **configurations**: ``symbolic`` and ``pinocchio`` (q̈ from :class:`harness.simulate.Dynamics`) with scipy's
+  RK45, DOP853, Radau, LSODA over ``rtol`` (``atol = rtol``); ``pinocchio`` also with fixed-step classical RK4
+  and semi-implicit (symplectic) Euler; ``mujoco`` with its own integrators (``mj_step``: Euler, implicitfast,
+  implicit, RK4) over time steps. Fixed steps are ``Δ/k`` with ``Δ`` the sample spacing of the scene
+  (:func:`harness.simulate.sample_times`), so that every run is sampled at the same times.
+* **error**: :func:`harness.simulate.max_error` (largest state difference at the 201 sample times, relative to
+  the state's scale, at least 1); a run that diverges or fails has error ``inf`` and a note.
+* **cost**: the median wall time of repeated runs (the model is built before the clock starts) and the number of
+  right-hand-side evaluations (``q̈`` calls; a MuJoCo step counts its integrator's stages: 4 for RK4, 1 otherwise).
+* **stiff variants**: :data:`STIFF` scales a stiffness of a scene by a factor via the scene's parameters.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import statistics
+import time
+
+import numpy as np
+
+import models
+from harness import simulate as sim
+from harness.scenes import Scene, with_idle_effects
+from harness.trajectories import REFERENCE_TOL
+
+SCIPY_METHODS = ("RK45", "DOP853", "Radau", "LSODA")
+FIXED_METHODS = ("RK4", "semi-implicit Euler")
+MUJOCO_INTEGRATORS = ("Euler", "implicitfast", "implicit", "RK4")
+ACCURACY = 1e-6           # the accuracy at which the engines are compared (the issue's goal)
+STRUCTURAL = ("structural change (events switch the equations, harness.structural): not a smooth initial value "
+              "problem for a fixed integrator sweep")
+_STAGES = {"RK4": 4, "semi-implicit Euler": 1, "Euler": 1, "implicitfast": 1, "implicit": 1}
+
+
+@dataclasses.dataclass(frozen=True)
+class Stiff:
+    """A stiff variant of a scene: parameters scaled by ``factors``, started from the rest state
+    ``rest(params)`` of the stiffer model (else the fast mode starts fully excited)."""
+
+    scene: str
+    factors: tuple        # ((parameter, factor), ...)
+    rest: object = None   # params -> q0
+
+    @property
+    def label(self) -> str:
+        return self.scene + "".join(f"_{p}_x{f:g}" for p, f in self.factors)
+
+
+def _quarter_car_rest(p: dict) -> tuple:
+    """Static deflections (A.41), (A.42) for x_U = 0."""
+    x_R = -(p["m_A"] + p["m_R"]) * p["g"] / p["c_R"]
+    return (x_R, x_R - p["m_A"] * p["g"] / p["c_A"])
+
+
+# The tyre 1000 times stiffer *and* 1000 times more damped: a fast (≈ 360 Hz), well damped (ζ ≈ 0.56) tyre mode
+# beside the slow body mode, the classic stiff case (explicit methods are held to the fast mode's stability
+# limit, implicit ones are not). Stiffness alone (ζ ≈ 6e-4) gives a lightly damped 360 Hz oscillation that
+# every method has to resolve: not stiff, only oscillatory.
+STIFF = {"quarter_car": [Stiff("bump", (("c_R", 1000.0), ("d_R", 1000.0)), _quarter_car_rest)]}
+
+
+@dataclasses.dataclass(frozen=True)
+class Grid:
+    """The sweep: tolerances of the adaptive methods, fixed-step refinements ``k`` (``dt = Δ/k``)."""
+
+    rtols: tuple
+    fixed_k: tuple
+    mujoco_k: tuple
+    repeats: int
+    budget: int          # right-hand-side evaluations a single run may spend before it is abandoned
+    pinocchio_methods: tuple = SCIPY_METHODS
+
+    @staticmethod
+    def make(quick: bool) -> "Grid":
+        if quick:
+            return Grid((1e-4, 1e-7), (1, 4), (1, 4, 16), 1, 10_000, ("DOP853", "LSODA"))
+        return Grid(tuple(10.0 ** -e for e in range(3, 13)), (1, 2, 4, 8, 16, 32),
+                    (1, 2, 4, 8, 16, 32, 64, 128, 256), 3, 60_000)
+
+    def settings(self, engine: str, method: str) -> tuple:
+        """Pinocchio's q̈ equals ours to round-off, so a scipy method takes the same steps with either: its
+        error and evaluations repeat ours and only the time per evaluation differs. In the full grid Pinocchio
+        runs every other tolerance (the full set for ours) to halve the sweep."""
+        if engine == "pinocchio" and method in SCIPY_METHODS and len(self.rtols) > 4:
+            return self.rtols[::2]
+        return self.rtols
+
+
+# --------------------------------------------------------------------------- scenes (with stiff variants)
+def scene_cases(systems=None) -> list[tuple[str, str]]:
+    """``(system, scene label)`` of every scene of the catalogue (or of ``systems``), stiff variants after."""
+    names = systems or list(models.catalogue())
+    out = []
+    for name in names:
+        labels = [s.name for s in models.scenes(name)]
+        out += [(name, label) for label in labels]
+        out += [(name, v.label) for v in STIFF.get(name, []) if v.scene in labels]
+    return out
+
+
+def get_scene(system_name: str, label: str):
+    system = models.get(system_name)
+    by_name = {s.name: s for s in models.scenes(system_name)}
+    if label in by_name:
+        return system, by_name[label]
+    for v in STIFF.get(system_name, []):
+        if v.label == label:
+            base = by_name[v.scene]
+            params = {**system.default_parameters(), **base.params}
+            for name, factor in v.factors:
+                params[name] *= factor
+            q0 = tuple(v.rest(params)) if v.rest else base.q0
+            scaled = ", ".join(f"{name} × {factor:g}" for name, factor in v.factors)
+            return system, dataclasses.replace(
+                base, name=label, q0=q0, params={**base.params, **{name: params[name] for name, _ in v.factors}},
+                description=f"{base.description} — stiff: {scaled}, from its rest state")
+    raise KeyError(f"{system_name}: no scene {label!r}")
+
+
+def _trajectory(source, t, q, qd, seconds=0.0, evaluations=0) -> sim.Trajectory:
+    return sim.Trajectory(source, np.asarray(t), np.asarray(q), np.asarray(qd), seconds, evaluations)
+
+
+# --------------------------------------------------------------------------- tasks (run in workers)
+def reference_task(system: str, scene: str) -> dict:
+    """The reference trajectory (DOP853 1e-12), confirmed by Radau 1e-12."""
+    s, sc = get_scene(system, scene)
+    if sc.events:
+        return {"system": system, "scene": scene, "description": sc.description, "skipped": STRUCTURAL}
+    kw = {k: v for k, v in sim.REFERENCE.items() if k != "method"}
+    ref = sim.integrate(s, sc, "symbolic", method=sim.REFERENCE["method"], **kw)
+    radau = sim.integrate(s, sc, "symbolic", method="Radau", **kw)
+    agreement = sim.max_error(radau, ref)
+    return {"system": system, "scene": scene, "description": sc.description, "horizon": sc.horizon,
+            "effects": sorted(sc.effects), "params": dict(sc.params),
+            "method": f"{sim.REFERENCE['method']} rtol=atol={sim.REFERENCE['rtol']:g}",
+            "confirmed_by": "Radau rtol=atol=1e-12", "agreement": agreement, "tolerance": REFERENCE_TOL,
+            "confirmed": agreement <= REFERENCE_TOL, "seconds": ref.seconds, "evaluations": ref.evaluations,
+            "radau_seconds": radau.seconds, "radau_evaluations": radau.evaluations,
+            "t": ref.t.tolist(), "q": ref.q.tolist(), "qd": ref.qd.tolist()}
+
+
+class _Budget(Exception):
+    pass
+
+
+def _not_applicable(s, engine: str) -> str | None:
+    return s.engine_note(engine)
+
+
+def run_task(system: str, scene: str, engine: str, method: str, setting: float, repeats: int, budget: int,
+             reference: dict) -> dict:
+    """One configuration: ``setting`` is ``rtol`` (adaptive) or ``k`` (fixed step ``dt = Δ/k``)."""
+    s, sc = get_scene(system, scene)
+    adaptive = method in SCIPY_METHODS and engine != "mujoco"
+    out = {"system": system, "scene": scene, "engine": engine, "method": method,
+           "rtol": setting if adaptive else None,
+           "dt": None if adaptive else sc.horizon / (len(reference["t"]) - 1) / setting}
+    note = _not_applicable(s, engine)
+    if note:
+        return {**out, "skipped": note}
+    ref = _trajectory("reference", reference["t"], reference["q"], reference["qd"])
+    if not adaptive and engine != "mujoco":
+        steps = int(setting) * (len(reference["t"]) - 1) * _STAGES[method]
+        if steps > budget:
+            return {**out, "skipped": f"over the budget of {budget} evaluations ({steps})"}
+    times, first = [], None
+    for _ in range(max(1, repeats)):
+        try:
+            tr = _one_run(s, sc, engine, method, setting, out["dt"], budget, reference["t"])
+        except ValueError as exc:  # MuJoCo's own integrator does not apply
+            return {**out, "skipped": str(exc)}
+        except _Budget:
+            return {**out, "skipped": f"over the budget of {budget} evaluations"}
+        except (RuntimeError, FloatingPointError, np.linalg.LinAlgError) as exc:
+            return {**out, "error": math.inf, "failed": str(exc).splitlines()[0][:200]}
+        times.append(tr.seconds)
+        first = first or tr
+        if sum(times) > 1.0:  # long runs: fewer repeats
+            break
+    err = sim.max_error(first, ref) if np.all(np.isfinite(first.q)) and np.all(np.isfinite(first.qd)) else math.inf
+    if not err <= 1.0:  # larger than the state's own scale: beyond the method's stability limit
+        out["failed"] = "diverged"
+    return {**out, "error": err, "seconds": statistics.median(times), "repeats": len(times),
+            "seconds_all": times, "evaluations": first.evaluations}
+
+
+def _one_run(s, sc: Scene, engine, method, setting, dt, budget, t_eval) -> sim.Trajectory:
+    t_eval = np.asarray(t_eval)
+    if engine == "mujoco":
+        with np.errstate(all="ignore"):
+            tr = sim.mujoco_native(s, sc, dt, method)
+        tr.evaluations *= _STAGES[method]
+        return tr
+    dyn = sim.Dynamics(s, sc, engine)
+    n = len(s.coordinates)
+
+    def rhs(t, y):
+        if dyn.evaluations >= budget:
+            raise _Budget
+        return np.concatenate([y[n:], dyn(t, y[:n], y[n:])])
+
+    y0 = np.concatenate([sc.q0, sc.qd0]).astype(float)
+    rhs(0.0, y0)  # warm-up (first call of every compiled function), not timed
+    dyn.evaluations = 0
+    start = time.perf_counter()
+    with np.errstate(all="ignore"):
+        if method in SCIPY_METHODS:
+            t, y, _ = sim.solve_piecewise(rhs, sc, y0, method, setting, setting, t_eval)
+        else:
+            t, y = fixed_step(rhs, sc, y0, method, int(setting), t_eval)
+    seconds = time.perf_counter() - start
+    return _trajectory(f"{engine} {method}", t, y[:n].T, y[n:].T, seconds, dyn.evaluations)
+
+
+# --------------------------------------------------------------------------- fixed-step integrators
+def rk4_step(rhs, t, y, h):
+    """Classical Runge-Kutta of order 4."""
+    k1 = rhs(t, y)
+    k2 = rhs(t + h / 2, y + h / 2 * k1)
+    k3 = rhs(t + h / 2, y + h / 2 * k2)
+    k4 = rhs(t + h, y + h * k3)
+    return y + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+
+
+def semi_implicit_euler_step(rhs, t, y, h):
+    """Symplectic Euler: ``q̇ ← q̇ + h q̈(q, q̇)``, then ``q ← q + h q̇`` with the new velocity."""
+    n = len(y) // 2
+    qdd = rhs(t, y)[n:]
+    qd = y[n:] + h * qdd
+    return np.concatenate([y[:n] + h * qd, qd])
+
+
+_STEPPERS = {"RK4": rk4_step, "semi-implicit Euler": semi_implicit_euler_step}
+
+
+def fixed_step(rhs, scene: Scene, y0, method: str, k: int, t_eval):
+    """``k`` equal steps per sample interval; an interval holding an input breakpoint is split there."""
+    step = _STEPPERS[method]
+    y = np.asarray(y0, dtype=float)
+    ys = [y]
+    for a, b in zip(t_eval[:-1], t_eval[1:]):
+        edges = [a, *[t for t in scene.breakpoints if a < t < b], b]
+        for lo, hi in zip(edges[:-1], edges[1:]):
+            m = max(1, math.ceil(k * (hi - lo) / (b - a) - 1e-9))
+            h = (hi - lo) / m
+            for j in range(m):
+                y = step(rhs, lo + j * h, y, h)
+        if not np.all(np.isfinite(y)):
+            raise FloatingPointError("diverged")
+        ys.append(y)
+    return np.asarray(t_eval), np.array(ys).T
+
+
+# --------------------------------------------------------------------------- effect pruning
+def pruning_task(system: str, scene: str, repeats: int = 3) -> dict:
+    """Symbolic path, DOP853 1e-10: the pruned model against every effect present but idle
+    (:func:`harness.scenes.with_idle_effects`), the measurement of :mod:`harness.trajectories`, median of repeats."""
+    s, sc = get_scene(system, scene)
+    if sc.events:
+        return {"system": system, "scene": scene, "skipped": STRUCTURAL}
+    lean = [sim.integrate(s, sc, "symbolic", rtol=1e-10, atol=1e-10) for _ in range(repeats)]
+    idle_system, idle_scene = with_idle_effects(s, sc)
+    full = [sim.integrate(idle_system, idle_scene, "symbolic", rtol=1e-10, atol=1e-10) for _ in range(repeats)]
+    t_lean = statistics.median(x.seconds for x in lean)
+    t_full = statistics.median(x.seconds for x in full)
+    return {"system": system, "scene": scene, "pruned_seconds": t_lean, "idle_seconds": t_full,
+            "speedup": t_full / max(t_lean, 1e-12), "pruned_evaluations": lean[0].evaluations,
+            "idle_evaluations": full[0].evaluations, "same_trajectory_error": sim.max_error(full[0], lean[0])}
+
+
+# --------------------------------------------------------------------------- sweep definition and analysis
+def configurations(grid: Grid) -> list[tuple[str, str, float]]:
+    """``(engine, method, setting)`` of the sweep."""
+    out = [("symbolic", m, r) for m in SCIPY_METHODS for r in grid.rtols]
+    out += [("pinocchio", m, r) for m in grid.pinocchio_methods for r in grid.settings("pinocchio", m)]
+    out += [("pinocchio", m, k) for m in FIXED_METHODS for k in grid.fixed_k]
+    out += [("mujoco", m, k) for m in MUJOCO_INTEGRATORS for k in grid.mujoco_k]
+    return out
+
+
+def pareto(runs: list[dict]) -> list[dict]:
+    """The runs no other run beats in both wall time and error (sorted by time)."""
+    ok = sorted((r for r in runs if math.isfinite(r.get("error", math.inf)) and "seconds" in r),
+                key=lambda r: (r["seconds"], r["error"]))
+    front, best = [], math.inf
+    for r in ok:
+        if r["error"] < best:
+            front.append(r)
+            best = r["error"]
+    return front
+
+
+def fastest_at(runs: list[dict], accuracy: float = ACCURACY) -> dict | None:
+    ok = [r for r in runs if r.get("error", math.inf) <= accuracy and "seconds" in r]
+    return min(ok, key=lambda r: r["seconds"]) if ok else None
+
+
+def label(run: dict) -> str:
+    setting = f"rtol={run['rtol']:g}" if run.get("rtol") is not None else f"dt={run['dt']:.3g}"
+    return f"{run['engine']} {run['method']} {setting}"
+
+
+def summarize_scene(runs: list[dict], accuracy: float = ACCURACY) -> dict:
+    """Pareto frontier per engine and the fastest configuration per engine reaching ``accuracy``."""
+    engines = sorted({r["engine"] for r in runs})
+    fronts = {e: [label(r) for r in pareto([r for r in runs if r["engine"] == e])] for e in engines}
+    best = {e: fastest_at([r for r in runs if r["engine"] == e], accuracy) for e in engines}
+    out = {"pareto": fronts,
+           "fastest_at_accuracy": {e: (None if b is None else {"configuration": label(b), "seconds": b["seconds"],
+                                                                "error": b["error"], "evaluations": b["evaluations"]})
+                                   for e, b in best.items()}}
+    others = [b for e, b in best.items() if e != "symbolic" and b is not None]
+    if best.get("symbolic") and others:
+        fastest = min(others, key=lambda r: r["seconds"])
+        out["symbolic_vs_fastest_engine"] = {"ratio": best["symbolic"]["seconds"] / fastest["seconds"],
+                                             "fastest_engine_configuration": label(fastest)}
+    return out

@@ -1,0 +1,324 @@
+"""Closed chains and couplings simulated with their constraints inside the engines.
+
+A map ``θ = φ(q)`` with more tree joints than lecture coordinates constrains the tree. Besides integrating the
+mapped forward dynamics (:mod:`harness.simulate`), each engine simulates the *tree* — every joint its own
+coordinate — and imposes the constraints itself:
+
+* **couplings**: a tree joint that is an affine function of another, read off the linear rows of the map
+  (gears, ropes, rolling, symmetric arms): ``θ_d = a₀ + a₁ θ_i``.
+  MuJoCo: ``<equality><joint joint1=d joint2=i polycoef="a₀ a₁ 0 0 0">``; Pinocchio: the row ``e_d − a₁ e_i``
+  of the constraint Jacobian.
+* **closures** (``System.closures``): a point held on a plane by a massless guide, ``nᵀ p = value`` — the closed
+  chain behind a nonlinear map (the toggle press's slide, the trebuchet's ground in phase 1).
+  Pinocchio: the row ``nᵀ J_point`` of the point's frame Jacobian and its drift ``nᵀ a_point(q, v, 0)`` from
+  ``pin.getFrameClassicalAcceleration``, both from Pinocchio's own kinematics. MuJoCo: a guide body on two slide
+  joints spanning the plane, joined to the point's site by ``<equality><connect>``. The guide's mass is
+  ``GUIDE_MASS_RATIO = 1e-5`` of the system's: MuJoCo needs a mass on a moving body, and its constraint solver
+  loses the connect force when the guide is many orders lighter than the rest (measured on the toggle press,
+  error against the reference at dt = 2.5e-4 s: guide 1e-9 kg 1.9, 1e-6 kg 3e-2, 1e-4 kg and 1e-3 kg 2.1e-3,
+  the soft constraint's own error); its inertial force is ~1e-5 of the system's, below that error.
+
+Pinocchio solves the constrained dynamics with its KKT solver ``pin.forwardDynamics(model, data, q, v, τ, J, γ)``
+(``M a + b = τ + Jᵀλ``, ``J a + γ = 0``), with Baumgarte stabilization ``γ = J̇ v + 2 ω ċ + ω² c``
+(``ω = BAUMGARTE_OMEGA``); integrated by DOP853 at 1e-10 as every other engine run, it must stay within
+``ENGINE_TOL`` of the reference and its constraint drift ``max |c|`` below ``DRIFT_TOL = 1e-8``.
+MuJoCo steps its soft equality constraints (``solref = 2 dt``, the stiffest ``solimp``, implicitfast): its error
+is first order in ``dt`` and is checked like its dry friction and contact (:mod:`harness.trajectories`).
+Lecture coordinates are recovered from ``θ`` by Gauss-Newton on ``φ(q) = θ``.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+import pinocchio as pin
+import sympy as sp
+
+from harness import simulate as sim
+from harness.engines.base import Load, load_functions
+from harness.engines.mujoco_engine import MujocoModel
+from harness.errors import ModelError
+from harness.export.mjcf import mjcf_spec
+from harness.export.numeric import instantiate, point_name
+
+BAUMGARTE_OMEGA = 20.0     # rad/s: constraint errors decay over ~0.1 s, far below the integrator's drift
+DRIFT_TOL = 1e-8
+GUIDE_MASS_RATIO = 1e-5
+_STIFF_SOLIMP = [0.9999, 0.9999, 0.001, 0.5, 2.0]
+LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+
+
+@dataclass(frozen=True)
+class Coupling:
+    """``θ_dependent = offset + ratio θ_independent`` (an affine row of the map)."""
+
+    dependent: str
+    independent: str
+    offset: float
+    ratio: float
+
+
+def constrained(system) -> bool:
+    """Whether the map constrains the tree (more tree joints than lecture coordinates)."""
+    return len(system.joints) > len(system.coordinates)
+
+
+def couplings(system, dyn: sim.Dynamics) -> list[Coupling]:
+    """The couplings of the map's affine rows; the nonlinear rows must be matched by ``system.closures``."""
+    q = system.q
+    zeros = np.zeros(len(q))
+    u = np.zeros(len(system.inputs))
+    A = np.asarray(dyn.c("J_phi", zeros, zeros, dyn.p, u), dtype=float)
+    b = np.asarray(dyn.c("phi", zeros, zeros, dyn.p, u), dtype=float).ravel()
+    affine = [all(sp.diff(sp.sympify(row), a, c) == 0 for a in q for c in q) for row in system.phi]
+    names = [j.name for j in system.joints]
+    # independent joints: identity rows first, then other affine rows, until A_I is invertible
+    order = sorted(range(len(names)), key=lambda k: (not affine[k], not np.allclose(A[k], np.eye(len(q))[
+        int(np.argmax(np.abs(A[k])))]) if np.count_nonzero(A[k]) == 1 else True))
+    chosen: list[int] = []
+    for k in order:
+        if affine[k] and np.linalg.matrix_rank(A[chosen + [k]]) == len(chosen) + 1:
+            chosen.append(k)
+        if len(chosen) == len(q):
+            break
+    if len(chosen) < len(q):
+        raise ModelError(f"{system.name}: the map's affine rows do not determine the lecture coordinates")
+    inverse = np.linalg.inv(A[chosen])
+    out, nonlinear = [], 0
+    for k in range(len(names)):
+        if k in chosen:
+            continue
+        if not affine[k]:
+            nonlinear += 1
+            continue
+        row = A[k] @ inverse                       # θ_k = b_k + row (θ_I − b_I)
+        nonzero = np.flatnonzero(np.abs(row) > 1e-14)
+        if len(nonzero) != 1:
+            raise ModelError(f"{system.name}: joint {names[k]} depends on several joints; not a coupling")
+        i = chosen[int(nonzero[0])]
+        ratio = float(row[nonzero[0]])
+        out.append(Coupling(names[k], names[i], float(b[k] - ratio * b[i]), ratio))
+    if nonlinear != len(system.closures):
+        raise ModelError(f"{system.name}: {nonlinear} nonlinear map row(s) but {len(system.closures)} closure(s); "
+                         "declare the closed chain with System.closures")
+    return out
+
+
+def _value(expr, params) -> float:
+    expr = sp.sympify(expr)
+    return float(expr.subs({x: params[x.name] for x in expr.free_symbols}))
+
+
+class _Recover:
+    """Lecture coordinates from tree coordinates: Gauss-Newton on ``φ(q) = θ`` from the last solution."""
+
+    def __init__(self, dyn: sim.Dynamics, q0):
+        self.dyn, self.q = dyn, np.asarray(q0, dtype=float).copy()
+
+    def __call__(self, theta, theta_dot):
+        c, p, u = self.dyn.c, self.dyn.p, np.zeros(len(self.dyn.system.inputs))
+        q = self.q.copy()
+        for _ in range(20):
+            zeros = np.zeros_like(q)
+            residual = theta - np.asarray(c("phi", q, zeros, p, u), dtype=float).ravel()
+            J = np.asarray(c("J_phi", q, zeros, p, u), dtype=float)
+            step = np.linalg.lstsq(J, residual, rcond=None)[0]
+            q += step
+            if np.max(np.abs(step)) <= 1e-15 * max(1.0, np.max(np.abs(q))):
+                break
+        self.q = q
+        J = np.asarray(c("J_phi", q, np.zeros_like(q), p, u), dtype=float)
+        return q, np.linalg.lstsq(J, theta_dot, rcond=None)[0]
+
+
+def _loads(dyn: sim.Dynamics, t, q, qd):
+    args = (q, qd, dyn.p, dyn.scene.u(t, dyn.system))
+    return [Load(kind, where, frame, np.asarray(fn(*args), dtype=float).ravel())
+            for kind, where, frame, fn in load_functions(dyn.system)]
+
+
+def _start(system, scene, dyn):
+    """The tree state at the scene's start: ``θ₀ = φ(q₀)``, ``θ̇₀ = J q̇₀``."""
+    q0, qd0 = np.asarray(scene.q0, dtype=float), np.asarray(scene.qd0, dtype=float)
+    u = np.zeros(len(dyn.system.inputs))
+    theta = np.asarray(dyn.c("phi", q0, qd0, dyn.p, u), dtype=float).ravel()
+    return theta, np.asarray(dyn.c("J_phi", q0, qd0, dyn.p, u), dtype=float) @ qd0
+
+
+# --------------------------------------------------------------------------------------------- Pinocchio
+class PinocchioConstrained:
+    """The tree in Pinocchio with the couplings and closures as rows of the KKT constraint Jacobian."""
+
+    def __init__(self, system, scene):
+        self.dyn = sim.Dynamics(system, scene, "pinocchio")
+        self.pm = self.dyn.model
+        model = self.pm.model
+        index = {j.name: k for j, k in zip(self.dyn.system.joints, self.pm.index)}
+        self.couplings = couplings(self.dyn.system, self.dyn)
+        self.rows = []
+        for cp in self.couplings:
+            row = np.zeros(model.nv)
+            row[index[cp.dependent]], row[index[cp.independent]] = 1.0, -cp.ratio
+            self.rows.append((row, cp.offset))
+        self.closures = [(model.getFrameId(point_name(cl.point)), np.array(cl.normal, dtype=float),
+                          _value(cl.value, self.dyn.params)) for cl in self.dyn.system.closures]
+        self.recover = _Recover(self.dyn, scene.q0)
+        self.has_loads = bool(load_functions(self.dyn.system))
+        self.evaluations = 0
+
+    def constraint(self, q, v):
+        """``c``, ``J`` and ``J̇ v`` at the Pinocchio state (kinematics computed here)."""
+        model, data = self.pm.model, self.pm.data
+        c, J, drift = [], [], []
+        for row, offset in self.rows:
+            c.append(row @ q - offset)
+            J.append(row)
+            drift.append(0.0)
+        if self.closures:
+            pin.forwardKinematics(model, data, q, v, np.zeros(model.nv))
+            pin.computeJointJacobians(model, data, q)
+            pin.updateFramePlacements(model, data)
+            for fid, n, value in self.closures:
+                c.append(n @ data.oMf[fid].translation - value)
+                J.append(n @ self.pm.frame_jacobian(fid)[:3])
+                drift.append(n @ pin.getFrameClassicalAcceleration(model, data, fid, LWA).linear)
+        return np.array(c), np.array(J).reshape(len(c), model.nv), np.array(drift)
+
+    def __call__(self, t, y):
+        self.evaluations += 1
+        n = len(self.pm.index)
+        theta, theta_dot = y[:n], y[n:]
+        q, v = self.pm.to_pin(theta), self.pm.to_pin(theta_dot)
+        loads = ()
+        if self.has_loads:
+            lq, lqd = self.recover(theta, theta_dot)
+            loads = _loads(self.dyn, t, lq, lqd)
+        inputs = dict(zip((i.name for i in self.dyn.system.inputs), self.dyn.scene.u(t, self.dyn.system)))
+        f_spring, f_damper = self.pm.point_forces(q, v)
+        tau = self.pm.input_forces(q, inputs, loads) + f_spring + f_damper
+        c, J, drift = self.constraint(q, v)
+        w = BAUMGARTE_OMEGA
+        gamma = drift + 2 * w * (J @ v) + w * w * c
+        a = pin.forwardDynamics(self.pm.model, self.pm.data, q, v, tau, J, gamma)
+        return np.concatenate([theta_dot, self.pm.from_pin(a)])
+
+
+def pinocchio_constrained(system, scene, rtol=1e-10, atol=1e-10, horizon=None) -> sim.Trajectory:
+    """Pinocchio's constrained tree, integrated by DOP853; lecture coordinates recovered; the largest
+    constraint violation in ``notes['drift']``."""
+    rhs = PinocchioConstrained(system, scene)
+    theta0, theta_dot0 = _start(system, scene, rhs.dyn)
+    n = len(theta0)
+    end = scene.horizon if horizon is None else horizon
+    t_eval = sim.sample_times(scene)
+    t_eval = t_eval[t_eval <= end]
+    from scipy.integrate import solve_ivp
+
+    start = time.perf_counter()
+    edges = [0.0, *[b for b in scene.breakpoints if b < end], end]
+    ts, ys, y = [], [], np.concatenate([theta0, theta_dot0])
+    for k, (a, b) in enumerate(zip(edges[:-1], edges[1:])):
+        last = k == len(edges) - 2
+        inside = t_eval[(t_eval >= a) & ((t_eval <= b) if last else (t_eval < b))]
+        sol = solve_ivp(rhs, (a, b), y, method="DOP853", rtol=rtol, atol=atol, t_eval=inside, dense_output=True)
+        if not sol.success:
+            raise RuntimeError(f"{scene.name}: constrained Pinocchio integration failed: {sol.message}")
+        ts.append(sol.t)
+        ys.append(sol.y)
+        y = sol.sol(b)
+    seconds = time.perf_counter() - start
+    t, y = np.concatenate(ts), np.concatenate(ys, axis=1)
+    recover = _Recover(rhs.dyn, scene.q0)
+    q, qd, drift = [], [], 0.0
+    for theta, theta_dot in zip(y[:n].T, y[n:].T):
+        a, b = recover(theta, theta_dot)
+        q.append(a)
+        qd.append(b)
+        c, _, _ = rhs.constraint(rhs.pm.to_pin(theta), rhs.pm.to_pin(theta_dot))
+        drift = max(drift, float(np.max(np.abs(c))) if len(c) else 0.0)
+    q, qd = np.array(q), np.array(qd)
+    energy = np.array([rhs.dyn.energy(a, b) for a, b in zip(q, qd)])
+    tr = sim.Trajectory("pinocchio (constrained tree, pin.forwardDynamics KKT, DOP853 1e-10)", t, q, qd, seconds,
+                        rhs.evaluations, energy)
+    tr.notes["drift"] = drift
+    return tr
+
+
+# --------------------------------------------------------------------------------------------- MuJoCo
+def mujoco_spec(system, scene, dt: float):
+    """The pruned system's MJCF with the couplings as joint equalities and the closures as guide bodies joined
+    by connect equalities (equality and constraint flags on, stiff impedance, implicitfast at ``dt``)."""
+    dyn = sim.Dynamics(system, scene, "symbolic")
+    s = dyn.system
+    tree = instantiate(s, dyn.params)
+    spec = mjcf_spec(tree)
+    spec.option.disableflags &= ~int(mujoco.mjtDisableBit.mjDSBL_EQUALITY | mujoco.mjtDisableBit.mjDSBL_CONSTRAINT)
+    spec.option.timestep = dt
+    spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+    solver = dict(solref=[2 * dt, 1.0], solimp=_STIFF_SOLIMP)
+    for cp in couplings(s, dyn):
+        spec.add_equality(type=mujoco.mjtEq.mjEQ_JOINT, name1=cp.dependent, name2=cp.independent,
+                          data=[cp.offset, cp.ratio, 0, 0, 0] + [0.0] * 7, **solver)
+    for cl in s.closures:
+        n = np.array(cl.normal, dtype=float)
+        n /= np.linalg.norm(n)
+        t1 = np.cross(n, [1.0, 0.0, 0.0] if abs(n[0]) < 0.9 else [0.0, 1.0, 0.0])
+        t1 /= np.linalg.norm(t1)
+        t2 = np.cross(n, t1)
+        guide = spec.worldbody.add_body(name=f"guide_{cl.name}", pos=_value(cl.value, dyn.params) * n)
+        guide.explicitinertial = True
+        guide.mass = GUIDE_MASS_RATIO * sum(link.mass for link in tree.links)
+        guide.fullinertia = [guide.mass] * 3 + [0.0] * 3  # it only slides: its inertia never acts
+        guide.add_joint(name=f"guide_{cl.name}_1", type=mujoco.mjtJoint.mjJNT_SLIDE, axis=t1)
+        guide.add_joint(name=f"guide_{cl.name}_2", type=mujoco.mjtJoint.mjJNT_SLIDE, axis=t2)
+        guide.add_site(name=f"guide_{cl.name}")
+        spec.add_equality(type=mujoco.mjtEq.mjEQ_CONNECT, objtype=mujoco.mjtObj.mjOBJ_SITE,
+                          name1=point_name(cl.point), name2=f"guide_{cl.name}", **solver)
+    return spec, tree, dyn
+
+
+def mujoco_constrained(system, scene, dt: float, horizon=None) -> sim.Trajectory:
+    """MuJoCo's own stepping of the constrained tree (inputs as ``ctrl``, loads as ``qfrc_applied`` from
+    ``mj_applyFT`` at the step's kinematics, between ``mj_step1`` and ``mj_step2``)."""
+    spec, tree, dyn = mujoco_spec(system, scene, dt)
+    mm = MujocoModel(tree, spec=spec)
+    m, d = mm.model, mm.data
+    theta, theta_dot = _start(system, scene, dyn)
+    d.qpos[mm.qpos_index], d.qvel[mm.dof_index] = theta, theta_dot
+    for cl in dyn.system.closures:  # the guide starts where the point is
+        mujoco.mj_kinematics(m, d)
+        site = d.site_xpos[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, point_name(cl.point))]
+        body = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, f"guide_{cl.name}")
+        for k in (1, 2):
+            jid = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, f"guide_{cl.name}_{k}")
+            axis = m.jnt_axis[jid]
+            d.qpos[m.jnt_qposadr[jid]] = axis @ (site - m.body_pos[body])
+    recover = _Recover(dyn, scene.q0)
+    has_loads = bool(load_functions(dyn.system))
+    end = scene.horizon if horizon is None else horizon
+    steps = int(round(end / dt))
+    every = max(1, int(round(scene.horizon / dt / 200)))
+    out_t, out_q, out_qd = [], [], []
+    start = time.perf_counter()
+    for k in range(steps + 1):
+        if k % every == 0:
+            q, qd = recover(d.qpos[mm.qpos_index].copy(), d.qvel[mm.dof_index].copy())
+            out_t.append(d.time)
+            out_q.append(q)
+            out_qd.append(qd)
+        if k == steps:
+            break
+        sim.held_inputs(scene, mm.actuators, k, dt, d.ctrl)
+        mujoco.mj_step1(m, d)
+        if has_loads:
+            q, qd = recover(d.qpos[mm.qpos_index].copy(), d.qvel[mm.dof_index].copy())
+            d.qfrc_applied[:] = mm.applied(_loads(dyn, d.time, q, qd))
+        mujoco.mj_step2(m, d)
+    seconds = time.perf_counter() - start
+    q, qd = np.array(out_q), np.array(out_qd)
+    energy = np.array([dyn.energy(a, b) for a, b in zip(q, qd)])
+    return sim.Trajectory(f"mujoco (equality constraints, implicitfast, dt={dt:g})", np.array(out_t), q, qd,
+                          seconds, steps, energy)

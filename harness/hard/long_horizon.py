@@ -1,0 +1,156 @@
+"""Long horizons: 10⁴ periods of the pendulum (Example 3.12), symplectic against non-symplectic integration.
+
+A symplectic method (Störmer–Verlet; MuJoCo's default ``Euler``, which is semi-implicit, i.e. symplectic Euler)
+keeps the energy error in a band of width O(hᵖ) for exponentially long times; a non-symplectic method
+(RK45 with error control, MuJoCo's RK4) lets it drift secularly. The measure of drift is the *growth*: the
+largest energy error over the last tenth of the run divided by that over the first tenth (≈ 1 for a band,
+≈ 10 for a linear drift).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.special import ellipk
+
+import models
+from harness.compile import compiled
+from harness.hard.common import CaseResult, solve
+from harness.scenes import Scene
+from harness.simulate import Dynamics
+
+GROWTH_TOL = 1.5   # a band: the last tenth's largest error at most 1.5× the first tenth's (sampling scatter)
+
+
+def _growth(err):
+    k = max(1, len(err) // 10)
+    return float(np.max(err[-k:]) / max(np.max(err[:k]), 1e-300))
+
+
+def verlet(accel, q0, v0, h, steps, sample_every):
+    """Störmer–Verlet (velocity form): symplectic, second order; returns sampled (k, q, v)."""
+    q, v, a = float(q0), float(v0), accel(q0)
+    out = []
+    for k in range(steps + 1):
+        if k % sample_every == 0:
+            out.append((k, q, v))
+        v_half = v + 0.5 * h * a
+        q = q + h * v_half
+        a = accel(q)
+        v = v_half + 0.5 * h * a
+    return np.array(out)
+
+
+def pendulum_energy_drift(quick: bool = False) -> CaseResult:
+    periods = 1000 if quick else 10000
+    r = CaseResult(
+        "pendulum_long_horizon", f"Pendulum over {periods} periods: energy drift, symplectic vs non-symplectic",
+        ["pendulum"], "symplectic integrator",
+        "An error-controlled non-symplectic method (RK45) makes a small energy error every period and it adds up: "
+        "the energy drifts secularly over long horizons (MuJoCo's RK4 likewise).",
+        "Störmer–Verlet (symplectic) with h = T/64 on the symbolic model and on Pinocchio's forward dynamics, and "
+        "MuJoCo's semi-implicit Euler (symplectic Euler) at the same step: the energy error stays in a band "
+        "(growth ≤ 1.5) whose width is O((h ω0)²) resp. O(h ω0).")
+    system = models.get("pendulum")
+    phi0 = 1.0472
+    g, l = 9.81, 1.0
+    omega0 = math.sqrt(g / l)
+    period = 4 * math.sqrt(l / g) * float(ellipk(math.sin(phi0 / 2) ** 2))
+    h = period / 64
+    steps = 64 * periods
+    scene = Scene("long", "60° swing over many periods", (phi0,), (0.0,), steps * h, frozenset({"gravity"}))
+    c = compiled(Dynamics(system, scene, "symbolic").system)
+    p = np.array([1.0, l, g])
+    E_scale = g * l * (1 - math.cos(phi0))   # m g l (1 - cos phi0), m = 1
+
+    def energy(q, v):
+        return 0.5 * l * l * v * v + g * l * (1 - math.cos(q))
+
+    def rel_error(qs, vs):
+        return np.abs(np.array([energy(a, b) for a, b in zip(qs, vs)]) - E_scale) / E_scale
+
+    results = {}
+    # symbolic Verlet: q̈ = -g(q)/M(q), the lecture's derivation
+    def accel(q):
+        return -float(c("g", np.array([q]), p=p)[0, 0]) / float(c("M", np.array([q]), p=p)[0, 0])
+    sym = verlet(accel, phi0, 0.0, h, steps, 61)
+    err = rel_error(sym[:, 1], sym[:, 2])
+    results["symbolic Verlet"] = {"max": float(np.max(err)), "growth": _growth(err), "final": float(err[-1])}
+    r.check("Verlet energy error band (symbolic)", "symbolic", float(np.max(err)), (h * omega0) ** 2,
+            "O((h omega0)^2) for a second-order symplectic method")
+    r.check("Verlet: no secular drift (growth)", "symbolic", _growth(err), GROWTH_TOL)
+    # Pinocchio Verlet over a tenth of the periods (its forward dynamics costs ~0.1 ms a call)
+    pin = Dynamics(system, scene, "pinocchio")
+    steps_pin = steps // 10
+    pv = verlet(lambda q: float(pin(0.0, np.array([q]), np.array([0.0]))[0]), phi0, 0.0, h, steps_pin, 61)
+    err_pin = rel_error(pv[:, 1], pv[:, 2])
+    results[f"pinocchio Verlet ({periods // 10} periods)"] = {"max": float(np.max(err_pin)),
+                                                              "growth": _growth(err_pin)}
+    r.check(f"Verlet energy error band (Pinocchio, {periods // 10} periods)", "pinocchio", float(np.max(err_pin)),
+            (h * omega0) ** 2, "O((h omega0)^2)")
+    r.check("Verlet: no secular drift (growth)", "pinocchio", _growth(err_pin), GROWTH_TOL)
+    # MuJoCo: its own integrators at the same step
+    mj = {}
+    for integrator in ("Euler", "RK4"):
+        ks, qs, vs, seconds = mujoco_steps(system, scene, h, steps, integrator, 61)
+        e = rel_error(qs, vs)
+        mj[integrator] = (ks, e)
+        results[f"mujoco mj_step {integrator}"] = {"max": float(np.max(e)), "growth": _growth(e[1:]),
+                                                   "final": float(e[-1]), "seconds": seconds}
+        if integrator == "Euler":
+            r.check("semi-implicit Euler energy error band (MuJoCo)", "mujoco", float(np.max(e)), h * omega0,
+                    "O(h omega0) for a first-order symplectic method")
+            r.check("semi-implicit Euler: no secular drift (growth)", "mujoco", _growth(e[1:]), GROWTH_TOL)
+    # naive: RK45 with error control (non-symplectic)
+    t_eval = np.linspace(0.0, steps * h, 4001)
+    sol, cpu = solve(lambda t, y: [y[1], accel(y[0])], (0.0, steps * h), [phi0, 0.0], "RK45", 1e-6, 1e-9,
+                     t_eval=t_eval)
+    err_rk = rel_error(sol.y[0], sol.y[1])
+    results["symbolic RK45 rtol 1e-6"] = {"max": float(np.max(err_rk)), "growth": _growth(err_rk),
+                                          "final": float(err_rk[-1]), "cpu": cpu, "evaluations": sol.nfev}
+    r.numbers["energy error |E - E0| / (m g l (1 - cos phi0))"] = results
+    r.numbers["period [s]"] = period
+    r.numbers["step h [s]"] = h
+    r.naive = {"what": f"RK45 (rtol 1e-6) over {periods} periods", "metric": "final relative energy error",
+               "value": float(err_rk[-1])}
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(8, 3.6))
+    ax.loglog(sym[1:, 0] * h / period, np.maximum(err[1:], 1e-17), ",", label="Verlet (symbolic)")
+    ax.loglog(sol.t[1:] / period, np.maximum(err_rk[1:], 1e-17), label="RK45 rtol 1e-6")
+    for integrator, (ks, e) in mj.items():
+        ax.loglog(ks[1:] * h / period, np.maximum(e[1:], 1e-17), ",", label=f"MuJoCo {integrator}, h = T/64")
+    ax.set_xlabel("periods")
+    ax.set_ylabel("|E - E0| / E")
+    ax.legend(fontsize=8)
+    ax.set_title("energy error over the periods")
+    fig.tight_layout()
+    r.figure = fig
+    return r
+
+
+def mujoco_steps(system, scene, h, steps, integrator, sample_every):
+    """MuJoCo's own ``mj_step`` at step ``h`` (identity map: tree coordinates are the lecture's), sampled every
+    ``sample_every`` steps (not a divisor of the 64 steps of a period: the samples sweep the phase)."""
+    import time
+
+    import mujoco
+
+    from harness.engines.mujoco_engine import check_warnings
+    model = Dynamics(system, scene, "mujoco").model
+    m, d = model.model, model.data
+    m.opt.timestep = h
+    m.opt.integrator = getattr(mujoco.mjtIntegrator, f"mjINT_{integrator.upper()}")
+    mujoco.mj_resetData(m, d)
+    d.qpos[model.qpos_index] = scene.q0
+    d.qvel[model.dof_index] = scene.qd0
+    ks, qs, vs = [], [], []
+    start = time.perf_counter()
+    for k in range(steps + 1):
+        if k % sample_every == 0:
+            ks.append(k)
+            qs.append(float(d.qpos[model.qpos_index][0]))
+            vs.append(float(d.qvel[model.dof_index][0]))
+        mujoco.mj_step(m, d)
+    check_warnings(m, d, f"{system.name} {integrator}")
+    return np.array(ks), np.array(qs), np.array(vs), time.perf_counter() - start

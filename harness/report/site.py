@@ -1,0 +1,246 @@
+"""``index.html`` and one page per system, plus the errata, hard cases, benchmarks and importer findings when
+their JSON is in the report folder. Static, no scripts, no external resources: the folder works offline.
+
+Fault isolation: a system whose page cannot be built (its model no longer loads, a figure fails) still gets a
+page, marked failed with the reason; the other pages are unaffected.
+"""
+
+from __future__ import annotations
+
+import html
+import json
+import re
+import sys
+from collections import Counter
+from pathlib import Path
+
+from harness.io import atomic_write_text
+from harness.report.markdown import fmt_error, fmt_tolerance
+from harness.report.mdhtml import markdown_html
+from harness.report.templates import environment
+
+# optional pages: (file, title, json, markdown, figure folder); rendered only when the JSON exists
+OPTIONAL_PAGES = (
+    ("hard.html", "Hard cases", "hard.json", "hard.md", "hard"),
+    ("bench.html", "Benchmarks", "bench.json", "bench.md", "bench"),
+    ("importer.html", "Importer findings", "importer.json", "importer.md", None),
+)
+
+
+def _read_json(path: Path):
+    try:
+        return json.loads(path.read_text())
+    except (OSError, ValueError):
+        return None
+
+
+# --------------------------------------------------------------------------- the model in the lecture's terms
+def _s(expr) -> str:
+    return str(expr)
+
+
+def model_view(system) -> dict:
+    """Coordinates, parameters (units, defaults), bodies, joints with the map, force elements, engine notes."""
+    forces = []
+    for f in system.forces:
+        details = {k: _s(v) for k, v in vars(f).items() if k != "name"}
+        forces.append({"kind": type(f).__name__, "name": f.name,
+                       "details": ", ".join(f"{k}={v}" for k, v in details.items())})
+    phi = list(system.phi)
+    gravity = "none" if system.gravity is None else \
+        f"g = {system.gravity.g} along e_g = {tuple(system.gravity.direction)}"
+    return {
+        "status": system.status, "doc": (system.doc or "").strip(), "not_in_engines": list(system.not_in_engines),
+        "coordinates": [{"name": c.name, "unit": c.unit, "description": c.description,
+                         "range": "default" if c.range is None else str(tuple(c.range))} for c in system.coordinates],
+        "parameters": [{"name": p.name, "default": p.default, "unit": p.unit, "description": p.description,
+                        "assumption": p.assumption} for p in system.parameters],
+        "inputs": [{"name": i.name, "unit": i.unit, "description": i.description} for i in system.inputs],
+        "links": [{"name": k.name, "mass": _s(k.mass), "com": _s(tuple(k.com)),
+                   "inertia": "point mass" if k.is_point_mass else
+                   ("—" if not k.has_mass else _s(k.inertia.matrix.tolist())), "description": k.description}
+                  for k in system.links],
+        "joints": [{"name": j.name, "type": j.type, "parent": j.parent, "child": j.child, "axis": _s(tuple(j.axis)),
+                    "origin": _s(tuple(j.origin)), "phi": f"theta_{j.name} = {e}"} for j, e in zip(system.joints, phi)],
+        "forces": forces, "gravity": gravity, "scene_names": [],
+    }
+
+
+# --------------------------------------------------------------------------- per-system view
+def _check_view(c: dict, source_key: str) -> dict:
+    return {"check": c.get("check", ""), source_key: c.get(source_key, ""), "passed": bool(c.get("passed")),
+            "error": fmt_error(c.get("max_error")), "tolerance": fmt_tolerance(c.get("tolerance"))}
+
+
+def system_view(record: dict, claims: list[dict], out: Path, figures: set) -> dict:
+    """What the index and the system page show of one record; figures are rendered into ``out/figures``."""
+    from harness.report.figures import render_scene_figure
+
+    name = record["system"]
+    checks = [_check_view(c, "engine") for c in record.get("checks", [])]
+    matrix: dict[str, list] = {}
+    for c in checks:
+        matrix.setdefault(c["check"], []).append(c)
+    scenes = []
+    for sc in record.get("scenes") or []:
+        view = {"scene": sc.get("scene", "?"), "description": sc.get("description", ""),
+                "effects": list(sc.get("effects") or []), "horizon": sc.get("horizon"),
+                "passed": bool(sc.get("passed")), "notes": sc.get("notes") or {},
+                "checks": [_check_view(c, "source") for c in sc.get("checks", [])], "figure": None,
+                "figure_note": ""}
+        series = sc.get("series")
+        if series and (out / series).is_file():
+            target = f"figures/{name}.{view['scene']}.svg"
+            try:
+                render_scene_figure(out / series, out / target)
+                view["figure"] = target
+                figures.add(target)
+            except Exception as exc:  # noqa: BLE001 - a broken series file costs its figure, not the page
+                view["figure_note"] = f"figure not drawn: {type(exc).__name__}: {exc}"
+        elif series:
+            view["figure_note"] = f"series file {series} not found"
+        scenes.append(view)
+    counts = Counter(c["classification"] for c in claims)
+    confirmed = counts.pop("confirmed", 0)
+    return {"name": name, "title": "", "lecture": record.get("lecture", ""), "passed": bool(record.get("passed")),
+            "reason": record.get("failure") or "", "examples": record.get("examples", 0),
+            "not_applicable": record.get("not_applicable") or {}, "checks": checks, "matrix": matrix,
+            "checks_passed": sum(c["passed"] for c in checks), "scenes": scenes,
+            "scenes_passed": sum(s["passed"] for s in scenes), "claims": claims, "claims_confirmed": confirmed,
+            "claims_other": ", ".join(f"{n} {k}" for k, n in sorted(counts.items()))}
+
+
+# --------------------------------------------------------------------------- generic JSON (optional pages)
+def json_html(node, depth: int = 0) -> str:
+    """Any JSON as HTML: a list of objects becomes a table, an object a two-column table."""
+    esc = html.escape
+    if isinstance(node, dict):
+        if not node:
+            return "<p>—</p>"
+        rows = "".join(f"<tr><th>{esc(str(k))}</th><td>{json_html(v, depth + 1)}</td></tr>" for k, v in node.items())
+        return f"<table>{rows}</table>"
+    if isinstance(node, list):
+        if node and all(isinstance(x, dict) for x in node):
+            keys = list(dict.fromkeys(k for x in node for k in x))
+            head = "".join(f"<th>{esc(str(k))}</th>" for k in keys)
+            body = "".join("<tr>" + "".join(f"<td>{json_html(x.get(k), depth + 1)}</td>" for k in keys) + "</tr>"
+                           for x in node)
+            return f'<div class="wide"><table><tr>{head}</tr>{body}</table></div>'
+        if all(not isinstance(x, (dict, list)) for x in node):
+            return esc(", ".join(_scalar(x) for x in node))
+        return "<ul>" + "".join(f"<li>{json_html(x, depth + 1)}</li>" for x in node) + "</ul>"
+    return esc(_scalar(node))
+
+
+def _scalar(x) -> str:
+    if isinstance(x, float):
+        return f"{x:.4g}"
+    return "—" if x is None else str(x)
+
+
+# --------------------------------------------------------------------------- the site
+def _inside(out: Path, target: str) -> bool:
+    """A relative link that resolves to a file inside the report folder (others would break offline)."""
+    if re.match(r"[a-zA-Z][a-zA-Z0-9+.-]*:", target) or target.startswith("/"):
+        return False
+    path = (out / target.split("#")[0]).resolve()
+    return path.is_file() and out.resolve() in path.parents
+
+
+def _stale(folder: Path, keep: set[str], pattern: str) -> None:
+    """Remove pages/figures of an earlier run that this run did not write (only in the report's own folders)."""
+    if folder.is_dir():
+        for path in folder.glob(pattern):
+            if f"{folder.name}/{path.name}" not in keep:
+                path.unlink()
+
+
+def build_site(out: Path | str, progress=sys.stderr) -> dict:
+    """Render the site from ``out/results.json`` (+ claims.json, hard.json, bench.json, importer.json).
+    Returns {"pages": [...], "failed": {system: reason}}."""
+    import models
+
+    from harness.report.results import load_results
+
+    out = Path(out)
+    doc = load_results(out) or {"systems": [], "versions": {}, "tolerance_policy": "", "passed": False}
+    claims_doc = _read_json(out / "claims.json")
+    claims = claims_doc if isinstance(claims_doc, list) else []
+    by_system: dict[str, list] = {}
+    for c in claims:
+        by_system.setdefault(c.get("system", "?"), []).append(c)
+    env = environment()
+    extra_pages = []
+    if claims:
+        extra_pages.append({"file": "errata.html", "title": "Errata"})
+    for file, title, source, _, _ in OPTIONAL_PAGES:
+        if (out / source).is_file():
+            extra_pages.append({"file": file, "title": title})
+    versions = doc.get("versions") or {}
+    common = {"extra_pages": extra_pages, "versions_line": ", ".join(f"{k} {v}" for k, v in versions.items())}
+
+    try:
+        catalogue = models.catalogue()
+        catalogue_error = None
+    except Exception as exc:  # noqa: BLE001 - the report still renders the recorded results
+        catalogue, catalogue_error = {}, f"the catalogue does not load: {exc}"
+    records = doc["systems"]
+    order = {name: k for k, name in enumerate(catalogue)}
+    records = sorted(records, key=lambda r: (order.get(r["system"], len(order)), r["system"]))
+    written, figures, failed, views = [], set(), {}, []
+    template = env.get_template("system")
+    for k, record in enumerate(records, 1):
+        name = record["system"]
+        print(f"[{k}/{len(records)}] page {name}", file=progress, flush=True)
+        model = None
+        try:
+            view = system_view(record, by_system.get(name, []), out, figures)
+            if name in catalogue:
+                system = catalogue[name]
+                model = model_view(system)
+                model["scene_names"] = [s.name for s in models.scenes(name)]
+                view["title"] = system.title
+            else:
+                view["reason"] = view["reason"] or catalogue_error or f"{name} is not in the catalogue any more"
+            text = template.render(s=view, model=model, root="../", **common)
+        except Exception as exc:  # noqa: BLE001 - one system raising never loses the others' pages
+            reason = f"{name}: page not built: {type(exc).__name__}: {exc}"
+            failed[name] = reason
+            view = {"name": name, "title": "", "lecture": record.get("lecture", ""), "passed": False,
+                    "reason": reason, "examples": 0, "not_applicable": {}, "checks": [], "matrix": {},
+                    "checks_passed": 0, "scenes": [], "scenes_passed": 0, "claims": [], "claims_confirmed": 0,
+                    "claims_other": ""}
+            text = template.render(s=view, model=None, root="../", **common)
+        atomic_write_text(out / "systems" / f"{name}.html", text)
+        written.append(f"systems/{name}.html")
+        views.append(view)
+    check_names = sorted({c for v in views for c in v["matrix"]})
+    index = env.get_template("index").render(
+        systems=views, passed=sum(v["passed"] for v in views), check_names=check_names,
+        hypothesis=doc.get("hypothesis"), policy=doc.get("tolerance_policy", ""), versions=versions, root="",
+        **common)
+    atomic_write_text(out / "index.html", index)
+    written.append("index.html")
+    if claims:
+        counts = sorted(Counter(c["classification"] for c in claims).items())
+        atomic_write_text(out / "errata.html", env.get_template("errata").render(
+            records=claims, counts=counts, not_confirmed=[c for c in claims if c["classification"] != "confirmed"],
+            root="", **common))
+        written.append("errata.html")
+    for file, title, source, md, folder in OPTIONAL_PAGES:
+        data = _read_json(out / source)
+        if data is None:
+            continue
+        figs = sorted(f"{folder}/{p.name}" for p in (out / folder).glob("*.svg")) if folder else []
+        if (out / md).is_file():  # the producer's own Markdown is the readable page; the JSON is linked
+            text = (out / md).read_text()
+            body = markdown_html(text, local=lambda target: _inside(out, target))
+            figs = [f for f in figs if f not in text]
+        else:
+            body = json_html(data)
+        atomic_write_text(out / file, env.get_template("generic").render(
+            title=title, source=source, figures=figs, body=body, root="", **common))
+        written.append(file)
+    _stale(out / "systems", set(written), "*.html")
+    _stale(out / "figures", figures, "*.svg")
+    return {"pages": written, "failed": failed}

@@ -1,0 +1,145 @@
+"""``harness validate FILE``: check a user's own URDF or MJCF and load it in the engines, with a short report.
+
+Steps (the first failure is one :class:`~harness.errors.HarnessError` line, exit 2 in the CLI):
+
+1. safe parse and checks of :mod:`harness.untrusted` (no DTD/entities, files inside the model's folder, every
+   number a plain finite decimal);
+2. physical inertials (URDF): mass non-negative, inertia tensor positive semi-definite with principal moments
+   satisfying the triangle inequality (3.128), the check our exporter applies
+   (:func:`harness.export.numeric.check_inertia`); MuJoCo's compiler checks an MJCF's own inertials;
+3. load: a URDF in Pinocchio (``buildModelFromXML``) and in MuJoCo's URDF importer, an MJCF in MuJoCo. What
+   the engines print themselves (urdfdom's ``Error: …``, MuJoCo's compiler) is captured into that one line.
+   MuJoCo's importer gets the URDF without ``<visual>``/``<collision>``: the dynamics do not depend on them and
+   it cannot resolve ``package://`` URIs; a URDF it refuses as is (a point mass, a massless moving link) is
+   loaded with MuJoCo's lower bound on masses and inertias, and the report says so. An MJCF that refers to files is compiled from its path (MuJoCo
+   resolves them from the model's folder) after the checks;
+4. MuJoCo steps the model for :data:`STEP_SECONDS` with zero controls: a warning counter (unstable, bad qacc,
+   …) is an :class:`~harness.errors.EngineError`;
+5. a URDF with only 1-dof joints: MuJoCo's import compared with Pinocchio (:func:`harness.importer.compare`,
+   mass matrix, bias forces, what every joint moves, at random states). A difference is a finding: exit 1.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import mujoco
+import numpy as np
+
+from harness import importer, untrusted
+from harness.engines.mujoco_engine import check_warnings
+from harness.errors import ModelError
+from harness.export.numeric import check_inertia
+from harness.roundtrip import rpy_matrix
+
+STEP_SECONDS = 1.0
+MAX_STEPS = 20_000
+"""At most this many ``mj_step`` calls (a model's own ``timestep`` below 50 µs shortens the 1 s run): a file
+cannot make ``validate`` hang."""
+
+
+@dataclass
+class Validation:
+    """What ``harness validate`` found: the facts of each engine's load and the comparison's findings."""
+
+    source: str
+    kind: str
+    engines: dict[str, dict] = field(default_factory=dict)
+    comparison: dict | None = None
+    findings: list[str] = field(default_factory=list)
+
+    @property
+    def passed(self) -> bool:
+        return not self.findings
+
+    def lines(self) -> list[str]:
+        out = [f"{self.source}: {self.kind.upper()}, parsed safely, numbers finite, files inside its folder"]
+        for engine, facts in self.engines.items():
+            out.append(f"  {engine}: " + "; ".join(f"{k}: {v}" for k, v in facts.items()))
+        if self.comparison is not None:
+            worst = {}
+            for c in self.comparison["checks"]:
+                worst[c["quantity"]] = max(worst.get(c["quantity"], 0.0), c["max_error"])
+            out.append(f"  MuJoCo's import vs Pinocchio ({self.comparison['states']} random states): "
+                       + ", ".join(f"{q} {e:.1e}" for q, e in worst.items())
+                       + f" (tolerance {importer.TOLERANCE:.0e})")
+        out += [f"  FINDING {f}" for f in self.findings]
+        out.append("valid" if self.passed else f"{len(self.findings)} finding(s)")
+        return out
+
+    def to_json(self) -> dict:
+        return {"source": self.source, "kind": self.kind, "engines": self.engines, "comparison": self.comparison,
+                "findings": self.findings, "passed": self.passed}
+
+
+def _floats(el, attr, default):
+    value = el.get(attr) if el is not None else None
+    return np.array([float(t) for t in value.split()]) if value is not None else np.array(default, dtype=float)
+
+
+def check_urdf_inertials(model: untrusted.ModelFile) -> None:
+    """Every ``<link><inertial>``: non-negative mass, physical inertia tensor (check_inertia)."""
+    for link in model.root.iter("link"):
+        inertial = link.find("inertial")
+        if inertial is None:
+            continue
+        mass_el, inertia_el = inertial.find("mass"), inertial.find("inertia")
+        where = f"{model.where(inertial)}: <inertial> of link '{link.get('name')}'"
+        if mass_el is None or inertia_el is None:
+            raise ModelError(f"{where}: needs <mass> and <inertia> (urdfdom would drop it)")
+        v = {k: float(inertia_el.get(k)) for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")}
+        tensor = np.array([[v["ixx"], v["ixy"], v["ixz"]], [v["ixy"], v["iyy"], v["iyz"]],
+                           [v["ixz"], v["iyz"], v["izz"]]])
+        R = rpy_matrix(_floats(inertial.find("origin"), "rpy", [0, 0, 0]))
+        check_inertia(where, float(mass_el.get("value")), R @ tensor @ R.T)
+
+
+def _step(model: mujoco.MjModel, source: str) -> dict:
+    if not model.opt.timestep > 0:
+        raise ModelError(f"{source}: <option timestep={model.opt.timestep:g}> must be positive")
+    data = mujoco.MjData(model)
+    steps = min(MAX_STEPS, int(round(STEP_SECONDS / model.opt.timestep)))
+    for _ in range(steps):
+        mujoco.mj_step(model, data)
+    check_warnings(model, data, f"{source}: {steps} x mj_step with zero controls")
+    return {"steps": f"{steps} x mj_step ({data.time:g} s), no warnings"}
+
+
+def _mujoco_facts(m: mujoco.MjModel) -> dict:
+    return {"bodies": m.nbody - 1, "dof": m.nv, "actuators": m.nu,
+            "moving mass": f"{float(m.body_mass[m.body_weldid != 0].sum()):.6g} kg"}
+
+
+def validate(path: Path | str, root: Path | str | None = None, states: int = importer.STATES,
+             seed: int = importer.SEED) -> Validation:
+    path = Path(path)
+    model = untrusted.read_model(path, root)
+    result = Validation(str(path), model.kind)
+    if model.kind == untrusted.URDF:
+        check_urdf_inertials(model)
+        pmodel = importer.load_pinocchio(model.text, str(path))
+        result.engines["Pinocchio"] = {"joints": pmodel.njoints - 1, "dof": pmodel.nv, "moving mass":
+                                       f"{sum(pmodel.inertias[i].mass for i in range(1, pmodel.njoints)):.6g} kg"}
+        mj, refused, bound = importer.load_import(importer.without_geometry(model.text, str(path)),
+                                                  f"{path} (MuJoCo's URDF importer)")
+        facts = {"refused as is": refused, "loaded with": importer.BOUND_NOTE} if refused else {}
+        result.engines["MuJoCo (URDF importer)"] = {**_mujoco_facts(mj), **_step(mj, str(path)), **facts}
+        try:
+            joints = importer.moving_joints(pmodel)
+        except ModelError as exc:
+            result.engines["comparison"] = {"skipped": str(exc)}
+        else:
+            prismatic = {pmodel.names[i] for i in range(1, pmodel.njoints)
+                         if pmodel.joints[i].shortname().startswith("JointModelP")}
+            mj.opt.gravity[:] = pmodel.gravity.linear
+            checks = importer.compare(importer.MujocoTree(mj, joints), importer.PinocchioTree(pmodel, joints),
+                                      joints, prismatic, states, seed, bound)
+            result.comparison = {"states": states, "seed": seed, "checks": checks}
+            result.findings = [importer.finding(c) for c in checks if not c["passed"]]
+    else:
+        refers_to_files = bool(untrusted.check_uris(model, root)) or bool(model.includes)
+        mj_path = path if refers_to_files else None  # MuJoCo resolves them from the model's own folder
+        mj = importer.compile_mujoco(model.text, str(path), mj_path)
+        result.engines["MuJoCo"] = {**_mujoco_facts(mj), **_step(mj, str(path))}
+    return result

@@ -1,0 +1,72 @@
+"""Parts of ``harness bench`` that must be right for its numbers to mean anything: the batched compiled
+functions equal the per-state ones, the n-link chain is the same system in our vocabulary and in
+``sympy.physics.mechanics``, the fixed-step integrators have their order, bad input is one line."""
+
+import numpy as np
+import pytest
+import sympy as sp
+
+import models
+from harness import cli
+from harness import simulate as sim
+from harness.bench import derivation, workprecision as wp
+from harness.compile import compiled
+
+# float64 round-off: NumPy's vectorized transcendental functions may differ from the scalar ones in the last bit
+ROUND_OFF = 1e-14
+
+
+@pytest.mark.parametrize("name", ["pendulum", "cart_pendulum"])
+def test_batched_equals_per_state(name):
+    s = models.get(name)
+    c = compiled(s)
+    rng = np.random.default_rng(1)
+    n, m = len(s.q), len(s.u)
+    Q, QD, U = rng.uniform(-1, 1, (7, n)), rng.uniform(-1, 1, (7, n)), rng.uniform(-1, 1, (7, m))
+    p = np.array(list(s.default_parameters().values()))
+    for quantity in ("M", "C", "g", "f_np", "T"):
+        batched = c.batched(quantity, Q, QD, p, U)
+        single = np.array([c(quantity, Q[i], QD[i], p, U[i]) for i in range(7)]).reshape(batched.shape)
+        assert np.allclose(batched, single, rtol=ROUND_OFF, atol=ROUND_OFF * np.max(np.abs(single)))
+    qdd = np.array([c.forward_dynamics(Q[i], QD[i], p, U[i]) for i in range(7)])
+    assert np.allclose(c.batched_forward_dynamics(Q, QD, p, U), qdd, rtol=1e-12, atol=1e-12 * np.max(np.abs(qdd)))
+
+
+def test_chain_is_the_same_system_in_both_vocabularies():
+    n = 2
+    ours = compiled(derivation.chain(n))
+    M_me, q = derivation.mechanics_mass_matrix(n)
+    values = {p.name: float(p.default) * (1 + 0.1 * k) for k, p in enumerate(ours.system.parameters)}
+    angles = [0.4, -1.1]
+    theirs = M_me.subs({sp.Symbol(k, positive=True): v for k, v in values.items()}).subs(dict(zip(q, angles)))
+    M = ours.mass_matrix(np.array(angles), np.array(list(values.values())))
+    assert np.allclose(M, np.array(theirs, dtype=float), rtol=ROUND_OFF * 10, atol=0)
+
+
+@pytest.mark.parametrize("method, order", [("RK4", 4), ("semi-implicit Euler", 1)])
+def test_fixed_step_integrators_converge_with_their_order(method, order):
+    system, scene = wp.get_scene("pendulum", "swing")
+    dyn = sim.Dynamics(system, scene, "symbolic")
+    t_eval = sim.sample_times(scene)
+    ref = sim.integrate(system, scene, "symbolic", rtol=1e-12, atol=1e-12)
+
+    def rhs(t, y):
+        return np.concatenate([y[1:], dyn(t, y[:1], y[1:])])
+
+    errors = []
+    for k in (2, 4):
+        t, y = wp.fixed_step(rhs, scene, np.array([*scene.q0, *scene.qd0]), method, k, t_eval)
+        errors.append(sim.max_error(sim.Trajectory("run", t, y[:1].T, y[1:].T, 0.0, 0), ref))
+    assert errors[0] / errors[1] > 2 ** order * 0.8  # the order, with 20 % for the pre-asymptotic range
+
+
+@pytest.mark.parametrize("args, message", [
+    (["bench", "--systems", "no_such_system"], "unknown system"),
+    (["bench", "--scenes", "no_such_scene", "--parts", "pruning"], "unknown scene"),
+    (["bench", "--parts", "everything"], "invalid choice"),
+])
+def test_bad_input_is_one_line_and_writes_nothing(args, message, capsys, tmp_path):
+    assert cli.main([*args, "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("error:") and message in err and "\n" not in err
+    assert not list(tmp_path.iterdir())

@@ -1,0 +1,62 @@
+"""Closed chains and couplings with their constraints inside the engines (harness/constraints.py)."""
+
+import numpy as np
+import pytest
+import sympy as sp
+
+import models
+from harness import constraints
+from harness import simulate as sim
+from harness.kinematics import link_poses, point_position
+from harness.scenes import Scene, effects_of
+
+CONSTRAINED = [name for name, s in models.catalogue().items() if constraints.constrained(s)]
+
+
+def _scene(system):
+    """A scene with every effect: the pruned system is the catalogue's, so its derivation is shared."""
+    return Scene("probe", "probe", tuple(0.1 for _ in system.coordinates), tuple(0.0 for _ in system.coordinates),
+                 1.0, effects_of(system))
+
+
+@pytest.mark.parametrize("name", CONSTRAINED)
+def test_every_constrained_map_is_couplings_and_closures(name):
+    """Each extra tree joint is an affine coupling or is matched by a declared closure."""
+    system = models.get(name)
+    dyn = sim.Dynamics(system, _scene(system), "symbolic")
+    found = constraints.couplings(system, dyn)
+    assert len(found) + len(system.closures) == len(system.joints) - len(system.coordinates)
+
+
+def test_drive_train_coupling_is_the_gear_ratio():
+    system = models.get("drive_train")
+    dyn = sim.Dynamics(system, _scene(system), "symbolic")
+    (coupling,) = constraints.couplings(system, dyn)
+    assert (coupling.dependent, coupling.independent) == ("phi_m", "phi_1")
+    assert coupling.ratio == pytest.approx(system.default_parameters()["i_g"], rel=1e-15)
+
+
+@pytest.mark.parametrize("name", [n for n in CONSTRAINED if models.get(n).closures])
+def test_the_map_keeps_the_closure(name):
+    """The nonlinear map solves the declared closed chain: nᵀ p(point) = value for every q (symbolically
+    at random q)."""
+    system = models.get(name)
+    poses = link_poses(system)
+    subs_map = dict(zip(system.theta, system.phi))
+    rng = np.random.default_rng(0)
+    params = system.default_parameters()
+    for closure in system.closures:
+        height = (sp.Matrix(closure.normal).T * point_position(poses, closure.point))[0] - closure.value
+        height = height.subs(subs_map)
+        for _ in range(5):
+            values = {c.symbol: rng.uniform(*(c.range or (-0.3, 0.3))) for c in system.coordinates}
+            values.update({p.symbol: params[p.name] for p in system.parameters})
+            assert abs(float(height.subs(values))) < 1e-12
+
+
+def test_pinocchio_kkt_keeps_the_toggle_press_closed():
+    system, scene = models.get("toggle_press"), models.scenes("toggle_press")[0]
+    tr = constraints.pinocchio_constrained(system, scene, horizon=0.2)
+    ref = sim.integrate(system, scene, "symbolic")
+    assert tr.notes["drift"] < constraints.DRIFT_TOL
+    assert sim.max_error(tr, ref) < 1e-6

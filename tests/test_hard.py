@@ -1,0 +1,165 @@
+"""Hard cases stay numerically stable (harness/hard/): the default tests run the strategies at short horizons;
+the whole catalogue with its report is ``slow`` (``pytest -m slow tests/test_hard.py``)."""
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+import models
+from harness.cli import main
+from harness.compile import compiled
+from harness.errors import ModelError
+from harness.hard.charts import integrate_charts, pendulum_charts
+from harness.hard.common import scene_for, second_order, solve
+from harness.hard.long_horizon import GROWTH_TOL, _growth, mujoco_steps, verlet
+from harness.hard.stiff import a05_error, a05_scene
+from harness.scenes import Scene
+from harness.simulate import Dynamics
+
+ENGINE_TOL = 1e-6
+INVARIANT_TOL = 1e-8
+
+
+def _p(system, **over):
+    values = {**system.default_parameters(), **over}
+    return np.array([values[x.name] for x in system.parameters])
+
+
+@pytest.mark.parametrize("name, q, expect", [
+    ("spherical_pendulum", [0.0, 0.3], "coordinate singularity at theta = 0, phi = 0.3 in spherical_pendulum"),
+    ("governor", [0.2, 0.0], "coordinate singularity at phi = 0.2, alpha = 0 in governor"),
+    ("tower_crane", [0.0, 1.5, 0.3, 0.1, 0.0], "s_5 = 0 in tower_crane"),
+])
+def test_singular_mass_matrix_is_a_clear_error(name, q, expect):
+    system = models.get(name)
+    c = compiled(system)
+    with pytest.raises(ModelError, match="coordinate singularity") as info:
+        c.forward_dynamics(np.array(q), np.ones(len(q)), _p(system), np.zeros(len(system.inputs)))
+    assert expect in str(info.value)
+
+
+def test_outside_the_map_is_a_clear_error_not_nan():
+    system = models.get("toggle_press")
+    c = compiled(system)
+    with pytest.raises(ModelError, match="not finite at q = 1.2 in toggle_press"):
+        c.forward_dynamics(np.array([1.2]), np.array([0.1]), _p(system, L_1=0.7, L_2=0.6), np.zeros(2))
+
+
+def test_chart_switch_through_the_pole_in_both_engines():
+    """phi_dot(0) = 1e-7: the bob passes within ~1e-7 of the pole; the chart switch keeps energy and angular
+    momentum and the engines' runs agree with the reference."""
+    charts = pendulum_charts(1.0)
+    scene = scene_for("pole", {"gravity"})
+    T, t_eval = 1.5, np.linspace(0.0, 1.5, 151)
+    q0, qd0 = np.array([0.6, 0.0]), np.array([0.0, 1e-7])
+    dyn = {c.name: Dynamics(c.system, scene, "symbolic") for c in charts}
+    _, ref, switches, _, _ = integrate_charts(charts, dyn, 0, q0, qd0, T, t_eval)
+    assert switches and np.all(np.isfinite(ref))
+    energy = 0.5 * np.sum(ref[:, 3:] ** 2, axis=1) + 9.81 * ref[:, 1]
+    momentum = ref[:, 2] * ref[:, 3] - ref[:, 0] * ref[:, 5]
+    assert np.ptp(energy) / 9.81 <= INVARIANT_TOL
+    assert np.ptp(momentum) / math.sqrt(9.81) <= INVARIANT_TOL
+    for source in ("pinocchio", "mujoco"):
+        d = {c.name: Dynamics(c.system, scene, source) for c in charts}
+        _, x, _, _, _ = integrate_charts(charts, d, 0, q0, qd0, T, t_eval, rtol=1e-10, atol=1e-10)
+        assert np.all(np.isfinite(x))
+        assert np.max(np.abs(x - ref)) <= ENGINE_TOL, source
+
+
+def test_governor_reduction_through_the_axis():
+    """The arms swing through alpha = 0 (p_phi = 0): the reduced alpha equation, from MuJoCo's M, C q̇, g, agrees
+    with the symbolic one; the full equations would factorize a singular M there."""
+    from harness.hard.common import Terms
+    system = models.get("governor")
+    scene = scene_for("pole", {"gravity"})
+    t_eval = np.linspace(0.0, 1.0, 101)
+
+    def reduced(source):
+        d = Terms(system, scene, source)
+
+        def rhs(t, y):
+            M, Cqd, g, f = d.terms(t, np.array([0.0, y[0]]), np.array([0.0, y[1]]))
+            return [y[1], (f[1] - Cqd[1] - g[1]) / M[1, 1]]
+        return rhs
+    ref, _ = solve(reduced("symbolic"), (0, 1.0), [0.5, 0.0], t_eval=t_eval)
+    assert np.min(ref.y[0]) < 0 < np.max(ref.y[0])           # it does pass through the axis
+    sol, _ = solve(reduced("mujoco"), (0, 1.0), [0.5, 0.0], rtol=1e-10, atol=1e-10, t_eval=t_eval)
+    assert np.max(np.abs(sol.y - ref.y)) <= ENGINE_TOL
+
+
+def test_flyball_a05_reaches_both_precision_levels():
+    """A05 over its first 0.3 s (the stiff transient): Radau reaches 1e-3 and 1e-6 in s(t) against a
+    Radau 1e-10 reference; the full 10 s with CPU times per source is ``harness hard flyball_governor_a05``."""
+    from harness.hard.flyball_governor import SYSTEM as system
+    scene = a05_scene(0.3)
+    y0 = np.concatenate([scene.q0, scene.qd0])
+    t_eval = np.linspace(0.0, 0.3, 121)
+    rhs = second_order(Dynamics(system, scene, "symbolic"), 4)
+    ref, _ = solve(rhs, (0, 0.3), y0, "Radau", 1e-10, 1e-10, t_eval=t_eval)
+    for target, tol in ((1e-3, 1e-4), (1e-6, 1e-8)):
+        sol, cpu = solve(rhs, (0, 0.3), y0, "Radau", tol, tol, t_eval=t_eval)
+        assert sol.success and np.all(np.isfinite(sol.y))
+        assert a05_error(sol.y[1], ref.y[1]) <= target, (target, tol)
+
+
+def test_flyball_springs_relaxed_at_the_start():
+    """The relaxed springs at the benchmark's initial state (s = 0.5 m, alpha = 30°)."""
+    from harness.hard.flyball_governor import SYSTEM as system
+    c = compiled(system)
+    q = np.array(a05_scene().q0)
+    assert abs(float(c("V", q, p=_p(system, g=0.0)))) < 1e-20
+
+
+def test_symplectic_energy_stays_in_a_band_and_rk_drifts():
+    system = models.get("pendulum")
+    c = compiled(system)
+    p = _p(system)
+    h, steps = 2.1528754 / 64, 64 * 200
+
+    def accel(q):
+        return -float(c("g", np.array([q]), p=p)[0, 0]) / float(c("M", np.array([q]), p=p)[0, 0])
+
+    def rel(q, v):
+        return np.abs(0.5 * v * v + 9.81 * (1 - np.cos(q)) - 9.81 * (1 - math.cos(1.0472))) / (9.81 * 0.5)
+    out = verlet(accel, 1.0472, 0.0, h, steps, 61)
+    assert _growth(rel(out[:, 1], out[:, 2])) <= GROWTH_TOL
+    scene = Scene("long", "", (1.0472,), (0.0,), steps * h, frozenset({"gravity"}))
+    _, q, v, _ = mujoco_steps(system, scene, h, 64 * 2000, "Euler", 61)
+    assert _growth(rel(q, v)[1:]) <= GROWTH_TOL
+    _, q, v, _ = mujoco_steps(system, scene, h, 64 * 2000, "RK4", 61)
+    assert _growth(rel(q, v)[1:]) > 5        # the non-symplectic RK4 drifts (what the case shows)
+
+
+def test_mujoco_point_mass_inertia_within_the_stated_bound():
+    from harness.hard.mass_ratio import POINT_INERTIA, ROUND_OFF
+    system = models.get("trebuchet_free")
+    M_cw = system.default_parameters()["M"]
+    scene = scene_for("ratio", {"gravity"}, params={"M": M_cw, "m": M_cw / 1e6})
+    q, qd = np.array([0.25, 0.1, 1.2]), np.array([1.0, -0.5, 0.3])
+    sym = Dynamics(system, scene, "symbolic")
+    kappa = np.linalg.cond(sym.c.mass_matrix(q, sym.p))
+    a = sym(0.0, q, qd)
+    bound = ROUND_OFF * kappa + POINT_INERTIA / (M_cw / 1e6 * system.default_parameters()["r"] ** 2)
+    for source in ("pinocchio", "mujoco"):
+        b = Dynamics(system, scene, source)(0.0, q, qd)
+        assert np.max(np.abs(b - a)) / np.max(np.abs(a)) <= bound, source
+
+
+def test_unknown_hard_case_is_one_error_line(capsys, tmp_path):
+    assert main(["hard", "no_such_case", "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("error: unknown hard case 'no_such_case'")
+    assert not (tmp_path / "hard.json").exists()
+
+
+@pytest.mark.slow
+def test_catalogue_report(tmp_path):
+    """The whole catalogue at its shortened horizons: every bound holds, the JSON and the figures exist."""
+    assert main(["hard", "--quick", "--out", str(tmp_path)]) == 0
+    doc = json.loads((tmp_path / "hard.json").read_text())
+    assert doc["schema"] == "hard-cases/1" and doc["passed"]
+    for case in doc["cases"]:
+        if case["figure"]:
+            assert (tmp_path / case["figure"]).exists()

@@ -1,0 +1,54 @@
+"""MuJoCo's own URDF importer against our MJCF and Pinocchio (harness/importer.py), and that the comparison
+sees the known importer defects when they are there (emulated on the rotated-inertials test model)."""
+
+import json
+
+import pytest
+
+import models
+from harness import cli, importer
+
+QUANTITIES = set(importer.QUANTITIES)
+
+
+def test_rotated_inertial_frames_agree_with_pinocchio():
+    (path,) = importer.FIXTURES
+    record = importer.compare_urdf(path, path.read_text())
+    assert record["loaded"] and record["refused"] is None
+    assert {c["quantity"] for c in record["checks"]} == QUANTITIES
+    assert record["passed"], record["findings"]
+
+
+def test_known_importer_defects_would_be_found():
+    controls = importer.controls(states=5)
+    assert [c["defect"] for c in controls] == list(importer.CONTROLS)
+    for control in controls:
+        assert control["detected"], control
+        assert control["max_error"]["M"] > 1e-3 and control["max_error"]["inertia"] > 1e-3
+
+
+@pytest.mark.parametrize("name, refused", [("planar_manipulator", False), ("spherical_pendulum", True)])
+def test_import_of_our_urdf_matches_our_mjcf(name, refused):
+    record = importer.compare_system(models.get(name))
+    assert (record["refused"] is not None) == refused
+    assert record["loaded"] and record["passed"], record["findings"]
+
+
+def test_importer_command_writes_json_and_markdown(tmp_path, capsys):
+    assert cli.main(["importer", "pendulum", "--states", "3", "--out", str(tmp_path)]) == 0
+    doc = json.loads((tmp_path / "importer.json").read_text())
+    assert doc["schema"] == importer.SCHEMA and doc["states"] == 3
+    assert [r["model"] for r in doc["models"]][:2] == ["pendulum", "rotated_inertials"]
+    assert doc["summary"]["agree"] == len(doc["models"]) and all(c["detected"] for c in doc["controls"])
+    assert "| pendulum |" in (tmp_path / "importer.md").read_text()
+
+
+def test_edge_cases_of_the_importer():
+    """Legal edits of the test model: the importer agrees with Pinocchio except for a fixed link lighter than
+    MuJoCo's mjMINVAL (1e-15 kg) that still has an inertia tensor — MuJoCo drops that inertia when it fuses the
+    link into its parent, Pinocchio keeps it (a finding, in reports/importer.md)."""
+    by_name = {p["probe"]: p for p in importer.probes(states=5)}
+    assert set(by_name) == set(importer.PROBES)
+    light = by_name.pop("fixed link lighter than mjMINVAL, with rotational inertia")
+    assert light["loaded"] and not light["agrees"] and light["max_error"]["inertia"] > 1e-3
+    assert all(p["loaded"] and p["agrees"] for p in by_name.values()), by_name

@@ -1,0 +1,87 @@
+"""Reports: results.json is byte-identical for the same seed (timings go to timings.json), it follows its
+documented schema, summary.md and the pages come from one writer, and one system raising never loses the others."""
+
+from __future__ import annotations
+
+import importlib
+import json
+from pathlib import Path
+
+import pytest
+
+from harness import cli
+from harness.report import build_site
+from harness.report.results import split_timings
+
+SCHEMA = Path(__file__).resolve().parent.parent / "docs" / "results.schema.json"
+
+
+@pytest.fixture(scope="module")
+def two_runs(tmp_path_factory):
+    """``harness check pendulum --out`` twice in one process; between the runs, modules a scene run imports are
+    loaded (hypothesis would otherwise mix constants from their source into the draws)."""
+    runs = []
+    for k in range(2):
+        out = tmp_path_factory.mktemp(f"run{k}")
+        assert cli.main(["check", "pendulum", "--examples", "10", "--no-scenes", "--out", str(out)]) == 0
+        runs.append(out)
+        for module in ("harness.report.site", "harness.trajectories"):
+            importlib.import_module(module)
+    return runs
+
+
+def test_same_seed_gives_byte_identical_results(two_runs):
+    a, b = (run / "results.json" for run in two_runs)
+    assert a.read_bytes() == b.read_bytes()
+    doc = json.loads(a.read_text())
+    assert doc["hypothesis"]["profile"] and doc["hypothesis"]["derandomize"] is True
+    assert "database" in doc["hypothesis"] and doc["versions"]["mujoco"] and doc["versions"]["pinocchio"]
+    assert "seconds" not in a.read_text() and "time ratio" not in a.read_text()
+    timings = json.loads((two_runs[0] / "timings.json").read_text())
+    assert timings["systems/pendulum/seconds"] > 0
+
+
+def test_explicit_seed_is_recorded_and_reproducible(tmp_path):
+    for name in ("a", "b"):
+        assert cli.main(["check", "pendulum", "--examples", "5", "--seed", "7", "--no-scenes",
+                         "--out", str(tmp_path / name)]) == 0
+    a, b = (tmp_path / name / "results.json" for name in ("a", "b"))
+    assert a.read_bytes() == b.read_bytes()
+    assert json.loads(a.read_text())["hypothesis"]["seed"] == 7
+
+
+def test_results_follow_the_documented_schema(two_runs):
+    jsonschema = pytest.importorskip("jsonschema")
+    schema = json.loads(SCHEMA.read_text())
+    jsonschema.validate(json.loads((two_runs[0] / "results.json").read_text()), schema)
+
+
+def test_timings_are_split_out_wherever_they_are():
+    doc = {"systems": [{"system": "p", "seconds": 1.5, "scenes": [{"scene": "s", "notes": {
+        "pruning time ratio (idle / pruned), symbolic": 1.2, "mj_step RK4 error ratio": 16.0}}]}]}
+    clean, timings = split_timings(doc)
+    assert timings == {"systems/p/seconds": 1.5, "systems/p/scenes/s/notes/pruning time ratio (idle / pruned), symbolic": 1.2}
+    assert clean["systems"][0]["scenes"][0]["notes"] == {"mj_step RK4 error ratio": 16.0}
+
+
+def test_a_system_page_that_fails_marks_only_that_system(two_runs, monkeypatch):
+    from harness.report import site
+
+    out = two_runs[1]
+    doc = json.loads((out / "results.json").read_text())
+    doc["systems"].append({**doc["systems"][0], "system": "cart_pendulum"})
+    (out / "results.json").write_text(json.dumps(doc))
+    real = site.model_view
+
+    def broken(system):
+        if system.name == "cart_pendulum":
+            raise RuntimeError("simulated crash")
+        return real(system)
+
+    monkeypatch.setattr(site, "model_view", broken)
+    result = build_site(out, progress=open("/dev/null", "w"))
+    assert result["failed"] == {"cart_pendulum": "cart_pendulum: page not built: RuntimeError: simulated crash"}
+    assert "simulated crash" in (out / "systems" / "cart_pendulum.html").read_text()
+    page = (out / "systems" / "pendulum.html").read_text()
+    assert "conformant" in page and "simulated crash" not in page
+    assert "cart_pendulum" in (out / "index.html").read_text()
