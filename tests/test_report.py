@@ -85,3 +85,11 @@ def test_a_system_page_that_fails_marks_only_that_system(two_runs, monkeypatch):
     page = (out / "systems" / "pendulum.html").read_text()
     assert "conformant" in page and "simulated crash" not in page
     assert "cart_pendulum" in (out / "index.html").read_text()
+
+
+def test_markdown_bold_and_italic_beside_links():
+    """Bold and italic have one group, links two: each is rendered (a bold cell once crashed the site)."""
+    from harness.report.mdhtml import markdown_html
+
+    html = markdown_html("| goal | met |\n|---|---|\n| a | **no** |\n\n*x* [l](bench.md)")
+    assert "<b>no</b>" in html and "<i>x</i>" in html and '<a href="bench.md">l</a>' in html

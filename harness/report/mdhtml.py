@@ -24,7 +24,10 @@ def _inline(text: str, local=lambda target: True) -> str:
             continue
         piece = html.escape(part, quote=False)
         for pattern, repl in _INLINE:
-            piece = pattern.sub(lambda m, r=repl: _link(m, r, local), piece)
+            if pattern.groups == 2:  # a link or an image: its target must be inside the report
+                piece = pattern.sub(lambda m, r=repl: _link(m, r, local), piece)
+            else:
+                piece = pattern.sub(repl, piece)
         out.append(piece)
     return "".join(out)
 
