@@ -42,7 +42,7 @@ from harness.engines.base import Load, load_functions
 from harness.engines.mujoco_engine import MujocoModel
 from harness.errors import ModelError
 from harness.export.mjcf import mjcf_spec
-from harness.export.numeric import instantiate, point_name
+from harness.export.numeric import instantiate, point_name, value_at
 
 BAUMGARTE_OMEGA = 20.0     # rad/s: constraint errors decay over ~0.1 s, far below the integrator's drift
 DRIFT_TOL = 1e-8
@@ -107,11 +107,6 @@ def couplings(system, dyn: sim.Dynamics) -> list[Coupling]:
     return out
 
 
-def _value(expr, params) -> float:
-    expr = sp.sympify(expr)
-    return float(expr.subs({x: params[x.name] for x in expr.free_symbols}))
-
-
 class _Recover:
     """Lecture coordinates from tree coordinates: Gauss-Newton on ``φ(q) = θ`` from the last solution."""
 
@@ -164,7 +159,7 @@ class PinocchioConstrained:
             row[index[cp.dependent]], row[index[cp.independent]] = 1.0, -cp.ratio
             self.rows.append((row, cp.offset))
         self.closures = [(model.getFrameId(point_name(cl.point)), np.array(cl.normal, dtype=float),
-                          _value(cl.value, self.dyn.params)) for cl in self.dyn.system.closures]
+                          value_at(cl.value, self.dyn.params)) for cl in self.dyn.system.closures]
         self.recover = _Recover(self.dyn, scene.q0)
         self.has_loads = bool(load_functions(self.dyn.system))
         self.evaluations = 0
@@ -212,25 +207,10 @@ def pinocchio_constrained(system, scene, rtol=1e-10, atol=1e-10, horizon=None) -
     rhs = PinocchioConstrained(system, scene)
     theta0, theta_dot0 = _start(system, scene, rhs.dyn)
     n = len(theta0)
-    end = scene.horizon if horizon is None else horizon
-    t_eval = sim.sample_times(scene)
-    t_eval = t_eval[t_eval <= end]
-    from scipy.integrate import solve_ivp
-
     start = time.perf_counter()
-    edges = [0.0, *[b for b in scene.breakpoints if b < end], end]
-    ts, ys, y = [], [], np.concatenate([theta0, theta_dot0])
-    for k, (a, b) in enumerate(zip(edges[:-1], edges[1:])):
-        last = k == len(edges) - 2
-        inside = t_eval[(t_eval >= a) & ((t_eval <= b) if last else (t_eval < b))]
-        sol = solve_ivp(rhs, (a, b), y, method="DOP853", rtol=rtol, atol=atol, t_eval=inside, dense_output=True)
-        if not sol.success:
-            raise RuntimeError(f"{scene.name}: constrained Pinocchio integration failed: {sol.message}")
-        ts.append(sol.t)
-        ys.append(sol.y)
-        y = sol.sol(b)
+    t, y, _ = sim.solve_piecewise(rhs, scene, np.concatenate([theta0, theta_dot0]), "DOP853", rtol, atol,
+                                  sim.sample_times(scene), end=horizon)
     seconds = time.perf_counter() - start
-    t, y = np.concatenate(ts), np.concatenate(ys, axis=1)
     recover = _Recover(rhs.dyn, scene.q0)
     q, qd, drift = [], [], 0.0
     for theta, theta_dot in zip(y[:n].T, y[n:].T):
@@ -268,7 +248,7 @@ def mujoco_spec(system, scene, dt: float):
         t1 = np.cross(n, [1.0, 0.0, 0.0] if abs(n[0]) < 0.9 else [0.0, 1.0, 0.0])
         t1 /= np.linalg.norm(t1)
         t2 = np.cross(n, t1)
-        guide = spec.worldbody.add_body(name=f"guide_{cl.name}", pos=_value(cl.value, dyn.params) * n)
+        guide = spec.worldbody.add_body(name=f"guide_{cl.name}", pos=value_at(cl.value, dyn.params) * n)
         guide.explicitinertial = True
         guide.mass = GUIDE_MASS_RATIO * sum(link.mass for link in tree.links)
         guide.fullinertia = [guide.mass] * 3 + [0.0] * 3  # it only slides: its inertia never acts

@@ -97,9 +97,12 @@ def sample_times(scene: Scene, samples: int = 201) -> np.ndarray:
     return np.linspace(0.0, scene.horizon, samples)
 
 
-def solve_piecewise(rhs, scene: Scene, y0, method: str, rtol: float, atol: float, t_eval):
-    """``solve_ivp`` restarted at the scene's input breakpoints; returns ``(t, y, nfev)`` at ``t_eval``."""
-    edges = [0.0, *scene.breakpoints, scene.horizon]
+def solve_piecewise(rhs, scene: Scene, y0, method: str, rtol: float, atol: float, t_eval, end: float | None = None):
+    """``solve_ivp`` restarted at the scene's input breakpoints, from 0 to ``end`` (the horizon by default);
+    returns ``(t, y, nfev)`` at ``t_eval``."""
+    end = scene.horizon if end is None else end
+    t_eval = t_eval[t_eval <= end]
+    edges = [0.0, *[b for b in scene.breakpoints if b < end], end]
     ts, ys, nfev, y = [], [], 0, np.asarray(y0, dtype=float)
     for k, (a, b) in enumerate(zip(edges[:-1], edges[1:])):
         last = k == len(edges) - 2

@@ -47,7 +47,7 @@ from scipy.optimize import brentq
 
 from harness.errors import ModelError
 from harness.export.mjcf import mjcf_spec, rpy_quat
-from harness.export.numeric import instantiate
+from harness.export.numeric import instantiate, value_at
 from harness import simulate as sim
 
 EVENT_TOL = 1e-8
@@ -69,12 +69,6 @@ class HybridTrajectory(sim.Trajectory):
     events: list = field(default_factory=list)
 
 
-def _value(expr, params: dict) -> float:
-    """An expression in the parameters at their values."""
-    expr = sp.sympify(expr)
-    return float(expr.subs({x: params[x.name] for x in expr.free_symbols}))
-
-
 def _mode_name(mode: int) -> str:
     return {0: "stick", 1: "slide +", -1: "slide -"}[mode]
 
@@ -91,7 +85,7 @@ class StickSlip:
     normal_force: sp.Expr
 
     def values(self, params: dict) -> tuple[float, float, float]:
-        return params[self.mu_H], params[self.mu_C], _value(self.normal_force, params)
+        return params[self.mu_H], params[self.mu_C], value_at(self.normal_force, params)
 
 
 class _StickSlipDynamics:
@@ -242,14 +236,14 @@ class RollSlip:
     roll_joint: str
 
     def predicted(self, params) -> float:
-        return _value(self.threshold, params)
+        return value_at(self.threshold, params)
 
 
 def _rolling_model(system, scene, event: RollSlip, mu: float, dt: float):
     dyn = sim.Dynamics(system, scene, "symbolic")
     params = dyn.params
     R = params[event.radius]
-    rpy = [_value(a, params) for a in event.plane_rpy]
+    rpy = [value_at(a, params) for a in event.plane_rpy]
     spec = mjcf_spec(instantiate(dyn.system, params))
     spec.option.disableflags &= ~int(mujoco.mjtDisableBit.mjDSBL_CONTACT | mujoco.mjtDisableBit.mjDSBL_CONSTRAINT)
     spec.option.cone = mujoco.mjtCone.mjCONE_ELLIPTIC

@@ -65,6 +65,12 @@ def _value(expr, subs) -> float:
     return float(value)
 
 
+def value_at(expr, params: dict[str, float]) -> float:
+    """An expression in the parameters at the values ``params`` (given by parameter name)."""
+    expr = sp.sympify(expr)
+    return _value(expr, {x: sp.Float(params[x.name]) for x in expr.free_symbols})
+
+
 def point_name(point: Point) -> str:
     return point.name or f"{point.link}_point"
 
