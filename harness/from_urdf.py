@@ -56,6 +56,7 @@ import numpy as np
 import sympy as sp
 
 from harness.errors import ModelError
+from harness.export.numeric import lump
 from harness.model import WORLD, Coordinate, Gravity, Inertia, Joint, Link, Parameter, System
 
 QUARTER_TURN_SNAP = 1e-9   # rad; see the module docstring
@@ -270,18 +271,7 @@ class _Body:
         self.parts.append((inertial.mass, R @ np.array(inertial.xyz) + p, Rin @ inertial.inertia @ Rin.T))
 
     def lumped(self):
-        parts = [part for part in self.parts if part[0] > 0 or np.any(part[2])]
-        if not parts:
-            return 0.0, np.zeros(3), np.zeros((3, 3))
-        if len(parts) == 1:
-            return parts[0]
-        mass = sum(m for m, _, _ in parts)
-        com = sum(m * c for m, c, _ in parts) / mass
-        inertia = np.zeros((3, 3))
-        for m, c, I in parts:  # Steiner (3.133)
-            d = c - com
-            inertia += I + m * (d @ d * np.eye(3) - np.outer(d, d))
-        return mass, com, 0.5 * (inertia + inertia.T)
+        return lump(self.parts)
 
 
 # --------------------------------------------------------------------------- URDF -> System

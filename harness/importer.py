@@ -97,7 +97,7 @@ import pinocchio as pin
 
 from harness.conformance import FLOAT64_RTOL
 from harness.errors import EngineError, ModelError
-from harness.export.numeric import MUJOCO_POINT_MASS_INERTIA
+from harness.export.numeric import MUJOCO_POINT_MASS_INERTIA, lump
 
 PROJECT_ROOT = Path(__file__).resolve().parent.parent
 FIXTURES = (Path(__file__).resolve().parent / "fixtures" / "rotated_inertials.urdf",)
@@ -204,14 +204,8 @@ class Rigid:
 
 
 def _lump(parts) -> Rigid:
-    """Steiner (3.133): one body from ``(m, c, I_c)`` parts in world axes."""
-    mass = sum(m for m, _, _ in parts)
-    com = sum(m * c for m, c, _ in parts) / mass if mass > 0 else np.zeros(3)
-    inertia = np.zeros((3, 3))
-    for m, c, I in parts:
-        d = c - com
-        inertia += I + m * (d @ d * np.eye(3) - np.outer(d, d))
-    return Rigid(float(mass), com, inertia)
+    """One body from ``(m, c, I_c)`` parts in world axes (:func:`harness.export.numeric.lump`)."""
+    return Rigid(*lump(parts))
 
 
 class MujocoTree:

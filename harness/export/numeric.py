@@ -65,6 +65,25 @@ def _value(expr, subs) -> float:
     return float(value)
 
 
+def lump(parts) -> tuple[float, np.ndarray, np.ndarray]:
+    """Steiner's theorem (3.133): one rigid body from ``(m, c, I_c)`` parts given in common axes — its mass,
+    centre of mass and (symmetric) inertia tensor about it. Parts without mass or inertia are left out; one
+    part is returned as it is."""
+    parts = [(float(m), np.asarray(c, dtype=float), np.asarray(I, dtype=float)) for m, c, I in parts
+             if m > 0 or np.any(I)]
+    if not parts:
+        return 0.0, np.zeros(3), np.zeros((3, 3))
+    if len(parts) == 1:
+        return parts[0]
+    mass = sum(m for m, _, _ in parts)
+    com = sum(m * c for m, c, _ in parts) / mass if mass > 0 else np.zeros(3)
+    inertia = np.zeros((3, 3))
+    for m, c, I in parts:
+        d = c - com
+        inertia += I + m * (d @ d * np.eye(3) - np.outer(d, d))
+    return mass, com, 0.5 * (inertia + inertia.T)
+
+
 def value_at(expr, params: dict[str, float]) -> float:
     """An expression in the parameters at the values ``params`` (given by parameter name)."""
     expr = sp.sympify(expr)
