@@ -181,7 +181,7 @@ PER_BODY_MIN_DOF = 6
 
 
 def is_per_body(system: System) -> bool:
-    """Whether ``system`` is derived body by body (:func:`_per_body`); such a derivation is not cached."""
+    """Whether ``system`` is derived body by body (:func:`_per_body`); such a derivation is cached as a graph."""
     return len(system.q) >= PER_BODY_MIN_DOF and _identity_map(system) is not None
 
 
@@ -293,6 +293,10 @@ def derive(system: System, use_cache: bool = True) -> Derivation:
         if stored is not None and sorted(stored) == sorted(SYMBOLIC_FIELDS):
             return Derivation(**stored, from_cache=True)
     derivation = derive_uncached(system)
-    if use_cache and not is_per_body(system):  # srepr would write out the tree of a per-body graph
-        cache.store(key, {name: getattr(derivation, name) for name in SYMBOLIC_FIELDS})
+    if use_cache:  # a per-body derivation as a graph: srepr would write out its trees
+        graph = is_per_body(system)
+        cache.store(key, {name: getattr(derivation, name) for name in SYMBOLIC_FIELDS}, graph=graph)
+        stored = cache.load(key) if graph else None
+        if stored is not None:  # the graph read back differs in round-off: cold and cached runs use the same one
+            derivation = Derivation(**stored, seconds=derivation.seconds)
     return derivation

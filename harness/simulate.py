@@ -9,11 +9,12 @@ the scene's sample times.
 from __future__ import annotations
 
 import time
+import warnings
 from dataclasses import dataclass, field
 
 import mujoco
 import numpy as np
-from scipy.integrate import solve_ivp
+from scipy.integrate import odeint, solve_ivp
 
 from harness.compile import compiled
 from harness.engines.base import Load, load_functions, to_lecture
@@ -41,13 +42,17 @@ class Trajectory:
 class Dynamics:
     """``q̈ = f(t, q, q̇)`` of one scene from one source, in lecture coordinates."""
 
-    def __init__(self, system: System, scene: Scene, source: str):
+    def __init__(self, system: System, scene: Scene, source: str, native: bool = False):
+        """``native``: the symbolic q̈ in machine code (:meth:`harness.compile.CompiledModel.forward_dynamics`)."""
         self.system = pruned(system, scene.effects)
+        self.native = native
         self.scene = scene
         self.source = source
         self.params = {**system.default_parameters(), **scene.params}
         self.p = np.array([self.params[p.name] for p in self.system.parameters])
         self.c = compiled(self.system)
+        self.input_names = [i.name for i in self.system.inputs]
+        self.load_functions = load_functions(self.system)  # looked up once: hashing a System walks its expressions
         self.evaluations = 0
         if source != "symbolic":
             tree = instantiate(self.system, self.params)
@@ -57,8 +62,20 @@ class Dynamics:
         self.evaluations += 1
         u = self.scene.u(t, self.system)
         if self.source == "symbolic":
-            return self.c.forward_dynamics(q, qd, self.p, u)
+            return self.c.forward_dynamics(q, qd, self.p, u, native=self.native)
+        if self.source == "pinocchio" and self.c.derivation.J_phi.is_square:
+            # only pin.aba: θ̈ of the tree, then q̈ = J⁻¹ (θ̈ − J̇ q̇) (5.58)
+            theta, J, J_dot = self.c.map_at(q, qd, self.p, u)
+            inputs = dict(zip(self.input_names, u))
+            theta_dd = self.model.forward_dynamics(theta, J @ qd, inputs, self.loads(q, qd, u))
+            return theta_dd if self.c.identity_map else np.linalg.solve(J, theta_dd - J_dot @ qd)
         return self.lecture(t, q, qd).qdd
+
+    def loads(self, q, qd, u) -> list[Load]:
+        """The external loads (PointForce, BodyTorque) at one state, each engine turns them into forces."""
+        args = (q, qd, self.p, u)
+        return [Load(kind, where, frame, np.asarray(fn(*args), dtype=float).ravel())
+                for kind, where, frame, fn in self.load_functions]
 
     def mass_matrix(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
         """``M(q)`` in lecture coordinates from this source (the symbolic one or the engine's, mapped)."""
@@ -69,13 +86,9 @@ class Dynamics:
     def lecture(self, t: float, q: np.ndarray, qd: np.ndarray):
         """The engine's quantities at one state in lecture coordinates (:func:`to_lecture`)."""
         u = self.scene.u(t, self.system)
-        args = (q, qd, self.p, u)
-        theta = self.c("phi", *args).ravel()
-        J, J_dot = self.c("J_phi", *args), self.c("J_phi_dot", *args)
-        loads = [Load(kind, where, frame, np.asarray(fn(*args), dtype=float).ravel())
-                 for kind, where, frame, fn in load_functions(self.system)]
-        inputs = dict(zip((i.name for i in self.system.inputs), u))
-        tree_quantities = self.model.quantities(theta, J @ qd, inputs, loads, christoffel=False)
+        theta, J, J_dot = self.c.map_at(q, qd, self.p, u)
+        inputs = dict(zip(self.input_names, u))
+        tree_quantities = self.model.quantities(theta, J @ qd, inputs, self.loads(q, qd, u), christoffel=False)
         return to_lecture(self.source, _MapAt(J, J_dot, qd), tree_quantities)
 
     def energy(self, q: np.ndarray, qd: np.ndarray) -> float:
@@ -115,6 +128,30 @@ def solve_piecewise(rhs, scene: Scene, y0, method: str, rtol: float, atol: float
         nfev += sol.nfev
         y = sol.sol(b)
     return np.concatenate(ts), np.concatenate(ys, axis=1), nfev
+
+
+ODEINT = "LSODA (odeint)"  # scipy's odeint: the same LSODA, its stepping loop in Fortran instead of Python
+
+
+def odeint_piecewise(rhs, scene: Scene, y0, rtol: float, atol: float, t_eval, max_steps: int = 100_000):
+    """``scipy.integrate.odeint`` (ODEPACK's LSODA, stepping in Fortran; ``solve_ivp``'s LSODA steps in Python)
+    restarted at the scene's input breakpoints; returns ``(t, y, nfev)`` at ``t_eval`` like :func:`solve_piecewise`."""
+    edges = [0.0, *scene.breakpoints, scene.horizon]
+    ys, nfev, y = [], 0, np.asarray(y0, dtype=float)
+    for k, (a, b) in enumerate(zip(edges[:-1], edges[1:])):
+        last = k == len(edges) - 2
+        inside = t_eval[(t_eval >= a) & ((t_eval <= b) if last else (t_eval < b))]
+        times = np.unique(np.concatenate([[a], inside, [b]]))  # sorted: a first, b last
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # a failure is read from its message below
+            out, info = odeint(rhs, y, times, rtol=rtol, atol=atol, tfirst=True, full_output=True,
+                               mxstep=max_steps)
+        if info["message"] != "Integration successful.":
+            raise RuntimeError(f"{scene.name}: odeint failed on [{a}, {b}]: {info['message']}")
+        ys.append(out[np.searchsorted(times, inside)])
+        nfev += int(info["nfe"][-1])
+        y = out[-1]
+    return np.asarray(t_eval), np.concatenate(ys).T, nfev
 
 
 def integrate(system: System, scene: Scene, source: str, method: str = "DOP853", rtol: float = 1e-12,

@@ -32,6 +32,31 @@ def test_batched_equals_per_state(name):
     assert np.allclose(c.batched_forward_dynamics(Q, QD, p, U), qdd, rtol=1e-12, atol=1e-12 * np.max(np.abs(qdd)))
 
 
+@pytest.mark.parametrize("name", ["planar_manipulator", "tower_crane", "spring_mass_damper"])
+def test_one_function_of_all_terms_equals_the_numpy_functions(name):
+    """``CompiledModel.terms`` (Python floats, and its numba machine code) returns the per-quantity NumPy
+    functions' M, C·q̇, g, f_np; where ``math`` raises (a spring of zero length) both give ``nan``, not an error."""
+    s = models.get(name)
+    c = compiled(s)
+    rng = np.random.default_rng(2)
+    n, m = len(s.q), len(s.u)
+    p = np.array(list(s.default_parameters().values()))
+    for _ in range(3):
+        q, qd, u = rng.uniform(-1, 1, n), rng.uniform(-1, 1, n), rng.uniform(-1, 1, m)
+        want = [c("M", q, qd, p, u), c("C", q, qd, p, u) @ qd, c("g", q, qd, p, u).ravel(), c("f_np", q, qd, p, u).ravel()]
+        for native in (False, True):
+            for got, ref in zip(c.terms(q, qd, p, u, native=native), want):
+                assert np.allclose(got, ref, rtol=ROUND_OFF, atol=ROUND_OFF * max(1.0, np.max(np.abs(ref))))
+    if name == "spring_mass_damper":  # equal positions: the springs' unit vectors divide by zero
+        q = np.full(n, 0.3)
+        with np.errstate(all="ignore"):
+            numpy_values = np.concatenate([np.ravel(c(k, q, qd, p, u)) for k in ("M", "g")])
+        assert not np.isfinite(numpy_values).all()
+        for native in (False, True):
+            M, _, g, _ = c.terms(q, qd, p, u, native=native)
+            assert not np.isfinite(np.concatenate([M.ravel(), g])).all()
+
+
 def test_chain_is_the_same_system_in_both_vocabularies():
     n = 2
     ours = compiled(derivation.chain(n))

@@ -69,6 +69,28 @@ def test_cache_hit_and_corrupted_cache_is_rebuilt(tmp_path, monkeypatch):
     assert not derive(s).from_cache
 
 
+def test_per_body_derivation_is_cached_as_a_graph(tmp_path, monkeypatch):
+    """A tree derived body by body (>= 6 DoF) is stored as its shared subexpressions and read back to the same
+    expressions the cold run uses; a damaged replacement is detected and the derivation rebuilt."""
+    from harness.bench.derivation import chain
+    from harness.derive import is_per_body
+
+    monkeypatch.setenv("HARNESS_CACHE_DIR", str(tmp_path))
+    s = chain(6)
+    assert is_per_body(s)
+    first = derive(s)
+    assert not first.from_cache
+    (entry,) = tmp_path.glob("*.json")
+    doc = json.loads(entry.read_text())
+    assert doc["replacements"] and all(name.startswith("_cse_") for name, _ in doc["replacements"])
+    second = derive(s)
+    assert second.from_cache and second.M == first.M and second.C == first.C and second.g == first.g
+    doc["replacements"][0][1] = doc["replacements"][0][1].replace("1", "2", 1)  # damage, checksum kept
+    entry.write_text(json.dumps(doc))
+    third = derive(s)
+    assert not third.from_cache and third.M == first.M
+
+
 def test_cache_key_changes_with_the_model():
     assert _pendulum().fingerprint() != _pendulum(gravity=Gravity(sp.Symbol("g", positive=True), (0, -1, 0))).fingerprint()
 

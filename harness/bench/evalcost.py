@@ -1,16 +1,17 @@
 """Evaluation cost of ``M``, ``C·q̇``, ``g`` and ``q̈`` per state, all measured in one process and one run.
 
-* **symbolic, one call**: the lambdified functions of :mod:`harness.compile` called directly at one state
-  (``C·q̇`` is the compiled Christoffel ``C`` times ``q̇``; ``q̈`` is :meth:`CompiledModel.forward_dynamics`); the
-  cost of the convenience wrapper ``CompiledModel.__call__`` is reported beside it (where the time goes).
+* **symbolic, one call**: :meth:`CompiledModel.terms_array`, the one compiled function of plain floats that
+  returns the entries of ``M``, ``C·q̇``, ``g`` (and ``f_np``) of a state together in one array, the function every
+  simulation calls (splitting the array into four, :meth:`CompiledModel.terms`, is ``split``); ``q̈`` is
+  :meth:`CompiledModel.forward_dynamics` (``terms``, then one ``eigh`` of ``M`` that checks and solves).
+  Where the time goes: the generated arithmetic alone (``terms_arithmetic``, on lists of floats), the ``eigh``; and
+  the NumPy function of one quantity each that the conformance checks call (``symbolic_numpy``, ``C·q̇`` = ``C``
+  times ``q̇``; ``symbolic_wrapper``: through ``CompiledModel.__call__``).
+* **symbolic, machine code** (opt-in): the same function compiled by numba (``terms(native=True)``), and ``q̈``
+  with it; its compilation time (``native_compile_seconds``) beside.
 * **symbolic, batched**: :meth:`CompiledModel.batched` over ``N`` states (default 10⁴), time divided by ``N``.
 * **Pinocchio, per call**: ``crba`` (M), ``nonLinearEffects`` (C·q̇ + g; C·q̇ needs it *and* the next),
   ``computeGeneralizedGravity`` (g), ``aba`` (q̈), on the model loaded from our URDF, in tree coordinates.
-* **where q̈'s time goes**: the compiled ``f_np`` call, the regularity check of ``M`` and the solve, each per call;
-  and one *fused* lambdified function returning ``M`` and ``f_np − C q̇ − g`` together (shared subexpressions),
-  then the solve — what a single compiled q̈ would cost (measured, not used by the harness); the same with
-  Python's ``math`` on plain floats instead of NumPy scalars (``qdd_math_scalars``; ``call_math_scalars``
-  without the solve).
 * **MuJoCo, per call**: ``mj_fwdPosition + mj_fullM`` (M), ``mj_fwdPosition + mj_fwdVelocity`` (``qfrc_bias``
   = C·q̇ + g), ``mj_forward`` (q̈).
 
@@ -21,15 +22,15 @@ sum ``M + C·q̇ + g``: batched compiled per state ≤ 0.2 × Pinocchio per call
 from __future__ import annotations
 
 import statistics
+import time
 import timeit
 
 import mujoco
 import numpy as np
 import pinocchio as pin
-import sympy as sp
 
 import models
-from harness.compile import check_regular, compiled
+from harness.compile import compiled
 from harness.engines.mujoco_engine import MujocoModel
 from harness.engines.pinocchio_engine import PinocchioModel
 from harness.export.numeric import instantiate
@@ -63,36 +64,25 @@ def measure(system: str, states: int = 10_000, seed: int = 0) -> dict:
     out: dict = {"system": system, "dof": n, "states": states, "symbolic": {}, "symbolic_wrapper": {},
                  "symbolic_batched": {}}
     sym = out["symbolic"]
-    sym["M"] = per_call(lambda: f["M"](q, qd, p, u))
-    sym["Cqd"] = per_call(lambda: f["C"](q, qd, p, u) @ qd)
-    sym["g"] = per_call(lambda: f["g"](q, qd, p, u))
+    M0, Cqd0, g0, _ = c.terms(q, qd, p, u)
+    # the one function returns what the per-quantity NumPy functions return (guards against timing a wrong one)
+    for got, want in ((M0, f["M"](q, qd, p, u)), (Cqd0, f["C"](q, qd, p, u) @ qd), (g0, f["g"](q, qd, p, u))):
+        assert np.allclose(got, np.reshape(want, np.shape(got)), rtol=1e-12, atol=1e-12)
+    sym["terms"] = per_call(lambda: c.terms_array(q, qd, p, u))
     sym["qdd"] = per_call(lambda: c.forward_dynamics(q, qd, p, u))
-    # where the time of one q̈ goes: the four compiled calls, the check of M's regularity, the solve; and what one
-    # fused function (M and the right-hand side of (5.93) with shared subexpressions) would cost
-    M0 = f["M"](q, qd, p, u)
-    out["qdd_parts"] = {"f_np": per_call(lambda: f["f_np"](q, qd, p, u)),
-                        "check_regular": per_call(lambda: check_regular(s, M0, q)),
-                        "solve": per_call(lambda: np.linalg.solve(M0, np.ones(n)))}
-    d = c.derivation
-    fused = sp.lambdify([s.q, s.qd, s.p, s.u], [d.M, d.f_np - d.C * sp.Matrix(s.qd) - d.g], modules="numpy",
-                        cse=True, docstring_limit=0)
-
-    def fused_qdd():
-        M, rhs = fused(q, qd, p, u)
-        return np.linalg.solve(M, rhs)
-
-    fused_math = sp.lambdify([s.q, s.qd, s.p, s.u], [d.M, d.f_np - d.C * sp.Matrix(s.qd) - d.g],
-                             modules=["math", "numpy"], cse=True, docstring_limit=0)
     ql, qdl, pl, ul = q.tolist(), qd.tolist(), p.tolist(), u.tolist()
-
-    def fused_math_qdd():
-        M, rhs = fused_math(ql, qdl, pl, ul)
-        return np.linalg.solve(M, rhs)
-
-    for fn in (fused_qdd, fused_math_qdd):
-        assert np.allclose(fn().ravel(), c.forward_dynamics(q, qd, p, u), rtol=1e-12, atol=1e-12)
-    out["symbolic_fused"] = {"qdd": per_call(fused_qdd), "qdd_math_scalars": per_call(fused_math_qdd),
-                             "call_math_scalars": per_call(lambda: fused_math(ql, qdl, pl, ul))}
+    start = time.perf_counter()
+    c.terms(q, qd, p, u, native=True)  # compiles
+    out["native_compile_seconds"] = time.perf_counter() - start
+    sym["terms_native"] = per_call(lambda: c.terms_array(q, qd, p, u, native=True))
+    sym["qdd_native"] = per_call(lambda: c.forward_dynamics(q, qd, p, u, native=True))
+    out["qdd_parts"] = {"terms_arithmetic": per_call(lambda: c._terms_function(ql, qdl, pl, ul)),
+                        "terms": sym["terms"], "split": per_call(lambda: c.terms(q, qd, p, u)) - sym["terms"],
+                        "eigh": per_call(lambda: np.linalg.eigh(M0))}
+    num = out["symbolic_numpy"] = {}
+    num["M"] = per_call(lambda: f["M"](q, qd, p, u))
+    num["Cqd"] = per_call(lambda: f["C"](q, qd, p, u) @ qd)
+    num["g"] = per_call(lambda: f["g"](q, qd, p, u))
     wrap = out["symbolic_wrapper"]
     wrap["M"] = per_call(lambda: c("M", q, qd, p, u))
     wrap["Cqd"] = per_call(lambda: c("C", q, qd, p, u) @ qd)
@@ -145,14 +135,15 @@ def _ratios(out: dict) -> None:
     if "M" not in out.get("pinocchio", {}):
         return
     pin_sum = out["pinocchio"]["M"] + out["pinocchio"]["nle"] + out["pinocchio"]["g"]
-    one = sum(out["symbolic"][k] for k in ("M", "Cqd", "g"))
+    one = out["symbolic"]["terms"]
+    native = out["symbolic"]["terms_native"]
     batched = sum(out["symbolic_batched"][k] for k in ("M", "Cqd", "g"))
     out["ratios"] = {"one_call_vs_pinocchio": one / pin_sum, "batched_vs_pinocchio": batched / pin_sum,
                      "qdd_one_call_vs_aba": out["symbolic"]["qdd"] / out["pinocchio"]["qdd"],
                      "qdd_batched_vs_aba": out["symbolic_batched"]["qdd"] / out["pinocchio"]["qdd"],
                      "one_call_goal": GOAL_ONE_CALL, "batched_goal": GOAL_BATCHED,
-                     "one_call_met": one / pin_sum <= GOAL_ONE_CALL, "batched_met": batched / pin_sum <= GOAL_BATCHED}
-    out["ratios"]["qdd_fused_vs_aba"] = out["symbolic_fused"]["qdd"] / out["pinocchio"]["qdd"]
+                     "one_call_met": one / pin_sum <= GOAL_ONE_CALL, "batched_met": batched / pin_sum <= GOAL_BATCHED,
+                     "one_call_native_vs_pinocchio": native / pin_sum}
     if "qdd" in out.get("mujoco", {}):
         out["ratios"]["qdd_one_call_vs_mj_forward"] = out["symbolic"]["qdd"] / out["mujoco"]["qdd"]
 

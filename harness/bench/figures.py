@@ -16,7 +16,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 from harness.io import atomic_write_text  # noqa: E402
 
-_COLOURS = {"symbolic": plt.cm.Blues, "pinocchio": plt.cm.Oranges, "mujoco": plt.cm.Greens}
+_COLOURS = {"symbolic": plt.cm.Blues, "symbolic-numba": plt.cm.Purples, "pinocchio": plt.cm.Oranges,
+            "mujoco": plt.cm.Greens}
 _MARKERS = "osD^v<>p"
 
 
@@ -95,7 +96,8 @@ def evaluation(ev: dict, path: Path) -> None:
     if not rows:
         return
     names = [r["system"] for r in rows]
-    series = [("ours, one call", lambda r: sum(r["symbolic"][k] for k in ("M", "Cqd", "g"))),
+    series = [("ours, one call (Python floats)", lambda r: r["symbolic"]["terms"]),
+              ("ours, one call (numba)", lambda r: r["symbolic"]["terms_native"]),
               ("ours, batched (per state)", lambda r: sum(r["symbolic_batched"][k] for k in ("M", "Cqd", "g"))),
               ("Pinocchio crba + nle + g", lambda r: r["pinocchio"]["M"] + r["pinocchio"]["nle"] + r["pinocchio"]["g"]
                if "M" in r.get("pinocchio", {}) else float("nan")),

@@ -5,10 +5,10 @@ Measured (wall time, ``time.perf_counter``; the machine's load average is record
 * **derivation, cold**: :func:`harness.derive.derive` in a fresh Python process with an empty
   ``HARNESS_CACHE_DIR`` (SymPy's own caches empty too), and **compilation**: ``lambdify`` with CSE of every
   quantity (:class:`harness.compile.CompiledModel`), in the same child process;
-* **derivation, cached**: a second :func:`derive` in that process. The per-body derivation of a tree with
-  6 or more degrees of freedom is not written to the on-disk cache (its expressions are small graphs but
-  huge trees; ``srepr`` writes trees), so this is a second derivation, reported as such;
-* **evaluation**: one call of the compiled ``M``, ``C·q̇`` (``C`` then the product) and ``g`` at a state, and the
+* **derivation, cached**: a second :func:`derive` in that process, read back from the on-disk cache, where the
+  per-body derivation is stored as a graph (:mod:`harness.cache`; ``srepr`` of its trees would not end);
+* **evaluation**: one call of :meth:`CompiledModel.terms` (``M``, ``C·q̇``, ``g``, ``f_np`` together, the function
+  the simulations call) and of the NumPy function of each quantity (``C·q̇``: ``C`` then the product), and the
   same batched over ``N`` states (NumPy broadcasting, :meth:`CompiledModel.batched`), per state; Pinocchio
   (from the exported URDF): ``crba``, ``nonLinearEffects − computeGeneralizedGravity``,
   ``computeGeneralizedGravity`` per call, looped over the same states;
@@ -186,6 +186,8 @@ def run(quick: bool = False) -> dict:
     symbolic = {"M": _best(lambda: c("M", q, qd, p, u), repeats, number),
                 "Cqd": _best(lambda: c("C", q, qd, p, u) @ qd, repeats, number),
                 "g": _best(lambda: c("g", q, qd, p, u), repeats, number)}
+    c.terms(q, qd, p, u)  # compiles
+    terms = _best(lambda: c.terms(q, qd, p, u), repeats, number)
     c.batched("M", Q[:2], QD[:2], p), c.batched("C", Q[:2], QD[:2], p), c.batched("g", Q[:2], QD[:2], p)  # compile
     batched = {"M": _best(lambda: c.batched("M", Q, QD, p), 3, 1) / N,
                "Cqd": _best(lambda: np.einsum("nij,nj->ni", c.batched("C", Q, QD, p), QD), 3, 1) / N,
@@ -216,6 +218,8 @@ def run(quick: bool = False) -> dict:
                              ).max()), 0.0)
     doc["evaluation"] = {
         "states": N, "seconds_per_call": {"symbolic": symbolic, "pinocchio": pinocchio},
+        "terms_one_call": {"symbolic": terms, "pinocchio_sum": sum(pinocchio.values()),
+                           "ratio": terms / sum(pinocchio.values())},
         "seconds_per_state_batched": {"symbolic": batched, "pinocchio_loop": pinocchio_loop},
         "ratios": {f"{key}_one_call_symbolic_over_pinocchio": symbolic[key] / pinocchio[key] for key in symbolic}
         | {f"{key}_batched_symbolic_over_pinocchio_loop": batched[key] / pinocchio_loop[key] for key in batched},

@@ -95,6 +95,13 @@ class PinocchioModel:
             tau += (J[:3] if load.kind == "force" else J[3:]).T @ vector
         return tau
 
+    def forward_dynamics(self, theta, theta_dot, u: dict, loads=()) -> np.ndarray:
+        """``θ̈`` alone, the call a simulation makes: ``pin.aba`` with ``τ`` = inputs + springs + dampers."""
+        q, v = self.to_pin(theta), self.to_pin(theta_dot)
+        f_spring, f_damper = self.point_forces(q, v)
+        tau = self.input_forces(q, u, loads) + f_spring + f_damper
+        return self.from_pin(pin.aba(self.model, self.data, q, v, tau))
+
     def quantities(self, theta, theta_dot, u: dict, loads=(), christoffel: bool = True) -> TreeQuantities:
         """Everything in tree coordinates; ``christoffel=False`` skips the two Coriolis matrices (for
         simulation, where only the forward dynamics is needed)."""
