@@ -87,20 +87,20 @@ def _energy_balance(system: System, scene: Scene) -> tuple[float, float]:
     return float(np.max(np.abs(energy - energy[0] - work))) / scale, scale
 
 
-_HYBRID = {structural.StickSlip: structural.stick_slip, structural.LiftOff: structural.lift_off}
+HYBRID = {structural.StickSlip: structural.stick_slip, structural.LiftOff: structural.lift_off}
 
 
-def _hybrid_event(scene: Scene):
+def hybrid_event(scene: Scene):
     """The scene's event whose switching the simulation itself carries out (stick-slip, lift-off), if any."""
-    return next((e for e in scene.events if type(e) in _HYBRID), None)
+    return next((e for e in scene.events if type(e) in HYBRID), None)
 
 
-def _symbolic(system: System, scene: Scene) -> sim.Trajectory:
-    """Our symbolic simulation of ``scene`` at the engines' tolerance (events located when it has any)."""
-    event = _hybrid_event(scene)
+def symbolic_run(system: System, scene: Scene, rtol: float = 1e-10) -> sim.Trajectory:
+    """Our symbolic simulation of ``scene`` (DOP853, ``atol = rtol``; events located when it has any)."""
+    event = hybrid_event(scene)
     if event is not None:
-        return _HYBRID[type(event)](system, scene, event, "symbolic", rtol=1e-10, atol=1e-10)
-    return sim.integrate(system, scene, "symbolic", rtol=1e-10, atol=1e-10)
+        return HYBRID[type(event)](system, scene, event, "symbolic", rtol=rtol, atol=rtol)
+    return sim.integrate(system, scene, "symbolic", rtol=rtol, atol=rtol)
 
 
 PRUNING_REPEATS = 3
@@ -116,8 +116,8 @@ def _pruning(system: System, scene: Scene, result: "SceneResult") -> None:
         result.notes[key] = 1.0
         result.notes["pruning"] = "nothing to prune: the scene calls for every effect of the system"
         return
-    lean = [_symbolic(system, scene) for _ in range(PRUNING_REPEATS)]
-    full = [_symbolic(idle_system, idle_scene) for _ in range(PRUNING_REPEATS)]
+    lean = [symbolic_run(system, scene) for _ in range(PRUNING_REPEATS)]
+    full = [symbolic_run(idle_system, idle_scene) for _ in range(PRUNING_REPEATS)]
     result.add("pruned = all effects present but idle", "symbolic", sim.max_error(full[0], lean[0]), ENGINE_TOL)
     result.notes[key] = min(t.seconds for t in full) / max(min(t.seconds for t in lean), 1e-12)
     result.notes["pruning: effects left out"] = ", ".join(sorted(set(idle_scene.effects) - set(scene.effects)))
@@ -147,7 +147,7 @@ def _hybrid(system: System, scene: Scene, event, engines, result: "SceneResult")
     """A scene whose branches switch at events: reference (DOP853) confirmed by LSODA, trajectories and event
     times of the engines' forward dynamics, the energy across the switch for a conservative scene."""
     def run(source, **kw):
-        return _HYBRID[type(event)](system, scene, event, source, **kw)
+        return HYBRID[type(event)](system, scene, event, source, **kw)
 
     ref = run("symbolic")
     result.trajectories["reference"] = ref
@@ -245,7 +245,7 @@ def run_scene(system: System, scene: Scene, engines=("pinocchio", "mujoco"), muj
     for engine in {"pinocchio", "mujoco"} - set(engines):
         if system.engine_note(engine):
             result.notes[engine] = system.engine_note(engine)
-    event = _hybrid_event(scene)
+    event = hybrid_event(scene)
     if event is not None:
         _hybrid(system, scene, event, engines, result)
         if constraints.constrained(system) and isinstance(event, structural.LiftOff):

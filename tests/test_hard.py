@@ -32,19 +32,21 @@ def _p(system, **over):
     ("governor", [0.2, 0.0], "coordinate singularity at phi = 0.2, alpha = 0 in governor"),
     ("tower_crane", [0.0, 1.5, 0.3, 0.1, 0.0], "s_5 = 0 in tower_crane"),
 ])
-def test_singular_mass_matrix_is_a_clear_error(name, q, expect):
+@pytest.mark.parametrize("native", [False, True], ids=["python", "numba"])
+def test_singular_mass_matrix_is_a_clear_error(name, q, expect, native):
     system = models.get(name)
     c = compiled(system)
     with pytest.raises(ModelError, match="coordinate singularity") as info:
-        c.forward_dynamics(np.array(q), np.ones(len(q)), _p(system), np.zeros(len(system.inputs)))
+        c.forward_dynamics(np.array(q), np.ones(len(q)), _p(system), np.zeros(len(system.inputs)), native=native)
     assert expect in str(info.value)
 
 
-def test_outside_the_map_is_a_clear_error_not_nan():
+@pytest.mark.parametrize("native", [False, True], ids=["python", "numba"])
+def test_outside_the_map_is_a_clear_error_not_nan(native):
     system = models.get("toggle_press")
     c = compiled(system)
     with pytest.raises(ModelError, match="not finite at q = 1.2 in toggle_press"):
-        c.forward_dynamics(np.array([1.2]), np.array([0.1]), _p(system, L_1=0.7, L_2=0.6), np.zeros(2))
+        c.forward_dynamics(np.array([1.2]), np.array([0.1]), _p(system, L_1=0.7, L_2=0.6), np.zeros(2), native=native)
 
 
 def test_chart_switch_through_the_pole_in_both_engines():

@@ -7,8 +7,9 @@
   Where the time goes: the generated arithmetic alone (``terms_arithmetic``, on lists of floats), the ``eigh``; and
   the NumPy function of one quantity each that the conformance checks call (``symbolic_numpy``, ``C·q̇`` = ``C``
   times ``q̇``; ``symbolic_wrapper``: through ``CompiledModel.__call__``).
-* **symbolic, machine code** (opt-in): the same function compiled by numba (``terms(native=True)``), and ``q̈``
-  with it; its compilation time (``native_compile_seconds``) beside.
+* **symbolic, machine code** (opt-in): the same function compiled by numba (``terms(native=True)``), ``q̈`` with
+  it, and the terms at ``N`` states in a compiled loop (``batched_terms``, per state); the compilation time
+  (``native_compile_seconds``) beside.
 * **symbolic, batched**: :meth:`CompiledModel.batched` over ``N`` states (default 10⁴), time divided by ``N``.
 * **Pinocchio, per call**: ``crba`` (M), ``nonLinearEffects`` (C·q̇ + g; C·q̇ needs it *and* the next),
   ``computeGeneralizedGravity`` (g), ``aba`` (q̈), on the model loaded from our URDF, in tree coordinates.
@@ -94,6 +95,8 @@ def measure(system: str, states: int = 10_000, seed: int = 0) -> dict:
                     ("qdd", lambda: c.batched_forward_dynamics(Q, QD, p, U))):
         fn()  # compiles the batched function once, untimed
         bat[key] = per_call(fn, repeats=3) / states
+    c.batched_terms(Q[:2], QD[:2], p, U[:2])  # compiles
+    bat["terms_native"] = per_call(lambda: c.batched_terms(Q, QD, p, U), repeats=3) / states
     for engine, note in (("pinocchio", s.engine_note("pinocchio")), ("mujoco", s.engine_note("mujoco"))):
         if note:
             out[engine] = {"skipped": note}
@@ -143,7 +146,8 @@ def _ratios(out: dict) -> None:
                      "qdd_batched_vs_aba": out["symbolic_batched"]["qdd"] / out["pinocchio"]["qdd"],
                      "one_call_goal": GOAL_ONE_CALL, "batched_goal": GOAL_BATCHED,
                      "one_call_met": one / pin_sum <= GOAL_ONE_CALL, "batched_met": batched / pin_sum <= GOAL_BATCHED,
-                     "one_call_native_vs_pinocchio": native / pin_sum}
+                     "one_call_native_vs_pinocchio": native / pin_sum,
+                     "batched_native_vs_pinocchio": out["symbolic_batched"]["terms_native"] / pin_sum}
     if "qdd" in out.get("mujoco", {}):
         out["ratios"]["qdd_one_call_vs_mj_forward"] = out["symbolic"]["qdd"] / out["mujoco"]["qdd"]
 
