@@ -72,10 +72,10 @@ class CompiledModel:
 
     @cached_property
     def _native(self):
-        """``(terms, qdd, batched)``: :meth:`terms`' function compiled to machine code by numba (``njit``, NumPy's
-        error model: ``nan`` / ``inf`` instead of exceptions) returning one array; ``q̈`` of :meth:`forward_dynamics`
-        with its regularity test, all in machine code; the terms at ``N`` states in a loop
-        (:meth:`batched_terms`). Measured over the catalogue: 0.6–3.4 µs per
+        """``(terms, qdd, batched, state_derivative)``: :meth:`terms`' function compiled to machine code by numba
+        (``njit``, NumPy's error model: ``nan`` / ``inf`` instead of exceptions) returning one array; ``q̈`` of
+        :meth:`forward_dynamics` with its regularity test, all in machine code; the terms at ``N`` states in a loop
+        (:meth:`batched_terms`); the first-order right-hand side (:attr:`native_state_derivative`). Measured over the catalogue: 0.6–3.4 µs per
         call of the terms instead of 2–130 µs, after 0.1–16 s of compilation (the 7-DoF arm the slowest): opt-in."""
         import numba
 
@@ -112,7 +112,26 @@ class CompiledModel:
                     out[i, k] = values[k]
             return out
 
-        return terms, qdd, batched
+        singular = (f"{self.system.name}: M is singular or not finite along the integration (a coordinate "
+                    f"singularity, or a state outside the map's domain); CompiledModel.forward_dynamics names it")
+
+        @jit
+        def state_derivative(t, y, p, u):
+            a, regular = qdd(y[:n], y[n:], p, u)
+            if not regular:
+                raise ModelError(singular)
+            out = np.empty(2 * n)
+            out[:n] = y[n:]
+            out[n:] = a
+            return out
+
+        return terms, qdd, batched, state_derivative
+
+    @property
+    def native_state_derivative(self):
+        """``ẏ = (q̇, q̈)`` of the first-order system ``y = (q, q̇)`` as one numba function ``f(t, y, p, u)``, for an
+        integrator to call directly (:attr:`_native`); a singular ``M`` raises :class:`ModelError`."""
+        return self._native[3]
 
     def terms_array(self, q, qd, p, u, native: bool = False) -> np.ndarray:
         """The entries of ``M`` (row-major), ``C q̇``, ``g``, ``f_np`` of (5.93) at one state in one array, from one

@@ -47,7 +47,9 @@ def test_one_function_of_all_terms_equals_the_numpy_functions(name):
         for native in (False, True):
             for got, ref in zip(c.terms(q, qd, p, u, native=native), want):
                 assert np.allclose(got, ref, rtol=ROUND_OFF, atol=ROUND_OFF * max(1.0, np.max(np.abs(ref))))
-        assert np.allclose(c.forward_dynamics(q, qd, p, u, native=True), c.forward_dynamics(q, qd, p, u),
+        qdd = c.forward_dynamics(q, qd, p, u)
+        assert np.allclose(c.forward_dynamics(q, qd, p, u, native=True), qdd, rtol=1e-12, atol=1e-12)
+        assert np.allclose(c.native_state_derivative(0.0, np.concatenate([q, qd]), p, u), np.concatenate([qd, qdd]),
                            rtol=1e-12, atol=1e-12)
     assert np.array_equal(c.batched_terms(Q, QD, p, U), [c.terms_array(*x, native=True) for x in zip(Q, QD, [p] * 3, U)])
     if name == "spring_mass_damper":  # equal positions: the springs' unit vectors divide by zero
