@@ -53,8 +53,6 @@ def load(key: str) -> dict | None:
         if doc["sha256"] != _checksum({"entries": entries, "replacements": replacements} if replacements
                                       else entries):
             raise ValueError("checksum mismatch")
-        if not replacements:
-            return {name: sp.sympify(text) for name, text in entries.items()}
         shared: dict = {}
         for symbol, text in replacements:  # in order: each refers to earlier ones only
             shared[symbol] = _build(text, shared)
@@ -71,8 +69,9 @@ _SYMPY = {"__builtins__": {}, **{name: getattr(sp, name) for name in dir(sp) if 
 
 def _build(text: str, shared: dict):
     """The expression of an ``srepr`` text whose replacement symbols stand for the expressions in ``shared``,
-    built once (what ``sympify`` does — ``eval`` in SymPy's namespace — without its tokenizer, 3.8 of the 6.2 s
-    of the 7-DoF arm's entry, and without rebuilding every node a second time by ``xreplace``, 2.5 s)."""
+    built once: what ``sympify`` does — ``eval`` in SymPy's namespace — without its tokenizer (3.8 of the 6.2 s of
+    the 7-DoF arm's entry; 8.4 of the 11.6 s of the 5-link chain's) and without rebuilding every node a second
+    time by ``xreplace`` (2.5 s)."""
     return eval(_REPLACEMENT.sub(r"\1", text), _SYMPY, shared)  # noqa: S307
 
 

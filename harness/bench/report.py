@@ -153,10 +153,12 @@ def markdown(doc: dict) -> str:
             cells = []
             for engine in ("symbolic", "symbolic-numba", "pinocchio", "mujoco"):
                 f = fast.get(engine)
-                skipped = next((r["skipped"] for r in s.get("runs", []) if r["engine"] == engine and "skipped" in r
-                                and "budget" not in r["skipped"]), None)
-                cells.append(f"{f['configuration'].split(' ', 1)[1]}: {f['seconds'] * 1e3:.3g} ms, "
-                             f"{f['evaluations']} evals" if f else ("n/a" if skipped else "not reached"))
+                ran = [r["error"] for r in s.get("runs", []) if r["engine"] == engine and _num(r.get("error"))]
+                if f:
+                    cells.append(f"{f['configuration'].split(' ', 1)[1]}: {f['seconds'] * 1e3:.3g} ms, "
+                                 f"{f['evaluations']} evals")
+                else:
+                    cells.append(f"not reached (best {min(ran):.1e})" if ran else "n/a")
             ratio = s.get("summary", {}).get("symbolic_vs_fastest_engine")
             lines.append(f"| {s['system']}/{s['scene']} | {agreement} | {' | '.join(cells)} | "
                          f"{_fmt(ratio['ratio'] if ratio else None, ' ×')} |")
