@@ -284,10 +284,13 @@ def cmd_importer(args) -> int:
 
 def cmd_bench(args) -> int:
     """The performance studies (harness/bench/); writes bench.json, bench.md and the figures."""
-    from harness.bench import render, run_bench
+    from harness.bench import merge, render, run_bench
 
     if args.render:
         render(args.out)
+        return 0
+    if args.merge:
+        merge(args.out, args.merge)
         return 0
     run_bench(out=args.out, quick=args.quick, scheduler=args.scheduler, systems=args.systems, scenes=args.scenes,
               workers=args.workers, parts=tuple(args.parts), command="harness bench " + " ".join(sys.argv[2:]))
@@ -373,6 +376,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--parts", nargs="+", default=["workprecision", "evaluation", "derivation", "pruning"],
                    choices=["workprecision", "evaluation", "derivation", "pruning"])
     p.add_argument("--render", action="store_true", help="only redraw bench.md and the figures from bench.json")
+    p.add_argument("--merge", default=None, metavar="BENCH_JSON",
+                   help="take the parts another run measured (its bench.json) into OUT/bench.json, recorded")
     p.set_defaults(func=cmd_bench)
 
     p = sub.add_parser("validate", help="check a URDF or MJCF file of your own and load it in the engines")

@@ -100,3 +100,32 @@ def test_bad_input_is_one_line_and_writes_nothing(args, message, capsys, tmp_pat
     err = capsys.readouterr().err.strip()
     assert err.startswith("error:") and message in err and "\n" not in err
     assert not list(tmp_path.iterdir())
+
+
+def test_merge_takes_the_parts_another_run_measured(tmp_path):
+    """``harness bench --merge``: the parts of a second run replace the first run's, and the merge is recorded."""
+    import json
+
+    from harness.bench import merge
+    from harness.errors import InputError
+
+    def doc(speedup, command):
+        return {"schema": 1, "generated": "2026-01-01T00:00:00+00:00", "quick": True, "command": command,
+                "seconds": 1.0, "versions": {}, "machine": {"cpus": 2, "loadavg_start": [0, 0, 0],
+                                                             "loadavg_end": [0, 0, 0]},
+                "pruning": [{"system": "pendulum", "scene": "swing", "pruned_seconds": 1.0, "idle_seconds": speedup,
+                             "speedup": speedup, "same_trajectory_error": 0.0}]}
+
+    (tmp_path / "bench.json").write_text(json.dumps(doc(1.5, "first")))
+    other = tmp_path / "other.json"
+    other.write_text(json.dumps(doc(2.5, "second")))
+    merged = merge(tmp_path, other)
+    assert merged["pruning"][0]["speedup"] == 2.5 and merged["command"] == "first"
+    assert merged["updates"] == [{"command": "second", "generated": "2026-01-01T00:00:00+00:00", "seconds": 1.0,
+                                  "machine": doc(0, "")["machine"], "versions": {}, "parts": ["pruning"]}]
+    assert "Re-measured and merged: pruning by `second`" in (tmp_path / "bench.md").read_text()
+    other.write_text(json.dumps({"schema": 1}))
+    with pytest.raises(InputError, match="measures none of"):
+        merge(tmp_path, other)
+    with pytest.raises(InputError, match="no such file"):
+        merge(tmp_path, tmp_path / "missing.json")

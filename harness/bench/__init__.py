@@ -51,7 +51,9 @@ Schema of ``bench.json`` (``schema: 1``; times in seconds, errors relative to th
                      "figure": path},
       "pruning": [{"system", "scene", "pruned_seconds", "idle_seconds", "speedup", "pruned_evaluations",
                    "idle_evaluations", "same_trajectory_error"} | {"system", "scene", "skipped"}],
-      "lightweight_robot": {...} (when harness/bench/lightweight_robot.py exists)
+      "lightweight_robot": {...} (when harness/bench/lightweight_robot.py exists),
+      "updates": [{"parts", "command", "generated", "seconds", "machine", "versions"}] (parts re-measured by a
+                 later run and merged, ``harness bench --merge``)
     }
 """
 
@@ -179,17 +181,44 @@ def run_bench(out="reports", quick: bool = False, scheduler: str | None = None, 
     return doc
 
 
+PARTS = ("workprecision", "evaluation", "derivation", "pruning", "lightweight_robot")
+
+
+def merge(out="reports", other=None) -> dict:
+    """Take the parts another run measured (``other``: its ``bench.json``) into ``out/bench.json``, replacing
+    those parts; the merge is recorded under ``updates`` (which parts, that run's command, time, machine load)."""
+    from harness.bench import figures, report
+
+    base, new = _read(Path(out) / "bench.json"), _read(Path(other))
+    parts = [k for k in PARTS if k in new]
+    if not parts:
+        raise InputError(f"{other}: measures none of {', '.join(PARTS)}")
+    for key in parts:
+        base[key] = new[key]
+    base.setdefault("updates", []).append({k: new.get(k) for k in ("command", "generated", "seconds", "machine",
+                                                                   "versions")} | {"parts": parts})
+    base["goals"] = report.goals(base)
+    figures.draw_all(base, Path(out))
+    atomic_write_text(Path(out) / "bench.json", json.dumps(_finite(base), indent=1) + "\n")
+    atomic_write_text(Path(out) / "bench.md", report.markdown(base))
+    return base
+
+
+def _read(path: Path) -> dict:
+    if not path.exists():
+        raise InputError(f"{path}: no such file (run `harness bench` first)")
+    try:
+        return _infinite(json.loads(path.read_text()))
+    except ValueError as exc:
+        raise InputError(f"{path}: not a bench.json ({exc})") from None
+
+
 def render(out="reports") -> dict:
     """Redraw ``bench.md`` and the figures from an existing ``out/bench.json`` (goals recomputed)."""
     from harness.bench import figures, report
 
     path = Path(out) / "bench.json"
-    if not path.exists():
-        raise InputError(f"{path}: no such file (run `harness bench` first)")
-    try:
-        doc = _infinite(json.loads(path.read_text()))
-    except ValueError as exc:
-        raise InputError(f"{path}: not a bench.json ({exc})") from None
+    doc = _read(path)
     doc["goals"] = report.goals(doc)
     figures.draw_all(doc, Path(out))
     atomic_write_text(path, json.dumps(_finite(doc), indent=1) + "\n")

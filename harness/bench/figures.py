@@ -14,6 +14,8 @@ import matplotlib.ticker
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+matplotlib.rcParams["svg.hashsalt"] = "harness"  # the same figure gives the same file (ids, no date)
+
 from harness.io import atomic_write_text  # noqa: E402
 
 _COLOURS = {"symbolic": plt.cm.Blues, "symbolic-numba": plt.cm.Purples, "pinocchio": plt.cm.Oranges,
@@ -23,7 +25,7 @@ _MARKERS = "osD^v<>p"
 
 def _save(fig, path: Path) -> None:
     buf = io.StringIO()
-    fig.savefig(buf, format="svg", bbox_inches="tight")
+    fig.savefig(buf, format="svg", bbox_inches="tight", metadata={"Date": None, "Creator": None})
     plt.close(fig)
     atomic_write_text(path, buf.getvalue())
 

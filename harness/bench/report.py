@@ -132,8 +132,13 @@ def markdown(doc: dict) -> str:
              f"{doc['seconds']:.0f} s; {load['cpus']} CPUs, load average "
              f"{' / '.join(f'{x:.2f}' for x in load['loadavg_start'])} at the start, "
              f"{' / '.join(f'{x:.2f}' for x in load['loadavg_end'])} at the end — wall times depend on the load, "
-             "ratios are measured in the same process and run).", "",
-             "## Goals", "", "| goal | target | measured | met | where the time goes |", "|---|---|---|---|---|"]
+             "ratios are measured in the same process and run).", ""]
+    for u in doc.get("updates", []):
+        load = u.get("machine") or {}
+        lines += [f"Re-measured and merged: {', '.join(u['parts'])} by `{u['command']}` on {u['generated']} "
+                  f"({u['seconds']:.0f} s; load average "
+                  f"{' / '.join(f'{x:.2f}' for x in load.get('loadavg_start', []))} at its start).", ""]
+    lines += ["## Goals", "", "| goal | target | measured | met | where the time goes |", "|---|---|---|---|---|"]
     for g in doc.get("goals", []):
         met = "—" if g["met"] is None else ("yes" if g["met"] else "**no**")
         lines.append(f"| {g['goal']} | {g['target']} | {_fmt(_num(g['measured']), ' ×')} | {met} | {g['where']} |")

@@ -83,6 +83,7 @@ def write_report(results: list, out: Path, quick: bool, pending: list = ()) -> P
     """``out/hard.json`` and ``out/hard/<id>.svg`` (atomic writes; figures first, then the JSON)."""
     import io
 
+    import matplotlib
     import matplotlib.pyplot as plt
 
     from harness.io import atomic_write_text
@@ -93,7 +94,8 @@ def write_report(results: list, out: Path, quick: bool, pending: list = ()) -> P
         path = None
         if r.figure is not None:
             buffer = io.StringIO()
-            r.figure.savefig(buffer, format="svg")
+            with matplotlib.rc_context({"svg.hashsalt": "harness"}):  # the same figure, the same file
+                r.figure.savefig(buffer, format="svg", metadata={"Date": None, "Creator": None})
             plt.close(r.figure)
             atomic_write_text(out / "hard" / f"{r.id}.svg", buffer.getvalue())
             path = f"hard/{r.id}.svg"
