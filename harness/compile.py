@@ -75,14 +75,16 @@ class CompiledModel:
         """``(terms, qdd, batched, state_derivative)``: :meth:`terms`' function compiled to machine code by numba
         (``njit``, NumPy's error model: ``nan`` / ``inf`` instead of exceptions) returning one array; ``q̈`` of
         :meth:`forward_dynamics` with its regularity test, all in machine code; the terms at ``N`` states in a loop
-        (:meth:`batched_terms`); the first-order right-hand side (:attr:`native_state_derivative`). Measured over the catalogue: 0.6–3.4 µs per
-        call of the terms instead of 2–130 µs, after 0.1–16 s of compilation (the 7-DoF arm the slowest): opt-in."""
+        (:meth:`batched_terms`); the first-order right-hand side (:attr:`native_state_derivative`). Measured over
+        the catalogue: 0.6–4 µs per call of the terms instead of 1.3–170 µs, after 0.1–16 s of compilation (the
+        7-DoF arm the slowest): opt-in."""
         import numba
 
         n = self.dof
         size = n * (n + 3)
         jit = numba.njit(error_model="numpy")
         arithmetic = jit(self._terms_function)
+        is_regular = jit(regular_spectrum)
 
         @jit
         def terms(q, qd, p, u):
@@ -101,7 +103,7 @@ class CompiledModel:
                 return np.full(n, np.nan), False
             w, V = np.linalg.eigh(v[:n * n].reshape((n, n)))
             rhs = v[n * n + 2 * n:] - v[n * n:n * n + n] - v[n * n + n:n * n + 2 * n]  # f_np − C q̇ − g
-            return V @ ((V.T @ rhs) / w), w[0] > SINGULAR_M * max(abs(w[-1]), 1e-300)
+            return V @ ((V.T @ rhs) / w), is_regular(w)
 
         @jit
         def batched(Q, QD, p, U):
@@ -233,12 +235,17 @@ class CompiledModel:
             w, V = np.linalg.eigh(M)
         except np.linalg.LinAlgError:  # not finite
             w = None
-        if w is None or not w[0] > SINGULAR_M * max(abs(w[-1]), 1e-300) or not math.isfinite(sum(q)):
+        if w is None or not regular_spectrum(w) or not math.isfinite(sum(q)):
             check_regular(self.system, M, q)  # raises its clear error
         return V @ ((V.T @ (f_np - Cqd - g)) / w)
 
 
 SINGULAR_M = 1e-13  # smallest/largest eigenvalue of M below which q̈ is round-off (relative error ≳ 1e-3)
+
+
+def regular_spectrum(w) -> bool:
+    """Whether ascending eigenvalues ``w`` of ``M`` are those of a regular mass matrix (:data:`SINGULAR_M`)."""
+    return w[0] > SINGULAR_M * max(abs(w[-1]), 1e-300)
 
 
 def check_regular(system: System, M, q) -> None:
@@ -253,7 +260,7 @@ def check_regular(system: System, M, q) -> None:
         raise ModelError(f"the mass matrix M is not finite at {at()} in {system.name}: the state is outside the "
                          f"domain of the map theta = phi(q) or at its singularity")
     w, v = np.linalg.eigh(M)
-    if w[0] > SINGULAR_M * max(abs(w[-1]), 1e-300):
+    if regular_spectrum(w):
         return
     idle = [c.name for c, x in zip(system.coordinates, v[:, 0]) if abs(x) > 0.1]
     raise ModelError(f"coordinate singularity at {at()} in {system.name}: the mass matrix M is singular "

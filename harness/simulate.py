@@ -42,10 +42,8 @@ class Trajectory:
 class Dynamics:
     """``q̈ = f(t, q, q̇)`` of one scene from one source, in lecture coordinates."""
 
-    def __init__(self, system: System, scene: Scene, source: str, native: bool = False):
-        """``native``: the symbolic q̈ in machine code (:meth:`harness.compile.CompiledModel.forward_dynamics`)."""
+    def __init__(self, system: System, scene: Scene, source: str):
         self.system = pruned(system, scene.effects)
-        self.native = native
         self.scene = scene
         self.source = source
         self.params = {**system.default_parameters(), **scene.params}
@@ -62,7 +60,7 @@ class Dynamics:
         self.evaluations += 1
         u = self.scene.u(t, self.system)
         if self.source == "symbolic":
-            return self.c.forward_dynamics(q, qd, self.p, u, native=self.native)
+            return self.c.forward_dynamics(q, qd, self.p, u)
         if self.source == "pinocchio" and self.c.derivation.J_phi.is_square:
             # only pin.aba: θ̈ of the tree, then q̈ = J⁻¹ (θ̈ − J̇ q̇) (5.58)
             theta, J, J_dot = self.c.map_at(q, qd, self.p, u)
