@@ -5,8 +5,8 @@ Each quantity becomes one ``lambdify``'d NumPy function with common-subexpressio
 expressions evaluate at ``N`` states at once (:meth:`CompiledModel.batched`).
 Forward dynamics, the function every simulation calls, has its own: one function of plain Python floats returning
 the terms of (5.93), ``M``, ``C q̇``, ``g`` and ``f_np`` with their subexpressions shared (:meth:`CompiledModel.terms`)
-— a NumPy call per quantity costs 20–100 µs where the arithmetic costs a few. ``M q̈ = f_np − C q̇ − g`` is solved
-numerically; M is never inverted symbolically.
+— a NumPy call per quantity costs 20–100 µs where the arithmetic costs a few. ``M q̈ = f_np − C q̇ − g`` is
+solved numerically; M is never inverted symbolically.
 """
 
 from __future__ import annotations
@@ -131,8 +131,8 @@ class CompiledModel:
 
     @property
     def native_state_derivative(self):
-        """``ẏ = (q̇, q̈)`` of the first-order system ``y = (q, q̇)`` as one numba function ``f(t, y, p, u)``, for an
-        integrator to call directly (:attr:`_native`); a singular ``M`` raises :class:`ModelError`."""
+        """``ẏ = (q̇, q̈)`` of the first-order system ``y = (q, q̇)`` as one numba function ``f(t, y, p, u)``, for
+        an integrator to call directly (:attr:`_native`); a singular ``M`` raises :class:`ModelError`."""
         return self._native[3]
 
     def terms_array(self, q, qd, p, u, native: bool = False) -> np.ndarray:

@@ -43,7 +43,8 @@ def test_one_function_of_all_terms_equals_the_numpy_functions(name):
     p = np.array(list(s.default_parameters().values()))
     Q, QD, U = rng.uniform(-1, 1, (3, n)), rng.uniform(-1, 1, (3, n)), rng.uniform(-1, 1, (3, m))
     for q, qd, u in zip(Q, QD, U):
-        want = [c("M", q, qd, p, u), c("C", q, qd, p, u) @ qd, c("g", q, qd, p, u).ravel(), c("f_np", q, qd, p, u).ravel()]
+        want = [c("M", q, qd, p, u), c("C", q, qd, p, u) @ qd, c("g", q, qd, p, u).ravel(),
+                c("f_np", q, qd, p, u).ravel()]
         for native in (False, True):
             for got, ref in zip(c.terms(q, qd, p, u, native=native), want):
                 assert np.allclose(got, ref, rtol=ROUND_OFF, atol=ROUND_OFF * max(1.0, np.max(np.abs(ref))))
@@ -51,7 +52,8 @@ def test_one_function_of_all_terms_equals_the_numpy_functions(name):
         assert np.allclose(c.forward_dynamics(q, qd, p, u, native=True), qdd, rtol=1e-12, atol=1e-12)
         assert np.allclose(c.native_state_derivative(0.0, np.concatenate([q, qd]), p, u), np.concatenate([qd, qdd]),
                            rtol=1e-12, atol=1e-12)
-    assert np.array_equal(c.batched_terms(Q, QD, p, U), [c.terms_array(*x, native=True) for x in zip(Q, QD, [p] * 3, U)])
+    per_state = [c.terms_array(q, qd, p, u, native=True) for q, qd, u in zip(Q, QD, U)]
+    assert np.array_equal(c.batched_terms(Q, QD, p, U), per_state)
     if name == "spring_mass_damper":  # equal positions: the springs' unit vectors divide by zero
         q = np.full(n, 0.3)
         with np.errstate(all="ignore"):

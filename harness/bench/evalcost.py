@@ -133,11 +133,16 @@ def measure(system: str, states: int = 10_000, seed: int = 0) -> dict:
     return out
 
 
+def pinocchio_sum(pin: dict) -> float:
+    """Pinocchio's time for M, C·q̇ and g of one state: ``crba + nonLinearEffects + computeGeneralizedGravity``."""
+    return pin["M"] + pin["nle"] + pin["g"]
+
+
 def _ratios(out: dict) -> None:
     """The goals: (M + C·q̇ + g) of ours against Pinocchio's three calls."""
     if "M" not in out.get("pinocchio", {}):
         return
-    pin_sum = out["pinocchio"]["M"] + out["pinocchio"]["nle"] + out["pinocchio"]["g"]
+    pin_sum = pinocchio_sum(out["pinocchio"])
     one = out["symbolic"]["terms"]
     native = out["symbolic"]["terms_native"]
     batched = sum(out["symbolic_batched"][k] for k in ("M", "Cqd", "g"))

@@ -16,9 +16,11 @@ def goals(doc: dict) -> list[dict]:
     rows = [r for r in doc.get("evaluation", {}).get("systems", []) if "ratios" in r]
     if rows:
         for key, target, what in (("batched_vs_pinocchio", evalcost.GOAL_BATCHED,
-                                   "batched compiled M, C·q̇, g per state vs Pinocchio per call (NumPy broadcasting)"),
+                                   "batched compiled M, C·q̇, g per state vs Pinocchio per call "
+                                   "(NumPy broadcasting)"),
                                   ("batched_native_vs_pinocchio", evalcost.GOAL_BATCHED,
-                                   "batched compiled M, C·q̇, g per state vs Pinocchio per call (numba loop, opt-in)"),
+                                   "batched compiled M, C·q̇, g per state vs Pinocchio per call "
+                                   "(numba loop, opt-in)"),
                                   ("one_call_vs_pinocchio", evalcost.GOAL_ONE_CALL,
                                    "one compiled call of M, C·q̇, g vs Pinocchio per call (Python floats: what "
                                    "the simulations use)"),
@@ -48,10 +50,10 @@ def goals(doc: dict) -> list[dict]:
                     bat = worst["symbolic_batched"]
                     where += (f". Per state: M {bat['M'] * 1e9:.0f} ns, C·q̇ {bat['Cqd'] * 1e9:.0f} ns, "
                               f"g {bat['g'] * 1e9:.0f} ns (every intermediate of the compiled expressions is a "
-                              f"temporary array of all states) vs Pinocchio's {_pin_sum(pin) * 1e9:.0f} ns")
+                              f"temporary array of all states) vs Pinocchio's {evalcost.pinocchio_sum(pin) * 1e9:.0f} ns")
                 else:
                     where += (f". Per state: {worst['symbolic_batched']['terms_native'] * 1e9:.0f} ns vs "
-                              f"Pinocchio's {_pin_sum(pin) * 1e9:.0f} ns")
+                              f"Pinocchio's {evalcost.pinocchio_sum(pin) * 1e9:.0f} ns")
                 met_on = sum(r["ratios"][key] <= target for r in rows)
                 where += f"; met on {met_on} of {len(rows)} systems"
             out.append({"goal": what, "target": f"≤ {target:g} ×", "measured": ratio, "met": ratio <= target,
@@ -70,8 +72,8 @@ def goals(doc: dict) -> list[dict]:
         else:
             o = row["ours"]
             where = (f"ours {o['cold_seconds']:.1f} s = derivation {o['derivation_seconds']:.1f} s (of which "
-                     f"simplification {o['simplify_seconds']:.1f} s) + the cache entry (written; a per-body graph also read "
-                     f"back, harness.derive.derive) "
+                     f"simplification {o['simplify_seconds']:.1f} s) + the cache entry (written; a per-body "
+                     f"graph also read back, harness.derive.derive) "
                      f"{o.get('store_seconds', float('nan')):.1f} s; mechanics {row['mechanics']['seconds']:.1f} s; "
                      f"derivation alone {row['ratio_derivation_only']:.2g} ×; cached "
                      f"{'read back' if o.get('cache_reused') else 'not read back (re-derived)'} in "
@@ -106,10 +108,6 @@ def goals(doc: dict) -> list[dict]:
                             "(worst scene)", "target": "≤ 1 ×", "measured": worst["ratio"],
                     "met": worst["ratio"] <= 1, "where": where})
     return out
-
-
-def _pin_sum(pin: dict) -> float:
-    return pin["M"] + pin["nle"] + pin["g"]
 
 
 def _seconds(side: dict) -> str:
@@ -184,7 +182,7 @@ def markdown(doc: dict) -> str:
             pin, mj, ratios = r.get("pinocchio", {}), r.get("mujoco", {}), r.get("ratios", {})
             one = sym["terms"]
             batched = sum(bat[k] for k in ("M", "Cqd", "g"))
-            pin_sum = pin["M"] + pin["nle"] + pin["g"] if "M" in pin else None
+            pin_sum = evalcost.pinocchio_sum(pin) if "M" in pin else None
             lines.append(" | ".join([f"| {r['system']}", str(r["dof"]), _fmt(one * 1e6),
                                      _fmt(sym["terms_native"] * 1e6), _fmt(batched * 1e6),
                                      _fmt(bat["terms_native"] * 1e6), _fmt(pin_sum * 1e6 if pin_sum else None),

@@ -8,12 +8,13 @@
   evaluations, Radau at 1e-12 and 1e-13 agree to 4.8e-13, LSODA to 1.6e-10).
 * **configurations**: ``symbolic`` and ``pinocchio`` (q̈ from :class:`harness.simulate.Dynamics`) with scipy's
   RK45, DOP853, Radau, LSODA (``solve_ivp``) over ``rtol`` (``atol = rtol``), and LSODA with its stepping loop in
-  Fortran (``odeint``, :data:`harness.simulate.ODEINT`); ``symbolic-numba``: our q̈ in machine code (numba, opt-in,
-  :meth:`harness.compile.CompiledModel.forward_dynamics`) with DOP853 and ``odeint``; ``pinocchio`` also with
-  fixed-step classical RK4 and semi-implicit (symplectic) Euler; ``mujoco`` with its own integrators
+  Fortran (``odeint``, :data:`harness.simulate.ODEINT`); ``symbolic-numba``: our ẏ in machine code (numba, opt-in,
+  :attr:`harness.compile.CompiledModel.native_state_derivative`) with DOP853 and ``odeint``; ``pinocchio`` also
+  with fixed-step classical RK4 and semi-implicit (symplectic) Euler; ``mujoco`` with its own integrators
   (``mj_step``: Euler, implicitfast, implicit, RK4) over time steps. Our path is the fastest of ``symbolic`` and
-  ``symbolic-numba`` (:data:`OURS`); the engines' is the fastest of ``pinocchio`` and ``mujoco``. Fixed steps are ``Δ/k`` with ``Δ`` the sample spacing of the scene
-  (:func:`harness.simulate.sample_times`), so that every run is sampled at the same times.
+  ``symbolic-numba`` (:data:`OURS`); the engines' is the fastest of ``pinocchio`` and ``mujoco``. Fixed steps are
+  ``Δ/k`` with ``Δ`` the sample spacing of the scene (:func:`harness.simulate.sample_times`), so that every run is
+  sampled at the same times.
 * **error**: :func:`harness.simulate.max_error` (largest state difference at the 201 sample times, relative to
   the state's scale, at least 1); a run that diverges or fails has error ``inf`` and a note.
 * **cost**: the median wall time of repeated runs (the model is built before the clock starts) and the number of

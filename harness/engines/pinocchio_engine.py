@@ -95,12 +95,17 @@ class PinocchioModel:
             tau += (J[:3] if load.kind == "force" else J[3:]).T @ vector
         return tau
 
-    def forward_dynamics(self, theta, theta_dot, u: dict, loads=()) -> np.ndarray:
-        """``θ̈`` alone, the call a simulation makes: ``pin.aba`` with ``τ`` = inputs + springs + dampers."""
-        q, v = self.to_pin(theta), self.to_pin(theta_dot)
+    def _aba(self, q, v, u: dict, loads=()) -> tuple:
+        """``(θ̈, f_spring, f_damper, τ_input)`` in Pinocchio's order: ``pin.aba`` with ``τ`` = inputs + springs +
+        dampers."""
         f_spring, f_damper = self.point_forces(q, v)
-        tau = self.input_forces(q, u, loads) + f_spring + f_damper
-        return self.from_pin(pin.aba(self.model, self.data, q, v, tau))
+        tau_input = self.input_forces(q, u, loads)
+        return pin.aba(self.model, self.data, q, v, tau_input + f_spring + f_damper).copy(), f_spring, f_damper, \
+            tau_input
+
+    def forward_dynamics(self, theta, theta_dot, u: dict, loads=()) -> np.ndarray:
+        """``θ̈`` alone, the call a simulation makes (:meth:`_aba`)."""
+        return self.from_pin(self._aba(self.to_pin(theta), self.to_pin(theta_dot), u, loads)[0])
 
     def quantities(self, theta, theta_dot, u: dict, loads=(), christoffel: bool = True) -> TreeQuantities:
         """Everything in tree coordinates; ``christoffel=False`` skips the two Coriolis matrices (for
@@ -117,9 +122,7 @@ class PinocchioModel:
             _, dtau_dv, _ = pin.computeRNEADerivatives(self.model_no_gravity, self.data_no_gravity, q, v,
                                                        np.zeros(model.nv))
             C_christoffel = self.from_pin_matrix(0.5 * np.asarray(dtau_dv))
-        f_spring, f_damper = self.point_forces(q, v)
-        tau_input = self.input_forces(q, u, loads)
-        qdd = pin.aba(model, data, q, v, tau_input + f_spring + f_damper).copy()
+        qdd, f_spring, f_damper, tau_input = self._aba(q, v, u, loads)
         return TreeQuantities(
             M=self.from_pin_matrix(M), Cqd=self.from_pin(Cqd), g_gravity=self.from_pin(g_gravity),
             g_spring=-self.from_pin(f_spring), f_damper=self.from_pin(f_damper),
