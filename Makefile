@@ -13,7 +13,7 @@ $(CHROMIUM):
 
 $(VENV)/.installed: pyproject.toml
 	python3 -m venv $(VENV)
-	$(PYTHON) -m pip install --quiet --disable-pip-version-check -e .
+	$(PYTHON) -m pip install --quiet --quiet --disable-pip-version-check -e .
 	touch $@
 
 # main job: exported files current, conformance of every system against both engines, the lecture's

@@ -6,10 +6,19 @@ A derivation whose expressions are small graphs but huge trees (the per-body der
 :func:`harness.derive.derive`) is stored as a graph (``graph=True``): its common subexpressions as numbered
 replacements, each written once, and rebuilt in order with ``xreplace`` (``srepr`` of the trees would not end).
 Set ``HARNESS_CACHE_DIR`` to move the cache (default: ``.cache/derivations`` in the project).
+
+Nothing read from the cache can run code. The checksum detects damage, not tampering (anyone who can write an
+entry can recompute it), so an entry is read by a parser that accepts only what ``srepr`` writes: calls of SymPy
+expression classes (``Add``, ``Symbol``, ``sin``, the dense matrix classes …) whose arguments are such calls,
+lists, integers and the few named constants; a string only as the name of a ``Symbol`` (an identifier) or the
+digits of a ``Float``; keyword arguments only with ``True``/``False``/integer values. Anything else — an
+attribute, a subscript, any other name, a string where SymPy would ``sympify`` it — rejects the entry, which is
+then rebuilt. The accepted syntax tree is evaluated without builtins.
 """
 
 from __future__ import annotations
 
+import ast
 import hashlib
 import json
 import os
@@ -64,15 +73,60 @@ def load(key: str) -> dict | None:
 
 GRAPH_SYMBOLS = "_cse_"  # names of the stored replacements (no model symbol starts with an underscore)
 _REPLACEMENT = re.compile(r"Symbol\('(" + GRAPH_SYMBOLS + r"\d+)'\)")
-_SYMPY = {"__builtins__": {}, **{name: getattr(sp, name) for name in dir(sp) if not name.startswith("_")}}
+_CLASSES = {name: obj for name in dir(sp) if not name.startswith("_")
+            for obj in [getattr(sp, name)]
+            if isinstance(obj, type) and issubclass(obj, (sp.Basic, sp.MatrixBase))}
+_CONSTANTS = {name: getattr(sp, name) for name in ("pi", "E", "I", "oo", "zoo", "nan", "true", "false")}
+_NAMED_BY_STRING = {"Symbol", "Dummy", "Wild", "Function", "Float"}
+_IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
+_FLOAT = re.compile(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?\Z")
+
+
+class UnsafeEntry(ValueError):
+    """A cache entry holding something ``srepr`` does not write."""
+
+
+def _validate(node: ast.AST, shared: dict) -> None:
+    """Accept only the syntax ``srepr`` produces (see the module docstring); raise :class:`UnsafeEntry`."""
+    if isinstance(node, ast.Expression):
+        return _validate(node.body, shared)
+    if isinstance(node, ast.Call):
+        if not isinstance(node.func, ast.Name) or node.func.id not in _CLASSES:
+            raise UnsafeEntry(f"call of {ast.dump(node.func)[:60]}")
+        for k, arg in enumerate(node.args):
+            if isinstance(arg, ast.Constant) and isinstance(arg.value, str):
+                pattern = _FLOAT if node.func.id == "Float" else _IDENTIFIER
+                if k != 0 or node.func.id not in _NAMED_BY_STRING or not pattern.match(arg.value):
+                    raise UnsafeEntry(f"string {arg.value[:40]!r} in {node.func.id}")
+            else:
+                _validate(arg, shared)
+        for kw in node.keywords:
+            if kw.arg is None or not (isinstance(kw.value, ast.Constant) and type(kw.value.value) in (bool, int)):
+                raise UnsafeEntry(f"keyword {kw.arg} of {node.func.id}")
+        return None
+    if isinstance(node, (ast.List, ast.Tuple)):
+        for item in node.elts:
+            _validate(item, shared)
+        return None
+    if isinstance(node, ast.Constant) and type(node.value) in (int, bool):
+        return None
+    if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub) and isinstance(node.operand, ast.Constant) \
+            and type(node.operand.value) is int:
+        return None
+    if isinstance(node, ast.Name) and (node.id in _CONSTANTS or node.id in shared):
+        return None
+    raise UnsafeEntry(f"{type(node).__name__} node")
 
 
 def _build(text: str, shared: dict):
     """The expression of an ``srepr`` text whose replacement symbols stand for the expressions in ``shared``,
-    built once: what ``sympify`` does — ``eval`` in SymPy's namespace — without its tokenizer (3.8 of the 6.2 s of
-    the 7-DoF arm's entry; 8.4 of the 11.6 s of the 5-link chain's) and without rebuilding every node a second
-    time by ``xreplace`` (2.5 s)."""
-    return eval(_REPLACEMENT.sub(r"\1", text), _SYMPY, shared)  # noqa: S307
+    built once: its syntax tree is checked (:func:`_validate`), then evaluated without builtins in a namespace of
+    SymPy's expression classes — faster than ``sympify``, whose tokenizer was 3.8 of the 6.2 s of the 7-DoF arm's
+    entry, and with no way to reach anything but those classes."""
+    tree = ast.parse(_REPLACEMENT.sub(r"\1", text), mode="eval")
+    _validate(tree, shared)
+    return eval(compile(tree, "<cache entry>", "eval"), {"__builtins__": {}, **_CLASSES, **_CONSTANTS},  # noqa: S307
+                shared)
 
 
 def store(key: str, values: dict, graph: bool = False) -> None:

@@ -86,6 +86,37 @@ def _symbols(system: System):
     return [system.q, system.qd, accel, system.p, system.u]
 
 
+def validate_claims(system: System, claims) -> None:
+    """Every symbol a claim uses is one the system declares (same name *and* assumptions): a coordinate, its
+    rate or acceleration, a parameter or an input. Raises :class:`ModelError` naming the claim, the symbol and
+    the fix — when the module loads, not deep inside a classification run."""
+    from harness.errors import ModelError
+
+    declared = {s for group in _symbols(system) for s in group}
+    by_name = {s.name: s for s in declared}
+    for claim in claims:
+        if not isinstance(claim, Claim):
+            raise ModelError(f"CLAIMS holds {type(claim).__name__}, not Claim")
+        parts = [("printed", claim.printed), ("reference", claim.reference)]
+        parts += [(f"convention {name!r}", sp.Matrix([*sub.keys(), *sub.values()]) if sub else None)
+                  for name, sub in claim.conventions.items()]
+        for what, expr in parts:
+            if expr is None:
+                continue
+            try:
+                used = _as_matrix(expr).free_symbols
+            except (TypeError, ValueError, sp.SympifyError) as exc:
+                raise ModelError(f"claim {claim.equation}: {what} is not a sympy expression ({exc})") from None
+            for symbol in sorted(used - declared, key=lambda s: s.name):
+                if symbol.name in by_name:
+                    fix = (f"use the model's own symbol (Parameter/Coordinate .symbol, .rate, .accel); it has other "
+                           f"assumptions than sp.Symbol({symbol.name!r})")
+                else:
+                    fix = "declare it as a Parameter or Input of the system, or write it in the model's symbols"
+                raise ModelError(f"claim {claim.equation} ({what}) uses {symbol.name!r}, which {system.name} does "
+                                 f"not declare: {fix}")
+
+
 _DERIVED: dict = {}
 
 

@@ -37,9 +37,10 @@ def _assignments(items, what: str) -> dict[str, float]:
 
 
 def cmd_list(args) -> int:
-    from models import catalogue
+    from models import catalogue, failures
 
     rows = [(s.name, str(len(s.coordinates)), s.lecture, s.status) for s in catalogue().values()]
+    rows += [(name, "?", "—", "does not load (harness check shows why)") for name in failures()]
     widths = [max(len(r[i]) for r in rows + [("system", "dof", "lecture", "status")]) for i in range(4)]
     for row in [("system", "dof", "lecture", "status")] + rows:
         print("  ".join(c.ljust(w) for c, w in zip(row, widths)).rstrip())
@@ -70,11 +71,12 @@ def cmd_eval(args) -> int:
 def cmd_check(args) -> int:
     """Conformance of each system; ``--out`` writes results.json, timings.json and summary.md (harness.report)."""
     import models
-    from harness.report.results import check_folder, results_document, run_checks, timings_of, write_results
+    from harness.report.results import (check_folder, load_results, merge_records, read_timings, results_document,
+                                        run_checks, timings_of, write_results)
 
-    names = args.systems or list(models.catalogue())
-    for name in names:
-        models.get(name)  # unknown names fail before any work
+    names = args.systems or models.names()   # a module that does not load is reported as that system's failure
+    for name in args.systems or []:
+        models.get(name)  # unknown or broken names given by the user fail before any work
     if args.out:
         check_folder(args.out)
     results, seconds = run_checks(names, examples=args.examples, seed=args.seed, jobs=args.jobs,
@@ -84,16 +86,18 @@ def cmd_check(args) -> int:
         print(json.dumps(doc, indent=1))
     else:
         _print_table(results)
-    if args.out:
-        written = write_results(doc, args.out, timings=timings_of(seconds))
+    if args.out:  # merged by system into what the folder holds: other systems' results are kept
+        merged = results_document(merge_records(load_results(args.out), results), args.examples, args.seed)
+        timings = {**read_timings(args.out), **timings_of(seconds)}
+        written = write_results(merged, args.out, timings=timings)
         print(f"wrote {', '.join(map(str, written))}", file=sys.stderr)
     return 0 if doc["passed"] else 1
 
 
 def _print_table(results):
-    from harness.report.markdown import check_rows
+    from harness.report.markdown import CHECK_HEADER, check_rows
 
-    header = ("system", "check", "engine", "max error", "tolerance", "verdict")
+    header = ("system", "check", "source", *CHECK_HEADER)
     rows = [header] + list(check_rows(results))
     widths = [max(len(r[i]) for r in rows) for i in range(len(header))]
     for row in rows:
@@ -104,13 +108,30 @@ def _print_table(results):
         if r["failure"]:
             print(f"FAILED {r['failure']}")
         for sc in r.get("scenes", []):
-            worst = max(sc["checks"], key=lambda c: c["max_error"] / c["tolerance"] if c["tolerance"] else
-                        (0.0 if c["passed"] else float("inf")), default=None)
+            worst = max(sc["checks"], key=_ratio, default=None)
             detail = sc["failure"] or ("" if worst is None else
-                                       f"worst: {worst['check']} ({worst['source']}) {worst['max_error']:.2e}"
-                                       f" / {worst['tolerance']:.0e}")
+                                       f"worst: {worst['check']} ({worst['source']}) {worst['value']:.2e}"
+                                       f" / {worst['bound']:.0e} (ratio {_ratio(worst):.2g})")
             print(f"scene  {r['system']}/{sc['scene']}: {'ok' if sc['passed'] else 'FAIL'}  {detail}")
+    from harness.report import margins
+    from harness.report.results import bounds_used
+
+    doc = {"systems": results, "bounds": bounds_used(results)}
+    print(margins.summary_line(doc))
+    for row in margins.above(doc):
+        if not row["derived"]:
+            print(f"thin margin: {row['system']}/{row['scene']} {row['check']} ({row['source']}) ratio "
+                  f"{row['ratio']:.2g} on {row['basis']}")
+    for r in results:  # explained engine warnings are in the report (#warnings), never on the console
+        for w in r.get("warnings") or []:
+            if not w["explained"]:
+                print(f"UNEXPLAINED {w['engine']} warning: {r['system']} {w['where']} ({w['count']}x): {w['message']}")
     print(f"{sum(r['passed'] for r in results)} of {len(results)} systems conformant")
+
+
+def _ratio(check: dict) -> float:
+    ratio = check.get("ratio", 0.0)
+    return float(ratio) if not isinstance(ratio, str) else float("inf")
 
 
 def cmd_report(args) -> int:
@@ -139,25 +160,43 @@ def cmd_new(args) -> int:
     return 0
 
 
-def _classify_system(job) -> list[dict]:
-    """Classify the claims of one system (runs in a worker process with --jobs)."""
-    import models
+def _classify_system(job) -> dict:
+    """Classify the claims of one system (runs in a worker process with --jobs): ``{"system", "failure",
+    "records"}``; a module that does not load, or a claim that cannot be evaluated, is a failure of its own."""
     from harness import claims
-    from harness.settings import load_hypothesis_profile
+    from harness.settings import draws_from_seed_only, load_hypothesis_profile
 
     name, examples = job
     load_hypothesis_profile()
-    system = models.get(name)
-    out = []
-    for claim in models.claims(name):
+    with draws_from_seed_only():  # the examples depend on the seed only, not on our source's literals
+        return _classify(name, examples, claims)
+
+
+def _classify(name: str, examples, claims) -> dict:
+    import models
+
+    try:
+        system, printed = models.get(name), models.claims(name)
+    except HarnessError as exc:
+        return {"system": name, "failure": str(exc), "records": []}
+    out, failures = [], []
+    for claim in printed:
         print(f"classifying {name} {claim.equation} …", file=sys.stderr, flush=True)
-        v = claims.classify(system, claim, examples=examples)
+        try:
+            v = claims.classify(system, claim, examples=examples)
+        except Exception as exc:  # noqa: BLE001 - one claim that cannot be evaluated does not lose the others
+            failures.append(f"{name} {claim.equation}: cannot be evaluated: {type(exc).__name__}: {exc}")
+            continue
         out.append({"system": v.system, "equation": v.claim.equation, "quantity": v.claim.quantity,
                     "description": v.claim.description, "classification": v.classification,
                     "printed": str(v.claim.printed), "corrected": v.corrected, "convention": v.convention,
                     "counterexample": v.counterexample, "note": v.claim.note, "examples": v.examples,
                     "errors_over_tolerance": v.errors})
-    return out
+    from harness.engines import warnings_log
+
+    failures += [f"{name}: unexplained {w['engine']} warning in {w['where']} ({w['count']}x): {w['message']}"
+                 for w in warnings_log.drain(name) if not w["explained"]]
+    return {"system": name, "failure": "; ".join(failures) or None, "records": out}
 
 
 def cmd_claims(args) -> int:
@@ -167,25 +206,45 @@ def cmd_claims(args) -> int:
     import models
     from harness.io import atomic_write_text
 
-    names = args.systems or list(models.catalogue())
-    for name in names:
-        models.get(name)  # unknown names fail before any work
+    names = args.systems or models.names()
+    for name in args.systems or []:
+        models.get(name)  # unknown or broken names given by the user fail before any work
+    if args.out:
+        from harness.report.results import check_folder
+
+        check_folder(args.out)
     jobs = [(name, args.examples) for name in names]
     if args.jobs > 1 and len(jobs) > 1:
         with multiprocessing.get_context("spawn").Pool(args.jobs) as pool:
             per_system = pool.map(_classify_system, jobs, chunksize=1)
     else:
         per_system = [_classify_system(job) for job in jobs]
-    records = [r for rs in per_system for r in rs]
+    records = [r for result in per_system for r in result["records"]]
+    failed = [result["failure"] for result in per_system if result["failure"]]
     if args.json:
         print(json.dumps(records, indent=1))
     else:
         for r in records:
             print(f"{r['system']:22s} {r['equation']:30s} {r['quantity']:16s} {r['classification']}")
-    if args.out:
-        atomic_write_text(Path(args.out) / "claims.json", json.dumps(records, indent=1) + "\n")
-        atomic_write_text(Path(args.out) / "errata.md", _errata_markdown(records))
-    return 1 if any(r["classification"] == "engines disagree" for r in records) else 0
+    for reason in failed:
+        print(f"FAILED {reason}", file=sys.stderr)
+    if args.out:  # merged by system: the classified systems replace their records, the others are kept
+        path = Path(args.out) / "claims.json"
+        ran = {result["system"] for result in per_system}
+        kept = [r for r in _read_claims(path) if r.get("system") not in ran]
+        order = {name: k for k, name in enumerate(models.names())}
+        merged = sorted(kept + records, key=lambda r: order.get(r["system"], len(order)))  # stable: equation order
+        atomic_write_text(path, json.dumps(merged, indent=1) + "\n")
+        atomic_write_text(Path(args.out) / "errata.md", _errata_markdown(merged))
+    return 1 if failed or any(r["classification"] == "engines disagree" for r in records) else 0
+
+
+def _read_claims(path: Path) -> list[dict]:
+    try:
+        records = json.loads(path.read_text())
+    except (OSError, ValueError):
+        return []
+    return [r for r in records if isinstance(r, dict) and "system" in r] if isinstance(records, list) else []
 
 
 def _errata_markdown(records) -> str:
@@ -231,9 +290,9 @@ def cmd_scenes(args) -> int:
             if not args.run:
                 continue
             result = run_scene(system, scene)
-            for check, source, error, tolerance in result.checks:
-                verdict = "ok" if error <= tolerance else "FAIL"
-                print(f"    {check:45s} {source:10s} {error:.2e} / {tolerance:.0e}  {verdict}")
+            for c in result.checks:
+                print(f"    {c.name:45s} {c.source:10s} {c.value:.2e} / {c.bound:.0e}  "
+                      f"ratio {c.ratio:.2g}  {'ok' if c.passed else 'FAIL'}")
             for key, value in result.notes.items():
                 print(f"    {key}: {value:.3g}" if isinstance(value, float) else f"    {key}: {value}")
             failed |= not result.passed

@@ -30,6 +30,7 @@ import numpy as np
 from hypothesis import HealthCheck, given, settings
 
 from harness import roundtrip
+from harness.checks import Bound, Check, flag, max_abs as _max, relative_error as _relative
 from harness.engines import pinocchio_engine, mujoco_engine, symbolic
 from harness.engines.base import Evaluation, State
 from harness.model import System
@@ -37,33 +38,24 @@ from harness.strategies import states
 
 FLOAT64_RTOL = 1e-12
 ENGINE_QUANTITIES = ("M", "Cqd", "g", "g_spring", "f_damper", "qdd")
-
-
-@dataclass
-class Finding:
-    """One comparison at one state."""
-
-    system: str
-    check: str
-    engine: str
-    error: float
-    tolerance: float
-    detail: str = ""   # e.g. the exported item with the largest round-trip error
-
-    @property
-    def passed(self) -> bool:
-        return self.error <= self.tolerance
+ROUND_OFF = Bound("float64 round-off", FLOAT64_RTOL,
+                  "three float64 evaluations of the same closed-form quantity, relative to the scale of its terms "
+                  "(harness/conformance.py); for qdd times kappa(M)")
+EXPORT = Bound("export round trip", roundtrip.ROUNDTRIP_RTOL,
+               "masses, centres of mass, inertia tensors, joint axes and placements as loaded by the engine against "
+               "the intended values, relative to each item's scale: the exporters keep float64 exactly, what remains "
+               "is a few ulps of the engines' own arithmetic (harness/roundtrip.py)")
 
 
 class ConformanceFailure(AssertionError):
     """A check exceeded its tolerance; the message names system, quantity, engine and the state."""
 
-    def __init__(self, finding: Finding, state: State):
-        self.finding, self.state = finding, state
+    def __init__(self, check: Check, state: State):
+        self.check, self.state = check, state
         super().__init__(
-            f"{finding.system}: {finding.check}{f' ({finding.detail})' if finding.detail else ''} from "
-            f"{finding.engine} differs from the symbolic model by "
-            f"{finding.error:.3e} (relative; tolerance {finding.tolerance:.1e}) at "
+            f"{state.system.name}: {check.name}{f' ({check.detail})' if check.detail else ''} from "
+            f"{check.source} differs from the symbolic model by "
+            f"{check.value:.3e} (relative; tolerance {check.bound:.1e}) at "
             f"q={_fmt(state.q)}, qd={_fmt(state.qd)}, u={_fmt(state.u)}, params={_fmt(state.params)}")
 
 
@@ -71,20 +63,6 @@ def _fmt(value) -> str:
     if isinstance(value, dict):
         return "{" + ", ".join(f"{k}={float(v)!r}" for k, v in value.items()) + "}"
     return "[" + ", ".join(repr(float(v)) for v in np.ravel(value)) + "]"
-
-
-def _max(x) -> float:
-    x = np.asarray(x, dtype=float)
-    return float(np.max(np.abs(x))) if x.size else 0.0
-
-
-def _relative(a, b, scale) -> float:
-    diff = _max(np.asarray(a) - np.asarray(b))
-    if diff == 0.0:
-        return 0.0
-    if not math.isfinite(diff):
-        return math.inf
-    return diff / max(scale, _max(a), _max(b), 1e-300)
 
 
 def scales(ref: Evaluation) -> dict[str, float]:
@@ -101,7 +79,7 @@ def scales(ref: Evaluation) -> dict[str, float]:
             "qdd": max(_max(np.linalg.inv(ref.M)) * terms, v * v)}
 
 
-def compare(state: State, ref: Evaluation, other: Evaluation) -> list[Finding]:
+def compare(state: State, ref: Evaluation, other: Evaluation) -> list[Check]:
     """Engine ``other`` against the symbolic reference at one state."""
     s = dict(scales(ref))
     for name, value in other.extra.get("map_scale", {}).items():  # round-off grown by the map θ = φ(q)
@@ -110,18 +88,17 @@ def compare(state: State, ref: Evaluation, other: Evaluation) -> list[Finding]:
     out = []
     for name in ENGINE_QUANTITIES:
         amplification = kappa if name == "qdd" else 1.0
-        out.append(Finding(state.system.name, name, other.engine,
-                           _relative(getattr(other, name), getattr(ref, name), s[name]), FLOAT64_RTOL * amplification))
+        out.append(ROUND_OFF.check(name, other.engine, _relative(getattr(other, name), getattr(ref, name), s[name]),
+                              amplification))
     if other.C is not None:
-        out.append(Finding(state.system.name, "C (Christoffel)", other.engine,
-                           _relative(other.C, ref.C, s["C"]), FLOAT64_RTOL))
+        out.append(ROUND_OFF.check("C (Christoffel)", other.engine, _relative(other.C, ref.C, s["C"])))
     if "C_coriolis_matrix" in other.extra:
-        out.append(Finding(state.system.name, "C (computeCoriolisMatrix)", other.engine,
-                           _relative(other.extra["C_coriolis_matrix"], ref.C, s["C"]), FLOAT64_RTOL))
+        out.append(ROUND_OFF.check("C (computeCoriolisMatrix)", other.engine,
+                              _relative(other.extra["C_coriolis_matrix"], ref.C, s["C"])))
     return out
 
 
-def self_checks(state: State, ref: Evaluation) -> list[Finding]:
+def self_checks(state: State, ref: Evaluation) -> list[Check]:
     """Properties of the derivation itself: M symmetric and positive definite, Ṁ − 2C skew (Note 5.4)."""
     s = scales(ref)
     name = state.system.name
@@ -129,13 +106,13 @@ def self_checks(state: State, ref: Evaluation) -> list[Finding]:
     eig_min = float(np.linalg.eigvalsh(0.5 * (M + M.T)).min())
     N = ref.extra["M_dot"] - 2 * ref.C
     return [
-        Finding(name, "M symmetric", "symbolic", _relative(M, M.T, s["M"]), FLOAT64_RTOL),
-        Finding(name, "M positive definite", "symbolic", 0.0 if eig_min > 0 else math.inf, FLOAT64_RTOL),
-        Finding(name, "Mdot - 2C skew", "symbolic", _relative(N, -N.T, s["skew"]), FLOAT64_RTOL),
+        ROUND_OFF.check("M symmetric", "symbolic", _relative(M, M.T, s["M"])),
+        flag("M positive definite", "symbolic", eig_min > 0),
+        ROUND_OFF.check("Mdot - 2C skew", "symbolic", _relative(N, -N.T, s["skew"])),
     ]
 
 
-def evaluate_all(state: State, engines=("pinocchio", "mujoco"), pin_urdf=None, mj_xml=None) -> list[Finding]:
+def evaluate_all(state: State, engines=("pinocchio", "mujoco"), pin_urdf=None, mj_xml=None) -> list[Check]:
     """All checks at one state. ``pin_urdf``/``mj_xml`` may replace the exported model text (to show that a
     wrong export is caught)."""
     ref = symbolic.evaluate(state)
@@ -153,8 +130,7 @@ def evaluate_all(state: State, engines=("pinocchio", "mujoco"), pin_urdf=None, m
         else:
             continue
         worst = max(items, key=lambda item: item.error)
-        findings.append(Finding(state.system.name, "export round trip", engine, worst.error,
-                                roundtrip.ROUNDTRIP_RTOL, detail=worst.item))
+        findings.append(EXPORT.check("export round trip", engine, worst.error, detail=worst.item))
     return findings
 
 
@@ -164,7 +140,7 @@ class Summary:
 
     system: str
     examples: int = 0
-    worst: dict = field(default_factory=dict)   # (check, engine) -> Finding
+    worst: dict = field(default_factory=dict)   # (check, source) -> Check with the largest ratio
     failure: str | None = None
     not_applicable: dict = field(default_factory=dict)  # engine -> reason it does not apply
 
@@ -172,11 +148,11 @@ class Summary:
     def passed(self) -> bool:
         return self.failure is None and all(f.passed for f in self.worst.values())
 
-    def record(self, findings):
-        for f in findings:
-            key = (f.check, f.engine)
-            if key not in self.worst or f.error / f.tolerance > self.worst[key].error / self.worst[key].tolerance:
-                self.worst[key] = f
+    def record(self, checks):
+        for c in checks:
+            key = (c.name, c.source)
+            if key not in self.worst or c.ratio > self.worst[key].ratio:
+                self.worst[key] = c
 
 
 def run(system: System, engines=("pinocchio", "mujoco"), examples: int | None = None,
@@ -202,5 +178,5 @@ def run(system: System, engines=("pinocchio", "mujoco"), examples: int | None = 
         test()
     except ConformanceFailure as failure:  # the shrunk (minimal) counterexample
         summary.failure = str(failure)
-        summary.record([failure.finding])
+        summary.record([failure.check])
     return summary

@@ -26,17 +26,19 @@ What a URDF cannot say is set on the imported model before comparing (listed per
 ``adjustments``): gravity (a URDF has none; MuJoCo's default is −9.81 z), rotor inertia (armature), and
 MuJoCo's lower bound on moving masses and inertias: the importer refuses a point mass (zero inertia) or a
 massless moving link as is (``refused`` holds MuJoCo's message); the comparison then uses
-``compiler.boundmass``/``boundinertia`` = :data:`~harness.export.numeric.MUJOCO_POINT_MASS_INERTIA`, the same
-treatment our MJCF exporter gives point masses. Each of the ``n`` bodies of either model may then carry that
-bound as extra mass and principal inertia up to ``L`` from the origin: an absolute ``allowance`` of
-``n·bound`` on mass, ``n·bound·L`` on ``m c``, ``n·bound·max(1, L²)`` on inertia (observed: exactly 1e-14).
+``compiler.boundmass``/``boundinertia`` = :data:`IMPORT_BOUND` (1e-14): the treatment our MJCF exporter gives
+point masses, at ten times its stand-in :data:`~harness.export.numeric.MUJOCO_POINT_MASS_INERTIA` (mjMINVAL =
+1e-15), because the importer fuses static bodies through an eigenvalue test that refuses inertias up to ~5e-15.
+Each of the ``n`` bodies of either model may then carry that bound as extra mass and principal inertia up to
+``L`` from the origin: an absolute ``allowance`` of ``n·bound`` on mass, ``n·bound·L`` on ``m c``,
+``n·bound·max(1, L²)`` on inertia (observed: exactly 1e-14).
 
 Tolerance: :data:`~harness.conformance.FLOAT64_RTOL` (1e-12) of each quantity's scale — the importer reads
 the same shortest-round-trip decimals, so only float64 round-off may remain (principal-axis decomposition,
 quaternions: a few ulps). Scales are those of the terms forming a quantity, not of the (possibly cancelling)
 result, as in the conformance policy. With ``m`` the largest subtree mass and ``L`` the largest
 centre-of-mass coordinate at the state: inertia: ``I_s`` = max(max|I|, ``m L²``), the inertia the masses
-create about the origin, which is what enters ``M`` (a point mass's inertia about itself is zero: its 1e-14
+create about the origin, which is what enters ``M`` (a point mass's inertia about itself is zero: its 1e-15
 stand-in is not compared with itself); ``M``: max(max|M|, ``I_s``) — a body far from its joint contributes
 ``m |c|²`` and a cancellation of that size to ``M`` (found by the fuzz test: the test model with a centre of
 mass 5.7e5 m from its joint gives 7.5e-5 absolute, 9e-5 of max|M| = 0.8, 2e-16 of ``I_s``); bias:
@@ -97,7 +99,7 @@ import pinocchio as pin
 
 from harness.conformance import FLOAT64_RTOL
 from harness.errors import EngineError, ModelError
-from harness.export.numeric import MUJOCO_POINT_MASS_INERTIA, lump
+from harness.export.numeric import lump
 
 PROJECT_ROOT = Path(__file__).resolve().parent.parent
 FIXTURES = (Path(__file__).resolve().parent / "fixtures" / "rotated_inertials.urdf",)
@@ -411,19 +413,21 @@ def finding(c: dict) -> str:
     return f"{what}: relative error {c['max_error']:.3g} (tolerance {c['tolerance']:.0e})"
 
 
-BOUND_NOTE = (f"compiler boundmass = boundinertia = {MUJOCO_POINT_MASS_INERTIA:g} (MuJoCo refuses a point mass or "
+IMPORT_BOUND = 1e-14
+"""``compiler.boundmass``/``boundinertia`` of an import MuJoCo refuses as is (see the module docstring)."""
+BOUND_NOTE = (f"compiler boundmass = boundinertia = {IMPORT_BOUND:g} (MuJoCo refuses a point mass or "
               "massless moving link as is)")
 
 
 def load_import(urdf_text: str, source: str) -> tuple[mujoco.MjModel, str | None, float]:
     """MuJoCo's import, as is or (refused as is: point masses, massless moving links) with the lower bound
-    :data:`MUJOCO_POINT_MASS_INERTIA` on masses and inertias: the model, MuJoCo's refusal, the bound used."""
+    :data:`IMPORT_BOUND` on masses and inertias: the model, MuJoCo's refusal, the bound used."""
     try:
         return compile_mujoco(urdf_text, source), None, 0.0
     except ModelError as exc:
         refused = str(exc).split("MuJoCo refused the model: ", 1)[-1]
-        model = compile_mujoco(urdf_text, source, bound=MUJOCO_POINT_MASS_INERTIA)
-        return model, refused, MUJOCO_POINT_MASS_INERTIA
+        model = compile_mujoco(urdf_text, source, bound=IMPORT_BOUND)
+        return model, refused, IMPORT_BOUND
 
 
 def _load_import(urdf_text: str, source: str, record: dict) -> tuple[mujoco.MjModel, float]:
@@ -668,7 +672,7 @@ def _findings_text(doc: dict) -> str:
         text.append(f"{s['refused_as_is']} URDFs are refused as is: MuJoCo requires every moving body to have mass "
                     "and inertia above mjMINVAL, so a point mass (zero inertia tensor) or a massless intermediate "
                     "link (gimbal, carrier) does not load without `compiler boundmass/boundinertia`; Pinocchio "
-                    "and our MJCF (1e-14 stand-in) take them.")
+                    "and our MJCF (1e-15 stand-in) take them.")
     return " ".join(text)
 
 

@@ -45,7 +45,7 @@ def assert_conformant(system, engines=("pinocchio", "mujoco"), examples: int | N
     with draws_from_seed_only():
         summary = conformance.run(system, engines=tuple(engines), examples=examples)
     if not summary.passed:
-        worst = [f"{c} ({e}): {f.error:.3e} > {f.tolerance:.1e}" for (c, e), f in sorted(summary.worst.items())
+        worst = [f"{c} ({e}): {f.value:.3e} > {f.bound:.1e}" for (c, e), f in sorted(summary.worst.items())
                  if not f.passed]
         raise AssertionError(summary.failure or f"{system.name}: " + "; ".join(worst))
     return summary

@@ -26,8 +26,9 @@ Tolerances (with :mod:`harness.trajectories`):
 ``EVENT_TOL = 1e-8`` s — an event time of the reference against its prediction and against LSODA (events are
 located to the integrator's tolerance 1e-12 and root-finding, well below it); engines' forward dynamics locate
 their events within ``ENGINE_EVENT_TOL = 1e-5`` s of the reference (their trajectories carry ``ENGINE_TOL``).
-MuJoCo's own dry friction and contact are soft constraints solved once per step: their error is first order
-in ``dt`` (:mod:`harness.trajectories` checks it converges), and events must lie within ``3 dt``. MuJoCo's
+MuJoCo's own dry friction and contact are soft constraints solved once per step, stepped by a first-order
+method: their error is first order in ``dt`` (:mod:`harness.trajectories` checks it and derives the ``3 dt``
+within which MuJoCo's events must lie: quantization to the step and one step of response). MuJoCo's
 rolling threshold is located by bisection to 1e-3 and must lie within ``THRESHOLD_TOL = 1e-2`` (relative) of
 the predicted ``2/7 tan(alpha)``: the soft contact lets the sphere creep by a small slip velocity, which the
 rolling criterion (slip ≤ 1e-6 of the rolling velocity) tolerates only near the threshold.
@@ -45,14 +46,25 @@ import sympy as sp
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
+from harness.checks import Bound
+from harness.engines.warnings_log import compile_spec
 from harness.errors import ModelError
 from harness.export.mjcf import mjcf_spec, rpy_quat
 from harness.export.numeric import instantiate, value_at
 from harness import simulate as sim
 
-EVENT_TOL = 1e-8
-THRESHOLD_TOL = 1e-2
-ENGINE_EVENT_TOL = 1e-5
+EVENT = Bound("event time", 1e-8, "an event of the reference against its prediction and against LSODA, s: located "
+              "to the integrator's tolerance 1e-12 and by root finding")
+ENGINE_EVENT = Bound("engine event time", 1e-5, "an event located with an engine's forward dynamics against the "
+                     "reference, s: their trajectories carry the engine trajectory tolerance")
+THRESHOLD = Bound("rolling threshold", 1e-2, "MuJoCo's rolling threshold (bisection to 1e-3) against 2/7 tan(alpha), "
+                  "relative: the soft contact lets the sphere creep")
+STEP_EVENT = Bound("MuJoCo step event", 3.0, "an event of MuJoCo's own dry friction against the reference, in time "
+                   "steps: a breakaway is seen ½ to 3/2 steps late (the input is held at the step's midpoint), a "
+                   "sticking 1 to 2 steps late (MuJoCo's velocity reaches 0 a step after the crossing), the "
+                   "trajectory's own error shifts them by ≤ 0.01 dt: δ ≤ 2 dt, and a third step of room",
+                   derived=True)
+EVENT_TOL, THRESHOLD_TOL, ENGINE_EVENT_TOL = EVENT.value, THRESHOLD.value, ENGINE_EVENT.value
 _STIFF_SOLIMP = [0.9999, 0.9999, 0.001, 0.5, 2.0]   # MuJoCo's impedance at its hardest
 _TINY = 1e-300                                      # a velocity with a sign and no size
 
@@ -177,12 +189,42 @@ def predicted_breakaway(system, scene, event: StickSlip) -> float:
     return brentq(lambda t: u(t) - mu_H * f_N, grid[k - 1], grid[k], xtol=1e-14)
 
 
+def frictionloss_bound(system, scene, event: StickSlip, ref: HybridTrajectory) -> float:
+    """``C`` of the first-order bound ``error ≤ C dt`` of MuJoCo's frictionloss run against the event-located
+    reference ``ref`` (errors relative to each component's scale ``max(1, max|y|)``, as :func:`simulate.max_error`).
+
+    MuJoCo's events are late by ``0 < δ ≤ 2 dt`` (the event falls anywhere within a step, and MuJoCo's velocity
+    leaves or reaches 0 at most one step later; :mod:`harness.trajectories`). At an event the acceleration jumps
+    by ``Δẍ = |ẍ_slide(t_e, x_e, 0)|`` (the sliding branch's acceleration at rest): a late event leaves the
+    velocity off by ``Δẍ δ`` — after a sticking only while MuJoCo still slides (``≤ δ``), after a breakaway for
+    the whole slide ``T`` that follows, which moves the position by ``Δẍ δ T`` (the sliding force depends on time
+    only, as in (3.80) with an applied force, so the offset neither grows nor decays). Semi-implicit Euler's own
+    position error adds ``dt max|ẋ|``; its velocity error is second order (the input is held at the step's
+    midpoint). So ``C = max(2 max Δẍ / s_v, (2 Σ_breakaways Δẍ T + max|ẋ|) / s_x)``, the positions' offsets summed
+    over the breakaways as if they never cancelled."""
+    h = _StickSlipDynamics(system, scene, event, "symbolic")
+    ends = [e.time for e in ref.events[1:]] + [scene.horizon]
+    jumps, drift = [0.0], 0.0
+    for e, end in zip(ref.events, ends):
+        direction = e.after if e.before == "stick" else e.before
+        s = 1 if direction == "slide +" else -1
+        x = float(np.interp(e.time, ref.t, ref.q[:, 0]))
+        jump = abs(float(h.sliding(s)(e.time, np.array([x, 0.0]))[1]))
+        jumps.append(jump)
+        if e.before == "stick":
+            drift += jump * (end - e.time)
+    s_x = max(1.0, float(np.max(np.abs(ref.q))))
+    s_v = max(1.0, float(np.max(np.abs(ref.qd))))
+    return max(2 * max(jumps) / s_v, (2 * drift + float(np.max(np.abs(ref.qd)))) / s_x)
+
+
 def mujoco_stick_slip(system, scene, event: StickSlip, dt: float) -> HybridTrajectory:
     """MuJoCo's own dry friction: joint ``frictionloss`` (flag on, stiff impedance), ``mu_H f_N`` at rest and
     ``mu_C f_N`` sliding, implicitfast integration at ``dt``."""
     dyn = sim.Dynamics(system, scene, "symbolic")
     mu_H, mu_C, f_N = event.values(dyn.params)
-    spec = mjcf_spec(instantiate(dyn.system, dyn.params))
+    tree = instantiate(dyn.system, dyn.params)
+    spec = mjcf_spec(tree)
     spec.option.disableflags &= ~int(mujoco.mjtDisableBit.mjDSBL_FRICTIONLOSS | mujoco.mjtDisableBit.mjDSBL_CONSTRAINT)
     spec.option.timestep = dt
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
@@ -191,7 +233,7 @@ def mujoco_stick_slip(system, scene, event: StickSlip, dt: float) -> HybridTraje
     joint.solref_friction = [2 * dt, 1.0]
     joint.solimp_friction = _STIFF_SOLIMP
     joint.frictionloss = mu_H * f_N
-    m = spec.compile()
+    m = compile_spec(spec, tree, "MjSpec.compile (dry friction scene)")
     d = mujoco.MjData(m)
     dof = m.jnt_dofadr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, event.coordinate)]
     qpos = m.jnt_qposadr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, event.coordinate)]
@@ -244,7 +286,8 @@ def _rolling_model(system, scene, event: RollSlip, mu: float, dt: float):
     params = dyn.params
     R = params[event.radius]
     rpy = [value_at(a, params) for a in event.plane_rpy]
-    spec = mjcf_spec(instantiate(dyn.system, params))
+    tree = instantiate(dyn.system, params)
+    spec = mjcf_spec(tree)
     spec.option.disableflags &= ~int(mujoco.mjtDisableBit.mjDSBL_CONTACT | mujoco.mjtDisableBit.mjDSBL_CONSTRAINT)
     spec.option.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
     spec.option.timestep = dt
@@ -263,7 +306,7 @@ def _rolling_model(system, scene, event: RollSlip, mu: float, dt: float):
     spec.worldbody.add_geom(name="plane", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 1], pos=-R * normal,
                             quat=quat, **contact)
     body.add_geom(name="ball", type=mujoco.mjtGeom.mjGEOM_SPHERE, size=[R, 0, 0], **contact)
-    m = spec.compile()
+    m = compile_spec(spec, tree, "MjSpec.compile (contact scene)")
     return m, dyn
 
 
@@ -298,11 +341,18 @@ def mujoco_rolling(system, scene, event: RollSlip, dt: float, mu: float | None =
     return tr
 
 
+ROLLING_SLIP = 1e-6  # slip velocity at the end / the motion's velocity scale below which the sphere rolls
+ROLLING = Bound("rolling criterion", ROLLING_SLIP, "the slip velocity at the end of a rolling scene relative to the "
+                "motion's velocity scale (rolls())")
+SLIPPING = Bound("slipping criterion", 1.0, "the rolling criterion 1e-6 relative to the measured slip of a slipping "
+                 "scene: slipping makes the slip grow linearly in time")
+
+
 def rolls(tr: HybridTrajectory, scale: float) -> bool:
     """Rolling: at the end of the scene the slip velocity is below 1e-6 of the motion's velocity scale (slipping
     makes it grow linearly in time; the first steps, while MuJoCo's soft contact builds up its force from zero
     penetration, may show a transient slip of ~1e-4 that rolling then removes)."""
-    return abs(float(tr.notes["slip"][-1])) <= 1e-6 * scale
+    return abs(float(tr.notes["slip"][-1])) <= ROLLING_SLIP * scale
 
 
 def mujoco_threshold(system, scene, event: RollSlip, dt: float, rel: float = 1e-3) -> float:

@@ -4,6 +4,12 @@ A new system is one new module here; the registry, export, conformance tests and
 ``HARNESS_MODELS_PATH`` (folders separated by ``os.pathsep``) adds folders searched after this one, so that a
 system can live outside the repository (a user's own models, a throwaway system in a test); a module there
 cannot shadow a module here.
+
+A module that does not load — it raises, has a syntax error, calls ``sys.exit``, defines an invalid model, a
+printed equation (claim) with a symbol the system does not declare, or a system name another module already
+uses — is that module's failure, one line naming its file: :func:`failures` lists them, :func:`names` includes
+them (so that a run over the catalogue reports them), :func:`get` raises it for that name only; every other
+system still loads.
 """
 
 from __future__ import annotations
@@ -11,6 +17,7 @@ from __future__ import annotations
 import importlib
 import os
 import pkgutil
+import sys
 from functools import cache
 
 from harness.errors import HarnessError, InputError, ModelError
@@ -20,35 +27,84 @@ MODELS_PATH_VARIABLE = "HARNESS_MODELS_PATH"
 __path__.extend(os.path.abspath(p) for p in os.environ.get(MODELS_PATH_VARIABLE, "").split(os.pathsep) if p)
 
 
-def _load(info: pkgutil.ModuleInfo):
-    """Import ``models.<name>``; a module that does not load is one error naming its file."""
+def _path(info: pkgutil.ModuleInfo) -> str:
     path = os.path.abspath(os.path.join(getattr(info.module_finder, "path", ""), f"{info.name}.py"))
-    path = os.path.relpath(path) if not os.path.relpath(path).startswith("..") else path
+    return os.path.relpath(path) if not os.path.relpath(path).startswith("..") else path
+
+
+def _load(info: pkgutil.ModuleInfo, path: str):
+    """Import ``models.<name>`` and check its claims; a module that does not load is one error naming its file."""
     try:
-        return importlib.import_module(f"{__name__}.{info.name}")
+        module = importlib.import_module(f"{__name__}.{info.name}")
     except HarnessError as exc:
         raise ModelError(f"{path}: {exc}") from None
-    except Exception as exc:  # noqa: BLE001 - a broken model file is bad input, not a crash
+    except (Exception, SystemExit) as exc:  # noqa: BLE001 - a broken model file is bad input, not a crash
+        sys.modules.pop(f"{__name__}.{info.name}", None)
         where = f" (line {exc.lineno})" if isinstance(exc, SyntaxError) else ""
-        raise ModelError(f"{path} does not load{where}: {type(exc).__name__}: {exc}") from None
+        what = f"calls sys.exit({exc.code!r})" if isinstance(exc, SystemExit) else f"{type(exc).__name__}: {exc}"
+        raise ModelError(f"{path} does not load{where}: {what}") from None
+    system = getattr(module, "SYSTEM", None)
+    if isinstance(system, System):
+        from harness.claims import validate_claims
+
+        try:
+            validate_claims(system, getattr(module, "CLAIMS", []))
+        except HarnessError as exc:
+            raise ModelError(f"{path}: {exc}") from None
+    return module
 
 
 @cache
-def _modules() -> dict:
-    modules = {}
-    for info in sorted(pkgutil.iter_modules(__path__), key=lambda m: m.name):
+def _load_all() -> tuple[dict, dict]:
+    """``(modules by system name, failures by module name)``, in module order."""
+    modules, failures, where = {}, {}, {}
+    own, *others = __path__  # the catalogue's own folder first: a user module cannot take a catalogued name
+    infos = sorted(pkgutil.iter_modules([own]), key=lambda m: m.name)
+    seen = {info.name for info in infos}
+    infos += [info for info in sorted(pkgutil.iter_modules(others), key=lambda m: m.name) if info.name not in seen]
+    for info in infos:
         if info.name.startswith("_"):
             continue
-        module = _load(info)
+        path = _path(info)
+        try:
+            module = _load(info, path)
+        except ModelError as exc:
+            failures[info.name] = str(exc)
+            continue
         system = getattr(module, "SYSTEM", None)
-        if isinstance(system, System):
-            modules[system.name] = module
-    return modules
+        if not isinstance(system, System):
+            continue
+        if system.name in modules or system.name in failures:
+            failures[info.name] = (f"{path}: system name {system.name!r} is already used by "
+                                   f"{where.get(system.name, system.name)}; give SYSTEM a name of its own")
+            continue
+        modules[system.name], where[system.name] = module, path
+    return modules, failures
+
+
+def _modules() -> dict:
+    return _load_all()[0]
+
+
+def reload() -> None:
+    """Forget what was loaded: the next lookup searches ``__path__`` again (a folder added, a module written)."""
+    _load_all.cache_clear()
+
+
+def failures() -> dict[str, str]:
+    """Modules that do not load: module name → the one-line reason (naming the file)."""
+    return dict(_load_all()[1])
 
 
 def catalogue() -> dict[str, System]:
-    """Every registered system by name, in module order."""
+    """Every system that loads, by name, in module order."""
     return {name: module.SYSTEM for name, module in _modules().items()}
+
+
+def names() -> list[str]:
+    """Every system of the catalogue and every module that does not load (a run over the catalogue reports
+    those as failures)."""
+    return [*catalogue(), *(name for name in failures() if name not in catalogue())]
 
 
 def scenes(name: str) -> list:
@@ -65,6 +121,10 @@ def claims(name: str) -> list:
 
 def get(name: str) -> System:
     systems = catalogue()
-    if name not in systems:
-        raise InputError(f"unknown system {name!r}; known systems: {', '.join(systems)}")
-    return systems[name]
+    if name in systems:
+        return systems[name]
+    broken = failures()
+    if name in broken:
+        raise ModelError(broken[name])
+    known = ", ".join(names())
+    raise InputError(f"unknown system {name!r}; known systems: {known}")

@@ -27,3 +27,22 @@ def _isolated_cache(tmp_path_factory):
     mp.setenv("HARNESS_CACHE_DIR", str(shared / "derivations"))
     yield
     mp.undo()
+
+
+@pytest.fixture
+def user_models(tmp_path, monkeypatch):
+    """A temporary folder on the catalogue's search path, as HARNESS_MODELS_PATH would put it; the modules
+    loaded from it are forgotten afterwards."""
+    import sys
+
+    import models
+
+    folder = tmp_path / "user_models"
+    folder.mkdir()
+    monkeypatch.setattr(models, "__path__", [*models.__path__, str(folder)])
+    models.reload()
+    yield folder
+    models.reload()
+    for name, module in list(sys.modules.items()):
+        if name.startswith("models.") and str(getattr(module, "__file__", "") or "").startswith(str(folder)):
+            sys.modules.pop(name)

@@ -25,26 +25,15 @@ def documented_module() -> str:
     return code.replace('name="pendulum_rod"', f'name="{NAME}"')
 
 
-@pytest.fixture
-def search_path(tmp_path, monkeypatch):
-    """The temporary folder on the catalogue's search path, as HARNESS_MODELS_PATH would put it."""
-    folder = tmp_path / "my_models"
-    folder.mkdir()
-    monkeypatch.setattr(models, "__path__", [*models.__path__, str(folder)])
-    models._modules.cache_clear()
-    yield folder
-    models._modules.cache_clear()
-    sys.modules.pop(f"models.{NAME}", None)
-
-
-def test_scaffold_fill_check_report(search_path, tmp_path, capsys):
+def test_scaffold_fill_check_report(user_models, tmp_path, capsys):
+    search_path = user_models
     before = sorted(p.name for p in (ROOT / "models").iterdir())
     # 1. scaffold: a conformant model with a checklist
     assert cli.main(["new", NAME, "--dir", str(search_path)]) == 0
     scaffolded = (search_path / f"{NAME}.py").read_text()
     assert "Checklist" in scaffolded and "CLAIMS" in scaffolded and "SCENES" in scaffolded
     # existing names and invalid identifiers are refused with one line
-    models._modules.cache_clear()
+    models.reload()
     for bad in (NAME, "pendulum", "Not-A-Name", "class"):
         capsys.readouterr()
         assert cli.main(["new", bad, "--dir", str(search_path)]) == 2
@@ -52,7 +41,7 @@ def test_scaffold_fill_check_report(search_path, tmp_path, capsys):
         assert len(err) == 1 and err[0].startswith("error: new:"), err
     # 2. fill it in as the document does
     (search_path / f"{NAME}.py").write_text(documented_module())
-    models._modules.cache_clear()
+    models.reload()
     sys.modules.pop(f"models.{NAME}", None)
     assert models.get(NAME).title == "Pendulum rod"
     # 3. green check, 4. in the report

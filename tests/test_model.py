@@ -69,6 +69,32 @@ def test_cache_hit_and_corrupted_cache_is_rebuilt(tmp_path, monkeypatch):
     assert not derive(s).from_cache
 
 
+@pytest.mark.parametrize("payload", [
+    "__import__('os').system('touch {marker}')",                      # a call of a builtin
+    "Add(Integer(1), Symbol('x').__class__)",                          # attribute access
+    "Add('__import__(\"os\").system(\"touch {marker}\")', Integer(1))",  # a string SymPy would sympify (eval)
+    "sympify('x')",                                                    # a SymPy function that is not a class
+    "Add(*[Integer(k) for k in range(3)])",                            # any other syntax
+])
+def test_a_forged_cache_entry_runs_no_code(tmp_path, monkeypatch, payload):
+    """The checksum detects damage, not tampering: an entry rewritten with a recomputed checksum is still read by
+    a parser that accepts only what srepr writes, so the payload never runs and the derivation is rebuilt."""
+    from harness import cache
+
+    monkeypatch.setenv("HARNESS_CACHE_DIR", str(tmp_path / "cache"))
+    marker = tmp_path / "ran"
+    s = models.get("pendulum")
+    first = derive(s)
+    (entry,) = (tmp_path / "cache").glob("*.json")
+    doc = json.loads(entry.read_text())
+    doc["entries"]["M"] = payload.format(marker=marker)
+    doc["sha256"] = cache._checksum(doc["entries"])  # the forger recomputes the checksum
+    entry.write_text(json.dumps(doc))
+    again = derive(s)
+    assert not marker.exists()
+    assert not again.from_cache and again.M == first.M
+
+
 def test_per_body_derivation_is_cached_as_a_graph(tmp_path, monkeypatch):
     """A tree derived body by body (>= 6 DoF) is stored as its shared subexpressions and read back to the same
     expressions the cold run uses; a damaged replacement is detected and the derivation rebuilt."""
@@ -138,13 +164,15 @@ def test_joint_and_parameter_mistakes():
 
 
 def test_a_model_file_that_does_not_load_names_the_file_and_the_fix(tmp_path, monkeypatch):
-    import pkgutil
-
     (tmp_path / "broken_model.py").write_text("from harness.model import Parameter\nm = Parameter('m', unit='kg')\n")
     monkeypatch.setattr(models, "__path__", [*models.__path__, str(tmp_path)])
-    (info,) = [i for i in pkgutil.iter_modules([str(tmp_path)]) if i.name == "broken_model"]
-    with pytest.raises(ModelError) as exc:
-        models._load(info)
+    models.reload()
+    try:
+        assert "pendulum" in models.catalogue()  # the others still load
+        with pytest.raises(ModelError) as exc:
+            models.get("broken_model")
+    finally:
+        models.reload()
     assert "broken_model.py" in str(exc.value) and "give a default value" in str(exc.value)
 
 

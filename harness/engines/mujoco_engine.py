@@ -9,11 +9,10 @@ round-off (not a finite-difference approximation)."""
 
 from __future__ import annotations
 
-from collections import deque
-
 import mujoco
 import numpy as np
 
+from harness.engines import warnings_log
 from harness.engines.base import State, TreeQuantities, to_lecture
 from harness.errors import EngineError
 from harness.export.mjcf import mjcf_string
@@ -30,10 +29,9 @@ WARNINGS = {
     mujoco.mjtWarning.mjWARN_BADCTRL: "NaN, inf or huge value in ctrl",
 }
 """MuJoCo does not fail on these: it counts them in ``MjData.warning`` (and on bad qpos/qvel/qacc resets the
-state and carries on), so without a check a run returns silently wrong numbers."""
+state and carries on), so without a check a run returns silently wrong numbers. Its warning texts go to
+:mod:`harness.engines.warnings_log`, never to the console."""
 
-_warning_texts: deque[str] = deque(maxlen=16)
-mujoco.set_mju_user_warning(_warning_texts.append)  # not printed: the counters below become our one error line
 
 
 def check_warnings(model: mujoco.MjModel, data: mujoco.MjData, what: str) -> None:
@@ -47,7 +45,6 @@ def check_warnings(model: mujoco.MjModel, data: mujoco.MjData, what: str) -> Non
              for w, text in WARNINGS.items() if data.warning[w].number > 0]
     for w in WARNINGS:  # counted once: the next evaluation with the same data starts clean
         data.warning[w].number = 0
-    _warning_texts.clear()
     if found:
         raise EngineError(f"{what}: MuJoCo warning at t={data.time:g} s: " + "; ".join(found))
 
@@ -64,9 +61,11 @@ class MujocoModel:
     def __init__(self, tree: NumericTree, xml: str | None = None, spec: mujoco.MjSpec | None = None):
         self.tree = tree
         if spec is not None:  # a scene's engine configuration (contact, dry friction) on top of the export
-            self.model = spec.compile()
+            self.model = warnings_log.compile_spec(spec, tree, "MjSpec.compile (scene)")
         else:  # MuJoCo loads the MJCF text we export (the same text as urdf/<system>.xml for default parameters)
-            self.model = mujoco.MjModel.from_xml_string(xml if xml is not None else mjcf_string(tree))
+            xml = xml if xml is not None else mjcf_string(tree)
+            with warnings_log.capture("mujoco", "MjModel.from_xml_string", tree):
+                self.model = mujoco.MjModel.from_xml_string(xml)
         self.data = mujoco.MjData(self.model)
         self.data_rest = mujoco.MjData(self.model)
         self.qpos_index, self.dof_index = [], []

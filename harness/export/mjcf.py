@@ -106,9 +106,11 @@ def mjcf_spec(tree: NumericTree) -> mujoco.MjSpec:
             body.mass = link.mass
             body.ipos = link.com
             inertia = link.inertia
-            if not np.any(inertia):
-                inertia = np.eye(3) * MUJOCO_POINT_MASS_INERTIA
-            body.fullinertia = [inertia[0, 0], inertia[1, 1], inertia[2, 2], inertia[0, 1], inertia[0, 2], inertia[1, 2]]
+            if not np.any(inertia):  # a point mass: principal moments (numeric.MUJOCO_POINT_MASS_INERTIA)
+                body.inertia = [MUJOCO_POINT_MASS_INERTIA] * 3
+            else:
+                body.fullinertia = [inertia[0, 0], inertia[1, 1], inertia[2, 2], inertia[0, 1], inertia[0, 2],
+                                    inertia[1, 2]]
             for joint in joints + [j]:
                 _add_joint(body, joint, tree)
             bodies[j.child] = body
@@ -216,6 +218,10 @@ def _full_precision(xml: str, model: mujoco.MjModel) -> str:
 
 def mjcf_string(tree: NumericTree) -> str:
     """The MJCF text of ``mjcf_spec(tree)``, loading into the same model as the spec (see _full_precision)."""
+    from harness.engines.warnings_log import capture
+
     spec = mjcf_spec(tree)
-    model = spec.compile()
-    return _full_precision(spec.to_xml(), model)
+    with capture("mujoco", "MjSpec.compile (export)", tree):
+        model = spec.compile()
+        xml = spec.to_xml()
+    return _full_precision(xml, model)

@@ -12,10 +12,17 @@ from harness.errors import ModelError
 from harness.model import Damper, JointDamper, JointInput, JointSpring, Point, Spring, System
 from harness.model import check_inertia  # noqa: F401  (re-exported: the physical-inertia check lives with the model)
 
-# MuJoCo refuses moving bodies whose mass or inertia is below mjMINVAL = 1e-15. A point mass (zero inertia
-# tensor about its centre of mass) is exported to MJCF with this isotropic inertia instead; it changes M by
-# at most 1e-14 kg m², far below the float64 tolerance for the parameter ranges used (M ≥ 1e-3 kg m²).
-MUJOCO_POINT_MASS_INERTIA = 1e-14
+# MuJoCo refuses moving bodies whose mass or a principal inertia is below mjMINVAL = 1e-15 (its compiler
+# tests ``inertia < mjMINVAL``). A point mass (zero inertia tensor about its centre of mass) is exported to MJCF
+# with the smallest isotropic inertia it accepts, mjMINVAL itself, as principal moments (``diaginertia``:
+# a ``fullinertia`` passes an eigenvalue test that refuses values up to ~5e-15). This is not round-off but a
+# stated model difference: each point mass adds ``ε J_ωᵀ J_ω`` to M (ε this value, J_ω its body's angular
+# Jacobian), i.e. ``2ε`` on a diagonal of M of the governor (two arms) and ``ε`` of the spherical pendulum, and
+# changes q̈ by up to ``k ε / λ_min(M)`` relative (k point masses turning with a coordinate). Against the
+# tolerance 1e-12 κ(M) of q̈ that is ``k ε / (1e-12 λ_max(M))``: below 0.1 of it wherever λ_max(M) ≥
+# k·0.01 kg m² (the catalogue's smallest, the governor's 2 m l² ≥ 0.125 kg m²: 0.016). With the former 1e-14
+# it was 10x that: 0.15 of the tolerance of the governor's q̈ and (A.66a), (A.67a) against MuJoCo.
+MUJOCO_POINT_MASS_INERTIA = 1e-15
 
 
 @dataclass(frozen=True)

@@ -4,8 +4,8 @@ projectile up to 10⁶.
 The counterweight ``M`` and the projectile ``m`` are point masses on massless rods; the arm's mass sits at the
 pivot with no moment of inertia (a massless link for the motion). A large ``M/m`` makes ``M(q)``
 ill-conditioned: ``q̈`` is only as accurate as ``κ(M)`` times the round-off of its terms. MuJoCo moreover
-carries every point mass with an isotropic inertia of 1e-14 kg m² (it refuses smaller,
-``harness/export/numeric.py``), which is a relative change of 1e-14/(m r²) for the light projectile.
+carries every point mass with an isotropic inertia of 1e-15 kg m² (mjMINVAL; it refuses smaller,
+``harness/export/numeric.py``), which is a relative change of 1e-15/(m r²) for the light projectile.
 """
 
 from __future__ import annotations
@@ -13,11 +13,12 @@ from __future__ import annotations
 import numpy as np
 
 import models
+from harness.export.numeric import MUJOCO_POINT_MASS_INERTIA
 from harness.hard.common import CaseResult, ENGINES, finite, scene_for, second_order, solve
 from harness.simulate import Dynamics
 
 ROUND_OFF = 1e-12        # the conformance policy: relative 1e-12 of the terms' scale, times κ(M)
-POINT_INERTIA = 1e-14    # kg m², MuJoCo's stand-in inertia of a point mass
+POINT_INERTIA = MUJOCO_POINT_MASS_INERTIA    # kg m², MuJoCo's stand-in inertia of a point mass
 ENGINE_TOL = 1e-6
 RATIOS = (1e1, 1e2, 1e3, 1e4, 1e5, 1e6)
 
@@ -29,8 +30,8 @@ def trebuchet_mass_ratio(quick: bool = False) -> CaseResult:
         ["trebuchet_free", "trebuchet"], "tolerance scaled by κ(M); point-mass inertia stated",
         "With M/m = 10⁶ the mass matrix has κ(M) ≈ 5e4: comparing q̈ of the engines with the derivation "
         "at a fixed relative 1e-12 (round-off of well-conditioned terms) reports failures that are only "
-        "conditioning; MuJoCo's 1e-14 kg m² stand-in inertia of a point mass shows up for a light projectile.",
-        "q̈ is compared with the bound κ(M)·1e-12 + 1e-14/(m r²) (round-off amplified by the conditioning, plus "
+        "conditioning; MuJoCo's 1e-15 kg m² stand-in inertia of a point mass shows up for a light projectile.",
+        "q̈ is compared with the bound κ(M)·1e-12 + 1e-15/(m r²) (round-off amplified by the conditioning, plus "
         "MuJoCo's stated point-mass inertia relative to the projectile's m r²); trajectories at M/m = 10³ with "
         "both engines (DOP853 1e-10) against the reference.")
     system = models.get("trebuchet_free")    # phase 2: the projectile has its own coordinate psi
@@ -78,7 +79,7 @@ def trebuchet_mass_ratio(quick: bool = False) -> CaseResult:
     ratios = [row["ratio"] for row in rows]
     for source in ENGINES:
         ax.loglog(ratios, [max(row[source], 1e-17) for row in rows], "o-", label=source)
-    ax.loglog(ratios, [row["bound"] for row in rows], "k--", label="bound κ(M)·1e-12 + 1e-14/(m r²)")
+    ax.loglog(ratios, [row["bound"] for row in rows], "k--", label="bound κ(M)·1e-12 + 1e-15/(m r²)")
     ax.axhline(ROUND_OFF, color="r", ls=":", label="fixed 1e-12 (naive)")
     ax.set_xlabel("counterweight / projectile M/m")
     ax.set_ylabel("relative q̈ difference to the derivation")

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 from multiprocessing import get_context
 from pathlib import Path
 
-SCHEMA_VERSION = 1
+SCHEMA_VERSION = 2
 SCHEMA_DOC = "docs/results-schema.md"
 # keys whose values come from a clock (never deterministic): moved to timings.json
 _TIMING_KEY = re.compile(r"seconds|time ratio|wall", re.IGNORECASE)
@@ -105,9 +105,7 @@ def check_record(system, examples: int | None = None, scenes: bool = True, serie
         summary = conformance.run(system, examples=examples)
         record = {"system": system.name, "passed": summary.passed, "examples": summary.examples,
                   "failure": summary.failure, "not_applicable": summary.not_applicable,
-                  "checks": [{"check": f.check, "engine": f.engine, "max_error": f.error,
-                              "tolerance": f.tolerance, "passed": f.passed}
-                             for f in sorted(summary.worst.values(), key=lambda f: (f.check, f.engine))]}
+                  "checks": [c.record() for c in sorted(summary.worst.values(), key=lambda c: (c.name, c.source))]}
     except Exception as exc:  # noqa: BLE001 - one system raising never loses the others' results
         record = {"system": system.name, "passed": False, "examples": 0, "failure": f"{system.name}: {_reason(exc)}",
                   "not_applicable": {}, "checks": []}
@@ -117,6 +115,21 @@ def check_record(system, examples: int | None = None, scenes: bool = True, serie
 
         record["scenes"] = scene_records(system, series_dir)
         record["passed"] = record["passed"] and all(s["passed"] for s in record["scenes"])
+    return with_warnings(record)
+
+
+def with_warnings(record: dict) -> dict:
+    """The engine warnings raised while checking the system (:mod:`harness.engines.warnings_log`); an
+    unexplained one fails the system."""
+    from harness.engines import warnings_log
+
+    record["warnings"] = warnings_log.drain(record["system"])
+    unexplained = [w for w in record["warnings"] if not w["explained"]]
+    if unexplained:
+        record["passed"] = False
+        reasons = "; ".join(f"unexplained {w['engine']} warning in {w['where']} ({w['count']}x): {w['message']} "
+                            f"[{w['reason']}]" for w in unexplained)
+        record["failure"] = f"{record['failure']}; {reasons}" if record["failure"] else f"{record['system']}: {reasons}"
     return record
 
 
@@ -145,9 +158,10 @@ def _record(job: Job) -> dict:
 
 
 def run_checks(names: list[str], examples: int | None = None, seed: int | None = None, jobs: int = 1,
-               progress=sys.stderr, scenes: bool = True, series_dir: str | None = None) -> tuple[list[dict], dict]:
+               progress=None, scenes: bool = True, series_dir: str | None = None) -> tuple[list[dict], dict]:
     """Check ``names`` (in that order in the result), ``jobs`` systems at a time in spawned processes.
     Returns the records and the wall time per system. Progress goes to ``progress`` (stderr)."""
+    progress = sys.stderr if progress is None else progress
     todo = [Job(name, examples, seed, scenes, None if series_dir is None else str(series_dir)) for name in names]
     records: dict[str, dict] = {}
     seconds: dict[str, float] = {}
@@ -185,10 +199,21 @@ def tolerance_policy() -> str:
     return text.split("-----\n")[-1].strip() if "-----\n" in text else text.strip(" -\n")
 
 
+def bounds_used(records: list[dict]) -> dict:
+    """The bounds (:class:`harness.checks.Bound`) the records' checks refer to, each stated once with its reason."""
+    import harness.trajectories  # noqa: F401 - declares the bounds of the scenes (and of structural, constraints)
+    from harness.checks import BOUNDS
+
+    used = {c.get("basis") for r in records for c in r.get("checks", [])}
+    used |= {c.get("basis") for r in records for s in r.get("scenes") or [] for c in s.get("checks", [])}
+    return {name: BOUNDS[name].record() for name in sorted(n for n in used if n in BOUNDS)}
+
+
 def results_document(records: list[dict], examples: int | None = None, seed: int | None = None) -> dict:
     """``results.json`` (schema version :data:`SCHEMA_VERSION`, described in ``docs/results-schema.md``)."""
     return {"schema": {"version": SCHEMA_VERSION, "description": SCHEMA_DOC},
             "tolerance_policy": tolerance_policy(),
+            "bounds": bounds_used(records),
             "versions": versions(),
             "hypothesis": hypothesis_record(examples, seed),
             "systems": records,
@@ -220,7 +245,30 @@ def split_timings(node, path: str = "") -> tuple[object, dict]:
 
 
 def dumps(doc) -> str:
-    return json.dumps(doc, indent=1, ensure_ascii=False) + "\n"
+    """Strict JSON (non-finite numbers as strings, :func:`harness.checks.json_clean`), one value per line."""
+    from harness.checks import json_clean
+
+    return json.dumps(json_clean(doc), indent=1, ensure_ascii=False, allow_nan=False) + "\n"
+
+
+def merge_records(existing: dict | None, records: list[dict]) -> list[dict]:
+    """The records of ``existing`` (a results document) with those of ``records`` replacing them by system:
+    a run over some systems never drops the others' results. Catalogue order, other systems after it."""
+    import models
+
+    merged = {r["system"]: r for r in (existing or {}).get("systems", []) if isinstance(r, dict) and "system" in r}
+    merged.update({r["system"]: r for r in records})
+    order = {name: k for k, name in enumerate(models.names())}
+    return sorted(merged.values(), key=lambda r: (order.get(r["system"], len(order)), r["system"]))
+
+
+def read_timings(out: Path | str) -> dict:
+    """``out/timings.json`` if present and readable, else an empty dict."""
+    try:
+        data = json.loads((Path(out) / "timings.json").read_text())
+    except (OSError, ValueError):
+        return {}
+    return data if isinstance(data, dict) else {}
 
 
 def timings_of(seconds: dict) -> dict:

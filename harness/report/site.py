@@ -15,7 +15,7 @@ from collections import Counter
 from pathlib import Path
 
 from harness.io import atomic_write_text
-from harness.report.markdown import fmt_error, fmt_tolerance
+from harness.report.markdown import check_cells
 from harness.report.mdhtml import markdown_html
 from harness.report.templates import environment
 
@@ -67,9 +67,10 @@ def model_view(system) -> dict:
 
 
 # --------------------------------------------------------------------------- per-system view
-def _check_view(c: dict, source_key: str) -> dict:
-    return {"check": c.get("check", ""), source_key: c.get(source_key, ""), "passed": bool(c.get("passed")),
-            "error": fmt_error(c.get("max_error")), "tolerance": fmt_tolerance(c.get("tolerance"))}
+def _check_view(c: dict) -> dict:
+    value, bound, ratio, _ = check_cells(c)
+    return {"check": c.get("check", ""), "source": c.get("source", ""), "passed": bool(c.get("passed")),
+            "error": value, "tolerance": bound, "ratio": ratio, "basis": c.get("basis", "")}
 
 
 def system_view(record: dict, claims: list[dict], out: Path, figures: set) -> dict:
@@ -77,7 +78,7 @@ def system_view(record: dict, claims: list[dict], out: Path, figures: set) -> di
     from harness.report.figures import render_scene_figure
 
     name = record["system"]
-    checks = [_check_view(c, "engine") for c in record.get("checks", [])]
+    checks = [_check_view(c) for c in record.get("checks", [])]
     matrix: dict[str, list] = {}
     for c in checks:
         matrix.setdefault(c["check"], []).append(c)
@@ -86,7 +87,7 @@ def system_view(record: dict, claims: list[dict], out: Path, figures: set) -> di
         view = {"scene": sc.get("scene", "?"), "description": sc.get("description", ""),
                 "effects": list(sc.get("effects") or []), "horizon": sc.get("horizon"),
                 "passed": bool(sc.get("passed")), "notes": sc.get("notes") or {},
-                "checks": [_check_view(c, "source") for c in sc.get("checks", [])], "figure": None,
+                "checks": [_check_view(c) for c in sc.get("checks", [])], "figure": None,
                 "figure_note": ""}
         series = sc.get("series")
         if series and (out / series).is_file():
@@ -155,9 +156,10 @@ def _stale(folder: Path, keep: set[str], pattern: str) -> None:
                 path.unlink()
 
 
-def build_site(out: Path | str, progress=sys.stderr) -> dict:
+def build_site(out: Path | str, progress=None) -> dict:
     """Render the site from ``out/results.json`` (+ claims.json, hard.json, bench.json, importer.json).
     Returns {"pages": [...], "failed": {system: reason}}."""
+    progress = sys.stderr if progress is None else progress
     import models
 
     from harness.report.results import load_results
@@ -215,10 +217,20 @@ def build_site(out: Path | str, progress=sys.stderr) -> dict:
         written.append(f"systems/{name}.html")
         views.append(view)
     check_names = sorted({c for v in views for c in v["matrix"]})
+    from harness.report import margins
+
+    margin_figure = margins.figure_svg(doc)
+    if margin_figure is not None:
+        atomic_write_text(out / "figures" / "margins.svg", margin_figure)
+        figures.add("figures/margins.svg")
+    warnings = [{"system": r["system"], **w} for r in doc["systems"] for w in r.get("warnings") or []]
     index = env.get_template("index").render(
         systems=views, passed=sum(v["passed"] for v in views), check_names=check_names,
         hypothesis=doc.get("hypothesis"), policy=doc.get("tolerance_policy", ""), versions=versions, root="",
-        **common)
+        margin_line=margins.summary_line(doc), margin_rows=margins.above(doc), margin_limit=margins.MARGIN,
+        margin_figure="figures/margins.svg" if margin_figure else None, bounds=doc.get("bounds") or {},
+        claim_margin_rows=margins.claim_rows(claims), claims_present=bool(claims),
+        warnings=warnings, **common)
     atomic_write_text(out / "index.html", index)
     written.append("index.html")
     if claims:

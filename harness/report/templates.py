@@ -65,9 +65,32 @@ up to {{ hypothesis.max_examples }} examples per system; example database: {{ hy
 {% for s in systems %}<tr><td><a href="systems/{{ s.name }}.html">{{ s.name }}</a></td>
 {% for c in check_names %}{% set cells = s.matrix.get(c, []) %}
 <td class="{% if not cells %}na{% elif cells|selectattr('passed', 'false')|list %}fail{% else %}ok{% endif %}">
-{% for cell in cells %}<span title="{{ cell.engine }}: {{ cell.check }}">{{ cell.engine[0]|upper }} {{ cell.error }} / {{ cell.tolerance }}{{ '' if cell.passed else ' FAIL' }}</span><br>{% endfor %}</td>
+{% for cell in cells %}<span title="{{ cell.source }}: {{ cell.check }} (ratio {{ cell.ratio }})">{{ cell.source[0]|upper }} {{ cell.error }} / {{ cell.tolerance }}{{ '' if cell.passed else ' FAIL' }}</span><br>{% endfor %}</td>
 {% endfor %}</tr>{% endfor %}
 </table></div>
+<h2 id="margins">Margins</h2>
+<p>{{ margin_line }}. A check on a margin bound (round-off, integrator tolerance) must stay at or below
+{{ margin_limit }} of it, or rounding on another machine could flip its verdict; a derived bound follows from the
+method itself (its reason below) and may be approached.</p>
+{% if margin_figure %}<p><img class="figure" src="{{ margin_figure }}" alt="distribution of value / bound over every check"></p>{% endif %}
+{% if margin_rows %}<table><tr><th>system</th><th>scene</th><th>check</th><th>source</th><th>value</th><th>bound</th><th>ratio</th><th>basis</th></tr>
+{% for r in margin_rows %}<tr class="{{ 'ok' if r.derived else 'fail' }}"><td>{{ r.system }}</td><td>{{ r.scene }}</td><td>{{ r.check }}</td><td>{{ r.source }}</td>
+<td class="num">{{ '%.2e'|format(r.value) if r.value is number else r.value }}</td><td class="num">{{ '%.1e'|format(r.bound) }}</td><td class="num">{{ '%.2g'|format(r.ratio) }}</td>
+<td>{{ r.basis }}{{ ' (derived)' if r.derived else '' }}</td></tr>{% endfor %}</table>{% endif %}
+{% if claim_margin_rows %}<p>Printed equations near their verdict's boundary (confirmed above {{ margin_limit }} of the
+tolerance, or wrong by less than {{ (1 / margin_limit)|round|int }}× it):</p>
+<table><tr><th>system</th><th>equation</th><th>classification</th><th>ratio</th><th>per source</th></tr>
+{% for r in claim_margin_rows %}<tr><td>{{ r.system }}</td><td>{{ r.equation }}</td><td>{{ r.classification }}</td><td class="num">{{ '%.2g'|format(r.ratio) }}</td><td>{{ r.sources }}</td></tr>{% endfor %}</table>
+{% elif claims_present %}<p>Every printed equation's verdict holds with a margin of at least {{ (1 / margin_limit)|round|int }}×.</p>{% endif %}
+<h2 id="bounds">Bounds and their reasons</h2>
+<table><tr><th>basis</th><th>value</th><th>kind</th><th>reason</th></tr>
+{% for name, b in bounds.items() %}<tr><td>{{ name }}</td><td class="num">{{ b.value }}</td><td>{{ 'derived' if b.derived else 'margin' }}</td><td>{{ b.reason }}</td></tr>{% endfor %}</table>
+<h2 id="warnings">Engine warnings</h2>
+{% if warnings %}<p>Every warning an engine raised during the checks, with where it was raised and why (an unexplained
+warning fails its system).</p>
+<table><tr><th>system</th><th>engine</th><th>where</th><th>message</th><th>count</th><th>explained</th><th>reason</th></tr>
+{% for w in warnings %}<tr class="{{ 'ok' if w.explained else 'fail' }}"><td>{{ w.system }}</td><td>{{ w.engine }}</td><td>{{ w.where }}</td><td>{{ w.message }}</td><td class="num">{{ w.count }}</td><td>{{ 'yes' if w.explained else 'NO' }}</td><td>{{ w.reason }}</td></tr>{% endfor %}</table>
+{% else %}<p>No engine raised a warning.</p>{% endif %}
 <h2 id="policy">Tolerance policy</h2>
 <pre>{{ policy }}</pre>
 <h2>Versions and platform</h2>
@@ -107,15 +130,15 @@ SYSTEM = """{% extends "base" %}
 <h2>Conformance checks</h2>
 {% if s.not_applicable %}<ul>{% for e, why in s.not_applicable.items() %}<li>{{ e }}: {{ why }}</li>{% endfor %}</ul>{% endif %}
 {% if s.checks %}<p>{{ s.examples }} hypothesis examples.</p>
-<table><tr><th>check</th><th>engine</th><th>max error</th><th>tolerance</th><th>verdict</th></tr>
-{% for c in s.checks %}<tr class="{{ 'ok' if c.passed else 'fail' }}"><td>{{ c.check }}</td><td>{{ c.engine }}</td><td class="num">{{ c.error }}</td><td class="num">{{ c.tolerance }}</td><td>{{ 'ok' if c.passed else 'FAIL' }}</td></tr>{% endfor %}</table>
+<table><tr><th>check</th><th>engine</th><th>max error</th><th>tolerance</th><th>ratio</th><th>verdict</th></tr>
+{% for c in s.checks %}<tr class="{{ 'ok' if c.passed else 'fail' }}"><td>{{ c.check }}</td><td>{{ c.source }}</td><td class="num">{{ c.error }}</td><td class="num" title="{{ c.basis }}">{{ c.tolerance }}</td><td class="num">{{ c.ratio }}</td><td>{{ 'ok' if c.passed else 'FAIL' }}</td></tr>{% endfor %}</table>
 {% else %}<p>No check results.</p>{% endif %}
 <h2>Scenes</h2>
 {% for sc in s.scenes %}
 <h3 id="scene-{{ sc.scene }}">{{ sc.scene }} <small>{{ 'passed' if sc.passed else 'FAILED' }}</small></h3>
 <p>{{ sc.description }}{% if sc.horizon is not none %} — horizon {{ sc.horizon }} s{% endif %}{% if sc.effects %}; effects: {{ sc.effects|join(", ") }}{% endif %}</p>
-{% if sc.checks %}<table><tr><th>check</th><th>source</th><th>max error</th><th>tolerance</th><th>verdict</th></tr>
-{% for c in sc.checks %}<tr class="{{ 'ok' if c.passed else 'fail' }}"><td>{{ c.check }}</td><td>{{ c.source }}</td><td class="num">{{ c.error }}</td><td class="num">{{ c.tolerance }}</td><td>{{ 'ok' if c.passed else 'FAIL' }}</td></tr>{% endfor %}</table>{% endif %}
+{% if sc.checks %}<table><tr><th>check</th><th>source</th><th>value</th><th>bound</th><th>ratio</th><th>verdict</th></tr>
+{% for c in sc.checks %}<tr class="{{ 'ok' if c.passed else 'fail' }}"><td>{{ c.check }}</td><td>{{ c.source }}</td><td class="num">{{ c.error }}</td><td class="num" title="{{ c.basis }}">{{ c.tolerance }}</td><td class="num">{{ c.ratio }}</td><td>{{ 'ok' if c.passed else 'FAIL' }}</td></tr>{% endfor %}</table>{% endif %}
 {% if sc.notes %}<ul>{% for k, v in sc.notes.items() %}<li>{{ k }}: {{ v }}</li>{% endfor %}</ul>{% endif %}
 {% if sc.figure %}<p><img class="figure" src="../{{ sc.figure }}" alt="trajectories, error and energy of {{ s.name }} {{ sc.scene }}"></p>
 {% elif sc.figure_note %}<p><small>{{ sc.figure_note }}</small></p>{% endif %}

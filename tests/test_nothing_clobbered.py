@@ -1,0 +1,93 @@
+"""Nothing clobbered, nothing blocked: `check --out` and `claims --out` merge by system into what the folder
+holds; a user module that does not load is that module's failure while every other system still runs; a claim
+that uses a symbol its system does not declare is refused when the module loads, with one line."""
+
+from __future__ import annotations
+
+import json
+import sys
+
+import pytest
+
+import models
+from harness import cli
+
+BROKEN = {  # module name -> (its text, what the one-line failure says)
+    "user_raises": ("raise RuntimeError('boom')\n", "does not load: RuntimeError: boom"),
+    "user_syntax": ("def (:\n", "does not load (line 1): SyntaxError"),
+    "user_exits": ("import sys\nsys.exit(0)\n", "does not load: calls sys.exit(0)"),
+    "user_shadow": ("from models.pendulum import SYSTEM as _S\nimport dataclasses\n"
+                    "SYSTEM = dataclasses.replace(_S, title='a fake')\n", "system name 'pendulum' is already used by"),
+    "aa_user_shadow": ("from models.pendulum import SYSTEM as _S\nimport dataclasses\n"  # sorts before pendulum
+                       "SYSTEM = dataclasses.replace(_S, title='a fake')\n", "system name 'pendulum' is already used"),
+}
+UNDECLARED_CLAIM = '''
+import sympy as sp
+from models.pendulum import SYSTEM as _S
+import dataclasses
+from harness.claims import Claim
+SYSTEM = dataclasses.replace(_S, name="{name}")
+CLAIMS = [Claim("(9.99)", "T", sp.Symbol("l_3", positive=True) * SYSTEM.qd[0] ** 2)]
+'''
+
+
+def _one_line(capsys) -> str:
+    err = [line for line in capsys.readouterr().err.strip().splitlines() if line]
+    assert len(err) == 1, err
+    return err[0]
+
+
+def test_check_out_merges_by_system(tmp_path, capsys):
+    out = tmp_path / "reports"
+    assert cli.main(["check", "pendulum", "--examples", "3", "--no-scenes", "--out", str(out)]) == 0
+    assert cli.main(["check", "cart_pendulum", "--examples", "3", "--no-scenes", "--out", str(out)]) == 0
+    doc = json.loads((out / "results.json").read_text())
+    assert [r["system"] for r in doc["systems"]] == ["cart_pendulum", "pendulum"]  # catalogue order
+    assert "systems/pendulum/seconds" in json.loads((out / "timings.json").read_text())
+
+
+def test_claims_out_merges_by_system(tmp_path, capsys):
+    out = tmp_path / "reports"
+    assert cli.main(["claims", "pendulum", "--examples", "3", "--jobs", "1", "--out", str(out)]) == 0
+    assert cli.main(["claims", "cart_pendulum", "--examples", "3", "--jobs", "1", "--out", str(out)]) == 0
+    records = json.loads((out / "claims.json").read_text())
+    assert {r["system"] for r in records} == {"pendulum", "cart_pendulum"}
+    assert "| pendulum |" in (out / "errata.md").read_text()
+    # a rerun of one system replaces its records, it does not add a second copy
+    assert cli.main(["claims", "pendulum", "--examples", "3", "--jobs", "1", "--out", str(out)]) == 0
+    again = json.loads((out / "claims.json").read_text())
+    assert len(again) == len(records)
+
+
+@pytest.mark.parametrize("module", sorted(BROKEN))
+def test_a_broken_user_module_blocks_nothing_else(user_models, capsys, module):
+    text, message = BROKEN[module]
+    (user_models / f"{module}.py").write_text(text)
+    # the catalogue still loads (the real pendulum, not a fake); the broken module is a failure of its own
+    assert "pendulum" in models.catalogue() and models.catalogue()["pendulum"].title != "a fake"
+    failures = models.failures()
+    assert list(failures) == [module] and message in failures[module] and f"{module}.py" in failures[module]
+    assert module in models.names()
+    # other systems run; the broken one named by the user is one line and exit 2
+    assert cli.main(["eval", "pendulum", "--q", "0.3"]) == 0
+    assert cli.main(["list"]) == 0 and module in capsys.readouterr().out
+    assert cli.main(["check", module, "--examples", "2", "--no-scenes"]) == 2
+    assert message in _one_line(capsys)
+
+
+def test_a_broken_module_is_a_failed_record_in_a_catalogue_run(user_models):
+    from harness.report.results import run_checks
+
+    (user_models / "user_raises.py").write_text(BROKEN["user_raises"][0])
+    records, _ = run_checks(["pendulum", "user_raises"], examples=2, scenes=False, progress=sys.stderr)
+    by_name = {r["system"]: r for r in records}
+    assert by_name["pendulum"]["passed"]
+    assert not by_name["user_raises"]["passed"] and "RuntimeError: boom" in by_name["user_raises"]["failure"]
+
+
+def test_a_claim_with_an_undeclared_symbol_is_refused_when_the_module_loads(user_models, capsys):
+    (user_models / "user_claim.py").write_text(UNDECLARED_CLAIM.format(name="user_claim"))
+    assert cli.main(["claims", "user_claim", "--examples", "2"]) == 2
+    line = _one_line(capsys)
+    assert "user_claim.py" in line and "claim (9.99)" in line and "'l_3'" in line and "declare it" in line
+    assert cli.main(["eval", "pendulum", "--q", "0.1"]) == 0
