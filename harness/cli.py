@@ -163,7 +163,7 @@ def cmd_new(args) -> int:
 def _classify_system(job) -> dict:
     """Classify the claims of one system (runs in a worker process with --jobs): ``{"system", "failure",
     "records"}``; a module that does not load, or a claim that cannot be evaluated, is a failure of its own."""
-    from harness import claims
+    from harness.compare import claims
     from harness.settings import draws_from_seed_only, load_hypothesis_profile
 
     name, examples = job
@@ -270,9 +270,9 @@ def _errata_markdown(records) -> str:
 
 
 def cmd_scenes(args) -> int:
-    """List the scenes; with --run, simulate them and check the trajectories (harness/trajectories.py)."""
+    """List the scenes; with --run, simulate them and check the trajectories (harness/scenes/trajectories.py)."""
     import models
-    from harness.trajectories import run_scene
+    from harness.scenes.trajectories import run_scene
 
     names = args.systems or list(models.catalogue())
     failed = False
@@ -300,11 +300,12 @@ def cmd_scenes(args) -> int:
 
 
 def cmd_export(args) -> int:
-    from harness.export import export_files
+    import models
+    from harness.export.files import export_files
     from harness.io import atomic_write_text
 
     out = Path(args.dir)
-    files = export_files()
+    files = export_files(models.catalogue().values())
     stale = [name for name, text in files.items()
              if not (out / name).exists() or (out / name).read_text() != text]
     if args.check:
@@ -318,8 +319,8 @@ def cmd_export(args) -> int:
 
 
 def cmd_validate(args) -> int:
-    """A user's own URDF/MJCF: safe parse, checks, load in the engines (harness/validate.py)."""
-    from harness.validate import validate
+    """A user's own URDF/MJCF: safe parse, checks, load in the engines (harness/files/validate.py)."""
+    from harness.files.validate import validate
 
     result = validate(args.file, root=args.root, states=args.states)
     if args.json:
@@ -330,8 +331,8 @@ def cmd_validate(args) -> int:
 
 
 def cmd_importer(args) -> int:
-    """MuJoCo's URDF importer vs our MJCF and Pinocchio (harness/importer.py): importer.json, importer.md."""
-    from harness import importer
+    """MuJoCo's URDF importer vs our MJCF and Pinocchio (harness/files/importer.py): importer.json, importer.md."""
+    from harness.files import importer
 
     doc = importer.run(args.systems or None, states=args.states, seed=args.seed)
     if args.out:

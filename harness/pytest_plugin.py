@@ -8,8 +8,8 @@ Fixtures
     ``check(system, engines=("pinocchio", "mujoco"), examples=None)``: every conformance check of
     ``harness check`` (M, C·q̇, Christoffel C, g, springs, dampers, q̈, export round trip, self-checks) on
     hypothesis states with random parameters; fails the test with the shrunk counterexample and returns the
-    :class:`harness.conformance.Summary` (``summary.worst`` holds the largest error per check and engine).
-    ``system`` is a :class:`harness.model.System` (your own model) or the name of a catalogued one.
+    :class:`harness.compare.conformance.Summary` (``summary.worst`` holds the largest error per check and engine).
+    ``system`` is a :class:`harness.modeling.system.System` (your own model) or the name of a catalogued one.
 ``harness_system``
     ``get(name)``: a system of the catalogue (``models/`` and the folders in ``HARNESS_MODELS_PATH``).
 
@@ -35,7 +35,7 @@ def pytest_addoption(parser):
 
 def assert_conformant(system, engines=("pinocchio", "mujoco"), examples: int | None = None):
     """Run every conformance check of ``system``; raise AssertionError with the counterexample on a failure."""
-    from harness import conformance
+    from harness.compare import conformance
     from harness.settings import draws_from_seed_only
 
     if isinstance(system, str):

@@ -41,7 +41,7 @@ Checklist (delete an item when it is done; `docs/adding-a-system.md` explains ea
 10. [ ] ``harness report`` shows the system; ``make test`` is green.
 """
 
-from harness.model import Coordinate, Gravity, Inertia, Joint, JointDamper, JointSpring, Link, Parameter, System
+from harness.modeling.system import Coordinate, Gravity, Inertia, Joint, JointDamper, JointSpring, Link, Parameter, System
 
 # ----------------------------------------------------------------------------- parameters (symbol, default, unit)
 m_1 = Parameter("m_1", 1.0, "kg", "mass of the rod")
@@ -75,7 +75,7 @@ SYSTEM = System(
 )
 
 # ----------------------------------------------------------------------------- the lecture's printed equations
-# from harness.claims import Claim
+# from harness.compare.claims import Claim
 # import sympy as sp
 # CLAIMS = [
 #     Claim("(X.1)", "M", sp.Matrix([[...]]), "mass matrix as printed"),
@@ -84,7 +84,7 @@ SYSTEM = System(
 CLAIMS = []
 
 # ----------------------------------------------------------------------------- scenes
-# from harness.scenes import Scene
+# from harness.modeling.scenes import Scene
 # SCENES = [
 #     Scene("swing", "released at 30 deg from rest, gravity only", (0.5236,), (0.0,), 3.0, frozenset({"gravity"})),
 # ]

@@ -31,7 +31,7 @@ def draws_from_seed_only():
 
     Hypothesis (6.1xx) draws, with a small probability, literal constants mined from the source of the *local*
     modules loaded at draw time. The same seed then gives different examples after a scene run imported
-    ``harness.trajectories``, or after any literal was edited anywhere in ``harness/`` or ``models/``: a
+    ``harness.scenes.trajectories``, or after any literal was edited anywhere in ``harness/`` or ``models/``: a
     ``results.json`` would not be reproducible. Inside this context only hypothesis's own constants are used
     (it patches one private hook of the pinned hypothesis version and restores it on exit)."""
     from hypothesis.internal.conjecture import providers

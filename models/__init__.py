@@ -21,7 +21,7 @@ import sys
 from functools import cache
 
 from harness.errors import HarnessError, InputError, ModelError
-from harness.model import System
+from harness.modeling.system import System
 
 MODELS_PATH_VARIABLE = "HARNESS_MODELS_PATH"
 __path__.extend(os.path.abspath(p) for p in os.environ.get(MODELS_PATH_VARIABLE, "").split(os.pathsep) if p)
@@ -45,7 +45,7 @@ def _load(info: pkgutil.ModuleInfo, path: str):
         raise ModelError(f"{path} does not load{where}: {what}") from None
     system = getattr(module, "SYSTEM", None)
     if isinstance(system, System):
-        from harness.claims import validate_claims
+        from harness.modeling.claims import validate_claims
 
         try:
             validate_claims(system, getattr(module, "CLAIMS", []))

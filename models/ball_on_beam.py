@@ -24,7 +24,7 @@ round-off (world-frame spatial algebra of a ball spinning at r_dot/r_K) is ampli
 J = dphi/dq, whose entry -1/r_K enters C_q = J^T C_theta J twice (error ~ 1/r_K^3, not a modeling error).
 """
 
-from harness.model import Coordinate, Gravity, Inertia, Input, Joint, JointInput, Link, Parameter, System, WORLD
+from harness.modeling.system import Coordinate, Gravity, Inertia, Input, Joint, JointInput, Link, Parameter, System, WORLD
 
 m_K = Parameter("m_K", 2.0, "kg", "mass of the ball")
 r_K = Parameter("r_K", 0.1, "m", "radius of the ball")
@@ -68,7 +68,7 @@ SYSTEM = System(
 # ----------------------------------------------------------------------------- the lecture's printed equations
 import sympy as _sp  # noqa: E402
 
-from harness.claims import Claim  # noqa: E402
+from harness.modeling.claims import Claim  # noqa: E402
 
 _phi1, _r = phi_1, r
 _p1, _rr = _phi1.symbol, _r.symbol
@@ -98,7 +98,7 @@ CLAIMS = [
 ]
 
 # ----------------------------------------------------------------------------- scenes
-from harness.scenes import Scene, Step  # noqa: E402
+from harness.modeling.scenes import Scene, Step  # noqa: E402
 
 SCENES = [
     Scene("tilt", "Example 5.4: the beam tilted by a torque step, the ball rolls (rolling map in the engines)",

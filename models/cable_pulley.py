@@ -39,7 +39,7 @@ which are claims here except (A.95).
 
 import sympy as sp
 
-from harness.model import Coordinate, Gravity, Inertia, Input, Joint, Link, Parameter, Point, PointForce, System, WORLD
+from harness.modeling.system import Coordinate, Gravity, Inertia, Input, Joint, Link, Parameter, Point, PointForce, System, WORLD
 
 m_L = Parameter("m_L", 10.0, "kg", "mass of the load")
 m_1 = Parameter("m_1", 4.0, "kg", "mass of the pulley R_1 (fixed axis)")
@@ -88,7 +88,7 @@ SYSTEM = System(
 )
 
 # ----------------------------------------------------------------------------- the lecture's printed equations
-from harness.claims import Claim  # noqa: E402
+from harness.modeling.claims import Claim  # noqa: E402
 
 _v = s.rate
 _mL, _m2, _I1, _I2, _g = m_L.symbol, m_2.symbol, I_1.symbol, I_2.symbol, g.symbol
@@ -112,7 +112,7 @@ CLAIMS = [
                "force (5.60) is dW_F/ds_1 = f r_1/(2 r_2)"),
 ]
 
-from harness.scenes import Constant, Scene  # noqa: E402
+from harness.modeling.scenes import Constant, Scene  # noqa: E402
 
 SCENES = [
     Scene("haul", "Exercise A.9, (A.93): the load moving uphill at v_0 = 0.5 m/s from s_0 = 0 is accelerated by "

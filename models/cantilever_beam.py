@@ -26,7 +26,7 @@ only translates, so its rotational inertia (a cuboid, for the engines) never ent
 
 import sympy as sp
 
-from harness.model import (Coordinate, Gravity, Inertia, Input, Joint, JointDamper, JointSpring, Link, Parameter,
+from harness.modeling.system import (Coordinate, Gravity, Inertia, Input, Joint, JointDamper, JointSpring, Link, Parameter,
                            Point, PointForce, System, WORLD)
 
 m_S = Parameter("m_S", 5.0, "kg", "mass of the carriage S")
@@ -88,7 +88,7 @@ SYSTEM = System(
 )
 
 # ----------------------------------------------------------------------------- the lecture's printed equations
-from harness.claims import Claim  # noqa: E402
+from harness.modeling.claims import Claim  # noqa: E402
 
 _s, _phi = SYSTEM.coordinates
 _q, _qd, _qdd = [_s.symbol, _phi.symbol], [_s.rate, _phi.rate], [_s.accel, _phi.accel]
@@ -134,7 +134,7 @@ CLAIMS = [
                "with the printed L and f_q"),
 ]
 
-from harness.scenes import Scene, Step  # noqa: E402
+from harness.modeling.scenes import Scene, Step  # noqa: E402
 
 SCENES = [
     Scene("drop", "Exercise A.14, (A.174): released from rest with relaxed springs (s = s_10, phi = 0, as drawn "

@@ -9,7 +9,7 @@ Its mass is ``m_S = rho_S l_S b_S h_S`` and its inertia about the centre of mass
 (3.128); the centre of mass lies at ``l_S/2`` from the pivot.
 """
 
-from harness.model import (Coordinate, Gravity, Inertia, Input, Joint, JointDamper, JointInput, JointSpring,
+from harness.modeling.system import (Coordinate, Gravity, Inertia, Input, Joint, JointDamper, JointInput, JointSpring,
                            Link, Parameter, System, WORLD)
 
 m_W = Parameter("m_W", 5.0, "kg", "mass of the cart")
@@ -54,7 +54,7 @@ SYSTEM = System(
 # ----------------------------------------------------------------------------- the lecture's printed equations
 import sympy as _sp  # noqa: E402
 
-from harness.claims import Claim  # noqa: E402
+from harness.modeling.claims import Claim  # noqa: E402
 
 _s, _phi = SYSTEM.coordinates
 _mS_printed = rho_S.symbol * l_S.symbol * b_S.symbol * g.symbol * h_S.symbol
@@ -73,7 +73,7 @@ CLAIMS = [
 ]
 
 # ----------------------------------------------------------------------------- scenes
-from harness.scenes import Scene, Sine  # noqa: E402
+from harness.modeling.scenes import Scene, Sine  # noqa: E402
 
 SCENES = [
     Scene("shaken", "Exercise 5.2: the cart driven by f^e = 5 sin(2π 0.8 t) N against its spring and friction",

@@ -31,7 +31,7 @@ turn about ``z``); they are set to a stated mass and to ``3/4`` of the axial mom
 solid cylinder of length ``√1.5`` times its radius).
 """
 
-from harness.model import (BodyTorque, Coordinate, Inertia, Input, Joint, JointDamper, JointInput, JointSpring,
+from harness.modeling.system import (BodyTorque, Coordinate, Inertia, Input, Joint, JointDamper, JointInput, JointSpring,
                            Link, Parameter, System, WORLD)
 
 I_m = Parameter("I_m", 0.002, "kg m^2", "moment of inertia of the motor's rotor")
@@ -86,7 +86,7 @@ SYSTEM = System(
 # ----------------------------------------------------------------------------- the lecture's printed equations
 import sympy as _sp  # noqa: E402
 
-from harness.claims import Claim  # noqa: E402
+from harness.modeling.claims import Claim  # noqa: E402
 
 _p1, _p2 = phi_1.symbol, phi_2.symbol
 _w1, _w2 = phi_1.rate, phi_2.rate
@@ -118,7 +118,7 @@ CLAIMS = [
           "M q̈ + D q̇ + K q = b_e τ_l + b_u τ_m"),
 ]
 
-from harness.scenes import Constant, Scene, Step  # noqa: E402
+from harness.modeling.scenes import Constant, Scene, Step  # noqa: E402
 
 SCENES = [
     Scene("spin_up", "Example 3.16, (3.141): from rest the motor torque tau_m = 2 N m (i_g tau_m = 20 N m on "

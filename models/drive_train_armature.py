@@ -24,7 +24,7 @@ mass on their axes) and their transverse moments of inertia never enter the dyna
 stated mass and to ``3/4`` of the axial moment (a physical tensor), as in ``drive_train``.
 """
 
-from harness.model import BodyTorque, Joint, JointDamper, JointSpring, Link, System, WORLD
+from harness.modeling.system import BodyTorque, Joint, JointDamper, JointSpring, Link, System, WORLD
 # the same parameters, inputs, coordinates and bodies as the rotor-body model (one place)
 from models.drive_train import I_1, I_2, I_m, disc_inertia, c, d, i_g, m_1, m_2, phi_1, phi_2, tau_l, tau_m
 
@@ -59,7 +59,7 @@ SYSTEM = System(
 # satisfy them, one through the gear map, one through the engines' armature.
 from models.drive_train import CLAIMS  # noqa: E402,F401
 
-from harness.scenes import Constant, Scene, Step  # noqa: E402
+from harness.modeling.scenes import Constant, Scene, Step  # noqa: E402
 
 SCENES = [
     Scene("spin_up", "Example 3.16, (3.141): the scene spin_up of drive_train with the rotor inertia as "

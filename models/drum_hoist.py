@@ -27,7 +27,7 @@ as claims: the other static forces (A.70)-(A.75), (A.77) and the rope and fricti
 they are constraint forces, which the harness does not compute.
 """
 
-from harness.model import Coordinate, Gravity, Inertia, Joint, JointSpring, Link, Parameter, System, WORLD
+from harness.modeling.system import Coordinate, Gravity, Inertia, Joint, JointSpring, Link, Parameter, System, WORLD
 
 m_T = Parameter("m_T", 20.0, "kg", "mass of the drum")
 I_T = Parameter("I_T", 0.4, "kg m^2", "moment of inertia of the drum about its axis (through S)")
@@ -64,7 +64,7 @@ SYSTEM = System(
 )
 
 # ----------------------------------------------------------------------------- the lecture's printed equations
-from harness.claims import Claim  # noqa: E402
+from harness.modeling.claims import Claim  # noqa: E402
 
 _x = x_T.symbol
 _mT, _IT, _ra, _ri, _mB, _c, _sf0, _g = (p.symbol for p in (m_T, I_T, r_a, r_i, m_B, c, s_f0, g))
@@ -82,7 +82,7 @@ CLAIMS = [
                "x_T* = s_f0 + f_f / c"),
 ]
 
-from harness.scenes import Scene  # noqa: E402
+from harness.modeling.scenes import Scene  # noqa: E402
 
 SCENES = [
     Scene("release", "Exercise A.8, (A.86): released from rest with the spring relaxed (x_T = s_f0); the block "

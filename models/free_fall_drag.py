@@ -13,8 +13,8 @@ The drawn altitudes cover the exercise's fall from 39 km.
 
 import sympy as sp
 
-from harness.claims import Claim
-from harness.model import Coordinate, Gravity, Joint, Link, Parameter, Point, PointForce, System, WORLD
+from harness.modeling.claims import Claim
+from harness.modeling.system import Coordinate, Gravity, Joint, Link, Parameter, Point, PointForce, System, WORLD
 
 m = Parameter("m", 100.0, "kg", "mass of the falling body")
 A = Parameter("A", 0.5, "m^2", "cross-sectional area")
@@ -48,7 +48,7 @@ CLAIMS = [
           conventions={"drag written for the falling body (v <= 0): v² = -v|v|": {h.rate**2: -h.rate * sp.Abs(h.rate)}}),
 ]
 
-from harness.scenes import Scene  # noqa: E402
+from harness.modeling.scenes import Scene  # noqa: E402
 
 SCENES = [
     Scene("stratosphere", "Exercise 3.9: the exercise's fall from rest at h(0) = 39 km with its parameters; "

@@ -28,7 +28,7 @@ claims core has no kind for "q̈ = 0 at a printed stationary state"; (A.67) with
 
 import math
 
-from harness.model import Coordinate, Gravity, Input, Joint, JointInput, Link, Parameter, System, WORLD
+from harness.modeling.system import Coordinate, Gravity, Input, Joint, JointInput, Link, Parameter, System, WORLD
 
 m = Parameter("m", 2.0, "kg", "each of the two point masses")
 l = Parameter("l", 0.5, "m", "length of an arm (pin to point mass)")
@@ -62,7 +62,7 @@ SYSTEM = System(
 # ----------------------------------------------------------------------------- the lecture's printed equations
 import sympy as _sp  # noqa: E402
 
-from harness.claims import Claim  # noqa: E402
+from harness.modeling.claims import Claim  # noqa: E402
 
 _phi, _alpha = SYSTEM.coordinates
 _p, _a = _phi.symbol, _alpha.symbol
@@ -89,7 +89,7 @@ CLAIMS = [
     Claim("(A.67b)", "eom", _alpha.accel - _sa * (_l * _wp**2 * _ca - _g) / _l, "alpha_ddot solved", index=(1,)),
 ]
 
-from harness.scenes import Constant, Scene  # noqa: E402
+from harness.modeling.scenes import Constant, Scene  # noqa: E402
 
 SCENES = [
     Scene("spin_up", "Exercise A.7, (A.67): spinning at 5 rad/s with the arms at alpha = 0.6 rad, the torque "

@@ -34,7 +34,7 @@ lower (``k = 0``) and the upper (``k = 1``) one; further ``k`` repeat them.
 
 import sympy as sp
 
-from harness.model import (BodyTorque, Coordinate, Gravity, Inertia, Input, Joint, JointSpring, Link, Parameter,
+from harness.modeling.system import (BodyTorque, Coordinate, Gravity, Inertia, Input, Joint, JointSpring, Link, Parameter,
                            Point, PointForce, System, WORLD)
 
 m_1 = Parameter("m_1", 1.0, "kg", "mass of the hollow cylinder 1")
@@ -86,7 +86,7 @@ SYSTEM = System(
 )
 
 # ----------------------------------------------------------------------------- the lecture's printed equations
-from harness.claims import Claim  # noqa: E402
+from harness.modeling.claims import Claim  # noqa: E402
 
 _wp, _ws = phi.rate, s.rate
 _m1, _l1, _m2, _l2, _h, _c, _s0, _g = (p.symbol for p in (m_1, l_1, m_2, l_2, h, c, s_0, g))
@@ -118,7 +118,7 @@ CLAIMS = [
           "upper equilibrium phi_R = pi, s_R = m_2 g cos(phi_R)/c + s_0 = s_0 - m_2 g/c (tau_e = 0)"),
 ]
 
-from harness.scenes import Scene, Step  # noqa: E402
+from harness.modeling.scenes import Scene, Step  # noqa: E402
 
 SCENES = [
     Scene("swing", "Exercise A.12, (A.139): released from rest at phi = 0.6 rad with the rod at s = 0.25 m; the "

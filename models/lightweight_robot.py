@@ -7,7 +7,7 @@ from ``franka_ros/franka_description``, Apache-2.0). The data package installs o
 ``pyproject.toml``; the loader package of the same project pins an older data version and is not used: the
 file is located with ``importlib.metadata`` in the installed data package.
 
-Built by :func:`harness.from_urdf.from_urdf` (see there what is read and how):
+Built by :func:`harness.files.from_urdf.from_urdf` (see there what is read and how):
 
 * Frames: ``world`` is ``panda_link0`` (the base, bolted to the ground; its inertial does not move and is
   dropped). Link frames ``panda_link1`` … ``panda_link7`` as in the URDF: joint ``panda_jointk`` turns
@@ -16,7 +16,7 @@ Built by :func:`harness.from_urdf.from_urdf` (see there what is read and how):
   angles ``q_1`` … ``q_7`` (identity map ``theta = q``).
 * Bodies: mass, centre of mass and full inertia tensor about it from each link's ``<inertial>``; masses are
   the parameters ``m_panda_link1`` … ``m_panda_link7`` (defaults from the file), centres of mass and inertia
-  tensors are constants (why: :mod:`harness.from_urdf`).
+  tensors are constants (why: :mod:`harness.files.from_urdf`).
 * The gripper: ``panda_joint8`` and ``panda_hand_joint`` are fixed; the finger joints are held at the opening
   of the package's SRDF ``default`` state, ``panda_finger_joint1 = 0.001 m``; ``panda_finger_joint2`` is a
   ``<mimic>`` of it (multiplier 1, offset 0) and is held at the same 0.001 m. Hand (0.73 kg, turned by
@@ -28,13 +28,13 @@ Built by :func:`harness.from_urdf.from_urdf` (see there what is read and how):
   torque sensors of Example 1.2, motor inertia.
 
 M (5.21), the Christoffel C (5.95), (5.97) and g (5.96) are derived body by body for this 7-DoF tree
-(:func:`harness.derive._per_body`; the same matrices, without differentiating M), never solving M.
+(:func:`harness.derivation.derive._per_body`; the same matrices, without differentiating M), never solving M.
 """
 
 from importlib import metadata
 
 from harness.errors import ModelError
-from harness.from_urdf import from_urdf
+from harness.files.from_urdf import from_urdf
 
 PACKAGE, VERSION = "example-robot-data", "6.0.0"
 URDF_PATH = "cmeel.prefix/share/example-robot-data/robots/panda_description/urdf/panda.urdf"
@@ -62,7 +62,7 @@ SYSTEM = from_urdf(
 )
 
 # ----------------------------------------------------------------------------- scenes
-from harness.scenes import Scene  # noqa: E402
+from harness.modeling.scenes import Scene  # noqa: E402
 
 SCENES = [
     Scene("fall", "Example 1.2: the arm released from the package's ready pose (q = 0, -0.785, 0, -2.356, 0, 1.571, "

@@ -5,7 +5,7 @@ A point mass ``m`` on a massless rigid rod of length ``l`` swings about the ``e_
 ``y = l sin(phi)``, ``z = -l cos(phi)`` (3.109). Equation of motion (3.111): ``m l² phi'' = -m g l sin(phi)``.
 """
 
-from harness.model import Coordinate, Gravity, Joint, Link, Parameter, System
+from harness.modeling.system import Coordinate, Gravity, Joint, Link, Parameter, System
 
 m = Parameter("m", 1.0, "kg", "point mass")
 l = Parameter("l", 1.0, "m", "length of the massless rod")
@@ -24,7 +24,7 @@ SYSTEM = System(
 )
 
 # ----------------------------------------------------------------------------- the lecture's printed equations
-from harness.claims import Claim  # noqa: E402
+from harness.modeling.claims import Claim  # noqa: E402
 import sympy as _sp  # noqa: E402
 
 _phi = SYSTEM.coordinates[0]
@@ -36,7 +36,7 @@ CLAIMS = [
 ]
 
 # ----------------------------------------------------------------------------- scenes
-from harness.scenes import Scene  # noqa: E402
+from harness.modeling.scenes import Scene  # noqa: E402
 
 SCENES = [
     Scene("swing", "Example 3.12: released at 60° from rest, gravity only (conservative)", (1.0472,), (0.0,), 4.0,

@@ -14,7 +14,7 @@ models the axial element and reports (5.109)/(5.110) against it. Viscous frictio
 motor torques ``tau_1``, ``tau_2`` in joints 1 and 2 (5.111).
 """
 
-from harness.model import (Coordinate, Damper, Gravity, Inertia, Input, Joint, JointDamper, JointInput, Link,
+from harness.modeling.system import (Coordinate, Damper, Gravity, Inertia, Input, Joint, JointDamper, JointInput, Link,
                            Parameter, Point, Spring, System, WORLD)
 
 m_1 = Parameter("m_1", 2.0, "kg", "mass of link 1")
@@ -71,7 +71,7 @@ SYSTEM = System(
 # ----------------------------------------------------------------------------- the lecture's printed equations
 import sympy as _sp  # noqa: E402
 
-from harness.claims import Claim  # noqa: E402
+from harness.modeling.claims import Claim  # noqa: E402
 
 _p1, _p2 = (c.symbol for c in SYSTEM.coordinates)
 _w1, _w2 = (c.rate for c in SYSTEM.coordinates)
@@ -97,7 +97,7 @@ CLAIMS = [
 ]
 
 # ----------------------------------------------------------------------------- scenes
-from harness.scenes import Constant, Scene, Step  # noqa: E402
+from harness.modeling.scenes import Constant, Scene, Step  # noqa: E402
 
 SCENES = [
     Scene("driven", "Example 5.5: tau_1 steps to 5 N m at 0.6 s, tau_2 = -1 N m, against the spring c_e, the "

@@ -21,7 +21,7 @@ there for a physical body in the engines. The external force ``f_e = [-f_ex, 0, 
 inertial frame) acts at the free end of segment 2 (A.118)-(A.120); ``f_ex`` is an input.
 """
 
-from harness.model import (Coordinate, Gravity, Inertia, Input, Joint, Link, Parameter, Point, PointForce,
+from harness.modeling.system import (Coordinate, Gravity, Inertia, Input, Joint, Link, Parameter, Point, PointForce,
                            System, WORLD)
 
 m_1 = Parameter("m_1", 3.0, "kg", "mass of segment 1")
@@ -80,7 +80,7 @@ SYSTEM = System(
 # ----------------------------------------------------------------------------- the lecture's printed equations
 import sympy as _sp  # noqa: E402
 
-from harness.claims import Claim  # noqa: E402
+from harness.modeling.claims import Claim  # noqa: E402
 
 _q1, _q2, _q3 = phi_1.symbol, phi_2.symbol, phi_3.symbol
 _qd1, _qd2, _qd3 = phi_1.rate, phi_2.rate, phi_3.rate
@@ -140,7 +140,7 @@ CLAIMS = [
 
 import math as _math  # noqa: E402
 
-from harness.scenes import Scene, Step  # noqa: E402
+from harness.modeling.scenes import Scene, Step  # noqa: E402
 
 # every segment hanging down (segment 3 points along -[cos(phi_3), sin(phi_3)])
 _hanging = (-_math.pi / 2, -_math.pi / 2, _math.pi / 2)

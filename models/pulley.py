@@ -15,7 +15,7 @@ contain it and are not transcribed; (3.49b) is checked as the rope force from th
 ``m_2`` (3.45b), ``f_S = m_2 g − m_2 Δz̈_2``, at the derived acceleration.
 """
 
-from harness.model import Coordinate, Gravity, Joint, Link, Parameter, System, WORLD
+from harness.modeling.system import Coordinate, Gravity, Joint, Link, Parameter, System, WORLD
 
 m_1 = Parameter("m_1", 2.0, "kg", "mass on the movable pulley")
 m_2 = Parameter("m_2", 1.5, "kg", "mass on the free end of the rope")
@@ -45,7 +45,7 @@ SYSTEM = System(
 )
 
 # ----------------------------------------------------------------------------- the lecture's printed equations
-from harness.claims import Claim  # noqa: E402
+from harness.modeling.claims import Claim  # noqa: E402
 
 _m1, _m2, _g = m_1.symbol, m_2.symbol, g.symbol
 CLAIMS = [
@@ -59,7 +59,7 @@ CLAIMS = [
                "derived acceleration"),
 ]
 
-from harness.scenes import Scene  # noqa: E402
+from harness.modeling.scenes import Scene  # noqa: E402
 
 SCENES = [
     Scene("release", "Example 3.6, (3.49): both masses released from rest, gravity only; m_2 (1.5 kg) sinks and "

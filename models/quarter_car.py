@@ -18,8 +18,8 @@ The lecture allows a velocity-dependent suspension damping ``d_A(v_RA)``; the mo
 
 import sympy as sp
 
-from harness.claims import Claim
-from harness.model import (Coordinate, Gravity, Input, Joint, JointDamper, JointSpring, Link, Parameter, Point,
+from harness.modeling.claims import Claim
+from harness.modeling.system import (Coordinate, Gravity, Input, Joint, JointDamper, JointSpring, Link, Parameter, Point,
                            PointForce, System, WORLD)
 
 m_A = Parameter("m_A", 400.0, "kg", "quarter of the vehicle body mass")
@@ -74,7 +74,7 @@ CLAIMS = [
 ]
 
 # ----------------------------------------------------------------------------- scenes
-from harness.scenes import Bump, Scene  # noqa: E402
+from harness.modeling.scenes import Bump, Scene  # noqa: E402
 
 _rest = (-(400.0 + 40.0) * 9.81 / 2.0e5, -(400.0 + 40.0) * 9.81 / 2.0e5 - 400.0 * 9.81 / 2.0e4)  # (A.41), (A.42)
 SCENES = [

@@ -11,8 +11,8 @@ rigid body and is not simulated: the burn scene holds the mass at the parameter'
 in it are 4 % of the mass; its description says so).
 """
 
-from harness.claims import Claim
-from harness.model import Coordinate, Gravity, Input, Joint, Link, Parameter, Point, PointForce, System, WORLD
+from harness.modeling.claims import Claim
+from harness.modeling.system import Coordinate, Gravity, Input, Joint, Link, Parameter, Point, PointForce, System, WORLD
 
 m = Parameter("m", 500.0, "kg", "current mass of the rocket m(t) = m_0 - m_f(t)")
 w = Parameter("w", 2500.0, "m/s", "relative velocity of the ejected fuel")
@@ -40,7 +40,7 @@ CLAIMS = [
           "v' = -g + w u / m"),
 ]
 
-from harness.scenes import Scene, Step  # noqa: E402
+from harness.modeling.scenes import Scene, Step  # noqa: E402
 
 SCENES = [
     Scene("burn", "Exercise 3.6: lift-off from rest at h = 0, fuel ejection rate u = 4 kg/s (thrust w u = 10 kN) "

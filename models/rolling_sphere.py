@@ -13,8 +13,8 @@ with the scenes, where MuJoCo simulates the sphere on the plane with friction on
 
 import sympy as sp
 
-from harness.claims import Claim
-from harness.model import Coordinate, Gravity, Inertia, Joint, Link, Parameter, System, WORLD
+from harness.modeling.claims import Claim
+from harness.modeling.system import Coordinate, Gravity, Inertia, Joint, Link, Parameter, System, WORLD
 
 m = Parameter("m", 2.0, "kg", "mass of the sphere")
 R = Parameter("R", 0.1, "m", "radius of the sphere")
@@ -46,8 +46,8 @@ CLAIMS = [
 ]
 
 # ----------------------------------------------------------------------------- scenes
-from harness.scenes import Scene  # noqa: E402
-from harness.structural import RollSlip  # noqa: E402
+from harness.modeling.scenes import Scene  # noqa: E402
+from harness.modeling.events import RollSlip  # noqa: E402
 
 _threshold = sp.Rational(2, 7) * sp.tan(alpha.symbol)
 

@@ -28,7 +28,7 @@ reaches zero length: that would need ``l_f^0 = 2 (d + l_1)``, far outside the dr
 
 import sympy as sp
 
-from harness.model import Coordinate, Gravity, Inertia, Link, Joint, Parameter, Point, Spring, System, WORLD
+from harness.modeling.system import Coordinate, Gravity, Inertia, Link, Joint, Parameter, Point, Spring, System, WORLD
 
 rho = Parameter("rho", 2700.0, "kg/m^3", "density of the frame")
 d = Parameter("d", 0.05, "m", "thickness of the frame's bars (in the plane)")
@@ -90,7 +90,7 @@ SYSTEM = System(
 )
 
 # ----------------------------------------------------------------------------- the lecture's printed equations
-from harness.claims import Claim  # noqa: E402
+from harness.modeling.claims import Claim  # noqa: E402
 
 _p, _pdd = phi.symbol, phi.accel
 _g, _c, _lf_0, _lf0 = g.symbol, c.symbol, l_f_0.symbol, l_f0.symbol
@@ -159,7 +159,7 @@ CLAIMS = [
                "f_c e_y = -c (l_f^0 - l_f0) e_y on the body"),
 ]
 
-from harness.scenes import Scene  # noqa: E402
+from harness.modeling.scenes import Scene  # noqa: E402
 
 SCENES = [
     Scene("swing", "Exercise A.2, (A.28): turned by 0.2 rad out of the equilibrium phi = 0 set by the spring's "

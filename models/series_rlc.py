@@ -11,8 +11,8 @@ Engine treatment (honest analogue): no rigid-body engine simulates circuits. The
 analogy), not any electrical law; the state equation (1.10) in ``(i_l, u_c)`` is checked as a printed claim.
 """
 
-from harness.claims import Claim
-from harness.model import (Coordinate, Input, Joint, JointDamper, JointInput, JointSpring, Link, Parameter, System,
+from harness.modeling.claims import Claim
+from harness.modeling.system import (Coordinate, Input, Joint, JointDamper, JointInput, JointSpring, Link, Parameter, System,
                            WORLD)
 
 R = Parameter("R", 10.0, "Ohm", "resistance")
@@ -44,7 +44,7 @@ CLAIMS = [
           "d/dt i_l = (-u_c - R i_l + u)/L"),
 ]
 
-from harness.scenes import Scene, Step  # noqa: E402
+from harness.modeling.scenes import Scene, Step  # noqa: E402
 
 SCENES = [
     Scene("step", "Example 1.1, (1.9c): the uncharged circuit switched onto a 10 V step at 0.1 s; damped "

@@ -22,7 +22,7 @@ Coordinate singularity: at ``theta = 0`` (hanging straight down) and ``theta = p
 
 import math
 
-from harness.model import Coordinate, Gravity, Input, Joint, Link, Parameter, Point, PointForce, System, WORLD
+from harness.modeling.system import Coordinate, Gravity, Input, Joint, Link, Parameter, Point, PointForce, System, WORLD
 
 m = Parameter("m", 1.0, "kg", "point mass")
 l = Parameter("l", 1.0, "m", "length of the massless rigid rod")
@@ -59,7 +59,7 @@ SYSTEM = System(
 # ----------------------------------------------------------------------------- the lecture's printed equations
 import sympy as _sp  # noqa: E402
 
-from harness.claims import Claim  # noqa: E402
+from harness.modeling.claims import Claim  # noqa: E402
 
 _theta, _phi = SYSTEM.coordinates
 _th, _ph = _theta.symbol, _phi.symbol
@@ -94,7 +94,7 @@ CLAIMS = [
           "state space: x4'", index=(1,), note="x_2 = theta_dot, x_4 = phi_dot, u = f_xe"),
 ]
 
-from harness.scenes import Scene, Step  # noqa: E402
+from harness.modeling.scenes import Scene, Step  # noqa: E402
 
 SCENES = [
     Scene("conical", "Example 5.3, (5.81): released at theta = 0.8 rad with the azimuth rate phi_dot = 3 rad/s, "

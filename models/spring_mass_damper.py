@@ -19,7 +19,7 @@ and (3.91) describes it only while its length is positive. The drawn states keep
 0.2 m long: ``s_1, s_2 ∈ [0.2, 0.8] m`` and ``s_3 ∈ [1.1, 1.9] m``.
 """
 
-from harness.model import (Coordinate, Damper, Gravity, Input, Joint, Link, Parameter, Point, PointForce, Spring,
+from harness.modeling.system import (Coordinate, Damper, Gravity, Input, Joint, Link, Parameter, Point, PointForce, Spring,
                            System, WORLD)
 
 m_1 = Parameter("m_1", 1.0, "kg", "mass 1 (on the ground, left)")
@@ -87,7 +87,7 @@ SYSTEM = System(
 # ----------------------------------------------------------------------------- the lecture's printed equations
 import sympy as _sp  # noqa: E402
 
-from harness.claims import Claim  # noqa: E402
+from harness.modeling.claims import Claim  # noqa: E402
 
 _s1, _s2, _s3 = s_1.symbol, s_2.symbol, s_3.symbol
 _v1, _v2, _v3 = s_1.rate, s_2.rate, s_3.rate
@@ -124,7 +124,7 @@ CLAIMS = [
     Claim("(3.92)", "eom", _M * _qdd + _D * _qd + _K * _q - _k - _b * _fL, "M q̈ + D q̇ + K q = k + b f_L"),
 ]
 
-from harness.scenes import Scene, Step  # noqa: E402
+from harness.modeling.scenes import Scene, Step  # noqa: E402
 
 SCENES = [
     Scene("released", "Example 3.10, (3.91)-(3.95): the masses released from rest, displaced from their rest "

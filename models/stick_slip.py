@@ -12,8 +12,8 @@ them (MuJoCo's own dry friction, ``frictionloss``, against the event-located sym
 
 import sympy as sp
 
-from harness.claims import Claim
-from harness.model import (Coordinate, Gravity, Input, Joint, JointInput, Link, Parameter, Point, PointForce,
+from harness.modeling.claims import Claim
+from harness.modeling.system import (Coordinate, Gravity, Input, Joint, JointInput, Link, Parameter, Point, PointForce,
                            System, WORLD)
 
 m = Parameter("m", 1.0, "kg", "mass")
@@ -46,8 +46,8 @@ CLAIMS = [
 ]
 
 # ----------------------------------------------------------------------------- scenes
-from harness.scenes import Scene, Sine  # noqa: E402
-from harness.structural import StickSlip  # noqa: E402
+from harness.modeling.scenes import Scene, Sine  # noqa: E402
+from harness.modeling.events import StickSlip  # noqa: E402
 
 _amplitude = 1.2 * mu_H.default * m.default * g.default   # 1.2 times the largest force sticking can hold
 

@@ -30,7 +30,7 @@ planar motion, ``I_xx1``, ``I_yy1``, ``I_xx2``, ``I_yy2`` complete physical tens
 
 import sympy as sp
 
-from harness.model import (Closure, Coordinate, Gravity, Inertia, Input, Joint, Link, Parameter, Point, PointForce, Spring,
+from harness.modeling.system import (Closure, Coordinate, Gravity, Inertia, Input, Joint, Link, Parameter, Point, PointForce, Spring,
                            System, WORLD)
 
 m_1 = Parameter("m_1", 2.0, "kg", "mass of leg 1")
@@ -85,7 +85,7 @@ SYSTEM = System(
 )
 
 # ----------------------------------------------------------------------------- the lecture's printed equations
-from harness.claims import Claim  # noqa: E402
+from harness.modeling.claims import Claim  # noqa: E402
 
 _q, _qd = q.symbol, q.rate
 _m1, _m2, _L1, _L2, _I1, _I2 = (x.symbol for x in (m_1, m_2, L_1, L_2, I_1, I_2))
@@ -125,7 +125,7 @@ CLAIMS = [
 ]
 
 # ----------------------------------------------------------------------------- scenes
-from harness.scenes import Scene  # noqa: E402
+from harness.modeling.scenes import Scene  # noqa: E402
 
 SCENES = [
     Scene("return", "Exercise A.10: released near full extension, the return spring pulls the press back "

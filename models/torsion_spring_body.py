@@ -21,7 +21,7 @@ axis: a follower force with body components ``[f, 0, 0]`` (A.154).
 
 import sympy as sp
 
-from harness.model import (Coordinate, Gravity, Inertia, Input, Joint, JointSpring, Link, Parameter, Point,
+from harness.modeling.system import (Coordinate, Gravity, Inertia, Input, Joint, JointSpring, Link, Parameter, Point,
                            PointForce, System, WORLD)
 
 m = Parameter("m", 2.0, "kg", "mass of rod 1 (rod 2 has m/2)")
@@ -71,7 +71,7 @@ SYSTEM = System(
 )
 
 # ----------------------------------------------------------------------------- the lecture's printed equations
-from harness.claims import Claim  # noqa: E402
+from harness.modeling.claims import Claim  # noqa: E402
 
 _p, _pd, _pdd = phi.symbol, phi.rate, phi.accel
 _g, _c, _f = g.symbol, c_F.symbol, f.symbol
@@ -106,7 +106,7 @@ CLAIMS = [
           - _m * _g * _L * sp.sin(_p) + _c * _p - _f * _L, "equation of motion"),
 ]
 
-from harness.scenes import Scene, Step  # noqa: E402
+from harness.modeling.scenes import Scene, Step  # noqa: E402
 
 SCENES = [
     Scene("tip_over", "Exercise A.13, (A.158): released from rest at phi = 0 (spring relaxed); gravity tips the "

@@ -35,7 +35,7 @@ checks draw ``s_5`` in ``[0.3, 3] m`` (at least 0.3 m of rope) and ``phi_4`` in 
 
 import sympy as sp
 
-from harness.model import (Coordinate, Gravity, Inertia, Input, Joint, JointDamper, JointInput, Link, Parameter,
+from harness.modeling.system import (Coordinate, Gravity, Inertia, Input, Joint, JointDamper, JointInput, Link, Parameter,
                            System, WORLD)
 
 h_1 = Parameter("h_1", 3.0, "m", "height of the tower (cylinder); height of the trolley's rail")
@@ -121,8 +121,8 @@ SYSTEM = System(
 )
 
 # ----------------------------------------------------------------------------- the lecture's printed equations
-from harness.claims import Claim  # noqa: E402
-from harness.kinematics import link_poses  # noqa: E402
+from harness.modeling.claims import Claim  # noqa: E402
+from harness.derivation.kinematics import link_poses  # noqa: E402
 
 _q = SYSTEM.q
 _p1, _s2, _p3, _p4, _s5 = _q
@@ -199,7 +199,7 @@ CLAIMS = [
                "tower and trolley); the printed V is compared through its gradient g = dV/dq"),
 ]
 
-from harness.scenes import Constant, Scene, Step  # noqa: E402
+from harness.modeling.scenes import Constant, Scene, Step  # noqa: E402
 
 SCENES = [
     Scene("slew", "Exercise 5.4, Example 5.2: the tower slews by 60 degrees under tau_1 = 150 N m (reversed to "

@@ -30,7 +30,7 @@ hold there as well. ``theta_0`` is small (0.2 rad) so that one fixed range of ``
 
 import sympy as sp
 
-from harness.model import Closure, Coordinate, Gravity, Parameter, Point, System
+from harness.modeling.system import Closure, Coordinate, Gravity, Parameter, Point, System
 from models.trebuchet_free import LINKS, L, M, g, h, l, m, m_A, mechanism_joints, r
 
 theta_0 = Parameter("theta_0", 0.2, "rad", "initial angle of the arm (projectile on the ground at -L sin theta_0)")
@@ -57,7 +57,7 @@ SYSTEM = System(
 )
 
 # ----------------------------------------------------------------------------- the lecture's printed equations
-from harness.claims import Claim  # noqa: E402
+from harness.modeling.claims import Claim  # noqa: E402
 
 _th, _ph = theta.symbol, phi.symbol
 _thd, _phd = theta.rate, phi.rate
@@ -84,8 +84,8 @@ CLAIMS = [
 ]
 
 # ----------------------------------------------------------------------------- scenes
-from harness.scenes import Scene  # noqa: E402
-from harness.structural import LiftOff  # noqa: E402
+from harness.modeling.scenes import Scene  # noqa: E402
+from harness.modeling.events import LiftOff  # noqa: E402
 from models import trebuchet_free as _free  # noqa: E402
 
 _psi2 = _free.psi.symbol

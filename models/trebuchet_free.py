@@ -28,7 +28,7 @@ the arm can then turn while neither mass moves. That set has measure zero; the d
 full angle ranges, and the forward-dynamics tolerance scales with cond(M).
 """
 
-from harness.model import Coordinate, Gravity, Joint, Link, Parameter, System, WORLD
+from harness.modeling.system import Coordinate, Gravity, Joint, Link, Parameter, System, WORLD
 
 M = Parameter("M", 100.0, "kg", "mass of the counterweight (point mass)")
 m = Parameter("m", 5.0, "kg", "mass of the projectile (point mass)")
@@ -78,7 +78,7 @@ SYSTEM = System(
 # ----------------------------------------------------------------------------- the lecture's printed equations
 import sympy as _sp  # noqa: E402
 
-from harness.claims import Claim  # noqa: E402
+from harness.modeling.claims import Claim  # noqa: E402
 
 _th, _ph, _ps = theta.symbol, phi.symbol, psi.symbol
 _thd, _phd, _psd = theta.rate, phi.rate, psi.rate
@@ -119,7 +119,7 @@ CLAIMS = [
 ]
 
 # ----------------------------------------------------------------------------- scenes
-from harness.scenes import Scene  # noqa: E402
+from harness.modeling.scenes import Scene  # noqa: E402
 
 SCENES = [
     Scene("swing", "Exercise A.15, phase 2 alone (A.187): from rest with the arm at 0.2 rad, the counterweight "

@@ -17,7 +17,7 @@ No gravity is mentioned (and with the centres of mass on the axis it would not a
 engine needs a physical body.
 """
 
-from harness.model import (BodyTorque, Coordinate, Inertia, Input, Joint, JointDamper, JointSpring, Link,
+from harness.modeling.system import (BodyTorque, Coordinate, Inertia, Input, Joint, JointDamper, JointSpring, Link,
                            Parameter, System, WORLD)
 
 I_xx1 = Parameter("I_xx1", 0.02, "kg m^2", "inertia of body 1 about its axis of rotation x (I_xx,1^s1)")
@@ -71,7 +71,7 @@ SYSTEM = System(
 # ----------------------------------------------------------------------------- the lecture's printed equations
 import sympy as _sp  # noqa: E402
 
-from harness.claims import Claim  # noqa: E402
+from harness.modeling.claims import Claim  # noqa: E402
 
 _p1, _p2 = phi_1.symbol, phi_2.symbol
 _w1, _w2 = phi_1.rate, phi_2.rate                     # omega_1, omega_2 of (5.103)
@@ -98,7 +98,7 @@ CLAIMS = [
           "potential forces"),
 ]
 
-from harness.scenes import Scene, Step  # noqa: E402
+from harness.modeling.scenes import Scene, Step  # noqa: E402
 
 SCENES = [
     Scene("twisted", "Exercise 5.3, (5.107): body 1 released from rest at phi_1 = 0.3 rad (body 2 at 0), springs "

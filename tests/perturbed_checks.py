@@ -68,8 +68,8 @@ def main(argv=None) -> int:
     if args.ulps:
         install_nudges(args.ulps)
     import models
-    from harness import conformance
-    from harness.trajectories import run_scene
+    from harness.compare import conformance
+    from harness.scenes.trajectories import run_scene
 
     out = {}
     with draws_from_seed_only():

@@ -1,7 +1,7 @@
 """Bad input and faults, beyond the command-line cases of test_cli.py: each class gives one clear ``error:`` line
 on stderr, exit 2, no traceback and no partial output (stdout empty, output folder untouched).
 
-Model files go through ``harness validate`` (harness/untrusted.py, harness/validate.py); the commands run
+Model files go through ``harness validate`` (harness/files/untrusted.py, harness/files/validate.py); the commands run
 in-process (``cli.main``) with ``capfd``, which also captures what C libraries (urdfdom, MuJoCo) print."""
 
 from pathlib import Path
@@ -12,7 +12,8 @@ import pinocchio as pin
 import pytest
 
 import models
-from harness import cli, untrusted
+from harness import cli
+from harness.files import untrusted
 from harness.engines.mujoco_engine import check_warnings
 from harness.errors import EngineError, ModelError
 
@@ -162,7 +163,7 @@ def test_urdfdom_complaint_becomes_one_line(capfd, tmp_path):
 def test_urdfdom_silently_drops_an_unreadable_inertial():
     """Why the number check exists: urdfdom loads the link massless, exit status fine, when a number does not
     parse (here Pinocchio, which reads URDF through urdfdom); our check refuses the file first."""
-    from harness.importer import captured_output
+    from harness.files.importer import captured_output
 
     with captured_output():
         model = pin.buildModelFromXML(urdf(f'<mass value="1,5"/>{INERTIA}'))
@@ -172,7 +173,7 @@ def test_urdfdom_silently_drops_an_unreadable_inertial():
 
 
 def test_valid_model_file_passes(capfd):
-    assert cli.main(["validate", str(Path(cli.PROJECT_ROOT) / "harness/fixtures/rotated_inertials.urdf")]) == 0
+    assert cli.main(["validate", str(Path(cli.PROJECT_ROOT) / "harness/files/fixtures/rotated_inertials.urdf")]) == 0
     out, err = capfd.readouterr()
     assert out.strip().endswith("valid") and err == ""
 
@@ -188,7 +189,7 @@ def test_unstable_mujoco_run_is_an_engine_error():
     """MuJoCo's own integrator (RK4) with a 1 s step, far too large for the cart's spring: the state grows to
     |qvel| ~ 5e26 in 4 steps without MuJoCo failing (mj_step checks the state it steps from, not the last
     one); check_warnings after the run makes it a reported failure."""
-    from harness.simulate import mujoco_native
+    from harness.scenes.simulate import mujoco_native
 
     system = models.get("cart_pendulum")
     scene = models.scenes("cart_pendulum")[0]

@@ -8,9 +8,9 @@ import sympy as sp
 
 import models
 from harness import cli
-from harness import simulate as sim
+from harness.scenes import simulate as sim
 from harness.bench import derivation, workprecision as wp
-from harness.compile import compiled
+from harness.derivation.compile import compiled
 
 # float64 round-off: NumPy's vectorized transcendental functions may differ from the scalar ones in the last bit
 ROUND_OFF = 1e-14

@@ -4,7 +4,7 @@
 import numpy as np
 import pytest
 
-from harness import simulate as sim
+from harness.scenes import simulate as sim
 from harness.bench import workprecision as wp
 from harness.bench.runner import Task, run_tasks
 

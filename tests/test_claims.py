@@ -5,7 +5,7 @@ import pytest
 import sympy as sp
 
 import models
-from harness.claims import Claim, classify
+from harness.compare.claims import Claim, classify
 
 SYSTEM = models.get("planar_manipulator")
 (p1, p2), (w1, w2) = SYSTEM.q, SYSTEM.qd

@@ -59,7 +59,7 @@ def test_bad_input_is_one_clear_line(args, message):
 
 
 def test_one_system_raising_does_not_lose_the_others(monkeypatch, capsys, tmp_path):
-    from harness import conformance
+    from harness.compare import conformance
 
     real_run = conformance.run
 

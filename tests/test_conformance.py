@@ -4,7 +4,7 @@ parameters (200 examples per check in the ``ci`` profile). A new system needs no
 import pytest
 
 import models
-from harness import conformance
+from harness.compare import conformance
 from harness.settings import EXAMPLES_CI
 
 SYSTEMS = list(models.catalogue())

@@ -1,14 +1,14 @@
-"""Closed chains and couplings with their constraints inside the engines (harness/constraints.py)."""
+"""Closed chains and couplings with their constraints inside the engines (harness/scenes/constraints.py)."""
 
 import numpy as np
 import pytest
 import sympy as sp
 
 import models
-from harness import constraints
-from harness import simulate as sim
-from harness.kinematics import link_poses, point_position
-from harness.scenes import Scene, effects_of
+from harness.scenes import constraints
+from harness.scenes import simulate as sim
+from harness.derivation.kinematics import link_poses, point_position
+from harness.modeling.scenes import Scene, effects_of
 
 CONSTRAINED = [name for name, s in models.catalogue().items() if constraints.constrained(s)]
 

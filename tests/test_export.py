@@ -2,13 +2,14 @@
 
 from pathlib import Path
 
-from harness.export import export_files
+import models
+from harness.export.files import export_files
 
 URDF_DIR = Path(__file__).resolve().parent.parent / "urdf"
 
 
 def test_committed_exports_are_current():
-    files = export_files()
+    files = export_files(models.catalogue().values())
     stale = [name for name, text in files.items()
              if not (URDF_DIR / name).exists() or (URDF_DIR / name).read_text() != text]
     assert not stale, f"stale exports {stale}: run `harness export` and commit urdf/"

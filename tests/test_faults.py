@@ -12,8 +12,8 @@ import pytest
 import sympy as sp
 
 import models
-from harness import cache
-from harness.derive import derive
+from harness.derivation import cache
+from harness.derivation.derive import derive
 from harness.io import atomic_write_text
 
 

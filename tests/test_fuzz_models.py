@@ -18,10 +18,10 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from harness.errors import HarnessError
-from harness.validate import Validation, validate
+from harness.files.validate import Validation, validate
 
 ROOT = Path(__file__).resolve().parent.parent
-SEEDS = [ROOT / "harness/fixtures/rotated_inertials.urdf", ROOT / "urdf/planar_manipulator.urdf",
+SEEDS = [ROOT / "harness/files/fixtures/rotated_inertials.urdf", ROOT / "urdf/planar_manipulator.urdf",
          ROOT / "urdf/planar_manipulator.xml", ROOT / "urdf/cart_pendulum.xml"]
 DEADLINE = timedelta(seconds=5)
 """One example parses, loads in two engines and steps 500 times: a few 10 ms; 5 s means a hang."""

@@ -9,14 +9,14 @@ import pytest
 
 import models
 from harness.cli import main
-from harness.compile import compiled
+from harness.derivation.compile import compiled
 from harness.errors import ModelError
 from harness.hard.charts import integrate_charts, pendulum_charts
 from harness.hard.common import scene_for, second_order, solve
 from harness.hard.long_horizon import GROWTH_TOL, _growth, mujoco_steps, verlet
 from harness.hard.stiff import a05_error, a05_scene
-from harness.scenes import Scene
-from harness.simulate import Dynamics
+from harness.modeling.scenes import Scene
+from harness.scenes.simulate import Dynamics
 
 ENGINE_TOL = 1e-6
 INVARIANT_TOL = 1e-8

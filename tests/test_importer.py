@@ -1,4 +1,4 @@
-"""MuJoCo's own URDF importer against our MJCF and Pinocchio (harness/importer.py), and that the comparison
+"""MuJoCo's own URDF importer against our MJCF and Pinocchio (harness/files/importer.py), and that the comparison
 sees the known importer defects when they are there (emulated on the rotated-inertials test model)."""
 
 import json
@@ -6,7 +6,8 @@ import json
 import pytest
 
 import models
-from harness import cli, importer
+from harness import cli
+from harness.files import importer
 
 QUANTITIES = set(importer.QUANTITIES)
 

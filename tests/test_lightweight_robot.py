@@ -1,4 +1,4 @@
-"""``harness.from_urdf`` against Pinocchio's own URDF parser, and the lightweight robot built with it.
+"""``harness.files.from_urdf`` against Pinocchio's own URDF parser, and the lightweight robot built with it.
 
 The Panda file of ``example-robot-data`` is parsed by both; Pinocchio's model with the finger joints locked
 (``buildReducedModel``, which lumps the fixed and locked links into their parent joint's inertia, as we do) must
@@ -7,7 +7,7 @@ inertials (``<inertial><origin rpy>``, none in the Panda) and a free ``<mimic>``
 URDF written here. The conformance of the system against both engines is ``tests/test_conformance.py``.
 
 Tolerance ``RTOL = 1e-12`` relative (float64 round-off of the same lumping in two programs, as
-``harness.roundtrip.ROUNDTRIP_RTOL``), except the joint rotations: we take the file's quarter turns
+``harness.compare.roundtrip.ROUNDTRIP_RTOL``), except the joint rotations: we take the file's quarter turns
 ``1.5707963267948966`` as exact π/2 (``cos = 0``, where the file's float gives ``6.1e-17``), an absolute 1e-15.
 """
 
@@ -19,8 +19,8 @@ import sympy as sp
 import models
 from harness.errors import ModelError
 from harness.export.numeric import instantiate
-from harness.from_urdf import exact_angle, from_urdf, parse
-from harness.kinematics import rpy_rotation
+from harness.files.from_urdf import exact_angle, from_urdf, parse
+from harness.derivation.kinematics import rpy_rotation
 from models.lightweight_robot import FINGER_OPENING, urdf_file
 
 RTOL = 1e-12
@@ -175,8 +175,8 @@ def test_exact_quarter_turns():
 def test_per_body_christoffel_equals_differentiated_M(name, monkeypatch):
     """The body-by-body M, C (Christoffel), Ṁ, g used from 6 DoF on equal the derivation that differentiates M,
     on small systems with revolute and prismatic joints (float64 round-off apart)."""
-    from harness import derive as derive_module
-    from harness.compile import CompiledModel
+    from harness.derivation import derive as derive_module
+    from harness.derivation.compile import CompiledModel
 
     system = models.get(name)
     reference = CompiledModel(system, derive_module.derive_uncached(system))
@@ -191,13 +191,13 @@ def test_per_body_christoffel_equals_differentiated_M(name, monkeypatch):
 
 
 def test_fixed_joint_with_moving_child_matches_pinocchio():
-    """``harness/fixtures/rotated_inertials.urdf``: rotated inertials everywhere and a prismatic joint behind a
+    """``harness/files/fixtures/rotated_inertials.urdf``: rotated inertials everywhere and a prismatic joint behind a
     rotated fixed joint, whose origin we compose into the joint; bodies and placements as Pinocchio parses them."""
     from pathlib import Path
 
     import harness
 
-    path = Path(harness.__file__).parent / "fixtures" / "rotated_inertials.urdf"
+    path = Path(harness.__file__).parent / "files" / "fixtures" / "rotated_inertials.urdf"
     system = from_urdf(path, name="rotated_inertials", title="t", lecture="-")
     tree = instantiate(system, system.default_parameters())
     model = pin.buildModelFromUrdf(str(path))

@@ -6,8 +6,8 @@ against both engines exactly like a catalogue system."""
 import sympy as sp
 import pytest
 
-from harness import conformance
-from harness.model import (BodyTorque, Coordinate, Damper, Gravity, Inertia, Input, Joint, Link, Parameter, Point,
+from harness.compare import conformance
+from harness.modeling.system import (BodyTorque, Coordinate, Damper, Gravity, Inertia, Input, Joint, Link, Parameter, Point,
                            PointForce, System, WORLD)
 
 m = Parameter("m", 1.0, "kg", "mass of each link")

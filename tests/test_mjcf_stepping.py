@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import models
-from harness import untrusted
+from harness.files import untrusted
 from harness.engines.mujoco_engine import WARNINGS, check_warnings
 from harness.errors import EngineError
 

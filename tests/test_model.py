@@ -7,11 +7,11 @@ import pytest
 import sympy as sp
 
 import models
-from harness.derive import christoffel, derive
+from harness.derivation.derive import christoffel, derive
 from harness.errors import ModelError
 from harness.export.numeric import check_inertia
-from harness.kinematics import rotation, rpy_rotation
-from harness.model import Coordinate, Gravity, Inertia, Joint, Link, Parameter, System
+from harness.derivation.kinematics import rotation, rpy_rotation
+from harness.modeling.system import Coordinate, Gravity, Inertia, Joint, Link, Parameter, System
 
 
 def _pendulum(**changes):
@@ -79,7 +79,7 @@ def test_cache_hit_and_corrupted_cache_is_rebuilt(tmp_path, monkeypatch):
 def test_a_forged_cache_entry_runs_no_code(tmp_path, monkeypatch, payload):
     """The checksum detects damage, not tampering: an entry rewritten with a recomputed checksum is still read by
     a parser that accepts only what srepr writes, so the payload never runs and the derivation is rebuilt."""
-    from harness import cache
+    from harness.derivation import cache
 
     monkeypatch.setenv("HARNESS_CACHE_DIR", str(tmp_path / "cache"))
     marker = tmp_path / "ran"
@@ -99,7 +99,7 @@ def test_per_body_derivation_is_cached_as_a_graph(tmp_path, monkeypatch):
     """A tree derived body by body (>= 6 DoF) is stored as its shared subexpressions and read back to the same
     expressions the cold run uses; a damaged replacement is detected and the derivation rebuilt."""
     from harness.bench.derivation import chain
-    from harness.derive import is_per_body
+    from harness.derivation.derive import is_per_body
 
     monkeypatch.setenv("HARNESS_CACHE_DIR", str(tmp_path))
     s = chain(6)
@@ -164,7 +164,7 @@ def test_joint_and_parameter_mistakes():
 
 
 def test_a_model_file_that_does_not_load_names_the_file_and_the_fix(tmp_path, monkeypatch):
-    (tmp_path / "broken_model.py").write_text("from harness.model import Parameter\nm = Parameter('m', unit='kg')\n")
+    (tmp_path / "broken_model.py").write_text("from harness.modeling.system import Parameter\nm = Parameter('m', unit='kg')\n")
     monkeypatch.setattr(models, "__path__", [*models.__path__, str(tmp_path)])
     models.reload()
     try:

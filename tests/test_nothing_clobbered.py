@@ -25,7 +25,7 @@ UNDECLARED_CLAIM = '''
 import sympy as sp
 from models.pendulum import SYSTEM as _S
 import dataclasses
-from harness.claims import Claim
+from harness.compare.claims import Claim
 SYSTEM = dataclasses.replace(_S, name="{name}")
 CLAIMS = [Claim("(9.99)", "T", sp.Symbol("l_3", positive=True) * SYSTEM.qd[0] ** 2)]
 '''

@@ -3,7 +3,7 @@ them the ``harness_conformance`` and ``harness_system`` fixtures. Shown by a use
 repository, with its own model, run by a separate pytest."""
 
 USER_TESTS = '''
-from harness.model import Coordinate, Gravity, Inertia, Joint, Link, Parameter, System
+from harness.modeling.system import Coordinate, Gravity, Inertia, Joint, Link, Parameter, System
 
 m = Parameter("m", 2.0, "kg", "mass of the disc")
 r = Parameter("r", 0.3, "m", "distance of the centre of mass from the axis")

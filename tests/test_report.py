@@ -25,7 +25,7 @@ def two_runs(tmp_path_factory):
         out = tmp_path_factory.mktemp(f"run{k}")
         assert cli.main(["check", "pendulum", "--examples", "10", "--no-scenes", "--out", str(out)]) == 0
         runs.append(out)
-        for module in ("harness.report.site", "harness.trajectories"):
+        for module in ("harness.report.site", "harness.scenes.trajectories"):
             importlib.import_module(module)
     return runs
 

@@ -1,4 +1,4 @@
-"""What the engines load from our exported files equals what we meant (harness.roundtrip)."""
+"""What the engines load from our exported files equals what we meant (harness.compare.roundtrip)."""
 
 from __future__ import annotations
 
@@ -16,7 +16,7 @@ from harness.export.mjcf import mjcf_spec, mjcf_string
 from harness.export.numeric import instantiate
 from harness.export.urdf import urdf_string
 from harness.export.mjcf import fused_links
-from harness.roundtrip import mujoco_roundtrip, pinocchio_roundtrip, roundtrip
+from harness.compare.roundtrip import mujoco_roundtrip, pinocchio_roundtrip, roundtrip
 from models import catalogue
 
 

@@ -1,6 +1,6 @@
 """Scenes: trajectories of Pinocchio and MuJoCo (scipy-integrated forward dynamics, MuJoCo's own integrator, its
 dry friction and contact) against the confirmed symbolic reference, events, invariants and pruning
-(harness/trajectories.py and harness/structural.py state the tolerances and their reasons).
+(harness/scenes/trajectories.py and harness/scenes/structural.py state the tolerances and their reasons).
 
 The default run checks one scene per mechanism of the machinery (conservative swing with MuJoCo's RK4, input
 breakpoints, a nonlinear closed-chain map, stick-slip events with MuJoCo's frictionloss, rolling contact and
@@ -10,7 +10,7 @@ run every scene of every system."""
 import pytest
 
 import models
-from harness.trajectories import run_scene
+from harness.scenes.trajectories import run_scene
 
 ALL = [(name, scene) for name in models.catalogue() for scene in models.scenes(name)]
 DEFAULT = {("pendulum", "swing"), ("quarter_car", "bump"), ("toggle_press", "return"), ("stick_slip", "stick_slip"),
@@ -48,7 +48,7 @@ def test_default_scenes_exist():
 
 def test_stick_slip_switches_at_the_predicted_threshold():
     """(3.80): breakaway exactly where |f_e| = mu_H m g, then stick and slip alternate in both directions."""
-    from harness import structural
+    from harness.scenes import structural
 
     system, scene = models.get("stick_slip"), models.scenes("stick_slip")[0]
     event = scene.events[0]
@@ -59,7 +59,7 @@ def test_stick_slip_switches_at_the_predicted_threshold():
 
 def test_rolling_sphere_rolls_above_and_slips_below_the_threshold():
     """Exercise 3.17: MuJoCo's contact rolls at 1.01 x 2/7 tan(alpha) and slips at 0.99 x."""
-    from harness import structural
+    from harness.scenes import structural
 
     system, scene = models.get("rolling_sphere"), models.scenes("rolling_sphere")[0]
     event = scene.events[0]

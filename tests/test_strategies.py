@@ -6,7 +6,7 @@ from hypothesis import given, strategies as st
 
 import models
 from harness.export.numeric import check_inertia, instantiate
-from harness.strategies import parameters, states
+from harness.compare.strategies import parameters, states
 
 
 @given(st.data())

@@ -5,7 +5,8 @@ import re
 
 
 import models
-from harness import cli, conformance
+from harness import cli
+from harness.compare import conformance
 from harness.engines import pinocchio_engine
 from harness.export.urdf import urdf_string
 

@@ -3,19 +3,19 @@
 The chain (n = 1 … 8): link ``i`` turns by the *relative* angle ``phi_i`` about ``z`` at the end of link
 ``i − 1`` (length ``l_{i-1}``), centre of mass at ``[l_si, 0, 0]``, diagonal inertia ``I_xxi, I_yyi, I_zzi`` about
 it, gravity along ``−y`` — the planar manipulator of Examples 4.1/5.1 extended link by link. The same chain is
-built with our vocabulary (:mod:`harness.model`) and with ``sympy.physics.mechanics`` (``LagrangesMethod``:
+built with our vocabulary (:mod:`harness.modeling.system`) and with ``sympy.physics.mechanics`` (``LagrangesMethod``:
 equations formed, ``mass_matrix`` taken, never solved).
 
 Measured per n, each in a fresh process with a time-out (what does not finish is reported as such):
 
-* **ours, cold**: :func:`harness.derive.derive` with an empty ``HARNESS_CACHE_DIR`` (M, C from Christoffel symbols,
+* **ours, cold**: :func:`harness.derivation.derive.derive` with an empty ``HARNESS_CACHE_DIR`` (M, C from Christoffel symbols,
   g, f_np, T, V, Ṁ, the map — everything the harness uses), including writing the cache entry;
 * **ours, cached**: the second :func:`derive` in the same process, read from the on-disk cache (``cache_reused``
-  says whether the entry was read back; an entry that does not parse is rebuilt, see :mod:`harness.cache`);
+  says whether the entry was read back; an entry that does not parse is rebuilt, see :mod:`harness.derivation.cache`);
   ``derivation_seconds`` is the derivation alone, ``store_seconds`` writing the cache entry;
 * **mechanics**: frames, points, rigid bodies, Lagrangian, ``form_lagranges_equations()``, ``mass_matrix``;
 * **size**: ``count_ops`` of ``M`` from each;
-* **where the time goes**: the seconds our derivation spends simplifying (``harness.derive._simplify``: expand,
+* **where the time goes**: the seconds our derivation spends simplifying (``harness.derivation.derive._simplify``: expand,
   trigsimp, factor_terms), timed by wrapping it in the child process.
 """
 
@@ -34,7 +34,7 @@ GOAL_N = 6
 
 def chain(n: int):
     """The n-link planar chain in our vocabulary."""
-    from harness.model import Coordinate, Gravity, Inertia, Joint, Link, Parameter, System, WORLD
+    from harness.modeling.system import Coordinate, Gravity, Inertia, Joint, Link, Parameter, System, WORLD
 
     params, links, joints, coords, lengths = [], [], [], [], []
     g = Parameter("g", 9.81, "m/s^2", "acceleration due to gravity")
@@ -61,7 +61,7 @@ def ours(n: int) -> dict:
     import sympy as sp
 
     os.environ["HARNESS_CACHE_DIR"] = tempfile.mkdtemp(prefix="bench-derivation-")
-    from harness import derive as derive_module
+    from harness.derivation import derive as derive_module
 
     simplify, spent = derive_module._simplify, [0.0]
 

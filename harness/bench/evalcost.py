@@ -31,7 +31,7 @@ import numpy as np
 import pinocchio as pin
 
 import models
-from harness.compile import compiled
+from harness.derivation.compile import compiled
 from harness.engines.mujoco_engine import MujocoModel
 from harness.engines.pinocchio_engine import PinocchioModel
 from harness.export.numeric import instantiate

@@ -2,11 +2,11 @@
 
 Measured (wall time, ``time.perf_counter``; the machine's load average is recorded beside):
 
-* **derivation, cold**: :func:`harness.derive.derive` in a fresh Python process with an empty
+* **derivation, cold**: :func:`harness.derivation.derive.derive` in a fresh Python process with an empty
   ``HARNESS_CACHE_DIR`` (SymPy's own caches empty too), and **compilation**: ``lambdify`` with CSE of every
-  quantity (:class:`harness.compile.CompiledModel`), in the same child process;
+  quantity (:class:`harness.derivation.compile.CompiledModel`), in the same child process;
 * **derivation, cached**: a second :func:`derive` in that process, read back from the on-disk cache, where the
-  per-body derivation is stored as a graph (:mod:`harness.cache`; ``srepr`` of its trees would not end);
+  per-body derivation is stored as a graph (:mod:`harness.derivation.cache`; ``srepr`` of its trees would not end);
 * **evaluation**: one call of :meth:`CompiledModel.terms` (``M``, ``C·q̇``, ``g``, ``f_np`` together, the function
   the simulations call) and of the NumPy function of each quantity (``C·q̇``: ``C`` then the product), and the
   same batched over ``N`` states (NumPy broadcasting, :meth:`CompiledModel.batched`), per state; Pinocchio
@@ -42,8 +42,8 @@ _CHILD = r"""
 import json, time
 t0 = time.perf_counter()
 import models
-from harness import derive as derive_module
-from harness.compile import CompiledModel
+from harness.derivation import derive as derive_module
+from harness.derivation.compile import CompiledModel
 system = models.get("lightweight_robot")
 t1 = time.perf_counter()
 d = derive_module.derive(system)
@@ -115,7 +115,7 @@ def _drake(c, system, q, qd, p, ours: dict) -> dict:
         from pydrake.symbolic import Evaluate, MakeVectorVariable
     except ImportError:
         return {"skipped": "pydrake is not installed (optional: drake==1.51.1)"}
-    from harness.cache import PROJECT_ROOT
+    from harness.derivation.cache import PROJECT_ROOT
 
     start = time.perf_counter()
     plant = MultibodyPlant(0.0)
@@ -159,7 +159,7 @@ def run(quick: bool = False) -> dict:
     import pinocchio as pin
 
     import models
-    from harness.compile import compiled
+    from harness.derivation.compile import compiled
     from harness.engines.base import State
     from harness.engines.pinocchio_engine import PinocchioModel
 

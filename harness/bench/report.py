@@ -73,7 +73,7 @@ def goals(doc: dict) -> list[dict]:
             o = row["ours"]
             where = (f"ours {o['cold_seconds']:.1f} s = derivation {o['derivation_seconds']:.1f} s (of which "
                      f"simplification {o['simplify_seconds']:.1f} s) + the cache entry (written; a per-body "
-                     f"graph also read back, harness.derive.derive) "
+                     f"graph also read back, harness.derivation.derive.derive) "
                      f"{o.get('store_seconds', float('nan')):.1f} s; mechanics {row['mechanics']['seconds']:.1f} s; "
                      f"derivation alone {row['ratio_derivation_only']:.2g} ×; cached "
                      f"{'read back' if o.get('cache_reused') else 'not read back (re-derived)'} in "

@@ -1,27 +1,27 @@
 """Work-precision of the scenes: error against a reference versus wall time and right-hand-side evaluations.
 
 * **reference** (per scene): our symbolic model, DOP853 at ``rtol = atol = 1e-12``, confirmed by Radau at the
-  same tolerance (:data:`harness.simulate.REFERENCE`, the check of :mod:`harness.trajectories`): both must
-  agree to :data:`harness.trajectories.REFERENCE_TOL`. A stiff variant (:data:`STIFF`) takes Radau at 1e-12,
+  same tolerance (:data:`harness.scenes.simulate.REFERENCE`, the check of :mod:`harness.scenes.trajectories`): both must
+  agree to :data:`harness.scenes.trajectories.REFERENCE_TOL`. A stiff variant (:data:`STIFF`) takes Radau at 1e-12,
   confirmed by LSODA (BDF) at 1e-12: there an explicit method's global error grows with its many
   stability-limited steps (measured on the quarter car's: DOP853 at 1e-12 is 1.4e-8 off after 51 807
   evaluations, Radau at 1e-12 and 1e-13 agree to 4.8e-13, LSODA to 1.6e-10).
-* **configurations**: ``symbolic`` and ``pinocchio`` (q̈ from :class:`harness.simulate.Dynamics`) with scipy's
+* **configurations**: ``symbolic`` and ``pinocchio`` (q̈ from :class:`harness.scenes.simulate.Dynamics`) with scipy's
   RK45, DOP853, Radau, LSODA (``solve_ivp``) over ``rtol`` (``atol = rtol``), and LSODA with its stepping loop in
-  Fortran (``odeint``, :data:`harness.simulate.ODEINT`); ``symbolic-numba``: our ẏ in machine code (numba, opt-in,
-  :attr:`harness.compile.CompiledModel.native_state_derivative`) with DOP853 and ``odeint``; ``pinocchio`` also
+  Fortran (``odeint``, :data:`harness.scenes.simulate.ODEINT`); ``symbolic-numba``: our ẏ in machine code (numba, opt-in,
+  :attr:`harness.derivation.compile.CompiledModel.native_state_derivative`) with DOP853 and ``odeint``; ``pinocchio`` also
   with fixed-step classical RK4 and semi-implicit (symplectic) Euler; ``mujoco`` with its own integrators
   (``mj_step``: Euler, implicitfast, implicit, RK4) over time steps. Our path is the fastest of ``symbolic`` and
   ``symbolic-numba`` (:data:`OURS`); the engines' is the fastest of ``pinocchio`` and ``mujoco``. Fixed steps are
-  ``Δ/k`` with ``Δ`` the sample spacing of the scene (:func:`harness.simulate.sample_times`), so that every run is
+  ``Δ/k`` with ``Δ`` the sample spacing of the scene (:func:`harness.scenes.simulate.sample_times`), so that every run is
   sampled at the same times.
-* **error**: :func:`harness.simulate.max_error` (largest state difference at the 201 sample times, relative to
+* **error**: :func:`harness.scenes.simulate.max_error` (largest state difference at the 201 sample times, relative to
   the state's scale, at least 1); a run that diverges or fails has error ``inf`` and a note.
 * **cost**: the median wall time of repeated runs (the model is built before the clock starts) and the number of
   right-hand-side evaluations (``q̈`` calls; a MuJoCo step counts its integrator's stages: 4 for RK4, 1 otherwise).
 * **stiff variants**: :data:`STIFF` scales a stiffness of a scene by a factor via the scene's parameters.
-* **scenes with events** (:mod:`harness.structural`): stick-slip (3.80) and the lift-off are simulated with their
-  events located (:data:`harness.trajectories.HYBRID`) by ``solve_ivp``'s methods, with our and Pinocchio's q̈;
+* **scenes with events** (:mod:`harness.scenes.structural`): stick-slip (3.80) and the lift-off are simulated with their
+  events located (:data:`harness.scenes.trajectories.HYBRID`) by ``solve_ivp``'s methods, with our and Pinocchio's q̈;
   MuJoCo runs them with its own dry friction (stick-slip) at its ``implicitfast`` integrator over time steps. The
   rolling sphere is smooth in our model; MuJoCo's sphere rolls in its contact (``implicitfast``). Whatever cannot
   locate an event (``odeint``, fixed steps) or has no event of its own is skipped with its reason
@@ -38,9 +38,10 @@ import time
 import numpy as np
 
 import models
-from harness import simulate as sim, structural
-from harness.scenes import Scene, with_idle_effects
-from harness.trajectories import HYBRID, REFERENCE_TOL, hybrid_event, symbolic_run
+from harness.scenes import simulate as sim
+from harness.scenes import structural
+from harness.modeling.scenes import Scene, with_idle_effects
+from harness.scenes.trajectories import HYBRID, REFERENCE_TOL, hybrid_event, symbolic_run
 
 SCIPY_METHODS = ("RK45", "DOP853", "Radau", "LSODA")
 ADAPTIVE = (*SCIPY_METHODS, sim.ODEINT)
@@ -201,12 +202,12 @@ def event_note(sc: Scene, engine: str, method: str) -> str | None:
             return ("MuJoCo has no lift-off of its own here (its phase 1, a point held on the ground by an equality, "
                     "is checked by harness check)")
         if (isinstance(event, structural.StickSlip) or roll) and method != "implicitfast":
-            return "MuJoCo's dry friction and contact runs use implicitfast (harness.structural)"
+            return "MuJoCo's dry friction and contact runs use implicitfast (harness.scenes.structural)"
         return None
     if event is None:
         return None
     if engine == "symbolic-numba":
-        return "the event simulations (harness.structural) call the Python q̈"
+        return "the event simulations (harness.scenes.structural) call the Python q̈"
     if method not in SCIPY_METHODS:
         return f"{method} does not locate events"
     return None
@@ -338,7 +339,7 @@ def fixed_step(rhs, scene: Scene, y0, method: str, k: int, t_eval):
 # --------------------------------------------------------------------------- effect pruning
 def pruning_task(system: str, scene: str, repeats: int = 3) -> dict:
     """Symbolic path, DOP853 1e-10: the pruned model against every effect present but idle
-    (:func:`harness.scenes.with_idle_effects`), the measurement of :mod:`harness.trajectories`, median of repeats."""
+    (:func:`harness.modeling.scenes.with_idle_effects`), the measurement of :mod:`harness.scenes.trajectories`, median of repeats."""
     s, sc = get_scene(system, scene)
     lean = [symbolic_run(s, sc) for _ in range(repeats)]
     idle_system, idle_scene = with_idle_effects(s, sc)

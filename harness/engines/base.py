@@ -10,10 +10,10 @@ from functools import cache, cached_property
 import numpy as np
 import sympy as sp
 
-from harness.compile import compiled
+from harness.derivation.compile import compiled
 from harness.errors import InputError
 from harness.export.numeric import NumericTree, instantiate
-from harness.model import System
+from harness.modeling.system import System
 
 
 @dataclass(frozen=True)
@@ -101,7 +101,7 @@ class State:
 def load_functions(system: System) -> list:
     """``(kind, point or link, frame, compiled components)`` of each external load, compiled once."""
     from harness.export.numeric import point_name
-    from harness.model import BodyTorque, PointForce
+    from harness.modeling.system import BodyTorque, PointForce
 
     args = [system.q, system.qd, system.p, system.u]
     out = []

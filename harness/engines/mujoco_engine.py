@@ -16,7 +16,7 @@ from harness.engines import warnings_log
 from harness.engines.base import State, TreeQuantities, to_lecture
 from harness.errors import EngineError
 from harness.export.mjcf import mjcf_string
-from harness.model import WORLD
+from harness.modeling.system import WORLD
 from harness.export.numeric import NumericTree
 
 WARNINGS = {

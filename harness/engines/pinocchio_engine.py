@@ -11,7 +11,7 @@ from harness.engines.base import State, TreeQuantities, coriolis_to_lecture, to_
 from harness.errors import EngineError
 from harness.export.numeric import NumericTree
 from harness.export.urdf import urdf_string
-from harness.model import WORLD
+from harness.modeling.system import WORLD
 
 LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 

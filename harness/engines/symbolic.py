@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from harness.compile import compiled
+from harness.derivation.compile import compiled
 from harness.engines.base import Evaluation, State
 
 

@@ -14,7 +14,7 @@ import numpy as np
 from lxml import etree
 
 from harness.export.numeric import MUJOCO_POINT_MASS_INERTIA, NumericTree
-from harness.model import WORLD
+from harness.modeling.system import WORLD
 
 _JOINT_TYPE = {"revolute": mujoco.mjtJoint.mjJNT_HINGE, "prismatic": mujoco.mjtJoint.mjJNT_SLIDE}
 

@@ -9,8 +9,8 @@ import numpy as np
 import sympy as sp
 
 from harness.errors import ModelError
-from harness.model import Damper, JointDamper, JointInput, JointSpring, Point, Spring, System
-from harness.model import check_inertia  # noqa: F401  (re-exported: the physical-inertia check lives with the model)
+from harness.modeling.system import Damper, JointDamper, JointInput, JointSpring, Point, Spring, System
+from harness.modeling.system import check_inertia  # noqa: F401  (re-exported: the physical-inertia check lives with the model)
 
 # MuJoCo refuses moving bodies whose mass or a principal inertia is below mjMINVAL = 1e-15 (its compiler
 # tests ``inertia < mjMINVAL``). A point mass (zero inertia tensor about its centre of mass) is exported to MJCF
@@ -89,12 +89,6 @@ def lump(parts) -> tuple[float, np.ndarray, np.ndarray]:
         d = c - com
         inertia += I + m * (d @ d * np.eye(3) - np.outer(d, d))
     return mass, com, 0.5 * (inertia + inertia.T)
-
-
-def value_at(expr, params: dict[str, float]) -> float:
-    """An expression in the parameters at the values ``params`` (given by parameter name)."""
-    expr = sp.sympify(expr)
-    return _value(expr, {x: sp.Float(params[x.name]) for x in expr.free_symbols})
 
 
 def point_name(point: Point) -> str:

@@ -14,7 +14,7 @@ import yourdfpy
 from lxml import etree
 
 from harness.export.numeric import NumericTree
-from harness.model import WORLD
+from harness.modeling.system import WORLD
 
 WIDE_LIMIT = 1e6
 

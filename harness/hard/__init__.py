@@ -6,14 +6,14 @@ Catalogue (module: case id — strategy):
 * :mod:`.singular`: ``spherical_pendulum_pole`` — chart switch (5.81); ``governor_pole`` — reduction by the
   conserved momentum (A.67); ``toggle_press_dead_point`` — chart switch (A.100); ``tower_crane_rope`` — event
   location (s_5 → 0). Exactly at a singular ``M`` the forward dynamics raises
-  ``coordinate singularity at theta = 0, … in spherical_pendulum`` (:func:`harness.compile.check_regular`).
+  ``coordinate singularity at theta = 0, … in spherical_pendulum`` (:func:`harness.derivation.compile.check_regular`).
 * :mod:`.stiff`: ``quarter_car_stiff`` (tyre ×1000), ``flyball_governor_a05`` (IFToMM A05, CPU time to 1e-3 and
   1e-6) — implicit integration.
 * :mod:`.chaos`: ``double_pendulum_chaos``, ``planar_robot_chaos`` — measured Lyapunov horizon + invariants.
 * :mod:`.mass_ratio`: ``trebuchet_mass_ratio`` — bounds scaled by κ(M), MuJoCo's point-mass inertia stated.
 * :mod:`.long_horizon`: ``pendulum_long_horizon`` — symplectic vs non-symplectic over 10⁴ periods.
 * :mod:`.events`: the lecture's own event scenes (stick-slip (3.80), the trebuchet's lift-off), included by
-  reference to ``models.scenes(...)`` and checked by :func:`harness.trajectories.run_scene`.
+  reference to ``models.scenes(...)`` and checked by :func:`harness.scenes.trajectories.run_scene`.
 
 ``reports/hard.json`` (written atomically by :func:`write_report`)::
 

@@ -14,7 +14,7 @@ import numpy as np
 
 import models
 from harness.hard.common import CaseResult, ENGINES, SOURCES, energy_function, finite, scene_for, second_order, solve
-from harness.simulate import Dynamics
+from harness.scenes.simulate import Dynamics
 
 ENGINE_TOL = 1e-6
 DELTA0 = 1e-10

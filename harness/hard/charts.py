@@ -17,8 +17,8 @@ import numpy as np
 import sympy as sp
 
 from harness.hard.common import second_order, solve
-from harness.model import Coordinate, Gravity, Joint, Link, System, WORLD
-from harness.simulate import Dynamics
+from harness.modeling.system import Coordinate, Gravity, Joint, Link, System, WORLD
+from harness.scenes.simulate import Dynamics
 
 SWITCH = 0.3   # switch charts where the regularity (|sin| of the polar angle, |cos| of a dead-point angle) < 0.3
 

@@ -8,11 +8,11 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from harness.compile import compiled
+from harness.derivation.compile import compiled
 from harness.engines.base import Load, load_functions, to_lecture
-from harness.model import System
-from harness.scenes import Scene, pruned
-from harness.simulate import Dynamics
+from harness.modeling.system import System
+from harness.modeling.scenes import Scene, pruned
+from harness.scenes.simulate import Dynamics
 
 ENGINES = ("pinocchio", "mujoco")
 SOURCES = ("symbolic", *ENGINES)
@@ -111,7 +111,7 @@ class Terms(Dynamics):
                  for kind, where, frame, fn in load_functions(self.system)]
         inputs = dict(zip((i.name for i in self.system.inputs), u))
         tree = self.model.quantities(theta, J @ qd, inputs, loads, christoffel=False)
-        from harness.simulate import _MapAt
+        from harness.scenes.simulate import _MapAt
         e = to_lecture(self.source, _MapAt(J, J_dot, qd), tree)
         f_np = J.T @ tree.tau_input + e.f_damper if hasattr(tree, "tau_input") else e.f_damper
         return e.M, e.Cqd, e.g, f_np

@@ -1,6 +1,6 @@
 """Structural changes, by reference to the lecture's own scenes: stick-slip (3.80) (``models/stick_slip.py``)
 and the trebuchet's lift-off (Exercise A.15, ``models/trebuchet.py``). Their event location lives in
-:mod:`harness.structural` and is checked by :func:`harness.trajectories.run_scene`; here the same checks are
+:mod:`harness.scenes.structural` and is checked by :func:`harness.scenes.trajectories.run_scene`; here the same checks are
 collected into the catalogue, next to the naive run: the model's smooth branch integrated across the switch
 without locating it."""
 
@@ -11,10 +11,10 @@ import dataclasses
 import numpy as np
 
 import models
-from harness import simulate as sim
+from harness.scenes import simulate as sim
 from harness.hard.common import ENGINES, CaseResult
 
-ENGINE_TOL = 1e-6      # as harness/trajectories.py
+ENGINE_TOL = 1e-6      # as harness/scenes/trajectories.py
 REFERENCE_TOL = 1e-8
 NAIVE_BUDGET = 200_000  # right-hand side evaluations the naive run may spend
 
@@ -46,7 +46,7 @@ def _by_reference(case_id, title, system_name, kind, problem, remedy, quick) -> 
         r = CaseResult(case_id, title, [system_name], "pending", problem, remedy)
         r.notes.append(f"no scene of {system_name} with a {kind} event in models.scenes({system_name!r}) yet")
         return r
-    from harness import structural
+    from harness.scenes import structural
     r = CaseResult(case_id, f"{title} (scene {system_name}/{scene.name})", [system_name], "event location",
                    problem, remedy)
     event = next(e for e in scene.events if type(e).__name__ == kind)
@@ -54,15 +54,15 @@ def _by_reference(case_id, title, system_name, kind, problem, remedy, quick) -> 
     ref = hybrid(system, scene, event, "symbolic")                       # DOP853 1e-12, events located
     second = hybrid(system, scene, event, "symbolic", method="LSODA")
     r.check("reference confirmed (LSODA vs DOP853)", "symbolic", sim.max_error(second, ref), REFERENCE_TOL,
-            "harness/trajectories.py")
+            "harness/scenes/trajectories.py")
     r.check("events confirmed (LSODA vs DOP853), s", "symbolic", _event_error(second, ref), structural.EVENT_TOL,
-            "harness/structural.py")
+            "harness/scenes/structural.py")
     for source in ENGINES:
         tr = hybrid(system, scene, event, source, rtol=1e-10, atol=1e-10)
         r.check("trajectory (DOP853 1e-10, events)", source, sim.max_error(tr, ref), ENGINE_TOL,
-                "harness/trajectories.py")
+                "harness/scenes/trajectories.py")
         r.check("event times, s", source, _event_error(tr, ref), structural.ENGINE_EVENT_TOL,
-                "harness/structural.py")
+                "harness/scenes/structural.py")
     r.numbers["events (reference)"] = [(round(e.time, 9), e.before, e.after) for e in getattr(ref, "events", [])]
     r.notes.append(f"the scene's full checks (MuJoCo's own frictionloss / equality constraints, pruning) run in "
                    f"tests/test_scenes.py ({system_name}-{scene.name})")
@@ -122,7 +122,7 @@ def stick_slip(quick: bool = False) -> CaseResult:
         "side the mass never sticks (the sign flips every step around rest) and the breakaway at "
         "|f_e| = mu_H f_N is missed.",
         "Both events located (breakaway |f_required| = mu_H f_N, sticking x_dot = 0) with the branch switched at "
-        "each, in every source (harness/structural.py); MuJoCo's own frictionloss checked for first-order "
+        "each, in every source (harness/scenes/structural.py); MuJoCo's own frictionloss checked for first-order "
         "convergence.", quick)
 
 
@@ -132,4 +132,4 @@ def trebuchet_lift_off(quick: bool = False) -> CaseResult:
         "Phase 1 keeps the projectile on the ground through the map (A.178); continued past the instant its normal "
         "force vanishes, the ground pulls the projectile down: a wrong motion without any numerical symptom.",
         "The normal force is computed from each source's dynamics and its zero located as an event; the "
-        "integration continues in phase 2 (trebuchet_free) from the mapped state (harness/structural.py).", quick)
+        "integration continues in phase 2 (trebuchet_free) from the mapped state (harness/scenes/structural.py).", quick)

@@ -39,7 +39,7 @@ lengths above 0.2 m (a spring of zero length has no direction).
 
 import sympy as sp
 
-from harness.model import (Coordinate, Damper, Gravity, Inertia, Joint, Link, Parameter, Point, Spring, System,
+from harness.modeling.system import (Coordinate, Damper, Gravity, Inertia, Joint, Link, Parameter, Point, Spring, System,
                            WORLD)
 
 rho = Parameter("rho", 3000.0, "kg/m^3", "density of shaft, slider and rods")

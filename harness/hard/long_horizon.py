@@ -15,10 +15,10 @@ import numpy as np
 from scipy.special import ellipk
 
 import models
-from harness.compile import compiled
+from harness.derivation.compile import compiled
 from harness.hard.common import CaseResult, solve
-from harness.scenes import Scene
-from harness.simulate import Dynamics
+from harness.modeling.scenes import Scene
+from harness.scenes.simulate import Dynamics
 
 GROWTH_TOL = 1.5   # a band: the last tenth's largest error at most 1.5× the first tenth's (sampling scatter)
 

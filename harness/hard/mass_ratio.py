@@ -15,7 +15,7 @@ import numpy as np
 import models
 from harness.export.numeric import MUJOCO_POINT_MASS_INERTIA
 from harness.hard.common import CaseResult, ENGINES, finite, scene_for, second_order, solve
-from harness.simulate import Dynamics
+from harness.scenes.simulate import Dynamics
 
 ROUND_OFF = 1e-12        # the conformance policy: relative 1e-12 of the terms' scale, times κ(M)
 POINT_INERTIA = MUJOCO_POINT_MASS_INERTIA    # kg m², MuJoCo's stand-in inertia of a point mass
@@ -73,7 +73,7 @@ def trebuchet_mass_ratio(quick: bool = False) -> CaseResult:
                        t_eval=t_eval)
         err = float(np.max(np.abs(sol.y - ref.y)) / max(1.0, np.max(np.abs(ref.y)))) if finite(sol.y) else np.inf
         r.check("trajectory at M/m = 1e3 (DOP853 1e-10)", source, err, ENGINE_TOL,
-                "integrator error as in harness/trajectories.py")
+                "integrator error as in harness/scenes/trajectories.py")
     import matplotlib.pyplot as plt
     fig, ax = plt.subplots(figsize=(7, 3.6))
     ratios = [row["ratio"] for row in rows]

@@ -8,14 +8,14 @@ import math
 import numpy as np
 
 import models
-from harness.compile import compiled
+from harness.derivation.compile import compiled
 from harness.errors import HarnessError, ModelError
 from harness.hard.charts import integrate_charts, pendulum_charts, toggle_press_chart_phi2, Chart, SWITCH
 from harness.hard.common import (CaseResult, ENGINES, SOURCES, Terms, finite, scene_for, second_order, solve)
-from harness.simulate import Dynamics
+from harness.scenes.simulate import Dynamics
 
-ENGINE_TOL = 1e-6     # engines' forward dynamics integrated at rtol = atol = 1e-10 (as harness/trajectories.py)
-REFERENCE_TOL = 1e-8  # the reference (DOP853 1e-12) confirmed by Radau 1e-12 (as harness/trajectories.py)
+ENGINE_TOL = 1e-6     # engines' forward dynamics integrated at rtol = atol = 1e-10 (as harness/scenes/trajectories.py)
+REFERENCE_TOL = 1e-8  # the reference (DOP853 1e-12) confirmed by Radau 1e-12 (as harness/scenes/trajectories.py)
 INVARIANT_TOL = 1e-8  # energy / momentum of a conservative motion, relative to their scale
 
 
@@ -96,7 +96,7 @@ def spherical_pendulum_pole(quick: bool = False) -> CaseResult:
         engine_runs[source] = x
         r.numbers["nfev chart switch (engines, 1e-10)"] = nf
         r.check("chart switch trajectory (DOP853 1e-10) vs reference", source, _rel(x, ref) if finite(x) else np.inf,
-                ENGINE_TOL, "integrator error as in harness/trajectories.py")
+                ENGINE_TOL, "integrator error as in harness/scenes/trajectories.py")
     # naive: the lecture's chart only
     naive = {}
     for rate in rates:
@@ -221,7 +221,7 @@ def governor_pole(quick: bool = False) -> CaseResult:
                 continue
             r.check(f"reduced trajectory (DOP853 1e-10), phi_dot(0) = {rate:g}", source,
                     _rel(sol.y[1:], ref.y[1:]) if sol.success and finite(sol.y) else np.inf, ENGINE_TOL,
-                    "integrator error as in harness/trajectories.py")
+                    "integrator error as in harness/scenes/trajectories.py")
         r.numbers[f"smallest sampled |alpha|, phi_dot(0) = {rate:g}"] = float(np.min(np.abs(ref.y[1])))
     M0 = c.mass_matrix(np.array([0.0, 0.3]), p)
     r.check("M diagonal (the reduction's premise)", "symbolic", abs(M0[0, 1]) / np.max(np.abs(M0)), 1e-15)
@@ -326,7 +326,7 @@ def toggle_press_dead_point(quick: bool = False) -> CaseResult:
         _, x, _, _, _ = integrate_charts(charts, d, 0, q0, qd0, T, t_eval, rtol=1e-10, atol=1e-10)
         runs[source] = x
         r.check("chart switch trajectory (DOP853 1e-10) vs reference", source, _rel(x, ref) if finite(x) else np.inf,
-                ENGINE_TOL, "integrator error as in harness/trajectories.py")
+                ENGINE_TOL, "integrator error as in harness/scenes/trajectories.py")
     naive = {}
     for source in SOURCES:
         sol, failure = _naive_solve(lecture, scene, q0, qd0, T, t_eval, source=source, guarded=True)
@@ -382,7 +382,7 @@ def tower_crane_rope(quick: bool = False) -> CaseResult:
         "compared. Exactly at s_5 = 0 the forward dynamics raises 'coordinate singularity at … s_5 = 0'.")
     system = models.get("tower_crane")
     f_S = -(20.0 * 9.81 + 150.0)   # pulls the load up: f_S acts in the direction of increasing s_5
-    from harness.scenes import Constant
+    from harness.modeling.scenes import Constant
     scene = scene_for("reel_in", {"gravity", "inputs"}, inputs={"f_S": Constant(f_S)})
     T = 1.5
     q0, qd0 = np.array([0.0, 1.5, 0.05, 0.0, 1.0]), np.array([0.0, 0.3, 0.0, 0.0, 0.0])
@@ -409,7 +409,7 @@ def tower_crane_rope(quick: bool = False) -> CaseResult:
         r.check("event time vs reference [s]", source, abs(events[source] - t_stop), ENGINE_TOL, "[s]")
         a, b = finals[source].sol(t_eval), ref.sol(t_eval)
         r.check("trajectory up to the event vs reference", source, _rel(a, b) if finite(a) else np.inf, ENGINE_TOL,
-                "integrator error as in harness/trajectories.py")
+                "integrator error as in harness/scenes/trajectories.py")
     sol, failure = _naive_solve(system, scene, q0, qd0, T, np.linspace(0, T, 401), guarded=False)
     if sol is not None:
         r.numbers["naive: smallest s_5 reached [m]"] = float(np.min(sol.y[4]))

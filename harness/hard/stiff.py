@@ -11,8 +11,8 @@ import numpy as np
 import models
 from harness.errors import HarnessError
 from harness.hard.common import CaseResult, SOURCES, finite, second_order, solve
-from harness.scenes import Scene
-from harness.simulate import Dynamics, mujoco_native
+from harness.modeling.scenes import Scene
+from harness.scenes.simulate import Dynamics, mujoco_native
 
 ENGINE_TOL = 1e-6
 REFERENCE_TOL = 1e-8
@@ -43,7 +43,7 @@ def quarter_car_stiff(quick: bool = False) -> CaseResult:
     rest = (-(m_A + m_R) * g / c_R, -(m_A + m_R) * g / c_R - m_A * g / c_A)       # (A.41), (A.42)
     scene = Scene("bump_stiff_tyre", "the bump with c_R = 2e8 N/m", rest, (0.0, 0.0), 1.0 if quick else 2.0,
                   base.effects, inputs=base.inputs, params={"c_R": c_R})
-    from harness.simulate import sample_times, solve_piecewise
+    from harness.scenes.simulate import sample_times, solve_piecewise
     t_eval = sample_times(scene)
     y0 = np.concatenate([scene.q0, scene.qd0])
     runs, cost = {}, {}

@@ -99,7 +99,7 @@ def _reason(exc: BaseException) -> str:
 def check_record(system, examples: int | None = None, scenes: bool = True, series_dir: str | None = None) -> dict:
     """The conformance record of one system; a system raising gives a failed record with the reason. With
     ``scenes``, the trajectory checks of its scenes too (their series written into ``series_dir``)."""
-    from harness import conformance
+    from harness.compare import conformance
 
     try:
         summary = conformance.run(system, examples=examples)
@@ -111,7 +111,7 @@ def check_record(system, examples: int | None = None, scenes: bool = True, serie
                   "not_applicable": {}, "checks": []}
     record["lecture"], record["status"] = system.lecture, system.status
     if scenes:
-        from harness.trajectories import scene_records
+        from harness.scenes.trajectories import scene_records
 
         record["scenes"] = scene_records(system, series_dir)
         record["passed"] = record["passed"] and all(s["passed"] for s in record["scenes"])
@@ -193,7 +193,7 @@ def run_checks(names: list[str], examples: int | None = None, seed: int | None =
 
 # --------------------------------------------------------------------------- the document
 def tolerance_policy() -> str:
-    from harness import conformance
+    from harness.compare import conformance
 
     text = conformance.__doc__.split("Tolerance policy")[1]
     return text.split("-----\n")[-1].strip() if "-----\n" in text else text.strip(" -\n")
@@ -201,7 +201,7 @@ def tolerance_policy() -> str:
 
 def bounds_used(records: list[dict]) -> dict:
     """The bounds (:class:`harness.checks.Bound`) the records' checks refer to, each stated once with its reason."""
-    import harness.trajectories  # noqa: F401 - declares the bounds of the scenes (and of structural, constraints)
+    import harness.scenes.trajectories  # noqa: F401 - declares the bounds of the scenes (and of structural, constraints)
     from harness.checks import BOUNDS
 
     used = {c.get("basis") for r in records for c in r.get("checks", [])}

@@ -2,7 +2,7 @@
 
 Steps (the first failure is one :class:`~harness.errors.HarnessError` line, exit 2 in the CLI):
 
-1. safe parse and checks of :mod:`harness.untrusted` (no DTD/entities, files inside the model's folder, every
+1. safe parse and checks of :mod:`harness.files.untrusted` (no DTD/entities, files inside the model's folder, every
    number a plain finite decimal);
 2. physical inertials (URDF): mass non-negative, inertia tensor positive semi-definite with principal moments
    satisfying the triangle inequality (3.128), the check our exporter applies
@@ -15,7 +15,7 @@ Steps (the first failure is one :class:`~harness.errors.HarnessError` line, exit
    resolves them from the model's folder) after the checks;
 4. MuJoCo steps the model for :data:`STEP_SECONDS` with zero controls: a warning counter (unstable, bad qacc,
    …) is an :class:`~harness.errors.EngineError`;
-5. a URDF with only 1-dof joints: MuJoCo's import compared with Pinocchio (:func:`harness.importer.compare`,
+5. a URDF with only 1-dof joints: MuJoCo's import compared with Pinocchio (:func:`harness.files.importer.compare`,
    mass matrix, bias forces, what every joint moves, at random states). A difference is a finding: exit 1.
 """
 
@@ -27,11 +27,12 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from harness import importer, untrusted
+from harness.files import importer
+from harness.files import untrusted
 from harness.engines.mujoco_engine import check_warnings
 from harness.errors import ModelError
 from harness.export.numeric import check_inertia
-from harness.roundtrip import rpy_matrix
+from harness.compare.roundtrip import rpy_matrix
 
 STEP_SECONDS = 1.0
 MAX_STEPS = 20_000

@@ -22,11 +22,11 @@
 * **invariants**: a conservative scene keeps ``E = T + V`` within ``INVARIANT_TOL = 1e-8`` of its scale;
   otherwise the power balance ``E(t) − E(0) = ∫ q̇ᵀ f_np dt`` (3.101) holds to the same tolerance.
 * **pruning**: the scene run with every effect of the system present but idle (multiplied by a parameter
-  set to 0, :func:`harness.scenes.idle`) gives the same trajectory (``ENGINE_TOL``); the time ratio
+  set to 0, :func:`harness.modeling.scenes.idle`) gives the same trajectory (``ENGINE_TOL``); the time ratio
   idle/pruned of our symbolic simulation is reported for every scene.
-* **structural changes** (stick-slip, rolling or slipping; :mod:`harness.structural` states their
+* **structural changes** (stick-slip, rolling or slipping; :mod:`harness.scenes.structural` states their
   tolerances): event times against their prediction and between sources. MuJoCo's own contact and its
-  equality constraints for closed chains and couplings (:mod:`harness.constraints`) are soft constraints
+  equality constraints for closed chains and couplings (:mod:`harness.scenes.constraints`) are soft constraints
   (``solref = 2 dt``) stepped by implicitfast, a first-order method: the error is ``K dt + O(dt²)`` (``K``
   reported; over the catalogue 0.4 to 48 per second, the error halving with ``dt`` to 1%). Runs at ``dt`` and
   ``dt/2`` are extrapolated to ``dt → 0`` (Richardson, ``2 y(dt/2) − y(dt)``), which must be within
@@ -50,15 +50,16 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from harness.checks import Bound, Check
-from harness.compile import compiled
-from harness.model import System
-from harness.scenes import Scene, pruned, with_idle_effects
-from harness import constraints, structural
-from harness import simulate as sim
+from harness.derivation.compile import compiled
+from harness.modeling.system import System
+from harness.modeling.scenes import Scene, pruned, with_idle_effects
+from harness.scenes import constraints
+from harness.scenes import structural
+from harness.scenes import simulate as sim
 
 REFERENCE = Bound("reference confirmation", 1e-8, "our model by DOP853 (rtol 1e-12, atol 1e-14) against LSODA at "
                   "1e-13, another integrator family: the sum of both global errors, at most 0.05 of it over the "
-                  "catalogue (harness/trajectories.py)")
+                  "catalogue")
 CONFIRMATION = "LSODA"
 CONFIRMATION_RTOL = 1e-13  # LSODA's global error over the catalogue: 4.4e-10 at most (2.9e-9 at 1e-12)
 ENGINE = Bound("engine trajectory", 1e-6, "an engine's forward dynamics integrated by DOP853 at 1e-10 against the "
@@ -249,7 +250,7 @@ def _stick_slip(system: System, scene: Scene, event, engines, result: "SceneResu
 
 def _constrained(system: System, scene: Scene, engines, result: "SceneResult", horizon=None,
                  mapping=lambda tr: tr) -> None:
-    """The tree with the map's constraints imposed by the engines themselves (:mod:`harness.constraints`);
+    """The tree with the map's constraints imposed by the engines themselves (:mod:`harness.scenes.constraints`);
     up to ``horizon`` (a lift-off ends the constraint), compared in the reference's coordinates (``mapping``)."""
     ref = result.trajectories["reference"]
     if horizon is not None:
@@ -284,7 +285,7 @@ def _roll_slip(system: System, scene: Scene, event, result: "SceneResult") -> No
     predicted = event.predicted(params)
     dt = scene.horizon / sim.grid_steps(scene, 1000)
     ref = result.trajectories["reference"]
-    tr = mujoco_contact = structural.mujoco_rolling(system, scene, event, dt / 4)
+    mujoco_contact = structural.mujoco_rolling(system, scene, event, dt / 4)
     scale = float(np.max(np.abs(ref.qd))) * params[event.radius]
     expect_roll = event.mu >= predicted
     slip = abs(float(mujoco_contact.notes["slip"][-1])) / scale

@@ -16,7 +16,7 @@ A :class:`System` is composed of small value objects, in the lecture's words:
   :class:`BodyTorque` (external force / torque turned into generalized forces by (5.73));
 * the map ``theta = phi(q)`` from lecture coordinates to tree joint coordinates (``Joint.phi``).
 
-Nothing here derives anything: :mod:`harness.derive` does, following chapter 5.
+Nothing here derives anything: :mod:`harness.derivation.derive` does, following chapter 5.
 """
 
 from __future__ import annotations
@@ -44,6 +44,15 @@ def _vec3(value, what: str) -> sp.Matrix:
     if m.shape not in ((3, 1), (1, 3)):
         raise ModelError(f"{what} must have 3 components, got shape {m.shape}")
     return m.reshape(3, 1)
+
+
+def value_at(expr, params: dict[str, float]) -> float:
+    """An expression in the parameters at the values ``params`` (given by parameter name)."""
+    expr = sp.sympify(expr)
+    value = expr.xreplace({x: sp.Float(params[x.name]) for x in expr.free_symbols})
+    if not value.is_number:
+        raise ModelError(f"cannot evaluate {expr} numerically (free symbols {value.free_symbols})")
+    return float(value)
 
 
 # --------------------------------------------------------------------------- symbols and values
@@ -239,7 +248,7 @@ class Point:
 class Closure:
     """A point held on a line or plane by a massless guide — the closed chain a nonlinear map θ = φ(q) solves
     (the toggle press's slide (A.99), the trebuchet's ground (A.177)): ``normalᵀ p_0(point) = value``.
-    The engines impose it themselves in constrained simulations (:mod:`harness.constraints`)."""
+    The engines impose it themselves in constrained simulations (:mod:`harness.scenes.constraints`)."""
 
     name: str
     point: Point

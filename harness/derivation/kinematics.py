@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from harness.model import WORLD, Point, System
+from harness.modeling.system import WORLD, Point, System
 
 
 def rotation(axis, angle) -> sp.Matrix:

@@ -3,7 +3,7 @@
 Entries are JSON files of ``srepr`` strings with a SHA-256 checksum of their content. An entry that does
 not parse or whose checksum does not match is not trusted: it is discarded and the derivation rebuilt.
 A derivation whose expressions are small graphs but huge trees (the per-body derivation of
-:func:`harness.derive.derive`) is stored as a graph (``graph=True``): its common subexpressions as numbered
+:func:`harness.derivation.derive.derive`) is stored as a graph (``graph=True``): its common subexpressions as numbered
 replacements, each written once, and rebuilt in order with ``xreplace`` (``srepr`` of the trees would not end).
 Set ``HARNESS_CACHE_DIR`` to move the cache (default: ``.cache/derivations`` in the project).
 
@@ -29,17 +29,17 @@ import sympy as sp
 
 from harness.io import atomic_write_text
 
-PROJECT_ROOT = Path(__file__).resolve().parent.parent
+PROJECT_ROOT = Path(__file__).resolve().parents[2]
 
 
 # The derivation's source is part of the cache key: a changed derivation never reads old entries.
-_DERIVATION_SOURCES = ("model.py", "kinematics.py", "derive.py", "cache.py")
+_DERIVATION_SOURCES = ("modeling/system.py", "derivation/kinematics.py", "derivation/derive.py", "derivation/cache.py")
 
 
 def code_version() -> str:
     digest = hashlib.sha256()
     for name in _DERIVATION_SOURCES:
-        digest.update((Path(__file__).parent / name).read_bytes())
+        digest.update((Path(__file__).parents[1] / name).read_bytes())
     return digest.hexdigest()[:12]
 
 

@@ -1,7 +1,7 @@
 """Trajectories of a scene: our compiled symbolic right-hand side, and the forward dynamics of Pinocchio and
 MuJoCo, each integrated with scipy's ``solve_ivp``; MuJoCo also with its own integrator (``mj_step``).
 
-Every source simulates the *pruned* system (only the scene's effects, :func:`harness.scenes.pruned`).
+Every source simulates the *pruned* system (only the scene's effects, :func:`harness.modeling.scenes.pruned`).
 The reference is the symbolic model with DOP853 at ``rtol = 1e-12``; every other run is compared with it at
 the scene's sample times.
 """
@@ -16,13 +16,13 @@ import mujoco
 import numpy as np
 from scipy.integrate import odeint, solve_ivp
 
-from harness.compile import compiled
+from harness.derivation.compile import compiled
 from harness.engines.base import Load, load_functions, to_lecture
 from harness.engines.mujoco_engine import MujocoModel, check_warnings
 from harness.engines.pinocchio_engine import PinocchioModel
 from harness.export.numeric import instantiate
-from harness.model import System
-from harness.scenes import Scene, pruned
+from harness.modeling.system import System
+from harness.modeling.scenes import Scene, pruned
 
 # atol two decades below rtol: with atol = rtol = 1e-12 a component passing through 0 is controlled to 1e-12
 # absolute, and hollow_cylinder's swing amplified that to a global error of 1.2e-9 (1.4e-10 quarter_car's bump);

@@ -1,9 +1,9 @@
-"""A :class:`~harness.model.System` built from a URDF file: links, joints and inertials become our
-:class:`~harness.model.Link` / :class:`~harness.model.Joint` / :class:`~harness.model.Inertia` value objects.
+"""A :class:`~harness.modeling.system.System` built from a URDF file: links, joints and inertials become our
+:class:`~harness.modeling.system.Link` / :class:`~harness.modeling.system.Joint` / :class:`~harness.modeling.system.Inertia` value objects.
 
 What is read, and how
 ---------------------
-* The XML is parsed by :func:`harness.untrusted.parse_xml` (a ``defusedxml`` gate: no DTD, entity expansion or
+* The XML is parsed by :func:`harness.files.untrusted.parse_xml` (a ``defusedxml`` gate: no DTD, entity expansion or
   external entities; bounded size and nesting): a URDF is a file from elsewhere. Only ``<robot>``, ``<link>/<inertial>`` (``origin xyz rpy``, ``mass``, ``inertia``)
   and ``<joint>`` (``type``, ``parent``, ``child``, ``origin xyz rpy``, ``axis``, ``mimic``) are read.
   ``<visual>``, ``<collision>`` (meshes, boxes), ``<limit>``, ``<dynamics>``, ``<safety_controller>``,
@@ -14,7 +14,7 @@ What is read, and how
   (``lock={joint: value}``, a movable joint held at ``value``) are merged away: everything rigidly attached
   to a link is lumped into that link's body. ``floating`` and ``planar`` joints raise :class:`ModelError`.
 * ``<mimic joint=J multiplier=a offset=b>``: the tree joint keeps its place and gets the map
-  ``theta = a · q_J + b`` (``theta = phi(q)``, see :mod:`harness.model`) when ``J`` is free; when ``J`` is
+  ``theta = a · q_J + b`` (``theta = phi(q)``, see :mod:`harness.modeling.system`) when ``J`` is free; when ``J`` is
   locked at ``v`` the mimic joint is locked at ``a · v + b``.
 * The root link is the inertial frame ``world``: its inertial (a base bolted to the ground) and everything
   fixed to it do not move and are dropped.
@@ -57,7 +57,7 @@ import sympy as sp
 
 from harness.errors import ModelError
 from harness.export.numeric import lump
-from harness.model import WORLD, Coordinate, Gravity, Inertia, Joint, Link, Parameter, System
+from harness.modeling.system import WORLD, Coordinate, Gravity, Inertia, Joint, Link, Parameter, System
 
 QUARTER_TURN_SNAP = 1e-9   # rad; see the module docstring
 MOVABLE = ("revolute", "continuous", "prismatic")
@@ -120,9 +120,9 @@ class UrdfRobot:
 
 
 def _parse_xml(text: str, source: str):
-    """The root element, parsed by :func:`harness.untrusted.parse_xml` (defusedxml gate: no DTD, entities or
+    """The root element, parsed by :func:`harness.files.untrusted.parse_xml` (defusedxml gate: no DTD, entities or
     external references; bounded size and depth; one :class:`ModelError` line on refusal)."""
-    from harness.untrusted import parse_xml
+    from harness.files.untrusted import parse_xml
 
     return parse_xml(text, source)
 

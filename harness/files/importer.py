@@ -5,7 +5,7 @@ Models and references
 ---------------------
 * every system of the catalogue: MuJoCo's import of our ``urdf/<system>.urdf`` against our own MJCF
   ``urdf/<system>.xml`` (conformant with the derivation and Pinocchio by ``harness check``);
-* the test model :data:`FIXTURES` (``harness/fixtures/rotated_inertials.urdf``): our exporter writes every
+* the test model :data:`FIXTURES` (``harness/files/fixtures/rotated_inertials.urdf``): our exporter writes every
   ``<inertial>`` with ``rpy="0 0 0"`` (the tensor already rotated), so our URDFs cannot show an importer that
   drops an inertial's ``rpy``; this model has rotated inertial frames, full inertia tensors and a rotated
   fixed joint with a moving child (MuJoCo fuses the fixed link into its parent). Its reference is Pinocchio
@@ -33,7 +33,7 @@ Each of the ``n`` bodies of either model may then carry that bound as extra mass
 ``L`` from the origin: an absolute ``allowance`` of ``n·bound`` on mass, ``n·bound·L`` on ``m c``,
 ``n·bound·max(1, L²)`` on inertia (observed: exactly 1e-14).
 
-Tolerance: :data:`~harness.conformance.FLOAT64_RTOL` (1e-12) of each quantity's scale — the importer reads
+Tolerance: :data:`~harness.compare.conformance.FLOAT64_RTOL` (1e-12) of each quantity's scale — the importer reads
 the same shortest-round-trip decimals, so only float64 round-off may remain (principal-axis decomposition,
 quaternions: a few ulps). Scales are those of the terms forming a quantity, not of the (possibly cancelling)
 result, as in the conformance policy. With ``m`` the largest subtree mass and ``L`` the largest
@@ -97,11 +97,11 @@ import mujoco
 import numpy as np
 import pinocchio as pin
 
-from harness.conformance import FLOAT64_RTOL
+from harness.compare.conformance import FLOAT64_RTOL
 from harness.errors import EngineError, ModelError
 from harness.export.numeric import lump
 
-PROJECT_ROOT = Path(__file__).resolve().parent.parent
+PROJECT_ROOT = Path(__file__).resolve().parents[2]
 FIXTURES = (Path(__file__).resolve().parent / "fixtures" / "rotated_inertials.urdf",)
 PUBLIC = ("ur_description/urdf/ur5_robot.urdf", "panda_description/urdf/panda.urdf")
 """Public robot URDFs of the pinned example-robot-data package, compared like the fixtures."""
@@ -109,7 +109,7 @@ STATES = 20
 SEED = 0
 TOLERANCE = FLOAT64_RTOL
 TOLERANCE_REASON = ("float64 round-off of the same decimals (principal axes, quaternions: a few ulps); "
-                    "harness.conformance tolerance policy")
+                    "harness.compare.conformance tolerance policy")
 SCHEMA = "importer/1"
 QUANTITIES = ("M", "bias", "mass", "first moment of mass", "inertia")
 
@@ -146,7 +146,7 @@ def without_geometry(urdf_text: str, source: str = "<urdf>") -> str:
     them, and it cannot resolve ``package://`` mesh URIs)."""
     from lxml import etree
 
-    from harness.untrusted import parse_xml
+    from harness.files.untrusted import parse_xml
 
     root = parse_xml(urdf_text, source)
     for el in root.xpath("//link/visual | //link/collision"):
@@ -458,7 +458,7 @@ def _finish(record: dict, checks: list[dict]) -> dict:
 
 def compare_system(system, states: int = STATES, seed: int = SEED) -> dict:
     """MuJoCo's import of our ``<system>.urdf`` against our MJCF of the same system (default parameters)."""
-    from harness.export import system_files
+    from harness.export.files import system_files
 
     files = system_files(system)
     urdf_text, mjcf_text = files[f"{system.name}.urdf"], files[f"{system.name}.xml"]

@@ -22,12 +22,12 @@ and how the engines are configured for it:
   ``G^T λ = M₂ (q̈₂ − a₂)`` (``q̈₂`` the phase-1 motion mapped to phase-2 coordinates, ``a₂`` phase 2's free
   acceleration, ``G`` the gradient of the projectile's height), computed from each source's own dynamics.
 
-Tolerances (with :mod:`harness.trajectories`):
+Tolerances (with :mod:`harness.scenes.trajectories`):
 ``EVENT_TOL = 1e-8`` s — an event time of the reference against its prediction and against LSODA (events are
 located to the integrator's tolerance 1e-12 and root-finding, well below it); engines' forward dynamics locate
 their events within ``ENGINE_EVENT_TOL = 1e-5`` s of the reference (their trajectories carry ``ENGINE_TOL``).
 MuJoCo's own dry friction and contact are soft constraints solved once per step, stepped by a first-order
-method: their error is first order in ``dt`` (:mod:`harness.trajectories` checks it and derives the ``3 dt``
+method: their error is first order in ``dt`` (:mod:`harness.scenes.trajectories` checks it and derives the ``3 dt``
 within which MuJoCo's events must lie: quantization to the step and one step of response). MuJoCo's
 rolling threshold is located by bisection to 1e-3 and must lie within ``THRESHOLD_TOL = 1e-2`` (relative) of
 the predicted ``2/7 tan(alpha)``: the soft contact lets the sphere creep by a small slip velocity, which the
@@ -50,8 +50,10 @@ from harness.checks import Bound
 from harness.engines.warnings_log import compile_spec
 from harness.errors import ModelError
 from harness.export.mjcf import mjcf_spec, rpy_quat
-from harness.export.numeric import instantiate, value_at
-from harness import simulate as sim
+from harness.export.numeric import instantiate
+from harness.modeling.system import value_at
+from harness.modeling.events import LiftOff, RollSlip, StickSlip
+from harness.scenes import simulate as sim
 
 EVENT = Bound("event time", 1e-8, "an event of the reference against its prediction and against LSODA, s: located "
               "to the integrator's tolerance 1e-12 and by root finding")
@@ -86,20 +88,6 @@ def _mode_name(mode: int) -> str:
 
 
 # ----------------------------------------------------------------------------------------- stick-slip (3.80)
-@dataclass(frozen=True)
-class StickSlip:
-    """Coulomb friction on ``coordinate`` with static ``mu_H`` and sliding ``mu_C`` (parameter names) and the
-    normal force ``normal_force`` (an expression in the parameters, (3.76b))."""
-
-    coordinate: str
-    mu_H: str
-    mu_C: str
-    normal_force: sp.Expr
-
-    def values(self, params: dict) -> tuple[float, float, float]:
-        return params[self.mu_H], params[self.mu_C], value_at(self.normal_force, params)
-
-
 class _StickSlipDynamics:
     """The branches of (3.80) on top of one source's forward dynamics (one coordinate)."""
 
@@ -194,7 +182,7 @@ def frictionloss_bound(system, scene, event: StickSlip, ref: HybridTrajectory) -
     reference ``ref`` (errors relative to each component's scale ``max(1, max|y|)``, as :func:`simulate.max_error`).
 
     MuJoCo's events are late by ``0 < δ ≤ 2 dt`` (the event falls anywhere within a step, and MuJoCo's velocity
-    leaves or reaches 0 at most one step later; :mod:`harness.trajectories`). At an event the acceleration jumps
+    leaves or reaches 0 at most one step later; :mod:`harness.scenes.trajectories`). At an event the acceleration jumps
     by ``Δẍ = |ẍ_slide(t_e, x_e, 0)|`` (the sliding branch's acceleration at rest): a late event leaves the
     velocity off by ``Δẍ δ`` — after a sticking only while MuJoCo still slides (``≤ δ``), after a breakaway for
     the whole slide ``T`` that follows, which moves the position by ``Δẍ δ T`` (the sliding force depends on time
@@ -262,25 +250,6 @@ def mujoco_stick_slip(system, scene, event: StickSlip, dt: float) -> HybridTraje
 
 
 # ----------------------------------------------------------------------------------------- rolling or slipping
-@dataclass(frozen=True)
-class RollSlip:
-    """A sphere (``link``, radius parameter ``radius``) on a plane with roll-pitch-yaw ``plane_rpy`` through
-    the sphere's centre's start minus ``radius`` along the normal; the plane's ``x`` axis is the slope.
-    ``threshold`` is the predicted friction coefficient that separates rolling from slipping (an expression
-    in the parameters, 2/7 tan(alpha) for Exercise 3.17); ``mu`` the coefficient of this scene."""
-
-    link: str
-    radius: str
-    plane_rpy: tuple
-    threshold: sp.Expr
-    mu: float
-    slide_joint: str
-    roll_joint: str
-
-    def predicted(self, params) -> float:
-        return value_at(self.threshold, params)
-
-
 def _rolling_model(system, scene, event: RollSlip, mu: float, dt: float):
     dyn = sim.Dynamics(system, scene, "symbolic")
     params = dyn.params
@@ -371,18 +340,6 @@ def mujoco_threshold(system, scene, event: RollSlip, dt: float, rel: float = 1e-
 
 
 # ----------------------------------------------------------------------------------------- lift-off (A.15)
-@dataclass(frozen=True)
-class LiftOff:
-    """Phase 1 (the scene's system, a point held on the ground by a constraint) until the ground's normal force
-    vanishes, then ``free_system`` (phase 2). ``to_free``: the phase-2 coordinates as expressions of phase 1's
-    (and the parameters); ``height``: the constrained point's height above the ground in phase-2 coordinates
-    (≥ 0; the normal force acts along its gradient)."""
-
-    free_system: str
-    to_free: tuple
-    height: sp.Expr
-
-
 class _LiftOffDynamics:
     def __init__(self, system, scene, event: LiftOff, source: str):
         import models

@@ -32,7 +32,7 @@ from harness.engines.mujoco_engine import MujocoModel
 from harness.engines.pinocchio_engine import PinocchioModel
 from harness.export.mjcf import fused_links
 from harness.export.numeric import MUJOCO_POINT_MASS_INERTIA, NumericTree
-from harness.model import WORLD
+from harness.modeling.system import WORLD
 
 ROUNDTRIP_RTOL = 1e-12
 """Largest accepted error of a loaded item, relative to the item's scale ``max|intended|`` (absolute for an

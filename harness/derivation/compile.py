@@ -1,4 +1,4 @@
-"""Compile a :class:`~harness.derive.Derivation` to fast numeric functions.
+"""Compile a :class:`~harness.derivation.derive.Derivation` to fast numeric functions.
 
 Each quantity becomes one ``lambdify``'d NumPy function with common-subexpression elimination, taking
 ``(q, qd, p, u)`` as flat float arrays in the order of the system's coordinates, parameters and inputs; the same
@@ -19,9 +19,9 @@ import math
 import numpy as np
 import sympy as sp
 
-from harness.derive import Derivation, derive, is_per_body
+from harness.derivation.derive import Derivation, derive, is_per_body
 from harness.errors import ModelError
-from harness.model import System
+from harness.modeling.system import System
 
 QUANTITIES = ("M", "C", "g", "g_gravity", "g_spring", "f_np", "f_damper", "f_input", "T", "V", "M_dot",
               "phi", "J_phi", "J_phi_dot")
@@ -296,7 +296,7 @@ def _lambdify_options(system: System) -> dict:
 
 
 def _lambdify_graph(args, expr):
-    """``lambdify`` of a per-body derivation (:func:`harness.derive._per_body`), whose expressions are small graphs
+    """``lambdify`` of a per-body derivation (:func:`harness.derivation.derive._per_body`), whose expressions are small graphs
     but huge trees. Every step that walks the tree is avoided (measured on the 7-DoF arm): ``lambdify`` collects
     the symbols of a Matrix or expression with ``expr.atoms`` (skipped for a plain list) and searches it for
     implemented functions (``use_imps``, 29 s of 52 s for C); ``cse`` orders canonically by counting nodes

@@ -7,7 +7,7 @@ terms and the exported MJCF has the other effects switched off by its flags.
 Effects: ``gravity``; ``springs`` (Spring, JointSpring); ``dampers`` (Damper, JointDamper); ``inputs``
 (JointInput); ``external`` (PointForce, BodyTorque: follower forces, drag, thrust, dry sliding friction);
 ``friction`` (dry friction with sticking, switched on in MuJoCo as ``frictionloss``) and ``contact`` (MuJoCo
-contact with friction) come with a scene's structural change (``Scene.events``, :mod:`harness.structural`).
+contact with friction) come with a scene's structural change (``Scene.events``, :mod:`harness.scenes.structural`).
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from harness.errors import InputError
-from harness.model import (BodyTorque, Damper, JointDamper, JointInput, JointSpring, Parameter, PointForce, Spring,
+from harness.modeling.system import (BodyTorque, Damper, JointDamper, JointInput, JointSpring, Parameter, PointForce, Spring,
                            System)
 
 EFFECTS = ("gravity", "springs", "dampers", "inputs", "external", "friction", "contact")
@@ -103,7 +103,7 @@ class Scene:
     effects: frozenset
     inputs: dict = field(default_factory=dict)      # input name -> signal
     params: dict = field(default_factory=dict)      # parameter overrides
-    events: tuple = ()                              # structural changes (harness/structural.py)
+    events: tuple = ()                              # structural changes (harness/scenes/structural.py)
 
     def __post_init__(self):
         unknown = set(self.effects) - set(EFFECTS)

@@ -31,43 +31,20 @@ Classification (computed, never typed in):
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 import sympy as sp
 from hypothesis import HealthCheck, given, settings
 
-from harness.compile import compiled
-from harness.conformance import FLOAT64_RTOL, scales
+from harness.derivation.compile import compiled
+from harness.compare.conformance import FLOAT64_RTOL, scales
 from harness.engines import mujoco_engine, pinocchio_engine, symbolic
 from harness.engines.base import State
-from harness.kinematics import link_poses, point_position
-from harness.model import Point, System
-from harness.strategies import states
-
-ENGINE_QUANTITIES = {"M", "C", "Cqd", "g"}
-QUANTITIES = ENGINE_QUANTITIES | {"f_np", "T", "V", "eom", "parameter", "equilibrium"}
-
-
-@dataclass(frozen=True)
-class Claim:
-    """One printed equation. ``printed`` is a sympy expression or Matrix in the model's symbols (``q``,
-    ``Coordinate.rate``, ``Coordinate.accel``, parameters, inputs)."""
-
-    equation: str                       # "(5.112)"
-    quantity: str                       # "M", "C", "Cqd", "g", "f_np", "T", "V", "eom", "position:<point>", "parameter"
-    printed: object                     # sympy Expr or Matrix, as printed
-    description: str = ""
-    index: tuple | None = None          # only this element/row of the quantity, e.g. (1, 0) or (0,)
-    reference: object = None            # derived expression for "parameter" claims
-    conventions: dict = field(default_factory=dict)  # name -> substitution dict (alternative conventions)
-    note: str = ""                      # transcription remarks (e.g. "printed l_e2 read as l_2")
-
-    def __post_init__(self):
-        kind = self.quantity.split(":")[0]
-        if kind not in QUANTITIES | {"position"}:
-            raise ValueError(f"claim {self.equation}: unknown quantity {self.quantity!r}")
-
+from harness.derivation.kinematics import link_poses, point_position
+from harness.modeling.claims import ENGINE_QUANTITIES, Claim, as_matrix as _as_matrix, symbols as _symbols
+from harness.modeling.system import Point, System
+from harness.compare.strategies import states
 
 @dataclass
 class Verdict:
@@ -79,42 +56,6 @@ class Verdict:
     corrected: str | None = None
     convention: str | None = None
     examples: int = 0
-
-
-def _symbols(system: System):
-    accel = [c.accel for c in system.coordinates]
-    return [system.q, system.qd, accel, system.p, system.u]
-
-
-def validate_claims(system: System, claims) -> None:
-    """Every symbol a claim uses is one the system declares (same name *and* assumptions): a coordinate, its
-    rate or acceleration, a parameter or an input. Raises :class:`ModelError` naming the claim, the symbol and
-    the fix — when the module loads, not deep inside a classification run."""
-    from harness.errors import ModelError
-
-    declared = {s for group in _symbols(system) for s in group}
-    by_name = {s.name: s for s in declared}
-    for claim in claims:
-        if not isinstance(claim, Claim):
-            raise ModelError(f"CLAIMS holds {type(claim).__name__}, not Claim")
-        parts = [("printed", claim.printed), ("reference", claim.reference)]
-        parts += [(f"convention {name!r}", sp.Matrix([*sub.keys(), *sub.values()]) if sub else None)
-                  for name, sub in claim.conventions.items()]
-        for what, expr in parts:
-            if expr is None:
-                continue
-            try:
-                used = _as_matrix(expr).free_symbols
-            except (TypeError, ValueError, sp.SympifyError) as exc:
-                raise ModelError(f"claim {claim.equation}: {what} is not a sympy expression ({exc})") from None
-            for symbol in sorted(used - declared, key=lambda s: s.name):
-                if symbol.name in by_name:
-                    fix = (f"use the model's own symbol (Parameter/Coordinate .symbol, .rate, .accel); it has other "
-                           f"assumptions than sp.Symbol({symbol.name!r})")
-                else:
-                    fix = "declare it as a Parameter or Input of the system, or write it in the model's symbols"
-                raise ModelError(f"claim {claim.equation} ({what}) uses {symbol.name!r}, which {system.name} does "
-                                 f"not declare: {fix}")
 
 
 _DERIVED: dict = {}
@@ -172,10 +113,6 @@ def _select(m: sp.Matrix, index):
     if len(index) == 2:
         return sp.Matrix([m[index]])
     return m[index[0], :] if m.shape[0] > 1 and m.shape[1] > 1 else sp.Matrix([m[index[0]]])
-
-
-def _as_matrix(expr) -> sp.Matrix:
-    return sp.Matrix(expr) if isinstance(expr, (sp.MatrixBase, list, tuple)) else sp.Matrix([expr])
 
 
 _COMPILED_CLAIMS: dict = {}
@@ -347,6 +284,6 @@ def _run(system: System, check, examples):
 
 
 def _state_text(state: State) -> str:
-    from harness.conformance import _fmt
+    from harness.compare.conformance import _fmt
 
     return f"q={_fmt(state.q)}, qd={_fmt(state.qd)}, u={_fmt(state.u)}, params={_fmt(state.params)}"

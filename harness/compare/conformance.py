@@ -23,28 +23,27 @@ Every quantity is compared as ``max|X_engine − X_symbolic| / scale ≤ FLOAT64
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
 from hypothesis import HealthCheck, given, settings
 
-from harness import roundtrip
+from harness.compare import roundtrip
 from harness.checks import Bound, Check, flag, max_abs as _max, relative_error as _relative
 from harness.engines import pinocchio_engine, mujoco_engine, symbolic
 from harness.engines.base import Evaluation, State
-from harness.model import System
-from harness.strategies import states
+from harness.modeling.system import System
+from harness.compare.strategies import states
 
 FLOAT64_RTOL = 1e-12
 ENGINE_QUANTITIES = ("M", "Cqd", "g", "g_spring", "f_damper", "qdd")
 ROUND_OFF = Bound("float64 round-off", FLOAT64_RTOL,
                   "three float64 evaluations of the same closed-form quantity, relative to the scale of its terms "
-                  "(harness/conformance.py); for qdd times kappa(M)")
+                  "(harness/compare/conformance.py); for qdd times kappa(M)")
 EXPORT = Bound("export round trip", roundtrip.ROUNDTRIP_RTOL,
                "masses, centres of mass, inertia tensors, joint axes and placements as loaded by the engine against "
                "the intended values, relative to each item's scale: the exporters keep float64 exactly, what remains "
-               "is a few ulps of the engines' own arithmetic (harness/roundtrip.py)")
+               "is a few ulps of the engines' own arithmetic")
 
 
 class ConformanceFailure(AssertionError):
@@ -101,7 +100,6 @@ def compare(state: State, ref: Evaluation, other: Evaluation) -> list[Check]:
 def self_checks(state: State, ref: Evaluation) -> list[Check]:
     """Properties of the derivation itself: M symmetric and positive definite, Ṁ − 2C skew (Note 5.4)."""
     s = scales(ref)
-    name = state.system.name
     M = ref.M
     eig_min = float(np.linalg.eigvalsh(0.5 * (M + M.T)).min())
     N = ref.extra["M_dot"] - 2 * ref.C

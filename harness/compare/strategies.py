@@ -15,7 +15,7 @@ import numpy as np
 from hypothesis import strategies as st
 
 from harness.engines.base import State
-from harness.model import System
+from harness.modeling.system import System
 
 ANGLE = math.pi
 LENGTH = 1.0

@@ -1,7 +1,7 @@
 """Closed chains and couplings simulated with their constraints inside the engines.
 
 A map ``θ = φ(q)`` with more tree joints than lecture coordinates constrains the tree. Besides integrating the
-mapped forward dynamics (:mod:`harness.simulate`), each engine simulates the *tree* — every joint its own
+mapped forward dynamics (:mod:`harness.scenes.simulate`), each engine simulates the *tree* — every joint its own
 coordinate — and imposes the constraints itself:
 
 * **couplings**: a tree joint that is an affine function of another, read off the linear rows of the map
@@ -33,7 +33,7 @@ so an absolute 1e-8 would ask the integrator for 2.4e-10 of the state, below its
 critically damped error dynamics forget what lies more than a few ``1/ω`` back, so the drift stays within a few
 steps' errors: ``DRIFT = 100 rtol`` relative.
 MuJoCo steps its soft equality constraints (``solref = 2 dt``, the stiffest ``solimp``, implicitfast): its error
-is first order in ``dt`` and is checked like its dry friction and contact (:mod:`harness.trajectories`).
+is first order in ``dt`` and is checked like its dry friction and contact (:mod:`harness.scenes.trajectories`).
 Lecture coordinates are recovered from ``θ`` by Gauss-Newton on ``φ(q) = θ``.
 """
 
@@ -47,17 +47,18 @@ import numpy as np
 import pinocchio as pin
 import sympy as sp
 
-from harness import simulate as sim
+from harness.scenes import simulate as sim
 from harness.checks import Bound
 from harness.engines.base import Load, load_functions
 from harness.engines.mujoco_engine import MujocoModel
 from harness.errors import ModelError
 from harness.export.mjcf import mjcf_spec
-from harness.export.numeric import instantiate, point_name, value_at
+from harness.export.numeric import instantiate, point_name
+from harness.modeling.system import value_at
 
 BAUMGARTE_OMEGA = 20.0     # rad/s: constraint errors decay over ~0.1 s, far below the integrator's drift
 DRIFT = Bound("constraint drift", 1e-8, "max |c| of Pinocchio's constrained tree relative to the scale of the terms "
-              "forming each constraint (harness/constraints.py): 100 × the integrator's rtol 1e-10")
+              "forming each constraint: 100 × the integrator's rtol 1e-10")
 DRIFT_TOL = DRIFT.value
 GUIDE_MASS_RATIO = 1e-5
 _STIFF_SOLIMP = [0.9999, 0.9999, 0.001, 0.5, 2.0]

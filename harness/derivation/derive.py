@@ -13,9 +13,9 @@ from dataclasses import dataclass, fields
 
 import sympy as sp
 
-from harness import cache
-from harness.kinematics import link_poses, point_position, rotation, rpy_rotation, skew
-from harness.model import (BodyTorque, Damper, JointDamper, JointInput, JointSpring, PointForce, Spring,
+from harness.derivation import cache
+from harness.derivation.kinematics import link_poses, point_position, rotation, rpy_rotation, skew
+from harness.modeling.system import (BodyTorque, Damper, JointDamper, JointInput, JointSpring, PointForce, Spring,
                            System)
 
 

@@ -1,0 +1,33 @@
+"""Exports of every system into ``urdf/``: ``<system>.urdf`` (yourdfpy), ``<system>.xml`` (MJCF via
+MjSpec) and ``<system>.map.json`` (lecture coordinates and the map ``theta = phi(q)``), all with the
+default parameters."""
+
+from __future__ import annotations
+
+import json
+
+from harness.export.mjcf import mjcf_string
+from harness.export.numeric import instantiate
+from harness.export.urdf import urdf_string
+from harness.modeling.system import System
+
+
+def coordinate_map(system: System) -> str:
+    doc = {"system": system.name,
+           "coordinates": [{"name": c.name, "unit": c.unit, "description": c.description} for c in system.coordinates],
+           "joints": [{"joint": j.name, "type": j.type, "theta": str(expr)} for j, expr in zip(system.joints, system.phi)]}
+    return json.dumps(doc, indent=1) + "\n"
+
+
+def system_files(system: System) -> dict[str, str]:
+    tree = instantiate(system, system.default_parameters())
+    return {f"{system.name}.urdf": urdf_string(tree), f"{system.name}.xml": mjcf_string(tree),
+            f"{system.name}.map.json": coordinate_map(system)}
+
+
+def export_files(systems) -> dict[str, str]:
+    """The files of every system in ``systems`` (the catalogue's systems)."""
+    files = {}
+    for system in systems:
+        files.update(system_files(system))
+    return files

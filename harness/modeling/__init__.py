@@ -1,0 +1,21 @@
+"""The modeling vocabulary a model module imports: a lecture system described once, symbolically, with the
+equations the lecture prints about it (claims) and the simulations its text describes (scenes, events). It
+depends on SymPy and NumPy only: loading the catalogue loads no engine.
+
+* :mod:`harness.modeling.system` — parameters, coordinates, inputs, bodies, joints, force elements, closures,
+  the map ``θ = φ(q)``, and :class:`System` with its validation;
+* :mod:`harness.modeling.claims` — :class:`Claim`, a printed equation;
+* :mod:`harness.modeling.scenes` — :class:`Scene` and the input signals ``u(t)``;
+* :mod:`harness.modeling.events` — structural changes: stick-slip, rolling or slipping, lift-off.
+"""
+
+from harness.modeling.claims import Claim
+from harness.modeling.events import LiftOff, RollSlip, StickSlip
+from harness.modeling.scenes import Bump, Constant, Scene, Sine, Step
+from harness.modeling.system import (WORLD, BodyTorque, Closure, Coordinate, Damper, Gravity, Inertia, Input, Joint,
+                                     JointDamper, JointInput, JointSpring, Link, Parameter, Point, PointForce, Spring,
+                                     System)
+
+__all__ = ["WORLD", "BodyTorque", "Bump", "Claim", "Closure", "Constant", "Coordinate", "Damper", "Gravity",
+           "Inertia", "Input", "Joint", "JointDamper", "JointInput", "JointSpring", "LiftOff", "Link", "Parameter",
+           "Point", "PointForce", "RollSlip", "Scene", "Sine", "Spring", "Step", "StickSlip", "System"]
