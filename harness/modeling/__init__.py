@@ -2,8 +2,9 @@
 equations the lecture prints about it (claims) and the simulations its text describes (scenes, events). It
 depends on SymPy and NumPy only: loading the catalogue loads no engine.
 
-* :mod:`harness.modeling.system` — parameters, coordinates, inputs, bodies, joints, force elements, closures,
-  the map ``θ = φ(q)``, and :class:`System` with its validation;
+* :mod:`harness.modeling.system` — parameters, coordinates and inputs (SymPy symbols carrying their meaning:
+  ``m = Parameter("m", 1.0, "kg", "point mass")``, then ``m * l**2 * phi.accel``), bodies, joints, force
+  elements, closures, the map ``θ = φ(q)``, and :class:`System`, which collects its parameters and validates;
 * :mod:`harness.modeling.claims` — :class:`Claim`, a printed equation;
 * :mod:`harness.modeling.scenes` — :class:`Scene` and the input signals ``u(t)``;
 * :mod:`harness.modeling.events` — structural changes: stick-slip, rolling or slipping, lift-off.
@@ -14,8 +15,9 @@ from harness.modeling.events import LiftOff, RollSlip, StickSlip
 from harness.modeling.scenes import Bump, Constant, Scene, Sine, Step
 from harness.modeling.system import (WORLD, BodyTorque, Closure, Coordinate, Damper, Gravity, Inertia, Input, Joint,
                                      JointDamper, JointInput, JointSpring, Link, Parameter, Point, PointForce, Spring,
-                                     System)
+                                     System, standard_gravity)
 
 __all__ = ["WORLD", "BodyTorque", "Bump", "Claim", "Closure", "Constant", "Coordinate", "Damper", "Gravity",
            "Inertia", "Input", "Joint", "JointDamper", "JointInput", "JointSpring", "LiftOff", "Link", "Parameter",
-           "Point", "PointForce", "RollSlip", "Scene", "Sine", "Spring", "Step", "StickSlip", "System"]
+           "Point", "PointForce", "RollSlip", "Scene", "Sine", "Spring", "Step", "StickSlip", "System",
+           "standard_gravity"]

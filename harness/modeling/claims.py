@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from harness.modeling.system import System
+from harness.modeling.system import System, plain
 
 ENGINE_QUANTITIES = {"M", "C", "Cqd", "g"}
 QUANTITIES = ENGINE_QUANTITIES | {"f_np", "T", "V", "eom", "parameter", "equilibrium"}
@@ -16,8 +16,8 @@ QUANTITIES = ENGINE_QUANTITIES | {"f_np", "T", "V", "eom", "parameter", "equilib
 
 @dataclass(frozen=True)
 class Claim:
-    """One printed equation. ``printed`` is a sympy expression or Matrix in the model's symbols (``q``,
-    ``Coordinate.rate``, ``Coordinate.accel``, parameters, inputs)."""
+    """One printed equation. ``printed`` is a sympy expression or Matrix in the model's symbols (its
+    coordinates, their ``.rate`` and ``.accel``, parameters, inputs); stored with plain symbols."""
 
     equation: str                       # "(5.112)"
     quantity: str                       # "M", "C", "Cqd", "g", "f_np", "T", "V", "eom", "position:<point>", "parameter"
@@ -32,6 +32,8 @@ class Claim:
         kind = self.quantity.split(":")[0]
         if kind not in QUANTITIES | {"position"}:
             raise ValueError(f"claim {self.equation}: unknown quantity {self.quantity!r}")
+        for name in ("printed", "reference", "conventions"):
+            object.__setattr__(self, name, plain(getattr(self, name)))
 
 
 def symbols(system: System):
@@ -67,9 +69,10 @@ def validate_claims(system: System, claims) -> None:
                 raise ModelError(f"claim {claim.equation}: {what} is not a sympy expression ({exc})") from None
             for symbol in sorted(used - declared, key=lambda s: s.name):
                 if symbol.name in by_name:
-                    fix = (f"use the model's own symbol (Parameter/Coordinate .symbol, .rate, .accel); it has other "
+                    fix = (f"use the model's own Parameter, Coordinate (.rate, .accel) or Input; it has other "
                            f"assumptions than sp.Symbol({symbol.name!r})")
                 else:
-                    fix = "declare it as a Parameter or Input of the system, or write it in the model's symbols"
+                    fix = ("declare it as a Parameter or Input of the system (a parameter the system's expressions do "
+                           "not use: System(parameters=...)), or write it in the model's symbols")
                 raise ModelError(f"claim {claim.equation} ({what}) uses {symbol.name!r}, which {system.name} does "
                                  f"not declare: {fix}")

@@ -3,22 +3,33 @@ parameters. How each is simulated with every source is :mod:`harness.scenes.stru
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import sympy as sp
 
-from harness.modeling.system import value_at
+from harness.modeling.system import name_of, plain, value_at
+
+
+def _normalised(event) -> None:
+    """Fields naming a parameter/coordinate/link hold its name; expressions hold plain symbols."""
+    for f in dataclasses.fields(event):
+        value = getattr(event, f.name)
+        object.__setattr__(event, f.name, name_of(value) if f.type == "str" else plain(value))
 
 
 @dataclass(frozen=True)
 class StickSlip:
-    """Coulomb friction on ``coordinate`` with static ``mu_H`` and sliding ``mu_C`` (parameter names) and the
-    normal force ``normal_force`` (an expression in the parameters, (3.76b))."""
+    """Coulomb friction on ``coordinate`` with static ``mu_H`` and sliding ``mu_C`` (parameters, held by name)
+    and the normal force ``normal_force`` (an expression in the parameters, (3.76b))."""
 
     coordinate: str
     mu_H: str
     mu_C: str
     normal_force: sp.Expr
+
+    def __post_init__(self):
+        _normalised(self)
 
     def values(self, params: dict) -> tuple[float, float, float]:
         return params[self.mu_H], params[self.mu_C], value_at(self.normal_force, params)
@@ -39,6 +50,9 @@ class RollSlip:
     slide_joint: str
     roll_joint: str
 
+    def __post_init__(self):
+        _normalised(self)
+
     def predicted(self, params) -> float:
         return value_at(self.threshold, params)
 
@@ -53,3 +67,6 @@ class LiftOff:
     free_system: str
     to_free: tuple
     height: sp.Expr
+
+    def __post_init__(self):
+        _normalised(self)

@@ -19,8 +19,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from harness.errors import InputError
-from harness.modeling.system import (BodyTorque, Damper, JointDamper, JointInput, JointSpring, Parameter, PointForce, Spring,
-                           System)
+from harness.modeling.system import (BodyTorque, Damper, JointDamper, JointInput, JointSpring, Parameter, PointForce,
+                                     Spring, System, name_of)
 
 EFFECTS = ("gravity", "springs", "dampers", "inputs", "external", "friction", "contact")
 _EFFECT_OF = {Spring: "springs", JointSpring: "springs", Damper: "dampers", JointDamper: "dampers",
@@ -93,7 +93,8 @@ class Bump:
 # --------------------------------------------------------------------------- scenes
 @dataclass(frozen=True)
 class Scene:
-    """One simulation taken from the lecture text."""
+    """One simulation taken from the lecture text. ``effects`` any collection of effect names; ``inputs`` and
+    ``params`` keyed by name or by the model's :class:`Input` / :class:`Parameter`."""
 
     name: str
     description: str
@@ -106,6 +107,9 @@ class Scene:
     events: tuple = ()                              # structural changes (harness/scenes/structural.py)
 
     def __post_init__(self):
+        object.__setattr__(self, "effects", frozenset(self.effects))
+        for name in ("inputs", "params"):
+            object.__setattr__(self, name, {name_of(k): v for k, v in getattr(self, name).items()})
         unknown = set(self.effects) - set(EFFECTS)
         if unknown:
             raise InputError(f"scene {self.name}: unknown effect(s) {sorted(unknown)}; effects are {EFFECTS}")

@@ -21,7 +21,10 @@ Nothing here derives anything: :mod:`harness.derivation.derive` does, following 
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
+import itertools
+import math
 from dataclasses import dataclass, field, fields
 from typing import Iterable
 
@@ -57,36 +60,82 @@ def value_at(expr, params: dict[str, float]) -> float:
 
 # --------------------------------------------------------------------------- symbols and values
 ASSUMPTIONS = ("positive", "nonnegative", "real")
+_declarations = itertools.count()  # declaration order: the order a System lists what it collects
 
 
-@dataclass(frozen=True)
-class Parameter:
-    """A model parameter named as in the lecture (``m_1``, ``l_s1``, ``I_zz2``, ``c_e``)."""
+class Declared(sp.Symbol):
+    """A symbol a model declares — :class:`Parameter`, :class:`Coordinate`, :class:`Input` — usable in
+    expressions as it is (``m * l**2``) and carrying its meaning (default, unit, description, ...).
 
-    name: str
-    default: float | None = None
-    unit: str = ""
-    description: str = ""
-    assumption: str = "positive"
+    SymPy caches symbols and compares them by name and assumptions; a declaration is constructed uncached and
+    compares by its metadata *and* its declaration, so that two modules' ``Parameter("l", 1.0, ...)`` and
+    ``Parameter("l", 0.5, ...)`` are never conflated, and a :class:`System` can list what it collects in the
+    order it was declared. What a System, Claim, Scene or event holds is normalised to plain
+    ``sp.Symbol(name, **assumptions)`` (:func:`plain`, :attr:`symbol`): the derivation, its cache, the compiled
+    functions and every printed string see plain symbols only."""
 
-    def __post_init__(self):
-        if self.assumption not in ASSUMPTIONS:
-            raise ModelError(f"parameter {self.name}: assumption must be one of {ASSUMPTIONS}")
-        if self.default is None:
-            raise ModelError(f"parameter {self.name}: give a default value in SI units, "
-                             f"e.g. Parameter({self.name!r}, 1.0, 'kg', 'what it is')")
-        if not self.unit:
-            raise ModelError(f"parameter {self.name}: give a unit (use '1' for dimensionless)")
-        self.check(self.default)
+    _meta: tuple = ()           # the metadata fields, in the order of the constructor
+
+    def __new__(cls, name, *args, **kwargs):
+        raise TypeError("construct a Parameter, Coordinate or Input")
+
+    @classmethod
+    def _declare(cls, name: str, sympy_assumption: str, **meta) -> "Declared":
+        obj = sp.Symbol.__xnew__(cls, name, **{sympy_assumption: True})  # uncached
+        obj.__dict__.update(meta, _serial=next(_declarations))
+        return obj
+
+    def _hashable_content(self):
+        return super()._hashable_content() + tuple(getattr(self, k) for k in self._meta) + (self._serial,)
+
+    def __reduce_ex__(self, protocol):
+        return _redeclare, (type(self), {k: getattr(self, k) for k in self._meta}, self._serial)
+
+    def __setattr__(self, key, value):
+        if key in self._meta and "_serial" in self.__dict__:
+            raise AttributeError(f"{type(self).__name__} {self.name}: {key} is fixed when it is declared")
+        super().__setattr__(key, value)
 
     @property
     def symbol(self) -> sp.Symbol:
-        return sp.Symbol(self.name, **{self.assumption: True})
+        """The plain SymPy symbol (same name and assumptions) the derivation sees."""
+        return sp.Symbol(self.name, **self._assumptions_orig)
+
+    def canonical(self) -> str:
+        """The declaration as the model fingerprint hashes it."""
+        inner = ",".join(f"{k}={_canonical(getattr(self, k))}" for k in self._meta)
+        return f"{type(self).__name__}({inner})"
+
+
+def _redeclare(cls, meta, serial):
+    obj = cls(**meta)
+    obj.__dict__["_serial"] = serial
+    return obj
+
+
+class Parameter(Declared):
+    """A model parameter named as in the lecture (``m_1``, ``l_s1``, ``I_zz2``, ``c_e``): a SymPy symbol
+    with its default value (SI), unit, description and physical assumption (``positive``, ``nonnegative``,
+    ``real``): ``m = Parameter("m", 1.0, "kg", "point mass")``, then ``m * l**2`` in expressions."""
+
+    _meta = ("name", "default", "unit", "description", "assumption")
+
+    def __new__(cls, name: str, default: float | None = None, unit: str = "", description: str = "",
+                assumption: str = "positive"):
+        if assumption not in ASSUMPTIONS:
+            raise ModelError(f"parameter {name}: assumption must be one of {ASSUMPTIONS}")
+        if default is None:
+            raise ModelError(f"parameter {name}: give a default value in SI units, "
+                             f"e.g. Parameter({name!r}, 1.0, 'kg', 'what it is')")
+        if not unit:
+            raise ModelError(f"parameter {name}: give a unit (use '1' for dimensionless)")
+        obj = cls._declare(name, assumption, default=default, unit=unit, description=description,
+                           assumption=assumption)
+        obj.check(default)
+        return obj
 
     def check(self, value: float) -> None:
         """Raise :class:`ModelError` when ``value`` violates this parameter's assumption."""
-        import math
-
         if not isinstance(value, (int, float)) or not math.isfinite(value):
             raise ModelError(f"parameter {self.name}={value!r}: must be a finite number")
         if self.assumption == "positive" and not value > 0:
@@ -95,20 +144,22 @@ class Parameter:
             raise ModelError(f"parameter {self.name}={value}: must be non-negative ({self.description})")
 
 
-@dataclass(frozen=True)
-class Coordinate:
-    """A lecture (generalized) coordinate ``q_j`` and its unit (``rad`` or ``m``). ``range`` bounds the states
-    the conformance checks draw (e.g. away from a coordinate singularity; a rope length kept positive);
-    ``None`` means the default range (angles in [-π, π], lengths in [-1, 1] m)."""
+def standard_gravity() -> Parameter:
+    """The acceleration due to gravity ``g`` of every model: 9.81 m/s². A new declaration at each call, so that
+    ``g`` takes its place in the order where the model declares it."""
+    return Parameter("g", 9.81, "m/s^2", "acceleration due to gravity")
 
-    name: str
-    unit: str
-    description: str
-    range: tuple | None = None
 
-    @property
-    def symbol(self) -> sp.Symbol:
-        return sp.Symbol(self.name, real=True)
+class Coordinate(Declared):
+    """A lecture (generalized) coordinate ``q_j`` (a real symbol) and its unit (``rad`` or ``m``); ``.rate``
+    and ``.accel`` are ``q̇_j`` and ``q̈_j``. ``range`` bounds the states the conformance checks draw (e.g.
+    away from a coordinate singularity; a rope length kept positive); ``None`` means the default range (angles
+    in [-π, π], lengths in [-1, 1] m)."""
+
+    _meta = ("name", "unit", "description", "range")
+
+    def __new__(cls, name: str, unit: str, description: str, range: tuple | None = None):  # noqa: A002
+        return cls._declare(name, "real", unit=unit, description=description, range=range)
 
     @property
     def rate(self) -> sp.Symbol:
@@ -121,17 +172,55 @@ class Coordinate:
         return sp.Symbol(f"{self.name}_ddot", real=True)
 
 
-@dataclass(frozen=True)
-class Input:
-    """An input of the equations of motion (motor torque ``tau_1``, driving force ``f_e``)."""
+class Input(Declared):
+    """An input of the equations of motion (motor torque ``tau_1``, driving force ``f_e``), a real symbol."""
 
-    name: str
-    unit: str
-    description: str
+    _meta = ("name", "unit", "description")
 
-    @property
-    def symbol(self) -> sp.Symbol:
-        return sp.Symbol(self.name, real=True)
+    def __new__(cls, name: str, unit: str, description: str):
+        return cls._declare(name, "real", unit=unit, description=description)
+
+
+def name_of(value):
+    """A declared symbol's name; anything else as it is (fields that name a parameter, input or coordinate)."""
+    return value.name if isinstance(value, Declared) else value
+
+
+def plain(value, found: list | None = None):
+    """``value`` with every declared symbol replaced by its plain SymPy symbol — in expressions, matrices,
+    tuples, lists, dicts and value objects (dataclasses, rebuilt only where something changed). The declared
+    symbols met are appended to ``found``."""
+    if isinstance(value, Declared):
+        if found is not None:
+            found.append(value)
+        return value.symbol
+    if isinstance(value, (sp.Basic, sp.MatrixBase)):
+        declared = sorted((s for s in value.free_symbols if isinstance(s, Declared)), key=lambda s: s._serial)
+        if not declared:
+            return value
+        if found is not None:
+            found.extend(declared)
+        return value.xreplace({s: s.symbol for s in declared})
+    if isinstance(value, (tuple, list)):
+        new = [plain(v, found) for v in value]
+        return value if all(a is b for a, b in zip(new, value)) else type(value)(new)
+    if isinstance(value, dict):
+        items = [(plain(k, found), plain(v, found)) for k, v in value.items()]
+        same = all(k is k0 and v is v0 for (k, v), (k0, v0) in zip(items, value.items()))
+        return value if same else dict(items)
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        if isinstance(value, JointInput) and isinstance(value.input, Input):
+            if found is not None:
+                found.append(value.input)
+            value = dataclasses.replace(value, input=value.input.name)
+        changes = {}
+        for f in fields(value):
+            old = getattr(value, f.name)
+            new = plain(old, found)
+            if new is not old:
+                changes[f.name] = new
+        return dataclasses.replace(value, **changes) if changes else value
+    return value
 
 
 # --------------------------------------------------------------------------- bodies and joints
@@ -341,15 +430,22 @@ ForceElement = Spring | Damper | JointSpring | JointDamper | JointInput | PointF
 # --------------------------------------------------------------------------- the system
 @dataclass(frozen=True)
 class System:
-    """One lecture system, modeled once."""
+    """One lecture system, modeled once.
+
+    Its parameters are collected from its expressions (links, joints, gravity, forces, closures) in the order
+    they were declared; ``parameters`` names those it has without using them in its expressions (a friction
+    coefficient only its scenes use). A ``parameters`` tuple that lists every parameter the expressions use is
+    kept in its own order (``dataclasses.replace`` passes the complete tuple). Inputs likewise (an
+    :class:`Input` used in a force's expression or by a :class:`JointInput`). Every expression is stored with
+    plain SymPy symbols (:func:`plain`)."""
 
     name: str
     title: str
     lecture: str
-    parameters: tuple[Parameter, ...]
-    coordinates: tuple[Coordinate, ...]
-    links: tuple[Link, ...]
-    joints: tuple[Joint, ...]
+    parameters: tuple[Parameter, ...] = ()
+    coordinates: tuple[Coordinate, ...] = ()
+    links: tuple[Link, ...] = ()
+    joints: tuple[Joint, ...] = ()
     gravity: Gravity | None = None
     forces: tuple = ()
     inputs: tuple[Input, ...] = ()
@@ -364,6 +460,11 @@ class System:
         return dict(self.not_in_engines).get(engine)
 
     def __post_init__(self):
+        found: list = []
+        for name in ("links", "joints", "gravity", "forces", "closures"):
+            object.__setattr__(self, name, plain(getattr(self, name), found))
+        object.__setattr__(self, "parameters", _collected(self.parameters, found, Parameter))
+        object.__setattr__(self, "inputs", _collected(self.inputs, found, Input))
         validate(self)
 
     # ----- lookups
@@ -443,7 +544,18 @@ class System:
         return cached
 
 
+def _collected(given, found: list, kind: type) -> tuple:
+    """``given`` as it is when it holds every declaration of ``kind`` in ``found``; else both, as declared."""
+    given = tuple(given)
+    extra = [d for d in dict.fromkeys(found) if isinstance(d, kind) and d not in given]
+    if not extra:
+        return given
+    return tuple(sorted(dict.fromkeys((*given, *extra)), key=lambda d: getattr(d, "_serial", -1)))
+
+
 def _canonical(obj) -> str:
+    if isinstance(obj, Declared):
+        return obj.canonical()
     if isinstance(obj, (sp.Basic, sp.MatrixBase)):
         return sp.srepr(obj)
     if isinstance(obj, (list, tuple)):
@@ -492,7 +604,7 @@ def validate(system: System) -> None:
         bad = _undeclared([link.mass, *link.com, *link.inertia.matrix], static)
         if bad:
             raise ModelError(f"{where}: link {link.name} uses undeclared symbol(s) {bad}; "
-                             f"declare them as Parameter and use Parameter.symbol")
+                             f"declare them as Parameter")
     for j in system.joints:
         bad = _undeclared([*j.origin, *j.rpy], static)
         if bad:
