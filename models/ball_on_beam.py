@@ -24,7 +24,10 @@ round-off (world-frame spatial algebra of a ball spinning at r_dot/r_K) is ampli
 J = dphi/dq, whose entry -1/r_K enters C_q = J^T C_theta J twice (error ~ 1/r_K^3, not a modeling error).
 """
 
-from harness.modeling.system import Coordinate, Gravity, Inertia, Input, Joint, JointInput, Link, Parameter, System, WORLD
+from sympy import Matrix, cos, sin
+
+from harness.modeling import (WORLD, Claim, Coordinate, Gravity, Inertia, Input, Joint, JointInput, Link, Parameter,
+                              Scene, Step, System, standard_gravity)
 
 m_K = Parameter("m_K", 2.0, "kg", "mass of the ball")
 r_K = Parameter("r_K", 0.1, "m", "radius of the ball")
@@ -32,75 +35,61 @@ m_B = Parameter("m_B", 5.0, "kg", "mass of the beam (centre of mass on the axis 
 I_xxB = Parameter("I_xxB", 0.0052, "kg m^2", "moment of inertia of the beam about x_1 (does not enter)")
 I_yyB = Parameter("I_yyB", 1.668, "kg m^2", "moment of inertia of the beam about y_1 (does not enter)")
 I_zzB = Parameter("I_zzB", 1.671, "kg m^2", "moment of inertia I_zz^B of the beam about the axis of rotation z")
-g = Parameter("g", 9.81, "m/s^2", "acceleration due to gravity")
+g = standard_gravity()
 
 tau_e = Input("tau_e", "N m", "external torque tau^e about the axis of rotation, on the beam")
 
 phi_1 = Coordinate("phi_1", "rad", "angle of the beam against x_0")
 r = Coordinate("r", "m", "position of the ball's centre along the beam, from the y_1 axis")
 
-I_zz_sK = 2 * m_K.symbol * r_K.symbol**2 / 5  # (5.84), homogeneous ball (3.123)
+I_zz_sK = 2 * m_K * r_K**2 / 5  # (5.84), homogeneous ball (3.123)
 
 SYSTEM = System(
     name="ball_on_beam",
     title="Ball on beam",
     lecture="Example 5.4, Exercise 5.1; (5.82)-(5.91)",
-    parameters=(m_K, r_K, m_B, I_xxB, I_yyB, I_zzB, g),
     coordinates=(phi_1, r),
     links=(
-        Link("beam", m_B.symbol, (0, 0, 0), Inertia(I_xxB.symbol, I_yyB.symbol, I_zzB.symbol)),
+        Link("beam", m_B, (0, 0, 0), Inertia(I_xxB, I_yyB, I_zzB)),
         Link("contact", description="massless frame at the ball's centre, sliding along x_1 by r"),
-        Link("ball", m_K.symbol, (0, 0, 0), Inertia(I_zz_sK, I_zz_sK, I_zz_sK),
+        Link("ball", m_K, (0, 0, 0), Inertia(I_zz_sK, I_zz_sK, I_zz_sK),
              description="homogeneous ball, turned by phi_2 = -r/r_K relative to the beam (rolling)"),
     ),
     joints=(
         Joint("phi_1", "revolute", WORLD, "beam", axis="z"),
-        Joint("r", "prismatic", "beam", "contact", axis="x", origin=(0, r_K.symbol, 0)),
-        Joint("phi_2", "revolute", "contact", "ball", axis="z",
-              phi=-r.symbol / r_K.symbol),  # rolling (5.85): r_dot = -r_K phi_2_dot
+        Joint("r", "prismatic", "beam", "contact", axis="x", origin=(0, r_K, 0)),
+        Joint("phi_2", "revolute", "contact", "ball", axis="z", phi=-r / r_K),  # rolling (5.85): r_dot = -r_K phi_2_dot
     ),
-    gravity=Gravity(g.symbol, (0, -1, 0)),
-    inputs=(tau_e,),
-    forces=(JointInput("torque_e", "phi_1", "tau_e"),),
+    gravity=Gravity(g, (0, -1, 0)),
+    forces=(JointInput("torque_e", "phi_1", tau_e),),
     doc=__doc__,
 )
 
 # ----------------------------------------------------------------------------- the lecture's printed equations
-import sympy as _sp  # noqa: E402
-
-from harness.modeling.claims import Claim  # noqa: E402
-
-_phi1, _r = phi_1, r
-_p1, _rr = _phi1.symbol, _r.symbol
-_w1, _v = _phi1.rate, _r.rate
-_mK, _rK, _IB, _g = m_K.symbol, r_K.symbol, I_zzB.symbol, g.symbol
-_IK = I_zz_sK
-_T_printed = (_mK * (_rr**2 * _w1**2 + (_v - _rK * _w1)**2) / 2      # (5.83)
-              + _IK * (_w1 - _v / _rK)**2 / 2                         # (5.86)
-              + _IB * _w1**2 / 2)                                     # (5.87)
-_V_printed = _mK * _g * (_rr * _sp.sin(_p1) + _rK * _sp.cos(_p1)) - _mK * _g * _rK  # (5.88)
+w_1, v = phi_1.rate, r.rate
+I_K = I_zz_sK
+T_printed = (m_K * (r**2 * w_1**2 + (v - r_K * w_1)**2) / 2      # (5.83)
+             + I_K * (w_1 - v / r_K)**2 / 2                      # (5.86)
+             + I_zzB * w_1**2 / 2)                               # (5.87)
+V_printed = m_K * g * (r * sin(phi_1) + r_K * cos(phi_1)) - m_K * g * r_K  # (5.88)
+_I_K_note = "I_zz^{sK} = 2/5 m_K r_K^2 (5.84)"
 CLAIMS = [
-    Claim("(5.82)", "position:ball", _sp.Matrix([_rr * _sp.cos(_p1) - _rK * _sp.sin(_p1),
-                                                 _rr * _sp.sin(_p1) + _rK * _sp.cos(_p1), 0]),
+    Claim("(5.82)", "position:ball", Matrix([r * cos(phi_1) - r_K * sin(phi_1), r * sin(phi_1) + r_K * cos(phi_1), 0]),
           "centre of the ball"),
-    Claim("(5.83)+(5.86)+(5.87)", "T", _T_printed, "kinetic energy T_t,K + T_r,K + T_r,B of the Lagrangian (5.89)",
-          note="I_zz^{sK} = 2/5 m_K r_K^2 (5.84)"),
-    Claim("(5.88)", "g", _sp.Matrix([_V_printed]).jacobian([_p1, _rr]).T,
+    Claim("(5.83)+(5.86)+(5.87)", "T", T_printed, "kinetic energy T_t,K + T_r,K + T_r,B of the Lagrangian (5.89)",
+          note=_I_K_note),
+    Claim("(5.88)", "g", Matrix([V_printed]).jacobian([phi_1, r]).T,
           "potential forces g = dV/dq (5.96) of V = m_K g (r sin(phi_1) + r_K cos(phi_1)) - m_K g r_K",
           note="V is fixed only up to a constant ((5.88) sets V = 0 at phi_1 = 0, the model's V = m_K g p_y differs "
                "by m_K g r_K); the printed V is compared through its gradient g = dV/dq"),
-    Claim("(5.91a)", "eom", (_mK + _IK / _rK**2) * _r.accel - (_IK / _rK + _mK * _rK) * _phi1.accel
-          - _mK * _rr * _w1**2 + _mK * _g * _sp.sin(_p1), "equation of r", index=(1,),
-          note="I_zz^{sK} = 2/5 m_K r_K^2 (5.84)"),
-    Claim("(5.91b)", "eom", -(_mK * _rK + _IK / _rK) * _r.accel + (_IK + _IB + _mK * (_rr**2 + _rK**2)) * _phi1.accel
-          + 2 * _mK * _rr * _v * _w1 + _mK * _g * (_rr * _sp.cos(_p1) - _rK * _sp.sin(_p1)) - tau_e.symbol,
+    Claim("(5.91a)", "eom", (m_K + I_K / r_K**2) * r.accel - (I_K / r_K + m_K * r_K) * phi_1.accel
+          - m_K * r * w_1**2 + m_K * g * sin(phi_1), "equation of r", index=(1,), note=_I_K_note),
+    Claim("(5.91b)", "eom", -(m_K * r_K + I_K / r_K) * r.accel + (I_K + I_zzB + m_K * (r**2 + r_K**2)) * phi_1.accel
+          + 2 * m_K * r * v * w_1 + m_K * g * (r * cos(phi_1) - r_K * sin(phi_1)) - tau_e,
           "equation of phi_1", index=(0,), note="printed I_zz^{sB} read as the beam's I_zz^B (I_zzB)"),
 ]
 
-# ----------------------------------------------------------------------------- scenes
-from harness.modeling.scenes import Scene, Step  # noqa: E402
-
 SCENES = [
     Scene("tilt", "Example 5.4: the beam tilted by a torque step, the ball rolls (rolling map in the engines)",
-          (0.0, 0.3), (0.0, 0.0), 2.0, frozenset({"gravity", "inputs"}), inputs={"tau_e": Step(0.5, 2.0)}),
+          (0.0, 0.3), (0.0, 0.0), 2.0, {"gravity", "inputs"}, inputs={tau_e: Step(0.5, 2.0)}),
 ]

@@ -37,9 +37,10 @@ the load from ``v_0`` to ``v_1`` over ``s_1``, is the energy balance (A.87) of (
 which are claims here except (A.95).
 """
 
-import sympy as sp
+from sympy import cos, diff, sin
 
-from harness.modeling.system import Coordinate, Gravity, Inertia, Input, Joint, Link, Parameter, Point, PointForce, System, WORLD
+from harness.modeling import (WORLD, Claim, Constant, Coordinate, Gravity, Inertia, Input, Joint, Link, Parameter,
+                              Point, PointForce, Scene, System, standard_gravity)
 
 m_L = Parameter("m_L", 10.0, "kg", "mass of the load")
 m_1 = Parameter("m_1", 4.0, "kg", "mass of the pulley R_1 (fixed axis)")
@@ -51,71 +52,63 @@ I_2 = Parameter("I_2", 0.01, "kg m^2", "moment of inertia of R_2 about its axis 
 alpha = Parameter("alpha", 0.5, "rad", "angle of the incline")
 mu_c = Parameter("mu_c", 0.3, "1", "coefficient of dry friction load-incline (A.95); used by the friction "
                  "scene, enters none of M, C, g", assumption="nonnegative")
-g = Parameter("g", 9.81, "m/s^2", "acceleration due to gravity")
+g = standard_gravity()
 
 s = Coordinate("s", "m", "position of the load along the incline, uphill positive")
-_s, _a, _r1, _r2 = s.symbol, alpha.symbol, r_1.symbol, r_2.symbol
-_f = sp.Symbol("f", real=True)
+f = Input("f", "N", "constant vertical force pulling R_2 down")
 
 SYSTEM = System(
     name="cable_pulley",
     title="Cable pulley system",
     lecture="Exercise A.9; (A.88)-(A.93)",
     status="smooth part; Coulomb friction on the incline left to the scenes",
-    parameters=(m_L, m_1, I_1, r_1, r_2, m_2, I_2, alpha, mu_c, g),
+    parameters=(mu_c,),  # the friction scene's
     coordinates=(s,),
     links=(
         Link("load_x", description="massless frame of the load's horizontal motion (merged in MuJoCo)"),
-        Link("load", m_L.symbol, (0, 0, 0), description="the load (point mass, only translates)"),
-        Link("R1", m_1.symbol, (0, 0, 0), Inertia(I_1.symbol, I_1.symbol, I_1.symbol),
-             description="pulley R_1 on a fixed axis"),
+        Link("load", m_L, (0, 0, 0), description="the load (point mass, only translates)"),
+        Link("R1", m_1, (0, 0, 0), Inertia(I_1, I_1, I_1), description="pulley R_1 on a fixed axis"),
         Link("R2_centre", description="massless frame at the centre of R_2 (merged in MuJoCo)"),
-        Link("R2", m_2.symbol, (0, 0, 0), Inertia(I_2.symbol, I_2.symbol, I_2.symbol),
-             description="movable pulley R_2"),
+        Link("R2", m_2, (0, 0, 0), Inertia(I_2, I_2, I_2), description="movable pulley R_2"),
     ),
     joints=(
-        Joint("x_L", "prismatic", WORLD, "load_x", axis="x", origin=(-1, 0, 0), phi=_s * sp.cos(_a)),
-        Joint("y_L", "prismatic", "load_x", "load", axis="y", phi=_s * sp.sin(_a)),
-        Joint("phi_R1", "revolute", WORLD, "R1", axis=(0, 0, -1), phi=_s / _r2),
-        Joint("s_R2", "prismatic", WORLD, "R2_centre", axis=(0, -1, 0), origin=(_r1 + _r2, 0, 0),
-              phi=_s * _r1 / (2 * _r2)),
-        Joint("phi_R2", "revolute", "R2_centre", "R2", axis="z", phi=_s * _r1 / (2 * _r2**2)),
+        Joint("x_L", "prismatic", WORLD, "load_x", axis="x", origin=(-1, 0, 0), phi=s * cos(alpha)),
+        Joint("y_L", "prismatic", "load_x", "load", axis="y", phi=s * sin(alpha)),
+        Joint("phi_R1", "revolute", WORLD, "R1", axis=(0, 0, -1), phi=s / r_2),
+        Joint("s_R2", "prismatic", WORLD, "R2_centre", axis=(0, -1, 0), origin=(r_1 + r_2, 0, 0),
+              phi=s * r_1 / (2 * r_2)),
+        Joint("phi_R2", "revolute", "R2_centre", "R2", axis="z", phi=s * r_1 / (2 * r_2**2)),
     ),
-    gravity=Gravity(g.symbol, (0, -1, 0)),
-    inputs=(Input("f", "N", "constant vertical force pulling R_2 down"),),
-    forces=(PointForce("force_f", Point("R2", (0, 0, 0), "R2_axis"), (0, -_f, 0)),),
+    gravity=Gravity(g, (0, -1, 0)),
+    forces=(PointForce("force_f", Point("R2", (0, 0, 0), "R2_axis"), (0, -f, 0)),),
     doc=__doc__,
 )
 
 # ----------------------------------------------------------------------------- the lecture's printed equations
-from harness.modeling.claims import Claim  # noqa: E402
-
-_v = s.rate
-_mL, _m2, _I1, _I2, _g = m_L.symbol, m_2.symbol, I_1.symbol, I_2.symbol, g.symbol
-_omega_R1 = _v / _r2                     # (A.89)
-_v_R2 = _v * _r1 / (2 * _r2)             # (A.91)
-_omega_R2 = _v * _r1 / (2 * _r2**2)      # (A.91)
+v = s.rate
+omega_R1 = v / r_2                     # (A.89)
+v_R2 = v * r_1 / (2 * r_2)             # (A.91)
+omega_R2 = v * r_1 / (2 * r_2**2)      # (A.91)
+_v = "v read as s_dot"
 CLAIMS = [
-    Claim("(A.89)", "parameter", _omega_R1, "angular velocity of R_1, omega_R1 = v / r_2",
-          reference=sp.diff(SYSTEM.joint("phi_R1").phi, _s) * _v, note="v read as s_dot"),
-    Claim("(A.91a)", "parameter", _v_R2, "velocity of R_2, v_R2 = v_2/2 = v r_1/(2 r_2)",
-          reference=sp.diff(SYSTEM.joint("s_R2").phi, _s) * _v, note="v read as s_dot"),
-    Claim("(A.91b)", "parameter", _omega_R2, "angular velocity of R_2, omega_R2 = v_R2 / r_2 = v r_1/(2 r_2²)",
-          reference=sp.diff(SYSTEM.joint("phi_R2").phi, _s) * _v, note="v read as s_dot"),
-    Claim("(A.88)", "T", _mL * _v**2 / 2 + _I1 * _omega_R1**2 / 2 + _I2 * _omega_R2**2 / 2 + _m2 * _v_R2**2 / 2,
-          "kinetic energy with (A.89)-(A.91)", note="v read as s_dot"),
-    Claim("(A.92)", "V", _mL * _g * _s * sp.sin(_a) - _m2 * _g * _s * _r1 / (2 * _r2),
+    Claim("(A.89)", "parameter", omega_R1, "angular velocity of R_1, omega_R1 = v / r_2",
+          reference=diff(SYSTEM.joint("phi_R1").phi, s.symbol) * v, note=_v),
+    Claim("(A.91a)", "parameter", v_R2, "velocity of R_2, v_R2 = v_2/2 = v r_1/(2 r_2)",
+          reference=diff(SYSTEM.joint("s_R2").phi, s.symbol) * v, note=_v),
+    Claim("(A.91b)", "parameter", omega_R2, "angular velocity of R_2, omega_R2 = v_R2 / r_2 = v r_1/(2 r_2²)",
+          reference=diff(SYSTEM.joint("phi_R2").phi, s.symbol) * v, note=_v),
+    Claim("(A.88)", "T", m_L * v**2 / 2 + I_1 * omega_R1**2 / 2 + I_2 * omega_R2**2 / 2 + m_2 * v_R2**2 / 2,
+          "kinetic energy with (A.89)-(A.91)", note=_v),
+    Claim("(A.92)", "V", m_L * g * s * sin(alpha) - m_2 * g * s * r_1 / (2 * r_2),
           "potential energy, V(t_0) = 0 at s(t_0) = 0",
           note="printed for the position s_1 reached at t_1: read as V(s) with s_1 -> s"),
-    Claim("(A.93)", "f_np", _f * _r1 / (2 * _r2), "generalized force of f",
+    Claim("(A.93)", "f_np", f * r_1 / (2 * r_2), "generalized force of f",
           note="printed as the work W_F = f s_1 r_1/(2 r_2) of the constant force over s_1; its generalized "
                "force (5.60) is dW_F/ds_1 = f r_1/(2 r_2)"),
 ]
 
-from harness.modeling.scenes import Constant, Scene  # noqa: E402
-
 SCENES = [
     Scene("haul", "Exercise A.9, (A.93): the load moving uphill at v_0 = 0.5 m/s from s_0 = 0 is accelerated by "
           "the constant force f = 60 N on R_2 (the smooth part: dry friction mu_c of (A.95) is not modeled)",
-          (0.0,), (0.5,), 2.0, frozenset({"gravity", "external"}), inputs={"f": Constant(60.0)}),
+          (0.0,), (0.5,), 2.0, {"gravity", "external"}, inputs={f: Constant(60.0)}),
 ]

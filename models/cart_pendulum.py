@@ -9,8 +9,10 @@ Its mass is ``m_S = rho_S l_S b_S h_S`` and its inertia about the centre of mass
 (3.128); the centre of mass lies at ``l_S/2`` from the pivot.
 """
 
-from harness.modeling.system import (Coordinate, Gravity, Inertia, Input, Joint, JointDamper, JointInput, JointSpring,
-                           Link, Parameter, System, WORLD)
+from sympy import cos, sin
+
+from harness.modeling import (WORLD, Claim, Coordinate, Gravity, Inertia, Input, Joint, JointDamper, JointInput,
+                              JointSpring, Link, Parameter, Scene, Sine, System, standard_gravity)
 
 m_W = Parameter("m_W", 5.0, "kg", "mass of the cart")
 c_W = Parameter("c_W", 100.0, "N/m", "spring constant of the cart's spring")
@@ -20,63 +22,53 @@ rho_S = Parameter("rho_S", 2700.0, "kg/m^3", "density of the pendulum rod")
 l_S = Parameter("l_S", 0.6, "m", "length of the pendulum rod")
 b_S = Parameter("b_S", 0.04, "m", "width of the pendulum rod (in the plane of motion)")
 h_S = Parameter("h_S", 0.02, "m", "height of the pendulum rod (normal to the plane)")
-g = Parameter("g", 9.81, "m/s^2", "acceleration due to gravity")
+g = standard_gravity()
 
-m_S = rho_S.symbol * l_S.symbol * b_S.symbol * h_S.symbol
+s = Coordinate("s", "m", "position of the cart")
+phi = Coordinate("phi", "rad", "angle of the rod from the downward vertical")
+f_e = Input("f_e", "N", "driving force on the cart")
+
+m_S = rho_S * l_S * b_S * h_S
 
 SYSTEM = System(
     name="cart_pendulum",
     title="Cart with pendulum",
     lecture="Exercise 5.2; (5.92)",
-    parameters=(m_W, c_W, s_W0, d_R, rho_S, l_S, b_S, h_S, g),
-    coordinates=(Coordinate("s", "m", "position of the cart"),
-                 Coordinate("phi", "rad", "angle of the rod from the downward vertical")),
+    coordinates=(s, phi),
     links=(
-        Link("cart", m_W.symbol, (0, 0, 0), Inertia.cuboid(m_W.symbol, 0.4, 0.2, 0.2),
+        Link("cart", m_W, (0, 0, 0), Inertia.cuboid(m_W, 0.4, 0.2, 0.2),
              description="the cart; its rotational inertia never enters (it only translates)"),
-        Link("rod", m_S, (0, -l_S.symbol / 2, 0), Inertia.cuboid(m_S, b_S.symbol, l_S.symbol, h_S.symbol),
+        Link("rod", m_S, (0, -l_S / 2, 0), Inertia.cuboid(m_S, b_S, l_S, h_S),
              description="homogeneous cuboid rod, long axis along -y of its frame"),
     ),
     joints=(
         Joint("s", "prismatic", WORLD, "cart", axis="x"),
         Joint("phi", "revolute", "cart", "rod", axis="z"),
     ),
-    gravity=Gravity(g.symbol, (0, -1, 0)),
-    inputs=(Input("f_e", "N", "driving force on the cart"),),
+    gravity=Gravity(g, (0, -1, 0)),
     forces=(
-        JointSpring("spring_W", "s", c_W.symbol, s_W0.symbol),
-        JointDamper("friction_R", "s", d_R.symbol),
-        JointInput("drive", "s", "f_e"),
+        JointSpring("spring_W", "s", c_W, s_W0),
+        JointDamper("friction_R", "s", d_R),
+        JointInput("drive", "s", f_e),
     ),
     doc=__doc__,
 )
 
 # ----------------------------------------------------------------------------- the lecture's printed equations
-import sympy as _sp  # noqa: E402
-
-from harness.modeling.claims import Claim  # noqa: E402
-
-_s, _phi = SYSTEM.coordinates
-_mS_printed = rho_S.symbol * l_S.symbol * b_S.symbol * g.symbol * h_S.symbol
-_I_zz_printed = m_S * (l_S.symbol**2 + b_S.symbol**2) / 12
+I_zz_printed = m_S * (l_S**2 + b_S**2) / 12
 CLAIMS = [
-    Claim("Solution of Exc. 5.2 (m_S)", "parameter", _mS_printed, "mass of the rod m_S = rho_S l_S b_S g h_S",
-          reference=m_S),
-    Claim("Solution of Exc. 5.2 (I_zz^S)", "parameter", _I_zz_printed, "I_zz^S = m_S (l_S² + b_S²)/12",
+    Claim("Solution of Exc. 5.2 (m_S)", "parameter", rho_S * l_S * b_S * g * h_S,
+          "mass of the rod m_S = rho_S l_S b_S g h_S", reference=m_S),
+    Claim("Solution of Exc. 5.2 (I_zz^S)", "parameter", I_zz_printed, "I_zz^S = m_S (l_S² + b_S²)/12",
           reference=SYSTEM.links[1].inertia.matrix[2, 2]),
-    Claim("(5.92a)", "eom", (m_W.symbol + m_S) * _s.accel + m_S * l_S.symbol * _sp.cos(_phi.symbol) * _phi.accel / 2
-          - m_S * l_S.symbol * _sp.sin(_phi.symbol) * _phi.rate**2 / 2 + c_W.symbol * (_s.symbol - s_W0.symbol)
-          - (_sp.Symbol("f_e", real=True) - d_R.symbol * _s.rate), "cart equation", index=(0,)),
-    Claim("(5.92b)", "eom", m_S * l_S.symbol * _sp.cos(_phi.symbol) * _phi.accel / 2
-          + (_I_zz_printed + m_S * l_S.symbol**2 / 4) * _phi.accel + m_S * g.symbol * l_S.symbol * _sp.sin(_phi.symbol) / 2,
-          "pendulum equation", index=(1,)),
+    Claim("(5.92a)", "eom", (m_W + m_S) * s.accel + m_S * l_S * cos(phi) * phi.accel / 2
+          - m_S * l_S * sin(phi) * phi.rate**2 / 2 + c_W * (s - s_W0) - (f_e - d_R * s.rate), "cart equation",
+          index=(0,)),
+    Claim("(5.92b)", "eom", m_S * l_S * cos(phi) * phi.accel / 2 + (I_zz_printed + m_S * l_S**2 / 4) * phi.accel
+          + m_S * g * l_S * sin(phi) / 2, "pendulum equation", index=(1,)),
 ]
-
-# ----------------------------------------------------------------------------- scenes
-from harness.modeling.scenes import Scene, Sine  # noqa: E402
 
 SCENES = [
     Scene("shaken", "Exercise 5.2: the cart driven by f^e = 5 sin(2π 0.8 t) N against its spring and friction",
-          (0.2, 0.3), (0.0, 0.0), 4.0, frozenset({"gravity", "springs", "dampers", "inputs"}),
-          inputs={"f_e": Sine(5.0, 0.8)}),
+          (0.2, 0.3), (0.0, 0.0), 4.0, {"gravity", "springs", "dampers", "inputs"}, inputs={f_e: Sine(5.0, 0.8)}),
 ]

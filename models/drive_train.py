@@ -31,8 +31,10 @@ turn about ``z``); they are set to a stated mass and to ``3/4`` of the axial mom
 solid cylinder of length ``√1.5`` times its radius).
 """
 
-from harness.modeling.system import (BodyTorque, Coordinate, Inertia, Input, Joint, JointDamper, JointInput, JointSpring,
-                           Link, Parameter, System, WORLD)
+from sympy import Matrix, diag
+
+from harness.modeling import (WORLD, BodyTorque, Claim, Constant, Coordinate, Inertia, Input, Joint, JointDamper,
+                              JointInput, JointSpring, Link, Parameter, Scene, Step, System)
 
 I_m = Parameter("I_m", 0.002, "kg m^2", "moment of inertia of the motor's rotor")
 I_1 = Parameter("I_1", 0.5, "kg m^2", "moment of inertia of body 1 (gear output side)")
@@ -60,70 +62,56 @@ SYSTEM = System(
     name="drive_train",
     title="Drive train (rotor as a body coupled by the gear)",
     lecture="Example 3.16; (3.136)-(3.142)",
-    parameters=(I_m, I_1, I_2, i_g, c, d, m_m, m_1, m_2),
     coordinates=(phi_1, phi_2),
     links=(
-        Link("rotor", m_m.symbol, inertia=disc_inertia(I_m.symbol), description="the motor's rotor"),
-        Link("body_1", m_1.symbol, inertia=disc_inertia(I_1.symbol), description="body 1 on the gear's output side"),
-        Link("body_2", m_2.symbol, inertia=disc_inertia(I_2.symbol), description="body 2 carrying the load torque"),
+        Link("rotor", m_m, inertia=disc_inertia(I_m), description="the motor's rotor"),
+        Link("body_1", m_1, inertia=disc_inertia(I_1), description="body 1 on the gear's output side"),
+        Link("body_2", m_2, inertia=disc_inertia(I_2), description="body 2 carrying the load torque"),
     ),
     joints=(
-        Joint("phi_m", "revolute", WORLD, "rotor", axis="z", phi=i_g.symbol * phi_1.symbol),     # (3.136)
+        Joint("phi_m", "revolute", WORLD, "rotor", axis="z", phi=i_g * phi_1),     # (3.136)
         Joint("phi_1", "revolute", WORLD, "body_1", axis="z"),
-        Joint("phi_21", "revolute", "body_1", "body_2", axis="z", phi=phi_2.symbol - phi_1.symbol),
+        Joint("phi_21", "revolute", "body_1", "body_2", axis="z", phi=phi_2 - phi_1),
     ),
-    gravity=None,
-    inputs=(tau_m, tau_l),
     forces=(
-        JointSpring("spring_c", "phi_21", c.symbol),
-        JointDamper("damper_d", "phi_21", d.symbol),
-        JointInput("motor", "phi_m", "tau_m"),
-        BodyTorque("load", "body_2", (0, 0, -tau_l.symbol)),  # b_e = [0, -1] (3.142)
+        JointSpring("spring_c", "phi_21", c),
+        JointDamper("damper_d", "phi_21", d),
+        JointInput("motor", "phi_m", tau_m),
+        BodyTorque("load", "body_2", (0, 0, -tau_l)),  # b_e = [0, -1] (3.142)
     ),
     doc=__doc__,
 )
 
 # ----------------------------------------------------------------------------- the lecture's printed equations
-import sympy as _sp  # noqa: E402
-
-from harness.modeling.claims import Claim  # noqa: E402
-
-_p1, _p2 = phi_1.symbol, phi_2.symbol
-_w1, _w2 = phi_1.rate, phi_2.rate
-_a1, _a2 = phi_1.accel, phi_2.accel
-_Im, _I1, _I2, _ig, _c, _d = (x.symbol for x in (I_m, I_1, I_2, i_g, c, d))
-_tm, _tl = tau_m.symbol, tau_l.symbol
-
-_q, _qd, _qdd = _sp.Matrix([_p1, _p2]), _sp.Matrix([_w1, _w2]), _sp.Matrix([_a1, _a2])
-_M = _sp.diag(_I1 + _ig**2 * _Im, _I2)                  # (3.141)
-_K = _sp.Matrix([[_c, -_c], [-_c, _c]])                 # (3.142)
-_D = _sp.Matrix([[_d, -_d], [-_d, _d]])                 # (3.142)
-_b_e, _b_u = _sp.Matrix([0, -1]), _sp.Matrix([_ig, 0])  # (3.142)
+w_1, w_2, a_1, a_2 = phi_1.rate, phi_2.rate, phi_1.accel, phi_2.accel
+q, qd, qdd = Matrix([phi_1, phi_2]), Matrix([w_1, w_2]), Matrix([a_1, a_2])
+M = diag(I_1 + i_g**2 * I_m, I_2)                  # (3.141)
+K = Matrix([[c, -c], [-c, c]])                     # (3.142)
+D = Matrix([[d, -d], [-d, d]])                     # (3.142)
+b_e, b_u = Matrix([0, -1]), Matrix([i_g, 0])       # (3.142)
+_read_as = "(3.141) M q̈ + D q̇ + K q = b_e τ_l + b_u τ_m read as g = K q, f_np = −D q̇ + b_e τ_l + b_u τ_m"
 
 CLAIMS = [
-    Claim("(3.139)", "parameter", _tm * _ig - _Im * _ig**2 * _a1, "gear torque on the output side τ_1 = τ_m i_g − I_m i_g² φ̈_1",
-          reference=_I1 * _a1 + _c * (_p1 - _p2) + _d * (_w1 - _w2),
+    Claim("(3.139)", "parameter", tau_m * i_g - I_m * i_g**2 * a_1,
+          "gear torque on the output side τ_1 = τ_m i_g − I_m i_g² φ̈_1",
+          reference=I_1 * a_1 + c * (phi_1 - phi_2) + d * (w_1 - w_2),
           note="τ_1 is a constraint (gear) torque: compared with τ_1 = I_1 φ̈_1 + c (φ_1 − φ_2) + d (φ̇_1 − φ̇_2), "
                "the angular momentum balance of body 1 (3.138b), at the derived accelerations"),
-    Claim("(3.140a)", "eom", (_I1 + _ig**2 * _Im) * _a1 - (_tm * _ig - _c * (_p1 - _p2) - _d * (_w1 - _w2)),
+    Claim("(3.140a)", "eom", (I_1 + i_g**2 * I_m) * a_1 - (tau_m * i_g - c * (phi_1 - phi_2) - d * (w_1 - w_2)),
           "(I_1 + i_g² I_m) φ̈_1 = τ_m i_g − c (φ_1 − φ_2) − d (φ̇_1 − φ̇_2)", index=(0,)),
-    Claim("(3.140b)", "eom", _I2 * _a2 - (_c * (_p1 - _p2) + _d * (_w1 - _w2) - _tl),
+    Claim("(3.140b)", "eom", I_2 * a_2 - (c * (phi_1 - phi_2) + d * (w_1 - w_2) - tau_l),
           "I_2 φ̈_2 = c (φ_1 − φ_2) + d (φ̇_1 − φ̇_2) − τ_l", index=(1,)),
-    Claim("(3.141)", "M", _M, "M = diag(I_1 + i_g² I_m, I_2)"),
-    Claim("(3.141), (3.142)", "g", _K * _q, "potential forces K q (torsion spring)",
-          note="(3.141) M q̈ + D q̇ + K q = b_e τ_l + b_u τ_m read as g = K q, f_np = −D q̇ + b_e τ_l + b_u τ_m"),
-    Claim("(3.141), (3.142)", "f_np", -_D * _qd + _b_e * _tl + _b_u * _tm, "non-potential forces −D q̇ + b_e τ_l + b_u τ_m",
-          note="(3.141) M q̈ + D q̇ + K q = b_e τ_l + b_u τ_m read as g = K q, f_np = −D q̇ + b_e τ_l + b_u τ_m"),
-    Claim("(3.141)", "eom", _M * _qdd + _D * _qd + _K * _q - _b_e * _tl - _b_u * _tm,
+    Claim("(3.141)", "M", M, "M = diag(I_1 + i_g² I_m, I_2)"),
+    Claim("(3.141), (3.142)", "g", K * q, "potential forces K q (torsion spring)", note=_read_as),
+    Claim("(3.141), (3.142)", "f_np", -D * qd + b_e * tau_l + b_u * tau_m,
+          "non-potential forces −D q̇ + b_e τ_l + b_u τ_m", note=_read_as),
+    Claim("(3.141)", "eom", M * qdd + D * qd + K * q - b_e * tau_l - b_u * tau_m,
           "M q̈ + D q̇ + K q = b_e τ_l + b_u τ_m"),
 ]
-
-from harness.modeling.scenes import Constant, Scene, Step  # noqa: E402
 
 SCENES = [
     Scene("spin_up", "Example 3.16, (3.141): from rest the motor torque tau_m = 2 N m (i_g tau_m = 20 N m on "
           "body 1) spins the drive train up; the load torque tau_l = 5 N m comes on at 1 s; the shaft twists "
           "and its oscillation is damped by d", (0.0, 0.0), (0.0, 0.0), 3.0,
-          frozenset({"springs", "dampers", "inputs", "external"}),
-          inputs={"tau_m": Constant(2.0), "tau_l": Step(1.0, 5.0)}),
+          {"springs", "dampers", "inputs", "external"}, inputs={tau_m: Constant(2.0), tau_l: Step(1.0, 5.0)}),
 ]

@@ -24,46 +24,37 @@ mass on their axes) and their transverse moments of inertia never enter the dyna
 stated mass and to ``3/4`` of the axial moment (a physical tensor), as in ``drive_train``.
 """
 
-from harness.modeling.system import BodyTorque, Joint, JointDamper, JointSpring, Link, System, WORLD
-# the same parameters, inputs, coordinates and bodies as the rotor-body model (one place)
-from models.drive_train import I_1, I_2, I_m, disc_inertia, c, d, i_g, m_1, m_2, phi_1, phi_2, tau_l, tau_m
+from harness.modeling import WORLD, BodyTorque, Constant, Joint, JointDamper, JointSpring, Link, Scene, Step, System
+# the same parameters, inputs, coordinates, bodies and printed equations as the rotor-body model (one place):
+# both models must satisfy (3.139)-(3.142), one through the gear map, one through the engines' armature
+from models.drive_train import CLAIMS, I_1, I_2, I_m, c, d, disc_inertia, i_g, m_1, m_2, phi_1, phi_2, tau_l, tau_m
 
+__all__ = ["CLAIMS", "SCENES", "SYSTEM"]
 
 SYSTEM = System(
     name="drive_train_armature",
     title="Drive train (rotor inertia as armature)",
     lecture="Example 3.16; (3.136)-(3.142)",
-    parameters=(I_m, I_1, I_2, i_g, c, d, m_1, m_2),
     coordinates=(phi_1, phi_2),
     links=(
-        Link("body_1", m_1.symbol, inertia=disc_inertia(I_1.symbol), description="body 1 on the gear's output side"),
-        Link("body_2", m_2.symbol, inertia=disc_inertia(I_2.symbol), description="body 2 carrying the load torque"),
+        Link("body_1", m_1, inertia=disc_inertia(I_1), description="body 1 on the gear's output side"),
+        Link("body_2", m_2, inertia=disc_inertia(I_2), description="body 2 carrying the load torque"),
     ),
     joints=(
-        Joint("phi_1", "revolute", WORLD, "body_1", axis="z", armature=i_g.symbol**2 * I_m.symbol),  # (3.140a)
-        Joint("phi_21", "revolute", "body_1", "body_2", axis="z", phi=phi_2.symbol - phi_1.symbol),
+        Joint("phi_1", "revolute", WORLD, "body_1", axis="z", armature=i_g**2 * I_m),  # (3.140a)
+        Joint("phi_21", "revolute", "body_1", "body_2", axis="z", phi=phi_2 - phi_1),
     ),
-    gravity=None,
-    inputs=(tau_m, tau_l),
     forces=(
-        JointSpring("spring_c", "phi_21", c.symbol),
-        JointDamper("damper_d", "phi_21", d.symbol),
-        BodyTorque("motor", "body_1", (0, 0, i_g.symbol * tau_m.symbol)),  # b_u = [i_g, 0] (3.142)
-        BodyTorque("load", "body_2", (0, 0, -tau_l.symbol)),               # b_e = [0, -1] (3.142)
+        JointSpring("spring_c", "phi_21", c),
+        JointDamper("damper_d", "phi_21", d),
+        BodyTorque("motor", "body_1", (0, 0, i_g * tau_m)),  # b_u = [i_g, 0] (3.142)
+        BodyTorque("load", "body_2", (0, 0, -tau_l)),        # b_e = [0, -1] (3.142)
     ),
     doc=__doc__,
 )
 
-# ----------------------------------------------------------------------------- the lecture's printed equations
-# The same printed equations (3.139)-(3.142) as the rotor-body model, in the same symbols: both models must
-# satisfy them, one through the gear map, one through the engines' armature.
-from models.drive_train import CLAIMS  # noqa: E402,F401
-
-from harness.modeling.scenes import Constant, Scene, Step  # noqa: E402
-
 SCENES = [
     Scene("spin_up", "Example 3.16, (3.141): the scene spin_up of drive_train with the rotor inertia as "
           "armature: tau_m = 2 N m from rest, load torque tau_l = 5 N m from 1 s", (0.0, 0.0), (0.0, 0.0), 3.0,
-          frozenset({"springs", "dampers", "external"}),
-          inputs={"tau_m": Constant(2.0), "tau_l": Step(1.0, 5.0)}),
+          {"springs", "dampers", "external"}, inputs={tau_m: Constant(2.0), tau_l: Step(1.0, 5.0)}),
 ]

@@ -27,7 +27,8 @@ as claims: the other static forces (A.70)-(A.75), (A.77) and the rope and fricti
 they are constraint forces, which the harness does not compute.
 """
 
-from harness.modeling.system import Coordinate, Gravity, Inertia, Joint, JointSpring, Link, Parameter, System, WORLD
+from harness.modeling import (WORLD, Claim, Coordinate, Gravity, Inertia, Joint, JointSpring, Link, Parameter, Scene,
+                              System, standard_gravity)
 
 m_T = Parameter("m_T", 20.0, "kg", "mass of the drum")
 I_T = Parameter("I_T", 0.4, "kg m^2", "moment of inertia of the drum about its axis (through S)")
@@ -36,7 +37,7 @@ r_i = Parameter("r_i", 0.1, "m", "inner radius of the drum (carries the rope)")
 m_B = Parameter("m_B", 10.0, "kg", "mass of the block")
 c = Parameter("c", 500.0, "N/m", "stiffness of the spring at the drum's centre")
 s_f0 = Parameter("s_f0", 0.5, "m", "unstretched length of the spring")
-g = Parameter("g", 9.81, "m/s^2", "acceleration due to gravity")
+g = standard_gravity()
 
 x_T = Coordinate("x_T", "m", "position of the drum's centre")
 
@@ -44,48 +45,38 @@ SYSTEM = System(
     name="drum_hoist",
     title="Drum hoist",
     lecture="Exercise A.8; (A.76), (A.78), (A.79), (A.86)",
-    parameters=(m_T, I_T, r_a, r_i, m_B, c, s_f0, g),
     coordinates=(x_T,),
     links=(
         Link("drum_centre", description="massless frame at the drum's centre S (merged with the drum in MuJoCo)"),
-        Link("drum", m_T.symbol, (0, 0, 0), Inertia(I_T.symbol, I_T.symbol, I_T.symbol),
-             description="the drum, centre of mass on its axis"),
-        Link("block", m_B.symbol, (0, 0, 0), description="the block (point mass, only translates)"),
+        Link("drum", m_T, (0, 0, 0), Inertia(I_T, I_T, I_T), description="the drum, centre of mass on its axis"),
+        Link("block", m_B, (0, 0, 0), description="the block (point mass, only translates)"),
     ),
     joints=(
-        Joint("x_T", "prismatic", WORLD, "drum_centre", axis="x", origin=(0, -r_a.symbol, 0)),
-        Joint("phi", "revolute", "drum_centre", "drum", axis="z", phi=x_T.symbol / r_a.symbol),
-        Joint("y_B", "prismatic", WORLD, "block", axis="y", origin=(2, 0, 0),
-              phi=(r_i.symbol + r_a.symbol) / r_a.symbol * x_T.symbol),
+        Joint("x_T", "prismatic", WORLD, "drum_centre", axis="x", origin=(0, -r_a, 0)),
+        Joint("phi", "revolute", "drum_centre", "drum", axis="z", phi=x_T / r_a),
+        Joint("y_B", "prismatic", WORLD, "block", axis="y", origin=(2, 0, 0), phi=(r_i + r_a) / r_a * x_T),
     ),
-    gravity=Gravity(g.symbol, (0, 1, 0)),
-    forces=(JointSpring("spring_f", "x_T", c.symbol, s_f0.symbol),),
+    gravity=Gravity(g, (0, 1, 0)),
+    forces=(JointSpring("spring_f", "x_T", c, s_f0),),
     doc=__doc__,
 )
 
-# ----------------------------------------------------------------------------- the lecture's printed equations
-from harness.modeling.claims import Claim  # noqa: E402
-
-_x = x_T.symbol
-_mT, _IT, _ra, _ri, _mB, _c, _sf0, _g = (p.symbol for p in (m_T, I_T, r_a, r_i, m_B, c, s_f0, g))
 CLAIMS = [
-    Claim("(A.78)", "parameter", _x / _ra, "rolling: angle of the drum phi = x_T / r_a",
+    Claim("(A.78)", "parameter", x_T / r_a, "rolling: angle of the drum phi = x_T / r_a",
           reference=SYSTEM.joint("phi").phi),
-    Claim("(A.79)", "position:block", (_ri + _ra) / _ra * _x, "descent of the block y_B = (r_i + r_a)/r_a x_T",
+    Claim("(A.79)", "position:block", (r_i + r_a) / r_a * x_T, "descent of the block y_B = (r_i + r_a)/r_a x_T",
           index=(1,)),
-    Claim("(A.86)", "eom", x_T.accel - ((_ri + _ra) * _mB * _g * _ra - _c * (_x - _sf0) * _ra**2)
-          / ((_ri + _ra)**2 * _mB + _IT + _mT * _ra**2), "equation of motion solved for the acceleration",
+    Claim("(A.86)", "eom", x_T.accel - ((r_i + r_a) * m_B * g * r_a - c * (x_T - s_f0) * r_a**2)
+          / ((r_i + r_a)**2 * m_B + I_T + m_T * r_a**2), "equation of motion solved for the acceleration",
           note="printed for v_T_dot with v_T = x_T_dot: read as x_T_ddot"),
-    Claim("(A.76)", "equilibrium", _sf0 + (1 + _ri / _ra) * _mB * _g / _c,
+    Claim("(A.76)", "equilibrium", s_f0 + (1 + r_i / r_a) * m_B * g / c,
           "spring force at rest f_f = (1 + r_i/r_a) m_B g",
           note="printed as the spring force f_f; with f_f = c (x_T - s_f0) (A.85) the rest position is "
                "x_T* = s_f0 + f_f / c"),
 ]
 
-from harness.modeling.scenes import Scene  # noqa: E402
-
 SCENES = [
     Scene("release", "Exercise A.8, (A.86): released from rest with the spring relaxed (x_T = s_f0); the block "
           "sinks, the drum rolls and oscillates about the rest position x_T* = 0.794 m of (A.76), (A.85) "
-          "(conservative)", (0.5,), (0.0,), 3.0, frozenset({"gravity", "springs"})),
+          "(conservative)", (0.5,), (0.0,), 3.0, {"gravity", "springs"}),
 ]

@@ -11,50 +11,46 @@ therefore check mass, gravity and how the force enters the dynamics, *not* the d
 The drawn altitudes cover the exercise's fall from 39 km.
 """
 
-import sympy as sp
+from sympy import Abs, exp
 
-from harness.modeling.claims import Claim
-from harness.modeling.system import Coordinate, Gravity, Joint, Link, Parameter, Point, PointForce, System, WORLD
+from harness.modeling import (WORLD, Claim, Coordinate, Gravity, Joint, Link, Parameter, Point, PointForce, Scene,
+                              System, standard_gravity)
 
 m = Parameter("m", 100.0, "kg", "mass of the falling body")
 A = Parameter("A", 0.5, "m^2", "cross-sectional area")
 c_W = Parameter("c_W", 0.5, "1", "drag coefficient")
 rho_0 = Parameter("rho_0", 1.2, "kg/m^3", "air density at h = 0")
 k = Parameter("k", 9100.0, "m", "scale height of the atmosphere")
-g = Parameter("g", 9.81, "m/s^2", "acceleration due to gravity")
+g = standard_gravity()
 h = Coordinate("h", "m", "altitude above ground", range=(0.0, 40000.0))
+v = h.rate
 
-_rho = rho_0.symbol * sp.exp(-h.symbol / k.symbol)
+rho = rho_0 * exp(-h / k)
 
 SYSTEM = System(
     name="free_fall_drag",
     title="Free fall with altitude-dependent drag",
     lecture="Exercise 3.9",
     status="engines: drag applied as an external force from the model's law; mass and gravity checked",
-    parameters=(m, A, c_W, rho_0, k, g),
     coordinates=(h,),
-    links=(Link("body", m.symbol),),
+    links=(Link("body", m),),
     joints=(Joint("h", "prismatic", WORLD, "body", axis="z"),),
-    gravity=Gravity(g.symbol, (0, 0, -1)),
-    forces=(PointForce("drag", Point("body", (0, 0, 0), "body_centre"),
-                       (0, 0, -c_W.symbol * A.symbol * _rho * h.rate * sp.Abs(h.rate) / 2)),),
+    gravity=Gravity(g, (0, 0, -1)),
+    forces=(PointForce("drag", Point("body", (0, 0, 0), "body_centre"), (0, 0, -c_W * A * rho * v * Abs(v) / 2)),),
     doc=__doc__,
 )
 
 CLAIMS = [
-    Claim("Solution of Exercise 3.9", "eom",
-          m.symbol * h.accel - (-m.symbol * g.symbol + c_W.symbol * A.symbol * _rho * h.rate**2 / 2),
+    Claim("Solution of Exercise 3.9", "eom", m * h.accel - (-m * g + c_W * A * rho * v**2 / 2),
           "m v' = -m g + c_W A rho_0 exp(-h/k) v²/2",
-          conventions={"drag written for the falling body (v <= 0): v² = -v|v|": {h.rate**2: -h.rate * sp.Abs(h.rate)}}),
+          conventions={"drag written for the falling body (v <= 0): v² = -v|v|": {v**2: -v * Abs(v)}}),
 ]
-
-from harness.modeling.scenes import Scene  # noqa: E402
 
 SCENES = [
     Scene("stratosphere", "Exercise 3.9: the exercise's fall from rest at h(0) = 39 km with its parameters; "
           "gravity and the thin air's drag rho(h) = rho_0 exp(-h/k) (first 5 s)", (39000.0,), (0.0,), 5.0,
-          frozenset({"gravity", "external"})),
+          {"gravity", "external"}),
     Scene("dense_air", "Exercise 3.9: the same body at 2 km, falling at 60 m/s in dense air, accelerates "
           "towards its terminal velocity (about 90 m/s there; it reaches 78 m/s in 5 s) as the drag grows",
-          (2000.0,), (-60.0,), 5.0, frozenset({"gravity", "external"})),
+          (2000.0,), (-60.0,), 5.0, {"gravity", "external"}),
 ]

@@ -28,75 +28,68 @@ claims core has no kind for "q̈ = 0 at a printed stationary state"; (A.67) with
 
 import math
 
-from harness.modeling.system import Coordinate, Gravity, Input, Joint, JointInput, Link, Parameter, System, WORLD
+from sympy import Matrix, cos, sin
+
+from harness.modeling import (WORLD, Claim, Constant, Coordinate, Gravity, Input, Joint, JointInput, Link, Parameter,
+                              Scene, System, standard_gravity)
 
 m = Parameter("m", 2.0, "kg", "each of the two point masses")
 l = Parameter("l", 0.5, "m", "length of an arm (pin to point mass)")
 h = Parameter("h", 1.0, "m", "height of the arms' pin on the axis of rotation")
-g = Parameter("g", 9.81, "m/s^2", "acceleration due to gravity")
+g = standard_gravity()
 
+phi = Coordinate("phi", "rad", "angle of rotation about the vertical axis e_z")
 alpha = Coordinate("alpha", "rad", "angle of the arms from the downward vertical", range=(0.2, math.pi - 0.2))
+tau = Input("tau", "N m", "external torque about e_z driving the governor")
 
 SYSTEM = System(
     name="governor",
     title="Centrifugal governor",
     lecture="Exercise A.7; (A.59)-(A.67)",
-    parameters=(m, l, h, g),
-    coordinates=(Coordinate("phi", "rad", "angle of rotation about the vertical axis e_z"), alpha),
+    coordinates=(phi, alpha),
     links=(
         Link("spindle", description="massless linkage turning about e_z (merged with arm_1 in MuJoCo)"),
-        Link("arm_1", m.symbol, (0, 0, -l.symbol), description="point mass m at the end of arm 1"),
-        Link("arm_2", m.symbol, (0, 0, -l.symbol), description="point mass m at the end of arm 2"),
+        Link("arm_1", m, (0, 0, -l), description="point mass m at the end of arm 1"),
+        Link("arm_2", m, (0, 0, -l), description="point mass m at the end of arm 2"),
     ),
     joints=(
-        Joint("phi", "revolute", WORLD, "spindle", axis="z", origin=(0, 0, h.symbol)),
-        Joint("alpha_1", "revolute", "spindle", "arm_1", axis="y", phi=-alpha.symbol),
-        Joint("alpha_2", "revolute", "arm_1", "arm_2", axis="y", phi=2 * alpha.symbol),
+        Joint("phi", "revolute", WORLD, "spindle", axis="z", origin=(0, 0, h)),
+        Joint("alpha_1", "revolute", "spindle", "arm_1", axis="y", phi=-alpha),
+        Joint("alpha_2", "revolute", "arm_1", "arm_2", axis="y", phi=2 * alpha),
     ),
-    gravity=Gravity(g.symbol, (0, 0, -1)),
-    inputs=(Input("tau", "N m", "external torque about e_z driving the governor"),),
-    forces=(JointInput("drive", "phi", "tau"),),
+    gravity=Gravity(g, (0, 0, -1)),
+    forces=(JointInput("drive", "phi", tau),),
     doc=__doc__,
 )
 
 # ----------------------------------------------------------------------------- the lecture's printed equations
-import sympy as _sp  # noqa: E402
-
-from harness.modeling.claims import Claim  # noqa: E402
-
-_phi, _alpha = SYSTEM.coordinates
-_p, _a = _phi.symbol, _alpha.symbol
-_wp, _wa = _phi.rate, _alpha.rate
-_m, _l, _h, _g = m.symbol, l.symbol, h.symbol, g.symbol
-_tau = _sp.Symbol("tau", real=True)
-_sa, _ca = _sp.sin(_a), _sp.cos(_a)
+w_p, w_a = phi.rate, alpha.rate
+sa, ca = sin(alpha), cos(alpha)
 CLAIMS = [
-    Claim("(A.59)", "position:arm_1", _sp.Matrix([_l * _sa * _sp.cos(_p), _l * _sa * _sp.sin(_p), _h - _l * _ca]),
+    Claim("(A.59)", "position:arm_1", Matrix([l * sa * cos(phi), l * sa * sin(phi), h - l * ca]),
           "position of the point mass rotated by phi against the x axis"),
-    Claim("(A.62)", "T", _m * _l**2 * (_wa**2 + _wp**2 * _sa**2), "kinetic energy of both point masses",
+    Claim("(A.62)", "T", m * l**2 * (w_a**2 + w_p**2 * sa**2), "kinetic energy of both point masses",
           note="printed with omega_alpha, omega_phi: read as alpha_dot, phi_dot"),
-    Claim("(A.63)", "V", 2 * _m * _g * (_h - _l * _ca), "potential energy, zero at p_0z^m = 0"),
-    Claim("(A.65)", "f_np", _sp.Matrix([_tau, 0]), "generalized forces f_phi = tau, f_alpha = 0"),
-    Claim("(A.66a)", "eom", 2 * _m * _l**2 * (_phi.accel * _sa**2 + 2 * _wp * _wa * _sa * _ca) - 0 - _tau,
+    Claim("(A.63)", "V", 2 * m * g * (h - l * ca), "potential energy, zero at p_0z^m = 0"),
+    Claim("(A.65)", "f_np", Matrix([tau, 0]), "generalized forces f_phi = tau, f_alpha = 0"),
+    Claim("(A.66a)", "eom", 2 * m * l**2 * (phi.accel * sa**2 + 2 * w_p * w_a * sa * ca) - 0 - tau,
           "Euler-Lagrange equation of phi", index=(0,)),
-    Claim("(A.66b)", "eom", 2 * _m * _l**2 * _alpha.accel - 2 * _m * _l * _sa * (_l * _wp**2 * _ca - _g) - 0,
+    Claim("(A.66b)", "eom", 2 * m * l**2 * alpha.accel - 2 * m * l * sa * (l * w_p**2 * ca - g) - 0,
           "Euler-Lagrange equation of alpha", index=(1,)),
-    Claim("(A.67a)", "eom", 2 * _m * _l**2 * _sa**2 * _phi.accel - (_tau - 4 * _m * _l**2 * _wp * _wa * _sa * _ca),
+    Claim("(A.67a)", "eom", 2 * m * l**2 * sa**2 * phi.accel - (tau - 4 * m * l**2 * w_p * w_a * sa * ca),
           "phi_ddot solved", index=(0,),
           note="printed solved, phi_ddot = (tau - 4 m l² phi_dot alpha_dot sin cos)/(2 m l² sin²(alpha)); "
                "transcribed multiplied by the printed denominator (non-zero in the drawn states) so that the "
                "residual is a generalized force, the unit the claims core scales eom residuals in"),
-    Claim("(A.67b)", "eom", _alpha.accel - _sa * (_l * _wp**2 * _ca - _g) / _l, "alpha_ddot solved", index=(1,)),
+    Claim("(A.67b)", "eom", alpha.accel - sa * (l * w_p**2 * ca - g) / l, "alpha_ddot solved", index=(1,)),
 ]
-
-from harness.modeling.scenes import Constant, Scene  # noqa: E402
 
 SCENES = [
     Scene("spin_up", "Exercise A.7, (A.67): spinning at 5 rad/s with the arms at alpha = 0.6 rad, the torque "
           "tau = 0.5 N m speeds the governor up; the arms rise towards the steady state (A.69)", (0.0, 0.6),
-          (5.0, 0.0), 3.0, frozenset({"gravity", "inputs"}), inputs={"tau": Constant(0.5)}),
+          (5.0, 0.0), 3.0, {"gravity", "inputs"}, inputs={tau: Constant(0.5)}),
     Scene("coast", "Exercise A.7, (A.67), (A.69): coasting (tau = 0) at 6 rad/s with the arms released at "
           "alpha = 0.8 rad, below the steady angle arccos(g/(l omega^2)) = 0.99 rad; they swing up to 0.91 rad and "
           "back while phi_dot drops to 5 rad/s (angular momentum about e_z is conserved) (conservative)",
-          (0.0, 0.8), (6.0, 0.0), 3.0, frozenset({"gravity"})),
+          (0.0, 0.8), (6.0, 0.0), 3.0, {"gravity"}),
 ]

@@ -32,10 +32,10 @@ The equilibria (A.140), (A.141) ``phi_R = k pi``, ``s_R = m_2 g cos(phi_R)/c + s
 lower (``k = 0``) and the upper (``k = 1``) one; further ``k`` repeat them.
 """
 
-import sympy as sp
+from sympy import Matrix, cos, pi, sin
 
-from harness.modeling.system import (BodyTorque, Coordinate, Gravity, Inertia, Input, Joint, JointSpring, Link, Parameter,
-                           Point, PointForce, System, WORLD)
+from harness.modeling import (WORLD, BodyTorque, Claim, Coordinate, Gravity, Inertia, Input, Joint, JointSpring, Link,
+                              Parameter, Point, PointForce, Scene, Step, System, standard_gravity)
 
 m_1 = Parameter("m_1", 1.0, "kg", "mass of the hollow cylinder 1")
 l_1 = Parameter("l_1", 0.8, "m", "length of the hollow cylinder 1")
@@ -52,77 +52,67 @@ h = Parameter("h", 1.0, "m", "height of the pivot K")
 c = Parameter("c", 200.0, "N/m", "stiffness of the spring between the cylinders")
 s_0 = Parameter("s_0", 0.3, "m", "unstretched length of the spring")
 d_0 = Parameter("d_0", 50.0, "N s/m^3", "friction coefficient per contact area, d(s) = d_0 A(s)")
-g = Parameter("g", 9.81, "m/s^2", "acceleration due to gravity")
+g = standard_gravity()
 
 phi = Coordinate("phi", "rad", "angle of the cylinders from the downward vertical")
 s = Coordinate("s", "m", "distance from the pivot K to the inner end of rod 2", range=(0.0, 0.4))
-_phi, _s = phi.symbol, s.symbol
-f_d = d_0.symbol * (l_1.symbol - _s) * d_2.symbol * sp.pi * s.rate  # (A.134)
+tau_e = Input("tau_e", "N m", "external torque about e_z on cylinder 1")
+f_d = d_0 * (l_1 - s) * d_2 * pi * s.rate  # (A.134)
 
 SYSTEM = System(
     name="hollow_cylinder",
     title="Rotationally constrained hollow cylinder",
     lecture="Exercise A.12; (A.125)-(A.141)",
-    parameters=(m_1, l_1, I_xx1, I_yy1, I_zz1, m_2, l_2, d_2, I_xx2, I_yy2, I_zz2, h, c, s_0, d_0, g),
     coordinates=(phi, s),
     links=(
-        Link("cylinder_1", m_1.symbol, (0, -l_1.symbol / 2, 0), Inertia(I_xx1.symbol, I_yy1.symbol, I_zz1.symbol),
+        Link("cylinder_1", m_1, (0, -l_1 / 2, 0), Inertia(I_xx1, I_yy1, I_zz1),
              description="hollow cylinder, axis along -y of its frame"),
-        Link("rod_2", m_2.symbol, (0, -l_2.symbol / 2, 0), Inertia(I_xx2.symbol, I_yy2.symbol, I_zz2.symbol),
+        Link("rod_2", m_2, (0, -l_2 / 2, 0), Inertia(I_xx2, I_yy2, I_zz2),
              description="rod sliding in cylinder 1, frame at its inner end p_0^d"),
     ),
     joints=(
-        Joint("phi", "revolute", WORLD, "cylinder_1", axis="z", origin=(0, h.symbol, 0)),
+        Joint("phi", "revolute", WORLD, "cylinder_1", axis="z", origin=(0, h, 0)),
         Joint("s", "prismatic", "cylinder_1", "rod_2", axis=(0, -1, 0)),
     ),
-    gravity=Gravity(g.symbol, (0, -1, 0)),
-    inputs=(Input("tau_e", "N m", "external torque about e_z on cylinder 1"),),
+    gravity=Gravity(g, (0, -1, 0)),
     forces=(
-        JointSpring("spring", "s", c.symbol, s_0.symbol),
-        BodyTorque("torque_e", "cylinder_1", (0, 0, sp.Symbol("tau_e", real=True))),
-        PointForce("friction_d", Point("rod_2", (0, 0, 0), "d"), (-f_d * sp.sin(_phi), f_d * sp.cos(_phi), 0)),
+        JointSpring("spring", "s", c, s_0),
+        BodyTorque("torque_e", "cylinder_1", (0, 0, tau_e)),
+        PointForce("friction_d", Point("rod_2", (0, 0, 0), "d"), (-f_d * sin(phi), f_d * cos(phi), 0)),
     ),
     doc=__doc__,
 )
 
 # ----------------------------------------------------------------------------- the lecture's printed equations
-from harness.modeling.claims import Claim  # noqa: E402
-
-_wp, _ws = phi.rate, s.rate
-_m1, _l1, _m2, _l2, _h, _c, _s0, _g = (p.symbol for p in (m_1, l_1, m_2, l_2, h, c, s_0, g))
-_I1, _I2 = I_zz1.symbol, I_zz2.symbol
-_tau_e = sp.Symbol("tau_e", real=True)
-_f_d = d_0.symbol * (_l1 - _s) * d_2.symbol * sp.pi * _ws
-_e = sp.Matrix([sp.sin(_phi), -sp.cos(_phi), 0])
-_K = sp.Matrix([0, _h, 0])
+w_p, w_s = phi.rate, s.rate
+e = Matrix([sin(phi), -cos(phi), 0])
+K = Matrix([0, h, 0])
+_I_note = "I_{1,zz}^{(S)}, I_{2,zz}^{(S)} read as I_zz1, I_zz2"
 CLAIMS = [
-    Claim("(A.125)", "position:cylinder_1", _K + _l1 / 2 * _e, "centre of mass of the hollow cylinder"),
-    Claim("(A.126)", "position:rod_2", _K + (_s + _l2 / 2) * _e, "centre of mass of the rod"),
-    Claim("(A.135)", "position:d", sp.Matrix([_s * sp.sin(_phi), _h - _s * sp.cos(_phi), 0]),
+    Claim("(A.125)", "position:cylinder_1", K + l_1 / 2 * e, "centre of mass of the hollow cylinder"),
+    Claim("(A.126)", "position:rod_2", K + (s + l_2 / 2) * e, "centre of mass of the rod"),
+    Claim("(A.135)", "position:d", Matrix([s * sin(phi), h - s * cos(phi), 0]),
           "point of application of the friction force"),
-    Claim("(A.128), (A.129)", "T", (_I1 + _I2) * _wp**2 / 2 + _m1 * _l1**2 * _wp**2 / 8
-          + _m2 * (_ws**2 + _wp**2 * (_s + _l2 / 2)**2) / 2, "kinetic energy T = T_r + T_t1 + T_t2",
-          note="I_{1,zz}^{(S)}, I_{2,zz}^{(S)} read as I_zz1, I_zz2"),
-    Claim("(A.130), (A.131)", "V", _c * (_s - _s0)**2 / 2 + _m1 * _g * (_h - _l1 / 2 * sp.cos(_phi))
-          + _m2 * _g * (_h - (_s + _l2 / 2) * sp.cos(_phi)), "potential energy V = V_f + V_1 + V_2"),
-    Claim("(A.138)", "f_np", sp.Matrix([_tau_e, -_f_d]), "generalized forces f_phi = tau_e, f_s = -f_d",
+    Claim("(A.128), (A.129)", "T", (I_zz1 + I_zz2) * w_p**2 / 2 + m_1 * l_1**2 * w_p**2 / 8
+          + m_2 * (w_s**2 + w_p**2 * (s + l_2 / 2)**2) / 2, "kinetic energy T = T_r + T_t1 + T_t2", note=_I_note),
+    Claim("(A.130), (A.131)", "V", c * (s - s_0)**2 / 2 + m_1 * g * (h - l_1 / 2 * cos(phi))
+          + m_2 * g * (h - (s + l_2 / 2) * cos(phi)), "potential energy V = V_f + V_1 + V_2"),
+    Claim("(A.138)", "f_np", Matrix([tau_e, -f_d]), "generalized forces f_phi = tau_e, f_s = -f_d",
           note="f_d from (A.134): d_0 (l_1 - s) d_2 pi s_dot"),
-    Claim("(A.139a)", "eom", (_m1 * _l1**2 / 4 + _m2 * (_s + _l2 / 2)**2 + _I1 + _I2) * phi.accel
-          + 2 * _m2 * (_s + _l2 / 2) * _wp * _ws + _g * (_m1 * _l1 / 2 + _m2 * (_s + _l2 / 2)) * sp.sin(_phi) - _tau_e,
-          "equation of motion of phi", index=(0,), note="I_{1,zz}^{(S)}, I_{2,zz}^{(S)} read as I_zz1, I_zz2"),
-    Claim("(A.139b)", "eom", _m2 * s.accel + _c * (_s - _s0) - _m2 * _g * sp.cos(_phi) - _m2 * _wp**2 * (_s + _l2 / 2)
-          - (-_f_d), "equation of motion of s", index=(1,), note="f_d from (A.134)"),
-    Claim("(A.140), (A.141) k = 0", "equilibrium", sp.Matrix([0, _m2 * _g * sp.cos(0) / _c + _s0]),
+    Claim("(A.139a)", "eom", (m_1 * l_1**2 / 4 + m_2 * (s + l_2 / 2)**2 + I_zz1 + I_zz2) * phi.accel
+          + 2 * m_2 * (s + l_2 / 2) * w_p * w_s + g * (m_1 * l_1 / 2 + m_2 * (s + l_2 / 2)) * sin(phi) - tau_e,
+          "equation of motion of phi", index=(0,), note=_I_note),
+    Claim("(A.139b)", "eom", m_2 * s.accel + c * (s - s_0) - m_2 * g * cos(phi) - m_2 * w_p**2 * (s + l_2 / 2)
+          - (-f_d), "equation of motion of s", index=(1,), note="f_d from (A.134)"),
+    Claim("(A.140), (A.141) k = 0", "equilibrium", Matrix([0, m_2 * g * cos(0) / c + s_0]),
           "lower equilibrium phi_R = 0, s_R = m_2 g cos(phi_R)/c + s_0 = s_0 + m_2 g/c (tau_e = 0)"),
-    Claim("(A.140), (A.141) k = 1", "equilibrium", sp.Matrix([sp.pi, _m2 * _g * sp.cos(sp.pi) / _c + _s0]),
+    Claim("(A.140), (A.141) k = 1", "equilibrium", Matrix([pi, m_2 * g * cos(pi) / c + s_0]),
           "upper equilibrium phi_R = pi, s_R = m_2 g cos(phi_R)/c + s_0 = s_0 - m_2 g/c (tau_e = 0)"),
 ]
-
-from harness.modeling.scenes import Scene, Step  # noqa: E402
 
 SCENES = [
     Scene("swing", "Exercise A.12, (A.139): released from rest at phi = 0.6 rad with the rod at s = 0.25 m; the "
           "rod slides against the spring and the contact-area friction (A.134); the torque tau_e = 2 N m steps on "
-          "at 1.5 s", (0.6, 0.25), (0.0, 0.0), 3.0, frozenset({"gravity", "springs", "external"}),
-          inputs={"tau_e": Step(1.5, 2.0)}),
+          "at 1.5 s", (0.6, 0.25), (0.0, 0.0), 3.0, {"gravity", "springs", "external"},
+          inputs={tau_e: Step(1.5, 2.0)}),
 ]

@@ -35,6 +35,7 @@ from importlib import metadata
 
 from harness.errors import ModelError
 from harness.files.from_urdf import from_urdf
+from harness.modeling import Scene
 
 PACKAGE, VERSION = "example-robot-data", "6.0.0"
 URDF_PATH = "cmeel.prefix/share/example-robot-data/robots/panda_description/urdf/panda.urdf"
@@ -61,13 +62,9 @@ SYSTEM = from_urdf(
     doc=__doc__,
 )
 
-# ----------------------------------------------------------------------------- scenes
-from harness.modeling.scenes import Scene  # noqa: E402
-
 SCENES = [
     Scene("fall", "Example 1.2: the arm released from the package's ready pose (q = 0, -0.785, 0, -2.356, 0, 1.571, "
           "0.785) with its brakes open and no joint torques: it falls under gravity alone (conservative); 0.5 s "
-          "keeps it far from its joint limits, which the model does not have", (0.0, -0.785, 0.0, -2.356, 0.0, 1.571,
-                                                                                 0.785), (0.0,) * 7, 0.5,
-          frozenset({"gravity"})),
+          "keeps it far from its joint limits, which the model does not have",
+          (0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785), (0.0,) * 7, 0.5, {"gravity"}),
 ]

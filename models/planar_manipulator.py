@@ -14,8 +14,10 @@ models the axial element and reports (5.109)/(5.110) against it. Viscous frictio
 motor torques ``tau_1``, ``tau_2`` in joints 1 and 2 (5.111).
 """
 
-from harness.modeling.system import (Coordinate, Damper, Gravity, Inertia, Input, Joint, JointDamper, JointInput, Link,
-                           Parameter, Point, Spring, System, WORLD)
+from sympy import Matrix, cos, sin
+
+from harness.modeling import (WORLD, Claim, Constant, Coordinate, Damper, Gravity, Inertia, Input, Joint, JointDamper,
+                              JointInput, Link, Parameter, Point, Scene, Spring, Step, System, standard_gravity)
 
 m_1 = Parameter("m_1", 2.0, "kg", "mass of link 1")
 m_2 = Parameter("m_2", 1.5, "kg", "mass of link 2")
@@ -35,75 +37,64 @@ d_e = Parameter("d_e", 5.0, "N s/m", "damping coefficient of the damper end effe
 d_2 = Parameter("d_2", 0.3, "N m s/rad", "viscous friction in joint 2")
 l_0A = Parameter("l_0A", 1.2, "m", "x position of bearing A")
 h_0A = Parameter("h_0A", -0.6, "m", "y position of bearing A", assumption="real")
-g = Parameter("g", 9.81, "m/s^2", "acceleration due to gravity")
+g = standard_gravity()
 
-end_effector = Point("link_2", (l_2.symbol, 0, 0), "e2")
-bearing_A = Point(WORLD, (l_0A.symbol, h_0A.symbol, 0), "A")
+phi_1 = Coordinate("phi_1", "rad", "angle of link 1 against x_0")
+phi_2 = Coordinate("phi_2", "rad", "angle of link 2 relative to link 1")
+tau_1 = Input("tau_1", "N m", "motor torque in joint 1")
+tau_2 = Input("tau_2", "N m", "motor torque in joint 2")
+
+end_effector = Point("link_2", (l_2, 0, 0), "e2")
+bearing_A = Point(WORLD, (l_0A, h_0A, 0), "A")
 
 SYSTEM = System(
     name="planar_manipulator",
     title="Planar manipulator",
     lecture="Examples 4.1, 4.3, 5.1, 5.5; (4.35), (5.22)-(5.30), (5.109)-(5.112)",
-    parameters=(m_1, m_2, l_1, l_2, l_s1, l_s2, I_xx1, I_yy1, I_zz1, I_xx2, I_yy2, I_zz2,
-                c_e, s_0e, d_e, d_2, l_0A, h_0A, g),
-    coordinates=(Coordinate("phi_1", "rad", "angle of link 1 against x_0"),
-                 Coordinate("phi_2", "rad", "angle of link 2 relative to link 1")),
+    coordinates=(phi_1, phi_2),
     links=(
-        Link("link_1", m_1.symbol, (l_s1.symbol, 0, 0), Inertia(I_xx1.symbol, I_yy1.symbol, I_zz1.symbol)),
-        Link("link_2", m_2.symbol, (l_s2.symbol, 0, 0), Inertia(I_xx2.symbol, I_yy2.symbol, I_zz2.symbol)),
+        Link("link_1", m_1, (l_s1, 0, 0), Inertia(I_xx1, I_yy1, I_zz1)),
+        Link("link_2", m_2, (l_s2, 0, 0), Inertia(I_xx2, I_yy2, I_zz2)),
     ),
     joints=(
         Joint("phi_1", "revolute", WORLD, "link_1", axis="z"),
-        Joint("phi_2", "revolute", "link_1", "link_2", axis="z", origin=(l_1.symbol, 0, 0)),
+        Joint("phi_2", "revolute", "link_1", "link_2", axis="z", origin=(l_1, 0, 0)),
     ),
-    gravity=Gravity(g.symbol, (0, -1, 0)),
-    inputs=(Input("tau_1", "N m", "motor torque in joint 1"), Input("tau_2", "N m", "motor torque in joint 2")),
+    gravity=Gravity(g, (0, -1, 0)),
     forces=(
-        Spring("spring_e", bearing_A, end_effector, c_e.symbol, s_0e.symbol),
-        Damper("damper_e", bearing_A, end_effector, d_e.symbol),
-        JointDamper("friction_2", "phi_2", d_2.symbol),
-        JointInput("motor_1", "phi_1", "tau_1"),
-        JointInput("motor_2", "phi_2", "tau_2"),
+        Spring("spring_e", bearing_A, end_effector, c_e, s_0e),
+        Damper("damper_e", bearing_A, end_effector, d_e),
+        JointDamper("friction_2", "phi_2", d_2),
+        JointInput("motor_1", "phi_1", tau_1),
+        JointInput("motor_2", "phi_2", tau_2),
     ),
     doc=__doc__,
 )
 
 # ----------------------------------------------------------------------------- the lecture's printed equations
-import sympy as _sp  # noqa: E402
-
-from harness.modeling.claims import Claim  # noqa: E402
-
-_p1, _p2 = (c.symbol for c in SYSTEM.coordinates)
-_w1, _w2 = (c.rate for c in SYSTEM.coordinates)
-_c2, _s2 = _sp.cos(_p2), _sp.sin(_p2)
-_m1, _m2, _l1, _l2, _ls1, _ls2 = (x.symbol for x in (m_1, m_2, l_1, l_2, l_s1, l_s2))
-_Izz1, _Izz2 = I_zz1.symbol, I_zz2.symbol
+w_1, w_2 = phi_1.rate, phi_2.rate
+c_2, s_2 = cos(phi_2), sin(phi_2)
 CLAIMS = [
-    Claim("(4.35a)", "position:link_1", _sp.Matrix([_ls1 * _sp.cos(_p1), _ls1 * _sp.sin(_p1), 0]),
-          "centre of mass of link 1"),
-    Claim("(4.35b)", "position:link_2", _sp.Matrix([_l1 * _sp.cos(_p1) + _ls2 * _sp.cos(_p1 + _p2),
-                                                    _l1 * _sp.sin(_p1) + _ls2 * _sp.sin(_p1 + _p2), 0]),
+    Claim("(4.35a)", "position:link_1", Matrix([l_s1 * cos(phi_1), l_s1 * sin(phi_1), 0]), "centre of mass of link 1"),
+    Claim("(4.35b)", "position:link_2", Matrix([l_1 * cos(phi_1) + l_s2 * cos(phi_1 + phi_2),
+                                                l_1 * sin(phi_1) + l_s2 * sin(phi_1 + phi_2), 0]),
           "centre of mass of link 2"),
-    Claim("(4.35c)", "position:e2", _sp.Matrix([_l1 * _sp.cos(_p1) + _l2 * _sp.cos(_p1 + _p2),
-                                                _l1 * _sp.sin(_p1) + _l2 * _sp.sin(_p1 + _p2), 0]),
+    Claim("(4.35c)", "position:e2", Matrix([l_1 * cos(phi_1) + l_2 * cos(phi_1 + phi_2),
+                                            l_1 * sin(phi_1) + l_2 * sin(phi_1 + phi_2), 0]),
           "end effector", note="printed with l_e2; (4.34) defines the end effector at l_2: read as l_2"),
-    Claim("(5.27)", "M", _sp.Matrix([
-        [_m1 * _ls1**2 + _m2 * (_l1**2 + 2 * _l1 * _ls2 * _c2 + _ls2**2) + _Izz1 + _Izz2,
-         _m2 * _ls2 * (_ls2 + _l1 * _c2) + _Izz2],
-        [_m2 * _ls2 * (_ls2 + _l1 * _c2) + _Izz2, _m2 * _ls2**2 + _Izz2]]), "mass matrix"),
-    Claim("(5.112)", "C", _sp.Matrix([
-        [-_m2 * _l1 * _ls2 * _s2 * _w2, -_m2 * _l1 * _ls2 * _s2 * (_w1 + _w2)],
-        [-_m2 * _l1 * _ls2 * _s2 * _w1, 0]]), "Coriolis matrix 'for checking'"),
+    Claim("(5.27)", "M", Matrix([
+        [m_1 * l_s1**2 + m_2 * (l_1**2 + 2 * l_1 * l_s2 * c_2 + l_s2**2) + I_zz1 + I_zz2,
+         m_2 * l_s2 * (l_s2 + l_1 * c_2) + I_zz2],
+        [m_2 * l_s2 * (l_s2 + l_1 * c_2) + I_zz2, m_2 * l_s2**2 + I_zz2]]), "mass matrix"),
+    Claim("(5.112)", "C", Matrix([
+        [-m_2 * l_1 * l_s2 * s_2 * w_2, -m_2 * l_1 * l_s2 * s_2 * (w_1 + w_2)],
+        [-m_2 * l_1 * l_s2 * s_2 * w_1, 0]]), "Coriolis matrix 'for checking'"),
 ]
-
-# ----------------------------------------------------------------------------- scenes
-from harness.modeling.scenes import Constant, Scene, Step  # noqa: E402
 
 SCENES = [
     Scene("driven", "Example 5.5: tau_1 steps to 5 N m at 0.6 s, tau_2 = -1 N m, against the spring c_e, the "
           "damper d_e and the joint friction d_2", (0.3, -0.7), (0.0, 0.0), 3.0,
-          frozenset({"gravity", "springs", "dampers", "inputs"}),
-          inputs={"tau_1": Step(0.6, 5.0), "tau_2": Constant(-1.0)}),
+          {"gravity", "springs", "dampers", "inputs"}, inputs={tau_1: Step(0.6, 5.0), tau_2: Constant(-1.0)}),
     Scene("swing", "Examples 4.1/5.1: free swing under gravity alone (conservative)", (0.3, -0.7), (0.0, 0.0), 3.0,
-          frozenset({"gravity"})),
+          {"gravity"}),
 ]

@@ -15,54 +15,46 @@ contain it and are not transcribed; (3.49b) is checked as the rope force from th
 ``m_2`` (3.45b), ``f_S = m_2 g − m_2 Δz̈_2``, at the derived acceleration.
 """
 
-from harness.modeling.system import Coordinate, Gravity, Joint, Link, Parameter, System, WORLD
+from harness.modeling import WORLD, Claim, Coordinate, Gravity, Joint, Link, Parameter, Scene, System, standard_gravity
 
 m_1 = Parameter("m_1", 2.0, "kg", "mass on the movable pulley")
 m_2 = Parameter("m_2", 1.5, "kg", "mass on the free end of the rope")
 z_10 = Parameter("z_10", 1.0, "m", "position of m_1 at t = 0 (downward from the ceiling)", assumption="real")
 z_20 = Parameter("z_20", 1.5, "m", "position of m_2 at t = 0 (downward from the ceiling)", assumption="real")
-g = Parameter("g", 9.81, "m/s^2", "acceleration due to gravity")
+g = standard_gravity()
 
 Delta_z_2 = Coordinate("Delta_z_2", "m", "displacement of m_2 from z_20 (downward)")
-_dz2 = Delta_z_2.symbol
 
 SYSTEM = System(
     name="pulley",
     title="Pulley system with two masses",
     lecture="Example 3.6; (3.45)-(3.49)",
-    parameters=(m_1, m_2, z_10, z_20, g),
     coordinates=(Delta_z_2,),
     links=(
-        Link("mass_1", m_1.symbol, description="point mass m_1 on the movable pulley"),
-        Link("mass_2", m_2.symbol, description="point mass m_2 on the free end of the rope"),
+        Link("mass_1", m_1, description="point mass m_1 on the movable pulley"),
+        Link("mass_2", m_2, description="point mass m_2 on the free end of the rope"),
     ),
     joints=(
-        Joint("z_1", "prismatic", WORLD, "mass_1", axis="z", phi=z_10.symbol - _dz2 / 2),  # (3.47)
-        Joint("z_2", "prismatic", WORLD, "mass_2", axis="z", phi=z_20.symbol + _dz2),      # (3.47)
+        Joint("z_1", "prismatic", WORLD, "mass_1", axis="z", phi=z_10 - Delta_z_2 / 2),  # (3.47)
+        Joint("z_2", "prismatic", WORLD, "mass_2", axis="z", phi=z_20 + Delta_z_2),      # (3.47)
     ),
-    gravity=Gravity(g.symbol, (0, 0, 1)),  # z points downward
+    gravity=Gravity(g, (0, 0, 1)),  # z points downward
     doc=__doc__,
 )
 
-# ----------------------------------------------------------------------------- the lecture's printed equations
-from harness.modeling.claims import Claim  # noqa: E402
-
-_m1, _m2, _g = m_1.symbol, m_2.symbol, g.symbol
 CLAIMS = [
-    Claim("(3.47a)", "position:mass_2", z_20.symbol + _dz2, "z_2 = z_20 + Δz_2", index=(2,)),
-    Claim("(3.47b)", "position:mass_1", z_10.symbol - _dz2 / 2, "z_1 = z_10 − Δz_2/2", index=(2,)),
-    Claim("(3.49a)", "eom", Delta_z_2.accel - 2 * _g * (2 * _m2 - _m1) / (_m1 + 4 * _m2),
+    Claim("(3.47a)", "position:mass_2", z_20 + Delta_z_2, "z_2 = z_20 + Δz_2", index=(2,)),
+    Claim("(3.47b)", "position:mass_1", z_10 - Delta_z_2 / 2, "z_1 = z_10 − Δz_2/2", index=(2,)),
+    Claim("(3.49a)", "eom", Delta_z_2.accel - 2 * g * (2 * m_2 - m_1) / (m_1 + 4 * m_2),
           "d²/dt² Δz_2 = 2 g (2 m_2 − m_1)/(m_1 + 4 m_2)"),
-    Claim("(3.49b)", "parameter", 3 * _m1 * _m2 * _g / (4 * _m2 + _m1), "rope force f_S = 3 m_1 m_2 g/(4 m_2 + m_1)",
-          reference=_m2 * _g - _m2 * Delta_z_2.accel,
+    Claim("(3.49b)", "parameter", 3 * m_1 * m_2 * g / (4 * m_2 + m_1), "rope force f_S = 3 m_1 m_2 g/(4 m_2 + m_1)",
+          reference=m_2 * g - m_2 * Delta_z_2.accel,
           note="f_S is a constraint force: compared with f_S = m_2 g − m_2 Δz̈_2 from (3.45b), (3.46) at the "
                "derived acceleration"),
 ]
 
-from harness.modeling.scenes import Scene  # noqa: E402
-
 SCENES = [
     Scene("release", "Example 3.6, (3.49): both masses released from rest, gravity only; m_2 (1.5 kg) sinks and "
           "lifts m_1 (2 kg) on the movable pulley, uniform acceleration (conservative)", (0.0,), (0.0,), 2.0,
-          frozenset({"gravity"})),
+          {"gravity"}),
 ]

@@ -16,11 +16,10 @@ The lecture allows a velocity-dependent suspension damping ``d_A(v_RA)``; the mo
 (the engines' joint damping is linear). A nonlinear damper law belongs to the scenes.
 """
 
-import sympy as sp
+from sympy import Matrix
 
-from harness.modeling.claims import Claim
-from harness.modeling.system import (Coordinate, Gravity, Input, Joint, JointDamper, JointSpring, Link, Parameter, Point,
-                           PointForce, System, WORLD)
+from harness.modeling import (WORLD, Bump, Claim, Coordinate, Gravity, Input, Joint, JointDamper, JointSpring, Link,
+                              Parameter, Point, PointForce, Scene, System, standard_gravity)
 
 m_A = Parameter("m_A", 400.0, "kg", "quarter of the vehicle body mass")
 m_R = Parameter("m_R", 40.0, "kg", "wheel mass")
@@ -28,7 +27,7 @@ c_A = Parameter("c_A", 2.0e4, "N/m", "suspension spring stiffness")
 d_A = Parameter("d_A", 1.5e3, "N s/m", "suspension damping (constant, see docstring)")
 c_R = Parameter("c_R", 2.0e5, "N/m", "tyre stiffness")
 d_R = Parameter("d_R", 1.0e2, "N s/m", "tyre damping")
-g = Parameter("g", 9.81, "m/s^2", "acceleration due to gravity")
+g = standard_gravity()
 
 x_U = Input("x_U", "m", "road displacement x_U(t)")
 v_U = Input("v_U", "m/s", "road velocity dx_U/dt")
@@ -39,46 +38,37 @@ SYSTEM = System(
     name="quarter_car",
     title="Quarter-car vertical model",
     lecture="Exercise A.4; (A.38)-(A.42)",
-    parameters=(m_A, m_R, c_A, d_A, c_R, d_R, g),
     coordinates=(x_R, x_A),
-    links=(Link("wheel", m_R.symbol, description="lumped wheel mass"),
-           Link("body", m_A.symbol, description="lumped body mass")),
-    joints=(Joint("wheel_z", "prismatic", WORLD, "wheel", axis="z", phi=x_R.symbol),
-            Joint("suspension", "prismatic", "wheel", "body", axis="z", phi=x_A.symbol - x_R.symbol)),
-    gravity=Gravity(g.symbol, (0, 0, -1)),
-    inputs=(x_U, v_U),
+    links=(Link("wheel", m_R, description="lumped wheel mass"), Link("body", m_A, description="lumped body mass")),
+    joints=(Joint("wheel_z", "prismatic", WORLD, "wheel", axis="z", phi=x_R),
+            Joint("suspension", "prismatic", "wheel", "body", axis="z", phi=x_A - x_R)),
+    gravity=Gravity(g, (0, 0, -1)),
     forces=(
-        JointSpring("tyre_spring", "wheel_z", c_R.symbol),
-        JointDamper("tyre_damper", "wheel_z", d_R.symbol),
-        PointForce("road", Point("wheel", (0, 0, 0), "wheel_centre"),
-                   (0, 0, c_R.symbol * x_U.symbol + d_R.symbol * v_U.symbol)),
-        JointSpring("suspension_spring", "suspension", c_A.symbol),
-        JointDamper("suspension_damper", "suspension", d_A.symbol),
+        JointSpring("tyre_spring", "wheel_z", c_R),
+        JointDamper("tyre_damper", "wheel_z", d_R),
+        PointForce("road", Point("wheel", (0, 0, 0), "wheel_centre"), (0, 0, c_R * x_U + d_R * v_U)),
+        JointSpring("suspension_spring", "suspension", c_A),
+        JointDamper("suspension_damper", "suspension", d_A),
     ),
     doc=__doc__,
 )
 
 # ----------------------------------------------------------------------------- the lecture's printed equations
-_f_cA = c_A.symbol * (x_R.symbol - x_A.symbol)
-_f_dA = d_A.symbol * (x_R.rate - x_A.rate)
-_f_cR = c_R.symbol * (x_U.symbol - x_R.symbol)
-_f_dR = d_R.symbol * (v_U.symbol - x_R.rate)
-_mass_g = (m_A.symbol + m_R.symbol) * g.symbol
+f_cA = c_A * (x_R - x_A)
+f_dA = d_A * (x_R.rate - x_A.rate)
+f_cR = c_R * (x_U - x_R)
+f_dR = d_R * (v_U - x_R.rate)
+mass_g = (m_A + m_R) * g
 CLAIMS = [
-    Claim("(A.39a)", "eom", m_A.symbol * x_A.accel - (_f_cA + _f_dA - m_A.symbol * g.symbol), "body", index=(1,)),
-    Claim("(A.39b)", "eom", m_R.symbol * x_R.accel - (_f_cR + _f_dR - _f_cA - _f_dA - m_R.symbol * g.symbol),
-          "wheel", index=(0,)),
+    Claim("(A.39a)", "eom", m_A * x_A.accel - (f_cA + f_dA - m_A * g), "body", index=(1,)),
+    Claim("(A.39b)", "eom", m_R * x_R.accel - (f_cR + f_dR - f_cA - f_dA - m_R * g), "wheel", index=(0,)),
     Claim("(A.41), (A.42)", "equilibrium",
-          sp.Matrix([-_mass_g / c_R.symbol, -_mass_g / c_R.symbol - m_A.symbol * g.symbol / c_A.symbol]),
-          "static deflections for x_U = 0"),
+          Matrix([-mass_g / c_R, -mass_g / c_R - m_A * g / c_A]), "static deflections for x_U = 0"),
 ]
-
-# ----------------------------------------------------------------------------- scenes
-from harness.modeling.scenes import Bump, Scene  # noqa: E402
 
 _rest = (-(400.0 + 40.0) * 9.81 / 2.0e5, -(400.0 + 40.0) * 9.81 / 2.0e5 - 400.0 * 9.81 / 2.0e4)  # (A.41), (A.42)
 SCENES = [
     Scene("bump", "Exercise A.4: from the static deflection over a 5 cm road bump of 0.2 s", _rest, (0.0, 0.0), 2.0,
-          frozenset({"gravity", "springs", "dampers", "external"}),
-          inputs={"x_U": Bump(0.05, 0.3, 0.2), "v_U": Bump(0.05, 0.3, 0.2, rate=True)}),
+          {"gravity", "springs", "dampers", "external"},
+          inputs={x_U: Bump(0.05, 0.3, 0.2), v_U: Bump(0.05, 0.3, 0.2, rate=True)}),
 ]

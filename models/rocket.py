@@ -11,12 +11,12 @@ rigid body and is not simulated: the burn scene holds the mass at the parameter'
 in it are 4 % of the mass; its description says so).
 """
 
-from harness.modeling.claims import Claim
-from harness.modeling.system import Coordinate, Gravity, Input, Joint, Link, Parameter, Point, PointForce, System, WORLD
+from harness.modeling import (WORLD, Claim, Coordinate, Gravity, Input, Joint, Link, Parameter, Point, PointForce,
+                              Scene, Step, System, standard_gravity)
 
 m = Parameter("m", 500.0, "kg", "current mass of the rocket m(t) = m_0 - m_f(t)")
 w = Parameter("w", 2500.0, "m/s", "relative velocity of the ejected fuel")
-g = Parameter("g", 9.81, "m/s^2", "gravitational acceleration")
+g = standard_gravity()
 u = Input("u", "kg/s", "fuel ejection rate dm_f/dt")
 h = Coordinate("h", "m", "height above the Earth's surface", range=(0.0, 1.0e5))
 
@@ -25,26 +25,19 @@ SYSTEM = System(
     title="Single-stage rocket (instantaneous mass)",
     lecture="Exercise 3.6",
     status="engines: instantaneous dynamics at the current mass; mass depletion m' = -u not simulated",
-    parameters=(m, w, g),
     coordinates=(h,),
-    links=(Link("rocket", m.symbol),),
+    links=(Link("rocket", m),),
     joints=(Joint("h", "prismatic", WORLD, "rocket", axis="z"),),
-    gravity=Gravity(g.symbol, (0, 0, -1)),
-    inputs=(u,),
-    forces=(PointForce("thrust", Point("rocket", (0, 0, 0), "nozzle"), (0, 0, w.symbol * u.symbol)),),
+    gravity=Gravity(g, (0, 0, -1)),
+    forces=(PointForce("thrust", Point("rocket", (0, 0, 0), "nozzle"), (0, 0, w * u)),),
     doc=__doc__,
 )
 
-CLAIMS = [
-    Claim("Solution of Exercise 3.6", "eom", h.accel - (-g.symbol + w.symbol * u.symbol / m.symbol),
-          "v' = -g + w u / m"),
-]
-
-from harness.modeling.scenes import Scene, Step  # noqa: E402
+CLAIMS = [Claim("Solution of Exercise 3.6", "eom", h.accel - (-g + w * u / m), "v' = -g + w u / m")]
 
 SCENES = [
     Scene("burn", "Exercise 3.6: lift-off from rest at h = 0, fuel ejection rate u = 4 kg/s (thrust w u = 10 kN) "
           "throttled up to 6 kg/s at 2 s. The mass m is the parameter at its current value (500 kg): mass "
           "depletion m' = -u (here 20 kg, 4 %) is not modeled in the engines", (0.0,), (0.0,), 4.0,
-          frozenset({"gravity", "external"}), inputs={"u": Step(2.0, 6.0, before=4.0)}),
+          {"gravity", "external"}, inputs={u: Step(2.0, 6.0, before=4.0)}),
 ]

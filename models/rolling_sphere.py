@@ -11,59 +11,51 @@ friction the contact must transmit, and slipping below the threshold) is a conta
 with the scenes, where MuJoCo simulates the sphere on the plane with friction on both sides of the threshold.
 """
 
-import sympy as sp
+from sympy import Rational, sin, tan
 
-from harness.modeling.claims import Claim
-from harness.modeling.system import Coordinate, Gravity, Inertia, Joint, Link, Parameter, System, WORLD
+from harness.modeling import (WORLD, Claim, Coordinate, Gravity, Inertia, Joint, Link, Parameter, RollSlip, Scene,
+                              System, standard_gravity)
 
 m = Parameter("m", 2.0, "kg", "mass of the sphere")
 R = Parameter("R", 0.1, "m", "radius of the sphere")
 alpha = Parameter("alpha", 0.35, "rad", "inclination of the plane")
-g = Parameter("g", 9.81, "m/s^2", "acceleration due to gravity")
+g = standard_gravity()
 phi = Coordinate("phi", "rad", "rolling angle of the sphere (positive rolling down the slope)")
 
-_I = sp.Rational(2, 5) * m.symbol * R.symbol**2
+I = Rational(2, 5) * m * R**2
 
 SYSTEM = System(
     name="rolling_sphere",
     title="Sphere rolling down an inclined plane",
     lecture="Exercise 3.17; rolling condition mu_H >= 2/7 tan(alpha)",
     status="rolling branch; slipping below mu_H = 2/7 tan(alpha) left to the scenes",
-    parameters=(m, R, alpha, g),
     coordinates=(phi,),
     links=(Link("carrier", 0, description="massless frame at the sphere's centre, sliding along the slope"),
-           Link("sphere", m.symbol, inertia=Inertia(_I, _I, _I))),
-    joints=(Joint("x", "prismatic", WORLD, "carrier", axis="x", rpy=(0, alpha.symbol, 0),
-                  phi=R.symbol * phi.symbol),
-            Joint("roll", "revolute", "carrier", "sphere", axis="y", phi=phi.symbol)),
-    gravity=Gravity(g.symbol, (0, 0, -1)),
+           Link("sphere", m, inertia=Inertia(I, I, I))),
+    joints=(Joint("x", "prismatic", WORLD, "carrier", axis="x", rpy=(0, alpha, 0), phi=R * phi),
+            Joint("roll", "revolute", "carrier", "sphere", axis="y", phi=phi)),
+    gravity=Gravity(g, (0, 0, -1)),
     doc=__doc__,
 )
 
 CLAIMS = [
-    Claim("Exercise 3.17", "eom", phi.accel - sp.Rational(5, 7) / R.symbol * g.symbol * sp.sin(alpha.symbol),
+    Claim("Exercise 3.17", "eom", phi.accel - Rational(5, 7) / R * g * sin(alpha),
           "phi'' = 5/(7R) g sin(alpha) while rolling"),
 ]
-
-# ----------------------------------------------------------------------------- scenes
-from harness.modeling.scenes import Scene  # noqa: E402
-from harness.modeling.events import RollSlip  # noqa: E402
-
-_threshold = sp.Rational(2, 7) * sp.tan(alpha.symbol)
 
 
 def _contact(factor: float) -> RollSlip:
     """MuJoCo's sphere on the plane with friction ``factor`` times the predicted threshold (default alpha)."""
-    mu = factor * 2 / 7 * float(sp.tan(alpha.default))
-    return RollSlip("sphere", "R", (0, alpha.symbol, 0), _threshold, mu, slide_joint="x", roll_joint="roll")
+    mu = factor * 2 / 7 * float(tan(alpha.default))
+    return RollSlip("sphere", R, (0, alpha, 0), Rational(2, 7) * tan(alpha), mu, slide_joint="x", roll_joint="roll")
 
 
 SCENES = [
     Scene("rolls", "Exercise 3.17: released from rest; with mu_H = 1.2 x 2/7 tan(alpha) the sphere rolls: "
           "phi'' = 5/(7R) g sin(alpha); MuJoCo's contact must produce the rolling itself, and its threshold "
-          "between rolling and slipping must be 2/7 tan(alpha)", (0.0,), (0.0,), 1.0,
-          frozenset({"gravity", "contact"}), events=(_contact(1.2),)),
+          "between rolling and slipping must be 2/7 tan(alpha)", (0.0,), (0.0,), 1.0, {"gravity", "contact"},
+          events=(_contact(1.2),)),
     Scene("slips", "Exercise 3.17: released from rest; with mu_H = 0.8 x 2/7 tan(alpha) the rolling solution "
-          "does not hold: MuJoCo's sphere slips", (0.0,), (0.0,), 1.0,
-          frozenset({"gravity", "contact"}), events=(_contact(0.8),)),
+          "does not hold: MuJoCo's sphere slips", (0.0,), (0.0,), 1.0, {"gravity", "contact"},
+          events=(_contact(0.8),)),
 ]

@@ -11,9 +11,8 @@ Engine treatment (honest analogue): no rigid-body engine simulates circuits. The
 analogy), not any electrical law; the state equation (1.10) in ``(i_l, u_c)`` is checked as a printed claim.
 """
 
-from harness.modeling.claims import Claim
-from harness.modeling.system import (Coordinate, Input, Joint, JointDamper, JointInput, JointSpring, Link, Parameter, System,
-                           WORLD)
+from harness.modeling import (WORLD, Claim, Coordinate, Input, Joint, JointDamper, JointInput, JointSpring, Link,
+                              Parameter, Scene, Step, System)
 
 R = Parameter("R", 10.0, "Ohm", "resistance")
 L = Parameter("L", 0.5, "H", "inductance (analogue: mass)")
@@ -26,31 +25,22 @@ SYSTEM = System(
     title="Series resonant circuit (mechanical analogue in the engines)",
     lecture="Example 1.1; (1.6)-(1.10)",
     status="engines: mechanical analogue (mass L, stiffness 1/C, damping R, force u); no electrical law checked",
-    parameters=(R, L, C),
     coordinates=(Q,),
-    links=(Link("charge", L.symbol, description="analogue mass L"),),
+    links=(Link("charge", L, description="analogue mass L"),),
     joints=(Joint("Q", "prismatic", WORLD, "charge", axis="x"),),
-    inputs=(u,),
-    forces=(JointSpring("capacitor", "Q", 1 / C.symbol),
-            JointDamper("resistor", "Q", R.symbol),
-            JointInput("source", "Q", "u")),
+    forces=(JointSpring("capacitor", "Q", 1 / C), JointDamper("resistor", "Q", R), JointInput("source", "Q", u)),
     doc=__doc__,
 )
 
 # (1.10), first row: d/dt i_l = (-u_c - R i_l + u)/L with i_l = Q_dot, u_c = Q/C. The second row,
 # d/dt u_c = i_l / C, is the definition of the coordinate (Q = C u_c) and holds identically.
-CLAIMS = [
-    Claim("(1.10)", "eom", Q.accel - (-Q.symbol / C.symbol - R.symbol * Q.rate + u.symbol) / L.symbol,
-          "d/dt i_l = (-u_c - R i_l + u)/L"),
-]
-
-from harness.modeling.scenes import Scene, Step  # noqa: E402
+CLAIMS = [Claim("(1.10)", "eom", Q.accel - (-Q / C - R * Q.rate + u) / L, "d/dt i_l = (-u_c - R i_l + u)/L")]
 
 SCENES = [
     Scene("step", "Example 1.1, (1.9c): the uncharged circuit switched onto a 10 V step at 0.1 s; damped "
           "oscillation (7 Hz, decay R/(2L) = 10/s) to Q = C u = 0.01 C (mechanical analogue in the engines)",
-          (0.0,), (0.0,), 1.0, frozenset({"springs", "dampers", "inputs"}), inputs={"u": Step(0.1, 10.0)}),
+          (0.0,), (0.0,), 1.0, {"springs", "dampers", "inputs"}, inputs={u: Step(0.1, 10.0)}),
     Scene("lc_ring", "Example 1.1 with R = 0 (resistor left out): the capacitor charged to Q = 5 mC (5 V) "
           "discharges through the inductor, undamped LC oscillation (conservative)", (0.005,), (0.0,), 1.0,
-          frozenset({"springs"})),
+          {"springs"}),
 ]

@@ -19,8 +19,10 @@ and (3.91) describes it only while its length is positive. The drawn states keep
 0.2 m long: ``s_1, s_2 ∈ [0.2, 0.8] m`` and ``s_3 ∈ [1.1, 1.9] m``.
 """
 
-from harness.modeling.system import (Coordinate, Damper, Gravity, Input, Joint, Link, Parameter, Point, PointForce, Spring,
-                           System, WORLD)
+from sympy import Matrix, diag
+
+from harness.modeling import (WORLD, Claim, Coordinate, Damper, Gravity, Input, Joint, Link, Parameter, Point,
+                              PointForce, Scene, Spring, Step, System, standard_gravity)
 
 m_1 = Parameter("m_1", 1.0, "kg", "mass 1 (on the ground, left)")
 m_2 = Parameter("m_2", 1.5, "kg", "mass 2 (on the ground, right)")
@@ -36,7 +38,7 @@ s_023 = Parameter("s_023", 0.8, "m", "relaxed length of spring c_23")
 d_11 = Parameter("d_11", 5.0, "N s/m", "damper ground - m_1")
 d_22 = Parameter("d_22", 4.0, "N s/m", "damper ground - m_2")
 d_13 = Parameter("d_13", 3.0, "N s/m", "damper m_1 - m_3")
-g = Parameter("g", 9.81, "m/s^2", "acceleration due to gravity")
+g = standard_gravity()
 
 f_L = Input("f_L", "N", "load force on m_3, pointing down")
 
@@ -57,78 +59,61 @@ SYSTEM = System(
     name="spring_mass_damper",
     title="Spring-mass-damper system with three masses",
     lecture="Example 3.10; (3.91)-(3.95)",
-    parameters=(m_1, m_2, m_3, c_11, c_22, c_13, c_23, s_011, s_022, s_013, s_023, d_11, d_22, d_13, g),
     coordinates=(s_1, s_2, s_3),
     links=(
-        Link("mass_1", m_1.symbol, description="point mass m_1"),
-        Link("mass_2", m_2.symbol, description="point mass m_2"),
-        Link("mass_3", m_3.symbol, description="point mass m_3 (attachment points 0.5 m to either side)"),
+        Link("mass_1", m_1, description="point mass m_1"),
+        Link("mass_2", m_2, description="point mass m_2"),
+        Link("mass_3", m_3, description="point mass m_3 (attachment points 0.5 m to either side)"),
     ),
     joints=(
         Joint("s_1", "prismatic", WORLD, "mass_1", axis="z", origin=(-0.5, 0, 0)),
         Joint("s_2", "prismatic", WORLD, "mass_2", axis="z", origin=(0.5, 0, 0)),
         Joint("s_3", "prismatic", WORLD, "mass_3", axis="z"),
     ),
-    gravity=Gravity(g.symbol, (0, 0, -1)),
-    inputs=(f_L,),
+    gravity=Gravity(g, (0, 0, -1)),
     forces=(
-        Spring("spring_11", ground_1, point_1, c_11.symbol, s_011.symbol),
-        Damper("damper_11", ground_1, point_1, d_11.symbol),
-        Spring("spring_22", ground_2, point_2, c_22.symbol, s_022.symbol),
-        Damper("damper_22", ground_2, point_2, d_22.symbol),
-        Spring("spring_13", point_1, point_31, c_13.symbol, s_013.symbol),
-        Damper("damper_13", point_1, point_31, d_13.symbol),
-        Spring("spring_23", point_2, point_32, c_23.symbol, s_023.symbol),
-        PointForce("load_L", point_3, (0, 0, -f_L.symbol)),  # b = [0, 0, -1] (3.95)
+        Spring("spring_11", ground_1, point_1, c_11, s_011),
+        Damper("damper_11", ground_1, point_1, d_11),
+        Spring("spring_22", ground_2, point_2, c_22, s_022),
+        Damper("damper_22", ground_2, point_2, d_22),
+        Spring("spring_13", point_1, point_31, c_13, s_013),
+        Damper("damper_13", point_1, point_31, d_13),
+        Spring("spring_23", point_2, point_32, c_23, s_023),
+        PointForce("load_L", point_3, (0, 0, -f_L)),  # b = [0, 0, -1] (3.95)
     ),
     doc=__doc__,
 )
 
 # ----------------------------------------------------------------------------- the lecture's printed equations
-import sympy as _sp  # noqa: E402
-
-from harness.modeling.claims import Claim  # noqa: E402
-
-_s1, _s2, _s3 = s_1.symbol, s_2.symbol, s_3.symbol
-_v1, _v2, _v3 = s_1.rate, s_2.rate, s_3.rate
-_a1, _a2, _a3 = s_1.accel, s_2.accel, s_3.accel
-_m1, _m2, _m3, _g = m_1.symbol, m_2.symbol, m_3.symbol, g.symbol
-_c11, _c22, _c13, _c23 = c_11.symbol, c_22.symbol, c_13.symbol, c_23.symbol
-_s011, _s022, _s013, _s023 = s_011.symbol, s_022.symbol, s_013.symbol, s_023.symbol
-_d11, _d22, _d13 = d_11.symbol, d_22.symbol, d_13.symbol
-_fL = f_L.symbol
-
-_q = _sp.Matrix([_s1, _s2, _s3])
-_qd = _sp.Matrix([_v1, _v2, _v3])
-_qdd = _sp.Matrix([_a1, _a2, _a3])
-_M = _sp.diag(_m1, _m2, _m3)
-_D = _sp.Matrix([[_d11 + _d13, 0, -_d13], [0, _d22, 0], [-_d13, 0, _d13]])                          # (3.93)
-_K = _sp.Matrix([[_c11 + _c13, 0, -_c13], [0, _c22 + _c23, -_c23], [-_c13, -_c23, _c13 + _c23]])  # (3.94)
-_k = _sp.Matrix([-_m1 * _g + _c11 * _s011 - _c13 * _s013,
-                 -_m2 * _g + _c22 * _s022 - _c23 * _s023,
-                 -_m3 * _g + _c13 * _s013 + _c23 * _s023])                                       # (3.95)
-_b = _sp.Matrix([0, 0, -1])                                                                      # (3.95)
+v_1, v_2, v_3 = s_1.rate, s_2.rate, s_3.rate
+a_1, a_2, a_3 = s_1.accel, s_2.accel, s_3.accel
+q, qd, qdd = Matrix([s_1, s_2, s_3]), Matrix([v_1, v_2, v_3]), Matrix([a_1, a_2, a_3])
+M = diag(m_1, m_2, m_3)
+D = Matrix([[d_11 + d_13, 0, -d_13], [0, d_22, 0], [-d_13, 0, d_13]])                          # (3.93)
+K = Matrix([[c_11 + c_13, 0, -c_13], [0, c_22 + c_23, -c_23], [-c_13, -c_23, c_13 + c_23]])  # (3.94)
+k = Matrix([-m_1 * g + c_11 * s_011 - c_13 * s_013,
+            -m_2 * g + c_22 * s_022 - c_23 * s_023,
+            -m_3 * g + c_13 * s_013 + c_23 * s_023])                                        # (3.95)
+b = Matrix([0, 0, -1])                                                                      # (3.95)
 
 CLAIMS = [
-    Claim("(3.91a)", "eom", _m1 * _a1 - (-_m1 * _g - _c11 * (_s1 - _s011) - _d11 * _v1 + _c13 * (_s3 - _s1 - _s013)
-                                         - _d13 * (_v1 - _v3)), "momentum balance of m_1", index=(0,)),
-    Claim("(3.91b)", "eom", _m2 * _a2 - (-_m2 * _g - _c22 * (_s2 - _s022) - _d22 * _v2 + _c23 * (_s3 - _s2 - _s023)),
+    Claim("(3.91a)", "eom", m_1 * a_1 - (-m_1 * g - c_11 * (s_1 - s_011) - d_11 * v_1 + c_13 * (s_3 - s_1 - s_013)
+                                         - d_13 * (v_1 - v_3)), "momentum balance of m_1", index=(0,)),
+    Claim("(3.91b)", "eom", m_2 * a_2 - (-m_2 * g - c_22 * (s_2 - s_022) - d_22 * v_2 + c_23 * (s_3 - s_2 - s_023)),
           "momentum balance of m_2", index=(1,)),
-    Claim("(3.91c)", "eom", _m3 * _a3 - (-_m3 * _g - _c13 * (_s3 - _s1 - _s013) + _d13 * (_v1 - _v3)
-                                         - _c23 * (_s3 - _s2 - _s023) - _fL), "momentum balance of m_3", index=(2,)),
-    Claim("(3.92)", "M", _M, "mass matrix M = diag(m_1, m_2, m_3)"),
-    Claim("(3.92), (3.94), (3.95)", "g", _K * _q - _k, "potential forces K q − k (springs and gravity)",
+    Claim("(3.91c)", "eom", m_3 * a_3 - (-m_3 * g - c_13 * (s_3 - s_1 - s_013) + d_13 * (v_1 - v_3)
+                                         - c_23 * (s_3 - s_2 - s_023) - f_L), "momentum balance of m_3", index=(2,)),
+    Claim("(3.92)", "M", M, "mass matrix M = diag(m_1, m_2, m_3)"),
+    Claim("(3.92), (3.94), (3.95)", "g", K * q - k, "potential forces K q − k (springs and gravity)",
           note="(3.92) M q̈ + D q̇ + K q = k + b f_L read as g = K q − k, f_np = −D q̇ + b f_L"),
-    Claim("(3.92), (3.93), (3.95)", "f_np", -_D * _qd + _b * _fL, "non-potential forces −D q̇ + b f_L",
+    Claim("(3.92), (3.93), (3.95)", "f_np", -D * qd + b * f_L, "non-potential forces −D q̇ + b f_L",
           note="(3.92) M q̈ + D q̇ + K q = k + b f_L read as g = K q − k, f_np = −D q̇ + b f_L"),
-    Claim("(3.92)", "eom", _M * _qdd + _D * _qd + _K * _q - _k - _b * _fL, "M q̈ + D q̇ + K q = k + b f_L"),
+    Claim("(3.92)", "eom", M * qdd + D * qd + K * q - k - b * f_L, "M q̈ + D q̇ + K q = k + b f_L"),
 ]
-
-from harness.modeling.scenes import Scene, Step  # noqa: E402
 
 SCENES = [
     Scene("released", "Example 3.10, (3.91)-(3.95): the masses released from rest, displaced from their rest "
           "position s = (0.474, 0.462, 1.245) m; gravity, springs and dampers; the load f_L steps to 30 N at 1 s",
-          (0.55, 0.40, 1.35), (0.0, 0.0, 0.0), 3.0, frozenset({"gravity", "springs", "dampers", "external"}),
-          inputs={"f_L": Step(1.0, 30.0)}),
+          (0.55, 0.40, 1.35), (0.0, 0.0, 0.0), 3.0, {"gravity", "springs", "dampers", "external"},
+          inputs={f_L: Step(1.0, 30.0)}),
 ]

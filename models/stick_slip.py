@@ -10,16 +10,15 @@ Sticking and the switching between the branches are events of the trajectory: th
 them (MuJoCo's own dry friction, ``frictionloss``, against the event-located symbolic simulation).
 """
 
-import sympy as sp
+from sympy import sign
 
-from harness.modeling.claims import Claim
-from harness.modeling.system import (Coordinate, Gravity, Input, Joint, JointInput, Link, Parameter, Point, PointForce,
-                           System, WORLD)
+from harness.modeling import (WORLD, Claim, Coordinate, Gravity, Input, Joint, JointInput, Link, Parameter, Point,
+                              PointForce, Scene, Sine, StickSlip, System, standard_gravity)
 
 m = Parameter("m", 1.0, "kg", "mass")
 mu_H = Parameter("mu_H", 0.3, "1", "static friction coefficient")
 mu_C = Parameter("mu_C", 0.2, "1", "sliding friction coefficient")
-g = Parameter("g", 9.81, "m/s^2", "acceleration due to gravity")
+g = standard_gravity()
 f_e = Input("f_e", "N", "external horizontal force")
 x = Coordinate("x", "m", "position of the mass")
 
@@ -28,33 +27,25 @@ SYSTEM = System(
     title="Dry friction: sticking and sliding",
     lecture="Section 3.5.2; (3.76)-(3.80)",
     status="sliding branch (3.80b); sticking and switching left to the scenes",
-    parameters=(m, mu_H, mu_C, g),
+    parameters=(mu_H,),  # sticking: in the scenes only
     coordinates=(x,),
-    links=(Link("mass", m.symbol),),
+    links=(Link("mass", m),),
     joints=(Joint("x", "prismatic", WORLD, "mass", axis="x"),),
-    gravity=Gravity(g.symbol, (0, 0, -1)),
-    inputs=(f_e,),
-    forces=(JointInput("push", "x", "f_e"),
-            PointForce("sliding_friction", Point("mass", (0, 0, 0), "contact"),
-                       (-mu_C.symbol * m.symbol * g.symbol * sp.sign(x.rate), 0, 0))),
+    gravity=Gravity(g, (0, 0, -1)),
+    forces=(JointInput("push", "x", f_e),
+            PointForce("sliding_friction", Point("mass", (0, 0, 0), "contact"), (-mu_C * m * g * sign(x.rate), 0, 0))),
     doc=__doc__,
 )
 
 CLAIMS = [
-    Claim("(3.79)", "eom", m.symbol * x.accel - (f_e.symbol - mu_C.symbol * m.symbol * g.symbol * sp.sign(x.rate)),
-          "m x'' = f_e - mu_C m g sgn(x')"),
+    Claim("(3.79)", "eom", m * x.accel - (f_e - mu_C * m * g * sign(x.rate)), "m x'' = f_e - mu_C m g sgn(x')"),
 ]
-
-# ----------------------------------------------------------------------------- scenes
-from harness.modeling.scenes import Scene, Sine  # noqa: E402
-from harness.modeling.events import StickSlip  # noqa: E402
 
 _amplitude = 1.2 * mu_H.default * m.default * g.default   # 1.2 times the largest force sticking can hold
 
 SCENES = [
     Scene("stick_slip", "Section 3.5.2, (3.80): from rest under f_e = 1.2 mu_H m g sin(pi t); sticks, breaks "
           "away where |f_e| = mu_H m g, slides against mu_C m g, comes to rest and sticks again, in both "
-          "directions", (0.0,), (0.0,), 4.0, frozenset({"inputs", "external", "friction"}),
-          inputs={"f_e": Sine(_amplitude, 0.5)},
-          events=(StickSlip("x", "mu_H", "mu_C", m.symbol * g.symbol),)),
+          "directions", (0.0,), (0.0,), 4.0, {"inputs", "external", "friction"},
+          inputs={f_e: Sine(_amplitude, 0.5)}, events=(StickSlip(x, mu_H, mu_C, m * g),)),
 ]

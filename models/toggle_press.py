@@ -28,10 +28,10 @@ Inertia tensors: slender legs with their long axis along ``x_k``; only ``I_1``, 
 planar motion, ``I_xx1``, ``I_yy1``, ``I_xx2``, ``I_yy2`` complete physical tensors for the engines.
 """
 
-import sympy as sp
+from sympy import Matrix, asin, cos, diff, sin
 
-from harness.modeling.system import (Closure, Coordinate, Gravity, Inertia, Input, Joint, Link, Parameter, Point, PointForce, Spring,
-                           System, WORLD)
+from harness.modeling import (WORLD, Claim, Closure, Coordinate, Gravity, Inertia, Input, Joint, Link, Parameter, Point,
+                              PointForce, Scene, Spring, System, standard_gravity)
 
 m_1 = Parameter("m_1", 2.0, "kg", "mass of leg 1")
 m_2 = Parameter("m_2", 3.0, "kg", "mass of leg 2")
@@ -45,89 +45,78 @@ I_yy2 = Parameter("I_yy2", 0.0904, "kg m^2", "inertia of leg 2 about y_2 through
 I_2 = Parameter("I_2", 0.0904, "kg m^2", "moment of inertia of leg 2 about z through its centre of gravity")
 c_F = Parameter("c_F", 500.0, "N/m", "spring constant of the return spring")
 s_F0 = Parameter("s_F0", 1.2, "m", "relaxed length of the return spring")
-g = Parameter("g", 9.81, "m/s^2", "acceleration due to gravity")
+g = standard_gravity()
 
 q = Coordinate("q", "rad", "angle phi_1 of leg 1 against e_x (A.97); kept in |q| <= 0.3 (see above)",
                range=(-0.3, 0.3))
+f = Input("f", "N", "force on the knee, acting in -e_y")
+f_L = Input("f_L", "N", "load force on the slide, acting in -e_x")
 
-phi_2 = sp.asin(L_1.symbol / L_2.symbol * sp.sin(q.symbol))  # (A.100)
+phi_2 = asin(L_1 / L_2 * sin(q))  # (A.100)
 
-knee = Point("leg_1", (L_1.symbol, 0, 0), "knee")
-end_point = Point("leg_2", (L_2.symbol, 0, 0), "e")
+knee = Point("leg_1", (L_1, 0, 0), "knee")
+end_point = Point("leg_2", (L_2, 0, 0), "e")
 origin = Point(WORLD, (0, 0, 0), "O")
 
 SYSTEM = System(
     name="toggle_press",
     title="Toggle press",
     lecture="Exercise A.10; (A.97)-(A.107)",
-    parameters=(m_1, m_2, L_1, L_2, I_xx1, I_yy1, I_1, I_xx2, I_yy2, I_2, c_F, s_F0, g),
     coordinates=(q,),
     links=(
-        Link("leg_1", m_1.symbol, (L_1.symbol / 2, 0, 0), Inertia(I_xx1.symbol, I_yy1.symbol, I_1.symbol),
-             description="leg 1, pivot to knee along x_1"),
-        Link("leg_2", m_2.symbol, (L_2.symbol / 2, 0, 0), Inertia(I_xx2.symbol, I_yy2.symbol, I_2.symbol),
-             description="leg 2, knee to slide along x_2"),
+        Link("leg_1", m_1, (L_1 / 2, 0, 0), Inertia(I_xx1, I_yy1, I_1), description="leg 1, pivot to knee along x_1"),
+        Link("leg_2", m_2, (L_2 / 2, 0, 0), Inertia(I_xx2, I_yy2, I_2), description="leg 2, knee to slide along x_2"),
     ),
     joints=(
-        Joint("phi_1", "revolute", WORLD, "leg_1", axis="z", phi=q.symbol),
-        Joint("theta_2", "revolute", "leg_1", "leg_2", axis="z", origin=(L_1.symbol, 0, 0), phi=-phi_2 - q.symbol),
+        Joint("phi_1", "revolute", WORLD, "leg_1", axis="z", phi=q),
+        Joint("theta_2", "revolute", "leg_1", "leg_2", axis="z", origin=(L_1, 0, 0), phi=-phi_2 - q),
     ),
-    gravity=Gravity(g.symbol, (0, -1, 0)),
-    inputs=(Input("f", "N", "force on the knee, acting in -e_y"),
-            Input("f_L", "N", "load force on the slide, acting in -e_x")),
+    gravity=Gravity(g, (0, -1, 0)),
     forces=(
-        Spring("spring_F", origin, end_point, c_F.symbol, s_F0.symbol),
-        PointForce("knee_force", knee, (0, -sp.Symbol("f", real=True), 0)),
-        PointForce("load_force", end_point, (-sp.Symbol("f_L", real=True), 0, 0)),
+        Spring("spring_F", origin, end_point, c_F, s_F0),
+        PointForce("knee_force", knee, (0, -f, 0)),
+        PointForce("load_force", end_point, (-f_L, 0, 0)),
     ),
     closures=(Closure("slide", end_point, (0, 1, 0), 0),),  # (A.99): the slide keeps e on the x-axis
     doc=__doc__,
 )
 
 # ----------------------------------------------------------------------------- the lecture's printed equations
-from harness.modeling.claims import Claim  # noqa: E402
-
-_q, _qd = q.symbol, q.rate
-_m1, _m2, _L1, _L2, _I1, _I2 = (x.symbol for x in (m_1, m_2, L_1, L_2, I_1, I_2))
-_f, _fL = sp.Symbol("f", real=True), sp.Symbol("f_L", real=True)
-_phi2 = sp.asin(_L1 / _L2 * sp.sin(_q))          # (A.100), as printed
-_dphi2 = sp.diff(_phi2, _q)                       # the lecture leaves ∂phi_2/∂q unevaluated
-_p_e = _L1 * sp.Matrix([sp.cos(_q), sp.sin(_q), 0]) + _L2 * sp.Matrix([sp.cos(_phi2), -sp.sin(_phi2), 0])
-_T = (_m1 * _L1**2 * _qd**2 / 8
-      + _m2 * _L1**2 * _qd**2 / 2 + _m2 * _L2**2 * _dphi2**2 * _qd**2 / 8
-      - _m2 * _L1 * _L2 * sp.cos(_q + _phi2) * _dphi2 * _qd**2 / 2
-      + _I1 * _qd**2 / 2 + _I2 * (_dphi2 * _qd)**2 / 2)
-_V_g = _m1 * g.symbol * _L1 / 2 * sp.sin(_q) + _m2 * g.symbol * (_L1 * sp.sin(_q) - _L2 / 2 * sp.sin(_phi2))
-_V_F = c_F.symbol * (_L1 * sp.cos(_q) + _L2 * sp.cos(_phi2) - s_F0.symbol)**2 / 2
-_f_q_f = -_f * _L1 * sp.cos(_q)
-_f_q_fL = _fL * (_L1 * sp.sin(_q) + _L2 * sp.sin(_phi2) * _dphi2)
-_L = _T - _V_g - _V_F
-_dL_dqd = sp.diff(_L, _qd)
-_euler_lagrange = (sp.diff(_dL_dqd, _q) * _qd + sp.diff(_dL_dqd, _qd) * q.accel   # d/dt ∂L/∂q̇
-                   - sp.diff(_L, _q) - (_f_q_f + _f_q_fL))
+qd = q.rate
+phi_2 = asin(L_1 / L_2 * sin(q))             # (A.100), as printed
+dphi2 = diff(phi_2, q)                       # the lecture leaves ∂phi_2/∂q unevaluated
+p_e = L_1 * Matrix([cos(q), sin(q), 0]) + L_2 * Matrix([cos(phi_2), -sin(phi_2), 0])
+T = (m_1 * L_1**2 * qd**2 / 8
+     + m_2 * L_1**2 * qd**2 / 2 + m_2 * L_2**2 * dphi2**2 * qd**2 / 8
+     - m_2 * L_1 * L_2 * cos(q + phi_2) * dphi2 * qd**2 / 2
+     + I_1 * qd**2 / 2 + I_2 * (dphi2 * qd)**2 / 2)
+V_g = m_1 * g * L_1 / 2 * sin(q) + m_2 * g * (L_1 * sin(q) - L_2 / 2 * sin(phi_2))
+V_F = c_F * (L_1 * cos(q) + L_2 * cos(phi_2) - s_F0)**2 / 2
+f_q_f = -f * L_1 * cos(q)
+f_q_fL = f_L * (L_1 * sin(q) + L_2 * sin(phi_2) * dphi2)
+L = T - V_g - V_F
+dL_dqd = diff(L, qd)
+euler_lagrange = diff(dL_dqd, q) * qd + diff(dL_dqd, qd) * q.accel - diff(L, q) - (f_q_f + f_q_fL)  # d/dt ∂L/∂q̇ ...
 
 CLAIMS = [
-    Claim("(A.98), (A.100)", "position:e", _p_e, "end point of leg 2 (on the slide), phi_1 = q, phi_2 = phi_2(q)",
+    Claim("(A.98), (A.100)", "position:e", p_e, "end point of leg 2 (on the slide), phi_1 = q, phi_2 = phi_2(q)",
           note="phi_1 read as q (A.97); its y-component is the constraint (A.99)"),
-    Claim("(A.101a)", "position:leg_1", _L1 / 2 * sp.Matrix([sp.cos(_q), sp.sin(_q), 0]), "centre of gravity of leg 1"),
+    Claim("(A.101a)", "position:leg_1", L_1 / 2 * Matrix([cos(q), sin(q), 0]), "centre of gravity of leg 1"),
     Claim("(A.101b)", "position:leg_2",
-          _L1 * sp.Matrix([sp.cos(_q), sp.sin(_q), 0]) + _L2 / 2 * sp.Matrix([sp.cos(_phi2), -sp.sin(_phi2), 0]),
+          L_1 * Matrix([cos(q), sin(q), 0]) + L_2 / 2 * Matrix([cos(phi_2), -sin(phi_2), 0]),
           "centre of gravity of leg 2"),
-    Claim("(A.104)", "T", _T, "kinetic energy, ∂phi_2/∂q left unevaluated"),
-    Claim("(A.105), (A.106)", "V", _V_g + _V_F, "potential energy V_g + V_F of the weights and the return spring",
+    Claim("(A.104)", "T", T, "kinetic energy, ∂phi_2/∂q left unevaluated"),
+    Claim("(A.105), (A.106)", "V", V_g + V_F, "potential energy V_g + V_F of the weights and the return spring",
           note="the constant V_g,0 read as 0 (reference level y = 0 through the pivot, as the harness uses)"),
-    Claim("(A.107a), (A.107b)", "f_np", _f_q_f + _f_q_fL, "generalized force of the knee force f and the load f_L",
+    Claim("(A.107a), (A.107b)", "f_np", f_q_f + f_q_fL, "generalized force of the knee force f and the load f_L",
           note="(A.107a) writes the force vector as [0, -F, 0] and the result with f: F read as f"),
-    Claim("(A.104)-(A.107), Euler-Lagrange", "eom", _euler_lagrange,
+    Claim("(A.104)-(A.107), Euler-Lagrange", "eom", euler_lagrange,
           "d/dt ∂L/∂q̇ - ∂L/∂q = f_q,f + f_q,f_L with L = T - V_g - V_F",
           note="the lecture states the equation of motion only in words after (A.107); the residual is that "
                "Euler-Lagrange equation evaluated symbolically with the printed T, V_g, V_F, f_q,f, f_q,f_L"),
 ]
 
-# ----------------------------------------------------------------------------- scenes
-from harness.modeling.scenes import Scene  # noqa: E402
-
 SCENES = [
     Scene("return", "Exercise A.10: released near full extension, the return spring pulls the press back "
-          "(closed chain through the nonlinear map)", (0.25,), (0.0,), 1.0, frozenset({"gravity", "springs"})),
+          "(closed chain through the nonlinear map)", (0.25,), (0.0,), 1.0, {"gravity", "springs"}),
 ]

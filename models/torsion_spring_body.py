@@ -19,98 +19,78 @@ an input) acts at the top end of rod 1, ``p_0^f = [L_s sin(phi), L_s cos(phi), 0
 axis: a follower force with body components ``[f, 0, 0]`` (A.154).
 """
 
-import sympy as sp
+from sympy import Matrix, Rational, cos, factor, sin
 
-from harness.modeling.system import (Coordinate, Gravity, Inertia, Input, Joint, JointSpring, Link, Parameter, Point,
-                           PointForce, System, WORLD)
+from harness.modeling import (WORLD, Claim, Coordinate, Gravity, Inertia, Input, Joint, JointSpring, Link, Parameter,
+                              Point, PointForce, Scene, Step, System, standard_gravity, steiner)
 
 m = Parameter("m", 2.0, "kg", "mass of rod 1 (rod 2 has m/2)")
 L_s = Parameter("L_s", 1.0, "m", "length of rod 1 (rod 2 has L_s/2)")
 b = Parameter("b", 0.03, "m", "thickness of the rods along z (does not enter the planar motion)")
 c_F = Parameter("c_F", 30.0, "N m/rad", "stiffness of the torsional spring, relaxed at phi = 0")
-g = Parameter("g", 9.81, "m/s^2", "acceleration due to gravity")
+g = standard_gravity()
 
 phi = Coordinate("phi", "rad", "angle of the beam, clockwise from its drawn position")
 f = Input("f", "N", "magnitude of the force along rod 2's axis")
 
-_m, _L, _b = m.symbol, L_s.symbol, b.symbol
-
 # the two rods, positions at phi = 0 (A.142), (A.143) and inertia tensors about their own centres of gravity
-m_s1, p_s1, I_s1 = _m, sp.Matrix([0, _L / 2, 0]), Inertia.cuboid(_m, 0, _L, _b).matrix              # along y
-m_s2, p_s2, I_s2 = _m / 2, sp.Matrix([_L / 4, _L, 0]), Inertia.cuboid(_m / 2, _L / 2, 0, _b).matrix  # along x
+m_s1, p_s1, I_s1 = m, Matrix([0, L_s / 2, 0]), Inertia.cuboid(m, 0, L_s, b).matrix              # along y
+m_s2, p_s2, I_s2 = m / 2, Matrix([L_s / 4, L_s, 0]), Inertia.cuboid(m / 2, L_s / 2, 0, b).matrix  # along x
 
 # the beam: mass, centre of gravity (3.31), inertia about it by Steiner's theorem (3.126)
 m_beam = m_s1 + m_s2
 p_s = (m_s1 * p_s1 + m_s2 * p_s2) / m_beam
-
-
-def steiner(mass, r):
-    """Inertia tensor of a mass ``mass`` at offset ``r`` from the reference point (3.126)."""
-    return mass * ((r.T * r)[0] * sp.eye(3) - r * r.T)
-
-
-I_s = (I_s1 + steiner(m_s1, p_s1 - p_s) + I_s2 + steiner(m_s2, p_s2 - p_s)).applyfunc(sp.factor)
+I_s = (I_s1 + steiner(m_s1, p_s1 - p_s) + I_s2 + steiner(m_s2, p_s2 - p_s)).applyfunc(factor)
 
 SYSTEM = System(
     name="torsion_spring_body",
     title="Rigid body with torsional spring",
     lecture="Exercise A.13; (A.142)-(A.158)",
-    parameters=(m, L_s, b, c_F, g),
     coordinates=(phi,),
-    links=(Link("beam", m_beam, tuple(p_s),
-                Inertia(I_s[0, 0], I_s[1, 1], I_s[2, 2], I_s[0, 1], I_s[0, 2], I_s[1, 2]),
+    links=(Link("beam", m_beam, tuple(p_s), Inertia(I_s[0, 0], I_s[1, 1], I_s[2, 2], I_s[0, 1], I_s[0, 2], I_s[1, 2]),
                 description="rod 1 (along y_1) and rod 2 (along x_1 at the top of rod 1), rigidly connected"),),
     joints=(Joint("phi", "revolute", WORLD, "beam", axis=(0, 0, -1)),),
-    gravity=Gravity(g.symbol, (0, -1, 0)),
-    inputs=(f,),
+    gravity=Gravity(g, (0, -1, 0)),
     forces=(
-        JointSpring("spring_F", "phi", c_F.symbol),
-        PointForce("force_f", Point("beam", (0, _L, 0), "f"), (f.symbol, 0, 0), frame="beam"),
+        JointSpring("spring_F", "phi", c_F),
+        PointForce("force_f", Point("beam", (0, L_s, 0), "f"), (f, 0, 0), frame="beam"),
     ),
     doc=__doc__,
 )
 
 # ----------------------------------------------------------------------------- the lecture's printed equations
-from harness.modeling.claims import Claim  # noqa: E402
-
-_p, _pd, _pdd = phi.symbol, phi.rate, phi.accel
-_g, _c, _f = g.symbol, c_F.symbol, f.symbol
-_p_s_printed = sp.Matrix([_L / 12, 2 * _L / 3, 0])
-_p_f_printed = sp.Matrix([_L * sp.sin(_p), _L * sp.cos(_p), 0])                     # (A.153)
-_f_printed = sp.Matrix([_f * sp.cos(_p), -_f * sp.sin(_p), 0])                      # (A.154)
+w, a = phi.rate, phi.accel
+p_f_printed = Matrix([L_s * sin(phi), L_s * cos(phi), 0])                     # (A.153)
+f_printed = Matrix([f * cos(phi), -f * sin(phi), 0])                          # (A.154)
 CLAIMS = [
-    Claim("(A.144)", "parameter", _p_s_printed, "centre of gravity of the beam at phi = 0", reference=p_s),
-    Claim("(A.145a)", "parameter", _m * _L**2 / 12, "I_zz^(s1) of rod 1", reference=I_s1[2, 2]),
-    Claim("(A.145b)", "parameter", _m * _L**2 / 96, "I_zz^(s2) of rod 2", reference=I_s2[2, 2]),
-    Claim("(A.147a)", "parameter", sp.Matrix([_L / 12, _L / 6, 0]), "p_s,s1 = p_0^s - p_0^s1",
-          reference=p_s - p_s1),
-    Claim("(A.147b)", "parameter", sp.Matrix([-_L / 6, -_L / 3, 0]), "p_s,s2 = p_0^s - p_0^s2",
-          reference=p_s - p_s2),
-    Claim("(A.146)", "parameter", 19 * _m * _L**2 / 96, "I_zz^(s) of the beam about its centre of gravity",
+    Claim("(A.144)", "parameter", Matrix([L_s / 12, 2 * L_s / 3, 0]), "centre of gravity of the beam at phi = 0",
+          reference=p_s),
+    Claim("(A.145a)", "parameter", m * L_s**2 / 12, "I_zz^(s1) of rod 1", reference=I_s1[2, 2]),
+    Claim("(A.145b)", "parameter", m * L_s**2 / 96, "I_zz^(s2) of rod 2", reference=I_s2[2, 2]),
+    Claim("(A.147a)", "parameter", Matrix([L_s / 12, L_s / 6, 0]), "p_s,s1 = p_0^s - p_0^s1", reference=p_s - p_s1),
+    Claim("(A.147b)", "parameter", Matrix([-L_s / 6, -L_s / 3, 0]), "p_s,s2 = p_0^s - p_0^s2", reference=p_s - p_s2),
+    Claim("(A.146)", "parameter", 19 * m * L_s**2 / 96, "I_zz^(s) of the beam about its centre of gravity",
           reference=I_s[2, 2]),
-    Claim("(A.148)", "position:beam", sp.Matrix([_L / 12 * sp.cos(_p) + 2 * _L / 3 * sp.sin(_p),
-                                                 -_L / 12 * sp.sin(_p) + 2 * _L / 3 * sp.cos(_p), 0]),
+    Claim("(A.148)", "position:beam", Matrix([L_s / 12 * cos(phi) + 2 * L_s / 3 * sin(phi),
+                                              -L_s / 12 * sin(phi) + 2 * L_s / 3 * cos(phi), 0]),
           "centre of gravity of the beam"),
-    Claim("(A.153)", "position:f", _p_f_printed, "point of application of f"),
-    Claim("(A.150), (A.151)", "T",
-          sp.Rational(65, 192) * _m * _pd**2 * _L**2 + sp.Rational(19, 192) * _m * _pd**2 * _L**2, "T_t + T_r"),
-    Claim("(A.156)", "T", sp.Rational(7, 16) * _m * _pd**2 * _L**2, "kinetic part of the Lagrangian"),
-    Claim("(A.152)", "V", -_L / 8 * _m * _g * sp.sin(_p) + _m * _g * _L * sp.cos(_p) + _c * _p**2 / 2,
-          "V_g + V_F"),
-    Claim("(A.156)", "V", -(_L / 8 * _m * _g * sp.sin(_p) - _m * _g * _L * sp.cos(_p) - _c * _p**2 / 2),
+    Claim("(A.153)", "position:f", p_f_printed, "point of application of f"),
+    Claim("(A.150), (A.151)", "T", Rational(65, 192) * m * w**2 * L_s**2 + Rational(19, 192) * m * w**2 * L_s**2,
+          "T_t + T_r"),
+    Claim("(A.156)", "T", Rational(7, 16) * m * w**2 * L_s**2, "kinetic part of the Lagrangian"),
+    Claim("(A.152)", "V", -L_s / 8 * m * g * sin(phi) + m * g * L_s * cos(phi) + c_F * phi**2 / 2, "V_g + V_F"),
+    Claim("(A.156)", "V", -(L_s / 8 * m * g * sin(phi) - m * g * L_s * cos(phi) - c_F * phi**2 / 2),
           "potential part of the Lagrangian L = T - V"),
-    Claim("(A.154), (A.155)", "f_np", (_f_printed.T * _p_f_printed.diff(_p))[0],
+    Claim("(A.154), (A.155)", "f_np", (f_printed.T * p_f_printed.diff(phi))[0],
           "f_q,f = f^T dp_0^f/dphi with the printed force (A.154) and point (A.153)"),
-    Claim("(A.155)", "f_np", _f * _L, "generalized force of f"),
-    Claim("(A.158)", "eom", sp.Rational(7, 8) * _m * _L**2 * _pdd - _m * _g * _L * sp.cos(_p) / 8
-          - _m * _g * _L * sp.sin(_p) + _c * _p - _f * _L, "equation of motion"),
+    Claim("(A.155)", "f_np", f * L_s, "generalized force of f"),
+    Claim("(A.158)", "eom", Rational(7, 8) * m * L_s**2 * a - m * g * L_s * cos(phi) / 8
+          - m * g * L_s * sin(phi) + c_F * phi - f * L_s, "equation of motion"),
 ]
-
-from harness.modeling.scenes import Scene, Step  # noqa: E402
 
 SCENES = [
     Scene("tip_over", "Exercise A.13, (A.158): released from rest at phi = 0 (spring relaxed); gravity tips the "
           "beam over and it swings about its tilted equilibrium (0.24 rad) against the torsional "
           "spring; the follower force f = 5 N along rod 2 steps on at 1 s",
-          (0.0,), (0.0,), 3.0, frozenset({"gravity", "springs", "external"}), inputs={"f": Step(1.0, 5.0)}),
+          (0.0,), (0.0,), 3.0, {"gravity", "springs", "external"}, inputs={f: Step(1.0, 5.0)}),
 ]

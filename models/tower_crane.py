@@ -33,10 +33,11 @@ checks draw ``s_5`` in ``[0.3, 3] m`` (at least 0.3 m of rope) and ``phi_4`` in 
 0.37 rad (21 degrees) from ``|phi_4| = pi/2``.
 """
 
-import sympy as sp
+from sympy import Matrix, cos, diag, pi, sin, zeros
 
-from harness.modeling.system import (Coordinate, Gravity, Inertia, Input, Joint, JointDamper, JointInput, Link, Parameter,
-                           System, WORLD)
+from harness.derivation.kinematics import link_poses
+from harness.modeling import (WORLD, Claim, Constant, Coordinate, Gravity, Inertia, Input, Joint, JointDamper,
+                              JointInput, Link, Parameter, Scene, Step, System, standard_gravity, steiner)
 
 h_1 = Parameter("h_1", 3.0, "m", "height of the tower (cylinder); height of the trolley's rail")
 r_1 = Parameter("r_1", 0.1, "m", "radius of the tower (solid cylinder)")
@@ -53,7 +54,7 @@ d_T = Parameter("d_T", 50.0, "N m s/rad", "viscous friction of the tower (phi_1)
 d_LK = Parameter("d_LK", 20.0, "N s/m", "viscous friction of the trolley (s_2)")
 d_St = Parameter("d_St", 10.0, "N s/m", "viscous friction of the translational motion of the rope (s_5)")
 d_Sr = Parameter("d_Sr", 2.0, "N m s/rad", "viscous friction of the rotational motion of the rope (phi_3, phi_4)")
-g = Parameter("g", 9.81, "m/s^2", "acceleration due to gravity")
+g = standard_gravity()
 
 phi_1 = Coordinate("phi_1", "rad", "rotation of the tower about z_0")
 s_2 = Coordinate("s_2", "m", "position of the trolley along x_1")
@@ -66,69 +67,56 @@ f_LK = Input("f_LK", "N", "motor force on the trolley")
 f_S = Input("f_S", "N", "motor force on the rope, in the direction of increasing s_5")
 
 # ---- the tower: cylinder Z and jib Q (5.31), (5.32), joined into one rigid body by Steiner's theorem
-m_Z = r_1.symbol**2 * sp.pi * h_1.symbol * rho_1.symbol
-m_Q = l_1x.symbol * l_1y.symbol * l_1z.symbol * rho_1.symbol
-p_sZ = sp.Matrix([0, 0, h_1.symbol / 2])
-p_sQ = sp.Matrix([l_1x.symbol / 2, 0, l_1z.symbol])
-I_sZ = sp.diag((3 * r_1.symbol**2 + h_1.symbol**2) * m_Z / 12, (3 * r_1.symbol**2 + h_1.symbol**2) * m_Z / 12,
-               r_1.symbol**2 * m_Z / 2)
-I_sQ = Inertia.cuboid(m_Q, l_1x.symbol, l_1y.symbol, l_1z.symbol).matrix
+m_Z = r_1**2 * pi * h_1 * rho_1
+m_Q = l_1x * l_1y * l_1z * rho_1
+p_sZ = Matrix([0, 0, h_1 / 2])
+p_sQ = Matrix([l_1x / 2, 0, l_1z])
+I_sZ = diag((3 * r_1**2 + h_1**2) * m_Z / 12, (3 * r_1**2 + h_1**2) * m_Z / 12, r_1**2 * m_Z / 2)
+I_sQ = Inertia.cuboid(m_Q, l_1x, l_1y, l_1z).matrix
 m_T = m_Z + m_Q
 p_sT = (m_Z * p_sZ + m_Q * p_sQ) / m_T
 
 
-def _steiner(I_s, m, r):
-    """Inertia tensor about a point at ``-r`` from the centre of mass: ``I_s + m (r^T r E - r r^T)`` (3.133)."""
-    return I_s + m * ((r.T * r)[0] * sp.eye(3) - r * r.T)
-
-
-I_sT = _steiner(I_sZ, m_Z, p_sZ - p_sT) + _steiner(I_sQ, m_Q, p_sQ - p_sT)
+I_sT = I_sZ + steiner(m_Z, p_sZ - p_sT) + I_sQ + steiner(m_Q, p_sQ - p_sT)  # (3.133)
 
 SYSTEM = System(
     name="tower_crane",
     title="Tower crane (5 degrees of freedom)",
     lecture="Exercises 4.2, 4.4, Example 5.2, Exercise 5.4; (4.41), (4.71)-(4.74), (5.31)-(5.42)",
-    parameters=(h_1, r_1, rho_1, l_1x, l_1y, l_1z, m_K, I_xx2, I_yy2, I_zz2, m_L, d_T, d_LK, d_St, d_Sr, g),
     coordinates=(phi_1, s_2, phi_3, phi_4, s_5),
     links=(
         Link("tower", m_T, tuple(p_sT), Inertia(I_sT[0, 0], I_sT[1, 1], I_sT[2, 2], I_sT[0, 1], I_sT[0, 2], I_sT[1, 2]),
              description="tower (solid cylinder) with jib (cuboid), one rigid body"),
-        Link("trolley", m_K.symbol, (0, 0, 0), Inertia(I_xx2.symbol, I_yy2.symbol, I_zz2.symbol)),
+        Link("trolley", m_K, (0, 0, 0), Inertia(I_xx2, I_yy2, I_zz2)),
         Link("rope_3", description="massless frame 3, turned by phi_3 about y_2"),
         Link("rope_4", description="massless frame 4, turned by phi_4 about x_3"),
-        Link("load", m_L.symbol, (0, 0, 0), description="point mass m_L at the end of the rope"),
+        Link("load", m_L, (0, 0, 0), description="point mass m_L at the end of the rope"),
     ),
     joints=(
         Joint("phi_1", "revolute", WORLD, "tower", axis="z"),
-        Joint("s_2", "prismatic", "tower", "trolley", axis="x", origin=(0, 0, h_1.symbol)),
+        Joint("s_2", "prismatic", "tower", "trolley", axis="x", origin=(0, 0, h_1)),
         Joint("phi_3", "revolute", "trolley", "rope_3", axis="y"),
         Joint("phi_4", "revolute", "rope_3", "rope_4", axis="x"),
         Joint("s_5", "prismatic", "rope_4", "load", axis=(0, 0, -1)),
     ),
-    gravity=Gravity(g.symbol, (0, 0, -1)),
-    inputs=(tau_1, f_LK, f_S),
+    gravity=Gravity(g, (0, 0, -1)),
     forces=(
-        JointInput("motor_T", "phi_1", "tau_1"),
-        JointInput("motor_LK", "s_2", "f_LK"),
-        JointInput("motor_S", "s_5", "f_S"),
-        JointDamper("friction_T", "phi_1", d_T.symbol),
-        JointDamper("friction_LK", "s_2", d_LK.symbol),
-        JointDamper("friction_Sr3", "phi_3", d_Sr.symbol),
-        JointDamper("friction_Sr4", "phi_4", d_Sr.symbol),
-        JointDamper("friction_St", "s_5", d_St.symbol),
+        JointInput("motor_T", "phi_1", tau_1),
+        JointInput("motor_LK", "s_2", f_LK),
+        JointInput("motor_S", "s_5", f_S),
+        JointDamper("friction_T", "phi_1", d_T),
+        JointDamper("friction_LK", "s_2", d_LK),
+        JointDamper("friction_Sr3", "phi_3", d_Sr),
+        JointDamper("friction_Sr4", "phi_4", d_Sr),
+        JointDamper("friction_St", "s_5", d_St),
     ),
     doc=__doc__,
 )
 
 # ----------------------------------------------------------------------------- the lecture's printed equations
-from harness.modeling.claims import Claim  # noqa: E402
-from harness.derivation.kinematics import link_poses  # noqa: E402
-
-_q = SYSTEM.q
-_p1, _s2, _p3, _p4, _s5 = _q
-_w = sp.Matrix(SYSTEM.qd)
-_c1, _s1, _c3, _s3, _c4, _s4 = sp.cos(_p1), sp.sin(_p1), sp.cos(_p3), sp.sin(_p3), sp.cos(_p4), sp.sin(_p4)
-_h1, _l1x, _mK, _mL, _g = h_1.symbol, l_1x.symbol, m_K.symbol, m_L.symbol, g.symbol
+q = [phi_1, s_2, phi_3, phi_4, s_5]
+w = Matrix(SYSTEM.qd)
+c1, s1, c3, s3, c4, s4 = cos(phi_1), sin(phi_1), cos(phi_3), sin(phi_3), cos(phi_4), sin(phi_4)
 
 # Manipulator Jacobians of the model's kinematics (4.68): J_v = d p_0 / dq, J_omega = [R_0^{j-1} a_j ...] dphi/dq
 _poses = link_poses(SYSTEM)
@@ -137,81 +125,76 @@ _to_q = dict(zip(SYSTEM.theta, SYSTEM.phi))
 
 def _J_v(link, point):
     pose = _poses[link]
-    return (pose.R * sp.Matrix(point) + pose.d).xreplace(_to_q).jacobian(_q)
+    return (pose.R * Matrix(point) + pose.d).xreplace(_to_q).jacobian(SYSTEM.q)
 
 
 def _J_omega(link):
-    return _poses[link].J_omega_theta.xreplace(_to_q) * SYSTEM.phi.jacobian(_q)
+    return _poses[link].J_omega_theta.xreplace(_to_q) * SYSTEM.phi.jacobian(SYSTEM.q)
 
 
-_l_xsT = p_sT[0]  # x_1 coordinate of the tower's centre of mass, [l_xsT, 0, l_zsT] of Exercise 4.4
-_Jv_sL = sp.Matrix([  # (4.73), as printed
-    [(_s3 * _c4 * _s5 - _s2) * _s1 - _c1 * _s4 * _s5, _c1, -_c1 * _c3 * _c4 * _s5, (_c1 * _s3 * _s4 - _s1 * _c4) * _s5,
-     -_s1 * _s4 - _c1 * _s3 * _c4],
-    [(-_s3 * _c4 * _s5 + _s2) * _c1 - _s1 * _s4 * _s5, _s1, -_s1 * _c3 * _c4 * _s5, (_s1 * _s3 * _s4 + _c1 * _c4) * _s5,
-     _c1 * _s4 - _s1 * _s3 * _c4],
-    [0, 0, _s3 * _c4 * _s5, _c3 * _s4 * _s5, -_c3 * _c4]])
-_I_zzZ = r_1.symbol**2 * m_Z / 2                                  # (5.32)
-_I_zzQ = (l_1x.symbol**2 + l_1y.symbol**2) * m_Q / 12             # (5.32)
-_M_sT = sp.zeros(5, 5)
-_M_sT[0, 0] = _l1x**2 / 4 * m_Q + _I_zzZ + _I_zzQ                 # (5.37)
-_M_sK = sp.diag(_s2**2 * _mK + I_zz2.symbol, _mK, 0, 0, 0)        # (5.39)
-_M_sL = _Jv_sL.T * _Jv_sL * _mL                                   # (5.41) with (4.73)
-_T_sT = _I_zzZ * _w[0]**2 / 2 + m_Q * (_l1x / 2)**2 * _w[0]**2 / 2 + _I_zzQ * _w[0]**2 / 2  # (5.34), (5.35a), (5.35b)
-_T_sK = _mK * _w[1]**2 / 2 + (_mK * _s2**2 + I_zz2.symbol) * _w[0]**2 / 2                   # (5.40)
-_T_sL = (_w.T * _M_sL * _w)[0] / 2                                                           # after (5.41)
-_V_sL = _mL * _g * (_h1 - _s5 * sp.cos(_p3) * sp.cos(_p4))                                  # (5.42)
+l_xsT = p_sT[0]  # x_1 coordinate of the tower's centre of mass, [l_xsT, 0, l_zsT] of Exercise 4.4
+Jv_sL = Matrix([  # (4.73), as printed
+    [(s3 * c4 * s_5 - s_2) * s1 - c1 * s4 * s_5, c1, -c1 * c3 * c4 * s_5, (c1 * s3 * s4 - s1 * c4) * s_5,
+     -s1 * s4 - c1 * s3 * c4],
+    [(-s3 * c4 * s_5 + s_2) * c1 - s1 * s4 * s_5, s1, -s1 * c3 * c4 * s_5, (s1 * s3 * s4 + c1 * c4) * s_5,
+     c1 * s4 - s1 * s3 * c4],
+    [0, 0, s3 * c4 * s_5, c3 * s4 * s_5, -c3 * c4]])
+I_zzZ = r_1**2 * m_Z / 2                                  # (5.32)
+I_zzQ = (l_1x**2 + l_1y**2) * m_Q / 12                    # (5.32)
+M_sT = zeros(5, 5)
+M_sT[0, 0] = l_1x**2 / 4 * m_Q + I_zzZ + I_zzQ            # (5.37)
+M_sK = diag(s_2**2 * m_K + I_zz2, m_K, 0, 0, 0)           # (5.39)
+M_sL = Jv_sL.T * Jv_sL * m_L                              # (5.41) with (4.73)
+T_sT = I_zzZ * w[0]**2 / 2 + m_Q * (l_1x / 2)**2 * w[0]**2 / 2 + I_zzQ * w[0]**2 / 2  # (5.34), (5.35a), (5.35b)
+T_sK = m_K * w[1]**2 / 2 + (m_K * s_2**2 + I_zz2) * w[0]**2 / 2                    # (5.40)
+T_sL = (w.T * M_sL * w)[0] / 2                                                     # after (5.41)
+V_sL = m_L * g * (h_1 - s_5 * cos(phi_3) * cos(phi_4))                             # (5.42)
 _tower_com_note = ("l_xsT is the x_1 coordinate of the tower's common centre of mass p_1^{sT} (Example 5.2: "
                    "cylinder and jib); ")
 _c_phi2_note = "printed c_phi2 in row 2, column 1; the crane has no coordinate phi_2: read as c_phi1"
 CLAIMS = [
-    Claim("(4.41)", "position:load", sp.Matrix([
-        _s2 * _c1 + _s5 * (-_s1 * _s4 - _c1 * _s3 * _c4),
-        _s2 * _s1 + _s5 * (_c1 * _s4 - _s1 * _s3 * _c4),
-        _h1 - _s5 * _c3 * _c4]), "position of the load p_0^L"),
-    Claim("(4.71) J_v", "parameter", sp.Matrix([[-_s1 * _l_xsT, 0, 0, 0, 0], [_c1 * _l_xsT, 0, 0, 0, 0], [0] * 5]),
+    Claim("(4.41)", "position:load", Matrix([
+        s_2 * c1 + s_5 * (-s1 * s4 - c1 * s3 * c4),
+        s_2 * s1 + s_5 * (c1 * s4 - s1 * s3 * c4),
+        h_1 - s_5 * c3 * c4]), "position of the load p_0^L"),
+    Claim("(4.71) J_v", "parameter", Matrix([[-s1 * l_xsT, 0, 0, 0, 0], [c1 * l_xsT, 0, 0, 0, 0], [0] * 5]),
           "translational manipulator Jacobian (J_v)_0^{sT} of the tower's centre of mass",
           reference=_J_v("tower", p_sT), note=_tower_com_note + _c_phi2_note),
-    Claim("(4.71) J_omega", "parameter", sp.Matrix([[0] * 5, [0] * 5, [1, 0, 0, 0, 0]]),
+    Claim("(4.71) J_omega", "parameter", Matrix([[0] * 5, [0] * 5, [1, 0, 0, 0, 0]]),
           "rotational manipulator Jacobian (J_omega)_0^{sT} of the tower", reference=_J_omega("tower")),
-    Claim("(4.72) J_v", "parameter", sp.Matrix([[-_s1 * _s2, _c1, 0, 0, 0], [_c1 * _s2, _s1, 0, 0, 0], [0] * 5]),
+    Claim("(4.72) J_v", "parameter", Matrix([[-s1 * s_2, c1, 0, 0, 0], [c1 * s_2, s1, 0, 0, 0], [0] * 5]),
           "translational manipulator Jacobian (J_v)_0^{sK} of the trolley",
           reference=_J_v("trolley", (0, 0, 0)), note=_c_phi2_note),
-    Claim("(4.72) J_omega", "parameter", sp.Matrix([[0] * 5, [0] * 5, [1, 0, 0, 0, 0]]),
+    Claim("(4.72) J_omega", "parameter", Matrix([[0] * 5, [0] * 5, [1, 0, 0, 0, 0]]),
           "rotational manipulator Jacobian (J_omega)_0^{sK} of the trolley", reference=_J_omega("trolley")),
-    Claim("(4.73)", "parameter", _Jv_sL, "translational manipulator Jacobian (J_v)_0^{sL} of the load",
+    Claim("(4.73)", "parameter", Jv_sL, "translational manipulator Jacobian (J_v)_0^{sL} of the load",
           reference=_J_v("load", (0, 0, 0))),
-    Claim("(4.74)", "parameter", sp.Matrix([[0, 0, -_s1, _c1 * _c3, 0], [0, 0, _c1, _s1 * _c3, 0],
-                                            [1, 0, 0, -_s3, 0]]),
+    Claim("(4.74)", "parameter", Matrix([[0, 0, -s1, c1 * c3, 0], [0, 0, c1, s1 * c3, 0], [1, 0, 0, -s3, 0]]),
           "rotational manipulator Jacobian (J_omega)_0^{sL} of the load (frame 5)", reference=_J_omega("load")),
-    Claim("(5.32) I^sQ", "parameter", sp.diag((l_1y.symbol**2 + l_1z.symbol**2) * m_Q / 12,
-                                              (l_1x.symbol**2 + l_1z.symbol**2) * m_Q / 12, _I_zzQ),
+    Claim("(5.32) I^sQ", "parameter", diag((l_1y**2 + l_1z**2) * m_Q / 12, (l_1x**2 + l_1z**2) * m_Q / 12, I_zzQ),
           "inertia tensor of the jib (cuboid) about its centre of mass", reference=I_sQ,
           note="reference: Inertia.cuboid (3.128)"),
-    Claim("(5.37)+(5.39)+(5.41)", "M", _M_sT + _M_sK + _M_sL,
+    Claim("(5.37)+(5.39)+(5.41)", "M", M_sT + M_sK + M_sL,
           "mass matrix M = M^sT + M^sK + M^sL, with (J_v)_0^{sL} of (4.73) in (5.41)",
           note="(5.41) prints M^sL = (J_v^sL)^T J_v^sL m_L without expanding it; evaluated with the printed (4.73)"),
-    Claim("(5.34)+(5.35)+(5.40)+T^sL", "T", _T_sT + _T_sK + _T_sL,
+    Claim("(5.34)+(5.35)+(5.40)+T^sL", "T", T_sT + T_sK + T_sL,
           "kinetic energy T^sZ + T^sQ + T^sK + T^sL", note="T^sL = 1/2 q_dot^T M^sL q_dot after (5.41), with (4.73)"),
-    Claim("(5.42)", "g", sp.Matrix([_V_sL]).jacobian(_q).T,
+    Claim("(5.42)", "g", Matrix([V_sL]).jacobian(q).T,
           "potential forces g = dV/dq (5.96) of V = V^sL = m_L g (h_1 - s_5 cos(phi_3) cos(phi_4))",
           note="the lecture sets the constant V^sT = V^sK = 0 (the model's V differs by the constant potential of "
                "tower and trolley); the printed V is compared through its gradient g = dV/dq"),
 ]
-
-from harness.modeling.scenes import Constant, Scene, Step  # noqa: E402
 
 SCENES = [
     Scene("slew", "Exercise 5.4, Example 5.2: the tower slews by 60 degrees under tau_1 = 150 N m (reversed to "
           "-150 N m at 2 s), the trolley is driven out along the 3 m jib from 1 m to 2.4 m by f_LK = 15 N (reversed "
           "at 2 s), the rope is paid out from 1 m to 2 m (f_S = -193 N holds back most of the load's weight "
           "196 N); the load swings; viscous friction in every joint",
-          (0.0, 1.0, 0.0, 0.0, 1.0), (0.0, 0.0, 0.0, 0.0, 0.0), 4.0, frozenset({"gravity", "dampers", "inputs"}),
-          inputs={"tau_1": Step(2.0, -150.0, before=150.0), "f_LK": Step(2.0, -15.0, before=15.0),
-                  "f_S": Constant(-193.0)}),
+          (0.0, 1.0, 0.0, 0.0, 1.0), (0.0, 0.0, 0.0, 0.0, 0.0), 4.0, {"gravity", "dampers", "inputs"},
+          inputs={tau_1: Step(2.0, -150.0, before=150.0), f_LK: Step(2.0, -15.0, before=15.0), f_S: Constant(-193.0)}),
     Scene("swing", "Example 5.2, (5.42): the load released from rest with the rope at phi_3 = 0.3, phi_4 = 0.2 "
           "rad, held by the constant rope force f_S = -m_L g (the rope first shortens, then pays out to 2.7 m "
           "as the swinging load pulls harder); tower and trolley free (they recoil), no friction",
-          (0.0, 1.5, 0.3, 0.2, 1.5), (0.0, 0.0, 0.0, 0.0, 0.0), 3.0, frozenset({"gravity", "inputs"}),
-          inputs={"f_S": Constant(-20.0 * 9.81)}),
+          (0.0, 1.5, 0.3, 0.2, 1.5), (0.0, 0.0, 0.0, 0.0, 0.0), 3.0, {"gravity", "inputs"},
+          inputs={f_S: Constant(-20.0 * 9.81)}),
 ]

@@ -28,10 +28,11 @@ hold there as well. ``theta_0`` is small (0.2 rad) so that one fixed range of ``
 ``theta_0`` (a range cannot depend on the parameters).
 """
 
-import sympy as sp
+from sympy import Matrix, acos, cos, diff, sin
 
-from harness.modeling.system import Closure, Coordinate, Gravity, Parameter, Point, System
+from harness.modeling import Claim, Closure, Coordinate, Gravity, LiftOff, Parameter, Point, Scene, System
 from models.trebuchet_free import LINKS, L, M, g, h, l, m, m_A, mechanism_joints, r
+from models.trebuchet_free import psi as psi_free
 
 theta_0 = Parameter("theta_0", 0.2, "rad", "initial angle of the arm (projectile on the ground at -L sin theta_0)")
 
@@ -39,62 +40,51 @@ theta = Coordinate("theta", "rad", "angle of the throwing arm (A.175); drawn in 
                    range=(0.1, 0.4))
 phi = Coordinate("phi", "rad", "absolute angle of the counterweight's rod from the downward vertical")
 
-psi = sp.acos(L.symbol / r.symbol * (sp.sin(theta_0.symbol) - sp.sin(theta.symbol)))  # (A.178)
+psi = acos(L / r * (sin(theta_0) - sin(theta)))  # (A.178)
 
 SYSTEM = System(
     name="trebuchet",
     title="Trebuchet, phase 1 (projectile on the ground)",
     lecture="Exercise A.15, phase 1; (A.175)-(A.185)",
-    parameters=(M, m, L, l, h, r, theta_0, m_A, g),
+    parameters=(M, m, L, l, h, r, theta_0, m_A, g),  # all of them: theta_0 in this order (the draws of the checks)
     coordinates=(theta, phi),
     links=LINKS,
     joints=mechanism_joints(psi),
-    gravity=Gravity(g.symbol, (0, 0, -1)),
+    gravity=Gravity(g, (0, 0, -1)),
     # (A.177): the ground holds the projectile at the height of its start
-    closures=(Closure("ground", Point("projectile", (0, 0, -r.symbol), "projectile_centre"), (0, 0, 1),
-                      -L.symbol * sp.sin(theta_0.symbol)),),
+    closures=(Closure("ground", Point("projectile", (0, 0, -r), "projectile_centre"), (0, 0, 1), -L * sin(theta_0)),),
     doc=__doc__,
 )
 
 # ----------------------------------------------------------------------------- the lecture's printed equations
-from harness.modeling.claims import Claim  # noqa: E402
-
-_th, _ph = theta.symbol, phi.symbol
-_thd, _phd = theta.rate, phi.rate
-_M, _m, _L, _l, _h, _r, _g, _th0 = (x.symbol for x in (M, m, L, l, h, r, g, theta_0))
-_psi = sp.acos(_L / _r * (sp.sin(_th0) - sp.sin(_th)))   # (A.178), as printed
-_psid = sp.diff(_psi, _th) * _thd                        # (A.182)
-_V_1 = _M * _g * (_l * sp.sin(_th) - _h * sp.cos(_ph))   # (A.183), (A.185)
+w_th, w_ph = theta.rate, phi.rate
+psi_printed = acos(L / r * (sin(theta_0) - sin(theta)))   # (A.178), as printed
+w_ps = diff(psi_printed, theta) * w_th                    # (A.182)
+V_1 = M * g * (l * sin(theta) - h * cos(phi))             # (A.183), (A.185)
 
 CLAIMS = [
     Claim("(A.176a)", "position:counterweight",
-          sp.Matrix([_l * sp.cos(_th) - _h * sp.sin(_ph), 0, _l * sp.sin(_th) - _h * sp.cos(_ph)]),
+          Matrix([l * cos(theta) - h * sin(phi), 0, l * sin(theta) - h * cos(phi)]),
           "position of the counterweight"),
     Claim("(A.176b), (A.178)", "position:projectile",
-          sp.Matrix([-_L * sp.cos(_th) + _r * sp.sin(_psi), 0, -_L * sp.sin(_th) - _r * sp.cos(_psi)]),
+          Matrix([-L * cos(theta) + r * sin(psi_printed), 0, -L * sin(theta) - r * cos(psi_printed)]),
           "position of the projectile with psi = psi(theta); its z-component is the constraint (A.177)"),
     Claim("(A.181a), (A.182)", "T",
-          _M * (_l**2 * _thd**2 + _h**2 * _phd**2 + 2 * _l * _h * _thd * _phd * sp.sin(_th + _ph)) / 2
-          + _m * (_L * sp.sin(_th) * _thd + _r * sp.cos(_psi) * _psid)**2 / 2,
+          M * (l**2 * w_th**2 + h**2 * w_ph**2 + 2 * l * h * w_th * w_ph * sin(theta + phi)) / 2
+          + m * (L * sin(theta) * w_th + r * cos(psi_printed) * w_ps)**2 / 2,
           "kinetic energy T_1 with psi = psi(theta), psi_dot = ∂psi/∂theta theta_dot"),
-    Claim("(A.183), (A.185)", "g", sp.Matrix([sp.diff(_V_1, _th), sp.diff(_V_1, _ph)]),
+    Claim("(A.183), (A.185)", "g", Matrix([diff(V_1, theta), diff(V_1, phi)]),
           "potential forces ∂V_1/∂q (5.96) of V_1 = V_M",
           note="V_1 is printed up to the constant V_M,0 and without the projectile's potential, which is constant "
                "in phase 1; compared as g = ∂V_1/∂q, which no constant changes"),
 ]
 
-# ----------------------------------------------------------------------------- scenes
-from harness.modeling.scenes import Scene  # noqa: E402
-from harness.modeling.events import LiftOff  # noqa: E402
-from models import trebuchet_free as _free  # noqa: E402
-
-_psi2 = _free.psi.symbol
-_lift_off = LiftOff("trebuchet_free", to_free=(_th, _ph, psi),
-                    height=L.symbol * sp.sin(theta_0.symbol) - L.symbol * sp.sin(_th) - r.symbol * sp.cos(_psi2))
+_lift_off = LiftOff("trebuchet_free", to_free=(theta, phi, psi),
+                    height=L * sin(theta_0) - L * sin(theta) - r * cos(psi_free))
 
 SCENES = [
     Scene("throw", "Exercise A.15: released from rest with the arm at theta_0 and the counterweight hanging; the "
           "projectile slides on the ground (phase 1, (A.185)) until the ground's normal force vanishes, then "
-          "flies on its sling (phase 2, (A.187)-(A.189))", (0.2, 0.0), (0.0, 0.0), 1.0, frozenset({"gravity"}),
+          "flies on its sling (phase 2, (A.187)-(A.189))", (0.2, 0.0), (0.0, 0.0), 1.0, {"gravity"},
           events=(_lift_off,)),
 ]

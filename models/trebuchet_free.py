@@ -28,7 +28,9 @@ the arm can then turn while neither mass moves. That set has measure zero; the d
 full angle ranges, and the forward-dynamics tolerance scales with cond(M).
 """
 
-from harness.modeling.system import Coordinate, Gravity, Joint, Link, Parameter, System, WORLD
+from sympy import Matrix, cos, sin
+
+from harness.modeling import WORLD, Claim, Coordinate, Gravity, Joint, Link, Parameter, Scene, System, standard_gravity
 
 M = Parameter("M", 100.0, "kg", "mass of the counterweight (point mass)")
 m = Parameter("m", 5.0, "kg", "mass of the projectile (point mass)")
@@ -37,7 +39,7 @@ l = Parameter("l", 0.5, "m", "length of the short end of the arm (counterweight 
 h = Parameter("h", 0.6, "m", "length of the counterweight's pendulum rod")
 r = Parameter("r", 3.0, "m", "length of the sling")
 m_A = Parameter("m_A", 20.0, "kg", "mass of the throwing arm, at the pivot (it enters neither T nor V, see above)")
-g = Parameter("g", 9.81, "m/s^2", "acceleration due to gravity")
+g = standard_gravity()
 
 theta = Coordinate("theta", "rad", "angle of the throwing arm (A.175)")
 phi = Coordinate("phi", "rad", "absolute angle of the counterweight's rod from the downward vertical")
@@ -45,10 +47,10 @@ psi = Coordinate("psi", "rad", "absolute angle of the sling from the downward ve
 
 # The mechanism, shared with phase 1 (models/trebuchet.py), which differs only in the sling's angle.
 LINKS = (
-    Link("arm", m_A.symbol, (0, 0, 0), description="throwing arm: mass at the pivot, no moment of inertia; "
-                                                    "x from the long end towards the short end"),
-    Link("counterweight", M.symbol, (0, 0, -h.symbol), description="point mass M on its rod"),
-    Link("projectile", m.symbol, (0, 0, -r.symbol), description="point mass m on the sling"),
+    Link("arm", m_A, (0, 0, 0), description="throwing arm: mass at the pivot, no moment of inertia; "
+                                            "x from the long end towards the short end"),
+    Link("counterweight", M, (0, 0, -h), description="point mass M on its rod"),
+    Link("projectile", m, (0, 0, -r), description="point mass m on the sling"),
 )
 
 
@@ -56,10 +58,8 @@ def mechanism_joints(psi_of_q) -> tuple:
     """Arm, counterweight rod and sling; the sling's absolute angle ``psi`` as a function of the coordinates."""
     return (
         Joint("theta", "revolute", WORLD, "arm", axis=(0, -1, 0)),
-        Joint("weight", "revolute", "arm", "counterweight", axis=(0, 1, 0), origin=(l.symbol, 0, 0),
-              phi=theta.symbol + phi.symbol),
-        Joint("sling", "revolute", "arm", "projectile", axis=(0, -1, 0), origin=(-L.symbol, 0, 0),
-              phi=psi_of_q - theta.symbol),
+        Joint("weight", "revolute", "arm", "counterweight", axis=(0, 1, 0), origin=(l, 0, 0), phi=theta + phi),
+        Joint("sling", "revolute", "arm", "projectile", axis=(0, -1, 0), origin=(-L, 0, 0), phi=psi_of_q - theta),
     )
 
 
@@ -67,62 +67,51 @@ SYSTEM = System(
     name="trebuchet_free",
     title="Trebuchet, phase 2 (projectile in the air)",
     lecture="Exercise A.15, phase 2; (A.175)-(A.189)",
-    parameters=(M, m, L, l, h, r, m_A, g),
     coordinates=(theta, phi, psi),
     links=LINKS,
-    joints=mechanism_joints(psi.symbol),
-    gravity=Gravity(g.symbol, (0, 0, -1)),
+    joints=mechanism_joints(psi),
+    gravity=Gravity(g, (0, 0, -1)),
     doc=__doc__,
 )
 
 # ----------------------------------------------------------------------------- the lecture's printed equations
-import sympy as _sp  # noqa: E402
-
-from harness.modeling.claims import Claim  # noqa: E402
-
-_th, _ph, _ps = theta.symbol, phi.symbol, psi.symbol
-_thd, _phd, _psd = theta.rate, phi.rate, psi.rate
-_M, _m, _L, _l, _h, _r, _g = (x.symbol for x in (M, m, L, l, h, r, g))
-_M_printed = _sp.Matrix([
-    [_L**2 * _m + _l**2 * _M, _M * _l * _h * _sp.sin(_th + _ph), _m * _L * _r * _sp.sin(_th - _ps)],
-    [_M * _l * _h * _sp.sin(_th + _ph), _M * _h**2, 0],
-    [_m * _L * _r * _sp.sin(_th - _ps), 0, _m * _r**2]])                                   # (A.188)
-_g_velocity = _sp.Matrix([                                                                  # (A.189), q̇ terms
-    -_m * _L * _r * _sp.cos(_th - _ps) * _psd**2 + _M * _l * _h * _sp.cos(_th + _ph) * _phd**2,
-    _M * _l * _h * _sp.cos(_th + _ph) * _thd**2,
-    _m * _L * _r * _sp.cos(_th - _ps) * _thd**2])
-_g_gravity = _sp.Matrix([                                                                   # (A.189), the rest
-    -_g * (_m * _L - _M * _l) * _sp.cos(_th),
-    _M * _g * _h * _sp.sin(_ph),
-    _m * _g * _r * _sp.sin(_ps)])
-_qdd = _sp.Matrix([c.accel for c in SYSTEM.coordinates])
+w_th, w_ph, w_ps = theta.rate, phi.rate, psi.rate
+M_printed = Matrix([
+    [L**2 * m + l**2 * M, M * l * h * sin(theta + phi), m * L * r * sin(theta - psi)],
+    [M * l * h * sin(theta + phi), M * h**2, 0],
+    [m * L * r * sin(theta - psi), 0, m * r**2]])                                         # (A.188)
+g_velocity = Matrix([                                                                     # (A.189), q̇ terms
+    -m * L * r * cos(theta - psi) * w_ps**2 + M * l * h * cos(theta + phi) * w_ph**2,
+    M * l * h * cos(theta + phi) * w_th**2,
+    m * L * r * cos(theta - psi) * w_th**2])
+g_gravity = Matrix([                                                                      # (A.189), the rest
+    -g * (m * L - M * l) * cos(theta),
+    M * g * h * sin(phi),
+    m * g * r * sin(psi)])
+qdd = Matrix([c.accel for c in SYSTEM.coordinates])
+_split = "(A.187) lumps C q̇ and the gravity terms into one vector g(q, q̇); split here by degree in q̇"
 
 CLAIMS = [
     Claim("(A.176a)", "position:counterweight",
-          _sp.Matrix([_l * _sp.cos(_th) - _h * _sp.sin(_ph), 0, _l * _sp.sin(_th) - _h * _sp.cos(_ph)]),
+          Matrix([l * cos(theta) - h * sin(phi), 0, l * sin(theta) - h * cos(phi)]),
           "position of the counterweight"),
     Claim("(A.176b)", "position:projectile",
-          _sp.Matrix([-_L * _sp.cos(_th) + _r * _sp.sin(_ps), 0, -_L * _sp.sin(_th) - _r * _sp.cos(_ps)]),
+          Matrix([-L * cos(theta) + r * sin(psi), 0, -L * sin(theta) - r * cos(psi)]),
           "position of the projectile"),
-    Claim("(A.181b)", "T", _M * (_l**2 * _thd**2 + _h**2 * _phd**2 + 2 * _l * _h * _thd * _phd * _sp.sin(_th + _ph)) / 2
-          + _m * (_L**2 * _thd**2 + _r**2 * _psd**2 + 2 * _L * _r * _thd * _psd * _sp.sin(_th - _ps)) / 2,
+    Claim("(A.181b)", "T", M * (l**2 * w_th**2 + h**2 * w_ph**2 + 2 * l * h * w_th * w_ph * sin(theta + phi)) / 2
+          + m * (L**2 * w_th**2 + r**2 * w_ps**2 + 2 * L * r * w_th * w_ps * sin(theta - psi)) / 2,
           "kinetic energy T_2"),
-    Claim("(A.183), (A.184), (A.186)", "V", _M * _g * (_l * _sp.sin(_th) - _h * _sp.cos(_ph))
-          + _m * _g * (-_L * _sp.sin(_th) - _r * _sp.cos(_ps)), "potential energy V_2 = V_M + V_m",
+    Claim("(A.183), (A.184), (A.186)", "V", M * g * (l * sin(theta) - h * cos(phi))
+          + m * g * (-L * sin(theta) - r * cos(psi)), "potential energy V_2 = V_M + V_m",
           note="the constants V_M,0 and V_m,0 read as 0 (reference level z = 0 through the pivot)"),
-    Claim("(A.188)", "M", _M_printed, "mass matrix"),
-    Claim("(A.189), q̇ terms", "Cqd", _g_velocity, "the terms of g(q, q̇) quadratic in q̇: C(q, q̇) q̇",
-          note="(A.187) lumps C q̇ and the gravity terms into one vector g(q, q̇); split here by degree in q̇"),
-    Claim("(A.189), gravity terms", "g", _g_gravity, "the terms of g(q, q̇) without q̇: ∂V/∂q (5.96)",
-          note="(A.187) lumps C q̇ and the gravity terms into one vector g(q, q̇); split here by degree in q̇"),
-    Claim("(A.187)-(A.189)", "eom", _M_printed * _qdd + _g_velocity + _g_gravity, "M(q) q̈ + g(q, q̇) = 0"),
+    Claim("(A.188)", "M", M_printed, "mass matrix"),
+    Claim("(A.189), q̇ terms", "Cqd", g_velocity, "the terms of g(q, q̇) quadratic in q̇: C(q, q̇) q̇", note=_split),
+    Claim("(A.189), gravity terms", "g", g_gravity, "the terms of g(q, q̇) without q̇: ∂V/∂q (5.96)", note=_split),
+    Claim("(A.187)-(A.189)", "eom", M_printed * qdd + g_velocity + g_gravity, "M(q) q̈ + g(q, q̇) = 0"),
 ]
-
-# ----------------------------------------------------------------------------- scenes
-from harness.modeling.scenes import Scene  # noqa: E402
 
 SCENES = [
     Scene("swing", "Exercise A.15, phase 2 alone (A.187): from rest with the arm at 0.2 rad, the counterweight "
           "hanging and the sling horizontal; the full throw with its lift-off event is trebuchet/throw",
-          (0.2, 0.0, 1.5708), (0.0, 0.0, 0.0), 1.0, frozenset({"gravity"})),
+          (0.2, 0.0, 1.5708), (0.0, 0.0, 0.0), 1.0, {"gravity"}),
 ]

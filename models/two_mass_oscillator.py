@@ -17,8 +17,10 @@ No gravity is mentioned (and with the centres of mass on the axis it would not a
 engine needs a physical body.
 """
 
-from harness.modeling.system import (BodyTorque, Coordinate, Inertia, Input, Joint, JointDamper, JointSpring, Link,
-                           Parameter, System, WORLD)
+from sympy import Matrix, zeros
+
+from harness.modeling import (WORLD, BodyTorque, Claim, Coordinate, Inertia, Input, Joint, JointDamper, JointSpring,
+                              Link, Parameter, Scene, Step, System)
 
 I_xx1 = Parameter("I_xx1", 0.02, "kg m^2", "inertia of body 1 about its axis of rotation x (I_xx,1^s1)")
 I_yy1 = Parameter("I_yy1", 0.011, "kg m^2", "inertia of body 1 about y through s1 (does not enter)")
@@ -43,65 +45,50 @@ SYSTEM = System(
     name="two_mass_oscillator",
     title="Rotatory two-mass oscillator",
     lecture="Exercise 5.3; (5.103)-(5.108)",
-    parameters=(I_xx1, I_yy1, I_zz1, I_xx2, I_yy2, I_zz2, m_1, m_2, c_1, c_12, d_1, d_12),
     coordinates=(phi_1, phi_2),
     links=(
-        Link("body_1", m_1.symbol, (0, 0, 0), Inertia(I_xx1.symbol, I_yy1.symbol, I_zz1.symbol),
+        Link("body_1", m_1, (0, 0, 0), Inertia(I_xx1, I_yy1, I_zz1),
              description="rigid body 1, centre of mass on the axis x_0"),
-        Link("body_2", m_2.symbol, (0, 0, 0), Inertia(I_xx2.symbol, I_yy2.symbol, I_zz2.symbol),
+        Link("body_2", m_2, (0, 0, 0), Inertia(I_xx2, I_yy2, I_zz2),
              description="rigid body 2, centre of mass on the axis x_0"),
     ),
     joints=(
         Joint("phi_1", "revolute", WORLD, "body_1", axis="x"),
-        Joint("phi_2rel", "revolute", "body_1", "body_2", axis="x", origin=(0.5, 0, 0),
-              phi=phi_2.symbol - phi_1.symbol),
+        Joint("phi_2rel", "revolute", "body_1", "body_2", axis="x", origin=(0.5, 0, 0), phi=phi_2 - phi_1),
     ),
-    inputs=(tau_1, tau_2),
     forces=(
-        JointSpring("spring_1", "phi_1", c_1.symbol),
-        JointSpring("spring_12", "phi_2rel", c_12.symbol),
-        JointDamper("damper_1", "phi_1", d_1.symbol),
-        JointDamper("damper_12", "phi_2rel", d_12.symbol),
-        BodyTorque("torque_1", "body_1", (-tau_1.symbol, 0, 0)),
-        BodyTorque("torque_2", "body_2", (-tau_2.symbol, 0, 0)),
+        JointSpring("spring_1", "phi_1", c_1),
+        JointSpring("spring_12", "phi_2rel", c_12),
+        JointDamper("damper_1", "phi_1", d_1),
+        JointDamper("damper_12", "phi_2rel", d_12),
+        BodyTorque("torque_1", "body_1", (-tau_1, 0, 0)),
+        BodyTorque("torque_2", "body_2", (-tau_2, 0, 0)),
     ),
     doc=__doc__,
 )
 
 # ----------------------------------------------------------------------------- the lecture's printed equations
-import sympy as _sp  # noqa: E402
-
-from harness.modeling.claims import Claim  # noqa: E402
-
-_p1, _p2 = phi_1.symbol, phi_2.symbol
-_w1, _w2 = phi_1.rate, phi_2.rate                     # omega_1, omega_2 of (5.103)
-_I1, _I2 = I_xx1.symbol, I_xx2.symbol
-_c1, _c12, _d1, _d12 = c_1.symbol, c_12.symbol, d_1.symbol, d_12.symbol
-_t1, _t2 = tau_1.symbol, tau_2.symbol
+w_1, w_2 = phi_1.rate, phi_2.rate                     # omega_1, omega_2 of (5.103)
 _SUPERSCRIPT = "I_xx,1 (I_xx,1^s1 in (5.108)) read as I_xx1, I_xx,2 as I_xx2"
 CLAIMS = [
-    Claim("(5.103)", "T", _I1 * _w1**2 / 2 + _I2 * _w2**2 / 2, "T_1 + T_2, omega_i = phi_i'", note=_SUPERSCRIPT),
-    Claim("(5.104)", "V", _c1 * _p1**2 / 2 + _c12 * (_p2 - _p1)**2 / 2, "V_c1 + V_c12"),
-    Claim("(5.105), (5.106)", "f_np", _sp.Matrix([-_t1 - _d1 * _w1 - _d12 * (_w1 - _w2),
-                                                  -_t2 + _d12 * (_w1 - _w2)]),
+    Claim("(5.103)", "T", I_xx1 * w_1**2 / 2 + I_xx2 * w_2**2 / 2, "T_1 + T_2, omega_i = phi_i'", note=_SUPERSCRIPT),
+    Claim("(5.104)", "V", c_1 * phi_1**2 / 2 + c_12 * (phi_2 - phi_1)**2 / 2, "V_c1 + V_c12"),
+    Claim("(5.105), (5.106)", "f_np", Matrix([-tau_1 - d_1 * w_1 - d_12 * (w_1 - w_2), -tau_2 + d_12 * (w_1 - w_2)]),
           "f_q^np = [tau_e1, tau_e2]"),
-    Claim("(5.107b)", "eom", _I1 * phi_1.accel
-          - (-_c1 * _p1 - _d1 * _w1 + _c12 * (_p2 - _p1) + _d12 * (_w2 - _w1) - _t1),
+    Claim("(5.107b)", "eom", I_xx1 * phi_1.accel
+          - (-c_1 * phi_1 - d_1 * w_1 + c_12 * (phi_2 - phi_1) + d_12 * (w_2 - w_1) - tau_1),
           "d/dt omega_1 = (…)/I_xx,1", index=(0,),
           note="transcribed multiplied by I_xx,1 (residual in N m); " + _SUPERSCRIPT),
-    Claim("(5.107d)", "eom", _I2 * phi_2.accel - (-_c12 * (_p2 - _p1) - _d12 * (_w2 - _w1) - _t2),
+    Claim("(5.107d)", "eom", I_xx2 * phi_2.accel - (-c_12 * (phi_2 - phi_1) - d_12 * (w_2 - w_1) - tau_2),
           "d/dt omega_2 = (…)/I_xx,2", index=(1,),
           note="transcribed multiplied by I_xx,2 (residual in N m); " + _SUPERSCRIPT),
-    Claim("(5.108)", "M", _sp.Matrix([[_I1, 0], [0, _I2]]), "mass matrix", note=_SUPERSCRIPT),
-    Claim("(5.108)", "C", _sp.zeros(2, 2), "Coriolis matrix C = 0"),
-    Claim("(5.108)", "g", _sp.Matrix([_c1 * _p1 + _c12 * (_p1 - _p2), -_c12 * (_p1 - _p2)]),
-          "potential forces"),
+    Claim("(5.108)", "M", Matrix([[I_xx1, 0], [0, I_xx2]]), "mass matrix", note=_SUPERSCRIPT),
+    Claim("(5.108)", "C", zeros(2, 2), "Coriolis matrix C = 0"),
+    Claim("(5.108)", "g", Matrix([c_1 * phi_1 + c_12 * (phi_1 - phi_2), -c_12 * (phi_1 - phi_2)]), "potential forces"),
 ]
-
-from harness.modeling.scenes import Scene, Step  # noqa: E402
 
 SCENES = [
     Scene("twisted", "Exercise 5.3, (5.107): body 1 released from rest at phi_1 = 0.3 rad (body 2 at 0), springs "
           "and dampers; the torque tau_2 = 1 N m (against phi_2) steps on at 1 s", (0.3, 0.0), (0.0, 0.0), 2.0,
-          frozenset({"springs", "dampers", "external"}), inputs={"tau_2": Step(1.0, 1.0)}),
+          {"springs", "dampers", "external"}, inputs={tau_2: Step(1.0, 1.0)}),
 ]

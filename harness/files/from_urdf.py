@@ -361,7 +361,7 @@ def to_system(robot: UrdfRobot, *, name: str, title: str, lecture: str, doc: str
         if link.inertial is not None and frame.body != WORLD:
             bodies.setdefault(frame.body, _Body()).add(link.inertial, frame.R, frame.p, frame.identity)
 
-    parameters, links = [], []
+    links = []
     for j in free:
         mass, com, inertia = bodies.get(j.child, _Body()).lumped()
         fixed_to_it = sorted(n for n, f in where.items() if f.body == j.child and n != j.child)
@@ -369,8 +369,7 @@ def to_system(robot: UrdfRobot, *, name: str, title: str, lecture: str, doc: str
         mass_value = _number(mass)
         if masses and mass > 0:
             pname = (mass_names or {}).get(j.child, f"m_{j.child}")
-            parameters.append(Parameter(pname, float(mass), "kg", f"mass of the body of {description}"))
-            mass_value = parameters[-1].symbol
+            mass_value = Parameter(pname, float(mass), "kg", f"mass of the body of {description}")
         links.append(Link(j.child, mass_value, tuple(_number(c) for c in com),
                           Inertia(*(_number(inertia[a, b]) for a, b in ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2)))),
                           description=description))
@@ -385,19 +384,18 @@ def to_system(robot: UrdfRobot, *, name: str, title: str, lecture: str, doc: str
             rpy = tuple(exact_angle(a) for a in matrix_rpy(parent.R @ rpy_matrix(j.rpy)))
         kind = "prismatic" if j.type == "prismatic" else "revolute"
         if j.mimic is None:
-            phi = coords[j.name].symbol
+            phi = coords[j.name]
         else:
             if j.mimic.joint not in coords:
                 raise ModelError(f"URDF {robot.name}: joint {j.name} mimics {j.mimic.joint!r}, which is not a free "
                                  f"joint of the model")
-            phi = _number(j.mimic.multiplier) * coords[j.mimic.joint].symbol + _number(j.mimic.offset)
+            phi = _number(j.mimic.multiplier) * coords[j.mimic.joint] + _number(j.mimic.offset)
         joints.append(Joint(j.name, kind, parent.body, j.child, axis=_axis(j.axis),
                             origin=tuple(_number(v) for v in origin), rpy=rpy, phi=phi))
 
     g_param = Parameter("g", g, "m/s^2", "acceleration due to gravity, along -z of the root link")
-    return System(name=name, title=title, lecture=lecture, parameters=(*parameters, g_param),
-                  coordinates=tuple(coords.values()), links=tuple(links), joints=tuple(joints),
-                  gravity=Gravity(g_param.symbol, (0, 0, -1)), doc=doc)
+    return System(name=name, title=title, lecture=lecture, coordinates=tuple(coords.values()), links=tuple(links),
+                  joints=tuple(joints), gravity=Gravity(g_param, (0, 0, -1)), doc=doc)
 
 
 def from_urdf(path: str | Path, **kwargs) -> System:

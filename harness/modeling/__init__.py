@@ -15,9 +15,9 @@ from harness.modeling.events import LiftOff, RollSlip, StickSlip
 from harness.modeling.scenes import Bump, Constant, Scene, Sine, Step
 from harness.modeling.system import (WORLD, BodyTorque, Closure, Coordinate, Damper, Gravity, Inertia, Input, Joint,
                                      JointDamper, JointInput, JointSpring, Link, Parameter, Point, PointForce, Spring,
-                                     System, standard_gravity)
+                                     System, standard_gravity, steiner)
 
 __all__ = ["WORLD", "BodyTorque", "Bump", "Claim", "Closure", "Constant", "Coordinate", "Damper", "Gravity",
            "Inertia", "Input", "Joint", "JointDamper", "JointInput", "JointSpring", "LiftOff", "Link", "Parameter",
            "Point", "PointForce", "RollSlip", "Scene", "Sine", "Spring", "Step", "StickSlip", "System",
-           "standard_gravity"]
+           "standard_gravity", "steiner"]

@@ -251,6 +251,12 @@ class Inertia:
         return Inertia(m * (b**2 + c**2) / 12, m * (a**2 + c**2) / 12, m * (a**2 + b**2) / 12)
 
 
+def steiner(mass: Expr, r: sp.Matrix) -> sp.Matrix:
+    """Steiner's term (3.126), (3.133): the inertia tensor of a mass ``mass`` at the offset ``r`` from the
+    reference point, ``mass (rᵀ r E − r rᵀ)``."""
+    return mass * ((r.T * r)[0] * sp.eye(3) - r * r.T)
+
+
 @dataclass(frozen=True)
 class Link:
     """A body-fixed frame; with ``mass`` it carries a rigid body (or a point mass at ``com``)."""
