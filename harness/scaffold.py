@@ -27,7 +27,9 @@ Checklist (delete an item when it is done; `docs/adding-a-system.md` explains ea
 1. [ ] Title and lecture reference in ``SYSTEM`` (``lecture="Example 3.15; (3.128)-(3.135)"``).
 2. [ ] Parameters: the lecture's symbols in ASCII (``m_1``, ``l_s1``, ``I_zz2``, ``rho_S``), each with an SI
        default, a unit (``"1"`` if dimensionless), a description and its assumption (positive/nonnegative/real).
-3. [ ] Coordinates q: names, units, what they measure, and a ``range`` away from coordinate singularities.
+       They are SymPy symbols: write ``m_1 * l_1**2`` as the lecture does; ``SYSTEM`` collects them.
+3. [ ] Coordinates q: names, units, what they measure, and a ``range`` away from coordinate singularities;
+       ``phi_1.rate`` and ``phi_1.accel`` are its velocity and acceleration.
 4. [ ] Links: mass, centre of mass in the link frame, inertia tensor about the centre of mass (``Inertia``,
        ``Inertia.cuboid``; a point mass has none). Inertia must be positive definite and satisfy the triangle
        inequality for the default parameters -- checked when the module is loaded.
@@ -41,7 +43,8 @@ Checklist (delete an item when it is done; `docs/adding-a-system.md` explains ea
 10. [ ] ``harness report`` shows the system; ``make test`` is green.
 """
 
-from harness.modeling.system import Coordinate, Gravity, Inertia, Joint, JointDamper, JointSpring, Link, Parameter, System
+from harness.modeling import (Coordinate, Gravity, Inertia, Joint, JointDamper, JointSpring, Link, Parameter, System,
+                              standard_gravity)
 
 # ----------------------------------------------------------------------------- parameters (symbol, default, unit)
 m_1 = Parameter("m_1", 1.0, "kg", "mass of the rod")
@@ -50,7 +53,7 @@ b_1 = Parameter("b_1", 0.05, "m", "width of the rod")
 h_1 = Parameter("h_1", 0.02, "m", "height of the rod")
 c_1 = Parameter("c_1", 2.0, "N m/rad", "stiffness of the torsion spring in the bearing")
 d_1 = Parameter("d_1", 0.1, "N m s/rad", "viscous friction in the bearing")
-g = Parameter("g", 9.81, "m/s^2", "acceleration due to gravity")
+g = standard_gravity()
 
 # ----------------------------------------------------------------------------- coordinates q
 phi_1 = Coordinate("phi_1", "rad", "angle of the rod from the downward vertical")
@@ -59,35 +62,30 @@ SYSTEM = System(
     name="$name",
     title="TODO title",
     lecture="TODO Example X.Y; (X.1)-(X.2)",
-    parameters=(m_1, l_1, b_1, h_1, c_1, d_1, g),
     coordinates=(phi_1,),
     # links: a body-fixed frame each; centre of mass and inertia about it in that frame
-    links=(Link("rod", mass=m_1.symbol, com=(0, 0, -l_1.symbol / 2),
-                inertia=Inertia.cuboid(m_1.symbol, b_1.symbol, h_1.symbol, l_1.symbol),
+    links=(Link("rod", mass=m_1, com=(0, 0, -l_1 / 2), inertia=Inertia.cuboid(m_1, b_1, h_1, l_1),
                 description="homogeneous cuboid rod, its long edge along -z_1"),),
     # joints: parent -> child, rotation about the x axis by the lecture coordinate of the same name
     joints=(Joint("phi_1", "revolute", "world", "rod", axis="x"),),
-    gravity=Gravity(g.symbol, (0, 0, -1)),
+    gravity=Gravity(g, (0, 0, -1)),
     # force elements (delete what the lecture's system does not have)
-    forces=(JointSpring("spring_1", "phi_1", c_1.symbol, 0),
-            JointDamper("friction_1", "phi_1", d_1.symbol)),
+    forces=(JointSpring("spring_1", "phi_1", c_1, 0), JointDamper("friction_1", "phi_1", d_1)),
     doc=__doc__,
 )
 
 # ----------------------------------------------------------------------------- the lecture's printed equations
-# from harness.compare.claims import Claim
-# import sympy as sp
+# from harness.modeling import Claim
+# from sympy import Matrix, sin
 # CLAIMS = [
-#     Claim("(X.1)", "M", sp.Matrix([[...]]), "mass matrix as printed"),
-#     Claim("(X.2)", "eom", ..., "equation of motion as printed (use phi_1.accel for the acceleration)"),
+#     Claim("(X.1)", "M", Matrix([[m_1 * l_1**2 / 3]]), "mass matrix as printed"),
+#     Claim("(X.2)", "eom", m_1 * l_1**2 / 3 * phi_1.accel + m_1 * g * l_1 / 2 * sin(phi_1), "as printed"),
 # ]
 CLAIMS = []
 
 # ----------------------------------------------------------------------------- scenes
-# from harness.modeling.scenes import Scene
-# SCENES = [
-#     Scene("swing", "released at 30 deg from rest, gravity only", (0.5236,), (0.0,), 3.0, frozenset({"gravity"})),
-# ]
+# from harness.modeling import Scene
+# SCENES = [Scene("swing", "released at 30 deg from rest, gravity only", (0.5236,), (0.0,), 3.0, {"gravity"})]
 SCENES = []
 ''')
 

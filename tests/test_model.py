@@ -11,16 +11,17 @@ from harness.derivation.derive import christoffel, derive
 from harness.errors import ModelError
 from harness.export.numeric import check_inertia
 from harness.derivation.kinematics import rotation, rpy_rotation
-from harness.modeling.system import Coordinate, Gravity, Inertia, Joint, Link, Parameter, System
+from harness.modeling import Claim, Scene, StickSlip, standard_gravity
+from harness.modeling.claims import validate_claims
+from harness.modeling.system import Coordinate, Gravity, Inertia, Input, Joint, JointInput, Link, Parameter, System
+
+m, l, g = Parameter("m", 1.0, "kg", "mass"), Parameter("l", 1.0, "m", "length"), standard_gravity()
+phi = Coordinate("phi", "rad", "angle")
 
 
 def _pendulum(**changes):
-    m, l, g = Parameter("m", 1.0, "kg", "mass"), Parameter("l", 1.0, "m", "length"), Parameter("g", 9.81, "m/s^2", "g")
-    fields = dict(name="p", title="p", lecture="-", parameters=(m, l, g),
-                  coordinates=(Coordinate("phi", "rad", "angle"),),
-                  links=(Link("bob", m.symbol, (0, 0, -l.symbol)),),
-                  joints=(Joint("phi", "revolute", "world", "bob", axis="x"),),
-                  gravity=Gravity(g.symbol, (0, 0, -1)))
+    fields = dict(name="p", title="p", lecture="-", coordinates=(phi,), links=(Link("bob", m, (0, 0, -l)),),
+                  joints=(Joint("phi", "revolute", "world", "bob", axis="x"),), gravity=Gravity(g, (0, 0, -1)))
     fields.update(changes)
     return System(**fields)
 
@@ -118,7 +119,60 @@ def test_per_body_derivation_is_cached_as_a_graph(tmp_path, monkeypatch):
 
 
 def test_cache_key_changes_with_the_model():
-    assert _pendulum().fingerprint() != _pendulum(gravity=Gravity(sp.Symbol("g", positive=True), (0, -1, 0))).fingerprint()
+    assert _pendulum().fingerprint() != _pendulum(gravity=Gravity(g, (0, -1, 0))).fingerprint()
+
+
+def test_parameters_are_symbols_collected_in_declaration_order():
+    a = Parameter("a", 0.5, "m", "declared first, used second")
+    mu = Parameter("mu", 0.3, "1", "used by a scene only", assumption="nonnegative")
+    b = Parameter("b", 2.0, "kg", "declared last, used first")
+    s = _pendulum(links=(Link("bob", b, (0, 0, -a)),), parameters=(mu,))
+    assert [p.name for p in s.parameters] == ["g", "a", "mu", "b"]  # g: declared at import, before the others
+    assert s.parameter("mu").default == 0.3 and s.parameter("b").unit == "kg"
+    # a tuple that lists every parameter keeps its order (what dataclasses.replace passes on)
+    assert [p.name for p in _pendulum(parameters=(l, g, m)).parameters] == ["l", "g", "m"]
+    # the same for inputs: collected from the forces that use them
+    f = Input("f", "N", "a torque")
+    driven = _pendulum(forces=(JointInput("drive", "phi", f),))
+    assert [i.name for i in driven.inputs] == ["f"] and driven.forces[0].input == "f"
+
+
+def test_a_declaration_is_its_own_symbol_and_the_model_holds_plain_ones():
+    """SymPy caches symbols by name and assumptions: two declarations of l with other values stay apart, and what a
+    System, Claim, Scene or event holds are plain symbols — the same expressions, fingerprint and strings as a model
+    written with plain symbols."""
+    import pickle
+
+    other_l = Parameter("l", 0.5, "m", "length")
+    assert other_l != l and hash(other_l) != hash(l) and (l - other_l) != 0
+    assert _pendulum(links=(Link("bob", m, (0, 0, -other_l)),)).parameter("l").default == 0.5
+    s = _pendulum()
+    used = [s.links[0].mass, *s.links[0].com, s.gravity.g]
+    assert all(type(x) is sp.Symbol for e in used for x in sp.sympify(e).free_symbols)
+    plain = _pendulum(parameters=(m, l, g), links=(Link("bob", m.symbol, (0, 0, -l.symbol)),),
+                      gravity=Gravity(g.symbol, (0, 0, -1)))
+    assert plain.fingerprint() == s.fingerprint()
+    eom = Claim("(3.111)", "eom", m * l**2 * phi.accel + m * g * l * sp.sin(phi))
+    assert sp.srepr(eom.printed) == sp.srepr(m.symbol * l.symbol**2 * phi.accel
+                                             + m.symbol * g.symbol * l.symbol * sp.sin(phi.symbol))
+    # in a model module, differentiate with respect to the coordinate itself (not the plain symbol of SYSTEM.q)
+    assert sp.diff(m * sp.sin(phi), phi) == m * sp.cos(phi) and sp.diff(m * sp.sin(phi), phi.symbol) == 0
+    scene = Scene("s", "-", (0.0,), (0.0,), 1.0, ["friction"], params={m: 2.0},
+                  events=(StickSlip(phi, l, m, m * g),))
+    assert scene.params == {"m": 2.0} and scene.events[0].mu_H == "l" and scene.events[0].coordinate == "phi"
+    assert scene.effects == frozenset({"friction"}) and type(scene.events[0].normal_force.args[0]) is sp.Symbol
+    copy = pickle.loads(pickle.dumps(l))
+    assert copy == l and copy.default == 1.0 and copy.symbol == l.symbol
+    with pytest.raises(AttributeError, match="fixed when it is declared"):
+        l.default = 2.0
+
+
+def test_symbols_the_system_does_not_declare_are_caught():
+    with pytest.raises(ModelError, match=r"gravity uses undeclared symbol\(s\) \['g'\]"):
+        _pendulum(gravity=Gravity(sp.Symbol("g", positive=True), (0, 0, -1)))
+    mu = Parameter("mu", 0.3, "1", "not used by the system")
+    with pytest.raises(ModelError, match=r"uses 'mu', which p does not declare: .*System\(parameters=...\)"):
+        validate_claims(_pendulum(), [Claim("(1)", "parameter", mu, reference=m)])
 
 
 @pytest.mark.parametrize("change, message", [

@@ -612,9 +612,14 @@ def validate(system: System) -> None:
             raise ModelError(f"{where}: link {link.name} uses undeclared symbol(s) {bad}; "
                              f"declare them as Parameter")
     for j in system.joints:
-        bad = _undeclared([*j.origin, *j.rpy], static)
+        bad = _undeclared([*j.origin, *j.rpy, j.armature], static)
         if bad:
             raise ModelError(f"{where}: joint {j.name} origin uses undeclared symbol(s) {bad}")
+    for what, values in ([("gravity", [system.gravity.g])] if system.gravity is not None else []) + [
+            (f"closure {c.name}", [*c.point.position, *c.normal, c.value]) for c in system.closures]:
+        bad = _undeclared(values, static)
+        if bad:
+            raise ModelError(f"{where}: {what} uses undeclared symbol(s) {bad}; declare them as Parameter")
     for j in system.joints:
         if j.phi is not None and not isinstance(sp.sympify(j.phi), sp.Expr):
             raise ModelError(f"{where}: joint {j.name}: phi must be one scalar expression theta_{j.name} = phi(q) "
