@@ -1,0 +1,113 @@
+"""Equations as mathematics in the report: SymPy expressions printed as presentation MathML (Chromium renders
+it without scripts), in the lecture's notation.
+
+Our symbol names map to the lecture's by one rule, stated here once: ``<base>_<sub>_…`` is the base with the
+parts as subscripts (``phi_1`` → φ₁, ``m_S`` → m_S, ``I_zz1`` → I_zz1), a trailing ``_dot``/``_ddot`` is the
+time derivative written as an accent (``phi_1_dot`` → φ̇₁, ``s_ddot`` → s̈), Greek names are letters. A name the
+rule renders wrongly takes an override (``names={"I_zz_S": ("I", ("zz",), ("S",))}``: base, subscripts,
+superscripts)."""
+
+from __future__ import annotations
+
+import re
+from html.entities import html5
+from xml.sax.saxutils import escape
+
+import sympy as sp
+from sympy.printing.conventions import split_super_sub
+from sympy.printing.mathml import MathMLPresentationPrinter
+from sympy.printing.pretty.pretty_symbology import greek_unicode
+
+_ACCENTS = {"dot": "\u02d9", "ddot": "\u00a8"}  # ˙ and ¨ above the base letter
+
+Override = tuple[str, tuple[str, ...], tuple[str, ...]]
+
+
+def lecture_parts(name: str) -> tuple[str, tuple[str, ...], tuple[str, ...], str | None]:
+    """``name`` as (base, subscripts, superscripts, accent) by the module's rule."""
+    parts = name.split("_")
+    accent = None
+    if len(parts) > 1 and parts[-1] in _ACCENTS:
+        accent = _ACCENTS[parts.pop()]
+    base, supers, subs = split_super_sub("_".join(parts))
+    return base, tuple(subs), tuple(supers), accent
+
+
+class LecturePrinter(MathMLPresentationPrinter):
+    """SymPy's presentation-MathML printer with the lecture's symbol rule (module docstring)."""
+
+    def __init__(self, names: dict[str, Override] | None = None, **settings):
+        super().__init__(settings)
+        self._names = dict(names or {})
+
+    def _text(self, tag: str, text: str):
+        node = self.dom.createElement(tag)
+        node.appendChild(self.dom.createTextNode(text))
+        return node
+
+    def _row(self, items):
+        if len(items) == 1:
+            return self._text("mi", items[0])
+        row = self.dom.createElement("mrow")
+        for i, item in enumerate(items):
+            if i:
+                row.appendChild(self._text("mo", ","))
+            row.appendChild(self._text("mi", item))
+        return row
+
+    def _print_Symbol(self, sym, style="plain"):
+        base, subs, supers, accent = lecture_parts(sym.name)
+        if sym.name in self._names:
+            (base, subs, supers), accent = self._names[sym.name], None
+        letter = greek_unicode.get(base, base)
+        node = self._text("mi", letter)
+        if accent:
+            over = self.dom.createElement("mover")
+            over.setAttribute("accent", "true")
+            over.appendChild(node)
+            over.appendChild(self._text("mo", accent))
+            node = over
+        subs = [greek_unicode.get(s, s) for s in subs]
+        supers = [greek_unicode.get(s, s) for s in supers]
+        if subs and supers:
+            script = self.dom.createElement("msubsup")
+            for child in (node, self._row(subs), self._row(supers)):
+                script.appendChild(child)
+            node = script
+        elif subs or supers:
+            script = self.dom.createElement("msub" if subs else "msup")
+            script.appendChild(node)
+            script.appendChild(self._row(subs or supers))
+            node = script
+        if style == "bold":
+            node.setAttribute("mathvariant", "bold")
+        return node
+
+    _print_Dummy = _print_Symbol
+
+
+def _numeric_entities(text: str) -> str:
+    """Named entities SymPy writes (``&InvisibleTimes;``) as numeric references: valid XML, not only HTML."""
+    def numeric(match):
+        name = match.group(1) + ";"
+        if name in ("lt;", "gt;", "amp;", "quot;", "apos;") or name not in html5:
+            return match.group(0)
+        return "".join(f"&#{ord(c)};" for c in html5[name])
+    return re.sub(r"&([A-Za-z][A-Za-z0-9]*);", numeric, text)
+
+
+def mathml(expr, *, names: dict[str, Override] | None = None, display: bool = True, label: str = "") -> str:
+    """``expr`` (an expression, a matrix or an ``Eq``) as one ``<math>`` element; ``label`` (an equation number
+    such as ``(5.92b)``) is set at the right as the lecture sets it."""
+    printer = LecturePrinter(names, mat_delim="[")
+    body = _numeric_entities(printer.doprint(sp.sympify(expr)))
+    attributes = ' display="block"' if display else ""
+    if label:
+        body = (f'<mtable><mlabeledtr><mtd><mtext>{escape(label)}</mtext></mtd><mtd>{body}</mtd>'
+                f'</mlabeledtr></mtable>')
+    return f'<math xmlns="http://www.w3.org/1998/Math/MathML"{attributes}>{body}</math>'
+
+
+def equation(lhs, rhs, **kwargs) -> str:
+    """``lhs = rhs`` as one ``<math>`` element (:func:`mathml`)."""
+    return mathml(sp.Eq(sp.sympify(lhs), sp.sympify(rhs), evaluate=False), **kwargs)
