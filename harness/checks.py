@@ -95,14 +95,22 @@ def max_abs(x) -> float:
     return float(np.max(np.abs(x))) if x.size else 0.0
 
 
-def relative_error(a, b, scale: float = 0.0) -> float:
-    """``max |a − b|`` relative to ``max(scale, |a|, |b|)``: 0 when equal, inf when not finite."""
+def relative_error(a, b, scale: float = 0.0, symmetric: bool = True) -> float:
+    """``max |a − b|`` relative to ``max(scale, |a|, |b|)``: 0 when equal, inf when not finite.
+
+    ``symmetric=False``: ``b`` is the reference and the error is relative to ``max(scale, |b|)`` only, so that a
+    diverged ``a`` shows its size instead of being divided by it (a naive run against the reference)."""
     diff = max_abs(np.asarray(a, dtype=float) - np.asarray(b, dtype=float)) if np.size(a) else 0.0
     if diff == 0.0:
         return 0.0
     if not math.isfinite(diff):
         return math.inf
-    return diff / max(scale, max_abs(a), max_abs(b), 1e-300)
+    return diff / max(scale, max_abs(a) if symmetric else 0.0, max_abs(b), 1e-300)
+
+
+# --------------------------------------------------------------------------- the JSON codec of every document
+NON_FINITE = ("inf", "-inf", "nan")
+"""How JSON documents (results, claims, hard cases, benchmarks) hold non-finite numbers: as these strings."""
 
 
 def json_number(value):
@@ -114,9 +122,27 @@ def json_number(value):
 
 
 def json_clean(node):
-    """``node`` with every non-finite float replaced by its string (strict JSON, no ``Infinity``)."""
+    """``node`` as strict JSON holds it: every non-finite float replaced by its string (no ``Infinity``), NumPy
+    arrays as lists, NumPy integers and booleans as Python's, tuples as lists, keys as strings."""
     if isinstance(node, dict):
-        return {k: json_clean(v) for k, v in node.items()}
+        return {k if isinstance(k, str) else str(k): json_clean(v) for k, v in node.items()}
     if isinstance(node, (list, tuple)):
         return [json_clean(v) for v in node]
+    if isinstance(node, np.ndarray):
+        return json_clean(node.tolist())
+    if isinstance(node, np.integer):
+        return int(node)
+    if isinstance(node, np.bool_):
+        return bool(node)
     return json_number(node)
+
+
+def json_restore(node):
+    """The inverse of :func:`json_clean` for numbers: the strings ``"inf"``, ``"-inf"``, ``"nan"`` as floats."""
+    if isinstance(node, str) and node in NON_FINITE:
+        return float(node)
+    if isinstance(node, dict):
+        return {k: json_restore(v) for k, v in node.items()}
+    if isinstance(node, list):
+        return [json_restore(v) for v in node]
+    return node

@@ -13,7 +13,12 @@ from pathlib import Path
 
 import numpy as np
 
+from harness import run
 from harness.errors import HarnessError, InputError
+from harness.report import margins
+from harness.report.markdown import CHECK_HEADER, check_rows
+from harness.report.results import dumps, split_timings
+from harness.settings import load_hypothesis_profile
 
 PROJECT_ROOT = Path(__file__).resolve().parent.parent
 
@@ -36,11 +41,16 @@ def _assignments(items, what: str) -> dict[str, float]:
     return out
 
 
-def cmd_list(args) -> int:
-    from models import catalogue, failures
+def _catalogue():
+    """The catalogue of ``models/`` and ``HARNESS_MODELS_PATH`` (:func:`harness.catalogue.repository`); the
+    library is handed it."""
+    from harness.catalogue import repository
 
-    rows = [(s.name, str(len(s.coordinates)), s.lecture, s.status) for s in catalogue().values()]
-    rows += [(name, "?", "—", "does not load (harness check shows why)") for name in failures()]
+    return repository()
+
+
+def cmd_list(args) -> int:
+    rows = run.listing(_catalogue())
     widths = [max(len(r[i]) for r in rows + [("system", "dof", "lecture", "status")]) for i in range(4)]
     for row in [("system", "dof", "lecture", "status")] + rows:
         print("  ".join(c.ljust(w) for c, w in zip(row, widths)).rstrip())
@@ -48,18 +58,8 @@ def cmd_list(args) -> int:
 
 
 def cmd_eval(args) -> int:
-    import models
-    from harness.engines import evaluate
-    from harness.engines.base import State
-
-    system = models.get(args.system)
-    state = State.make(system, args.q, args.qd, _assignments(args.param, "param"), _assignments(args.input, "input"))
-    ev = evaluate(args.engine, state)
-    out = {"system": system.name, "engine": ev.engine,
-           "coordinates": [c.name for c in system.coordinates],
-           "q": state.q.tolist(), "qd": state.qd.tolist(), "params": state.params, "inputs": state.u,
-           "M": ev.M.tolist(), "C": None if ev.C is None else ev.C.tolist(), "Cqd": ev.Cqd.tolist(),
-           "g": ev.g.tolist(), "qdd": ev.qdd.tolist(), "calls": ev.calls}
+    out = run.evaluate(_catalogue(), args.system, args.engine, args.q, args.qd, _assignments(args.param, "param"),
+                       _assignments(args.input, "input"))
     if args.json:
         print(json.dumps(out))
     else:
@@ -69,34 +69,20 @@ def cmd_eval(args) -> int:
 
 
 def cmd_check(args) -> int:
-    """Conformance of each system; ``--out`` writes results.json, timings.json and summary.md (harness.report)."""
-    import models
-    from harness.report.results import (check_folder, load_results, merge_records, read_timings, results_document,
-                                        run_checks, timings_of, write_results)
-
-    names = args.systems or models.names()   # a module that does not load is reported as that system's failure
-    for name in args.systems or []:
-        models.get(name)  # unknown or broken names given by the user fail before any work
-    if args.out:
-        check_folder(args.out)
-    results, seconds = run_checks(names, examples=args.examples, seed=args.seed, jobs=args.jobs,
-                                  scenes=not args.no_scenes, series_dir=args.out)
-    doc = results_document(results, args.examples, args.seed)
+    """Conformance of each system; ``--out`` writes results.json, timings.json and summary.md (harness.run)."""
+    result = run.check(_catalogue(), args.systems, examples=args.examples, seed=args.seed, jobs=args.jobs,
+                       scenes=not args.no_scenes, out=args.out)
     if args.json:
-        print(json.dumps(doc, indent=1))
+        print(dumps(split_timings(result.document)[0]), end="")
     else:
-        _print_table(results)
-    if args.out:  # merged by system into what the folder holds: other systems' results are kept
-        merged = results_document(merge_records(load_results(args.out), results), args.examples, args.seed)
-        timings = {**read_timings(args.out), **timings_of(seconds)}
-        written = write_results(merged, args.out, timings=timings)
-        print(f"wrote {', '.join(map(str, written))}", file=sys.stderr)
-    return 0 if doc["passed"] else 1
+        _print_table(result.document)
+    if result.written:
+        print(f"wrote {', '.join(map(str, result.written))}", file=sys.stderr)
+    return 0 if result.passed else 1
 
 
-def _print_table(results):
-    from harness.report.markdown import CHECK_HEADER, check_rows
-
+def _print_table(doc: dict):
+    results = doc["systems"]
     header = ("system", "check", "source", *CHECK_HEADER)
     rows = [header] + list(check_rows(results))
     widths = [max(len(r[i]) for r in rows) for i in range(len(header))]
@@ -113,10 +99,6 @@ def _print_table(results):
                                        f"worst: {worst['check']} ({worst['source']}) {worst['value']:.2e}"
                                        f" / {worst['bound']:.0e} (ratio {_ratio(worst):.2g})")
             print(f"scene  {r['system']}/{sc['scene']}: {'ok' if sc['passed'] else 'FAIL'}  {detail}")
-    from harness.report import margins
-    from harness.report.results import bounds_used
-
-    doc = {"systems": results, "bounds": bounds_used(results)}
     print(margins.summary_line(doc))
     for row in margins.above(doc):
         if not row["derived"]:
@@ -135,11 +117,9 @@ def _ratio(check: dict) -> float:
 
 
 def cmd_report(args) -> int:
-    """Checks the systems results.json lacks, then writes summary.md and the static site (harness.report)."""
-    from harness.report import build_report
-
-    result = build_report(args.out, names=args.systems, jobs=args.jobs, examples=args.examples, seed=args.seed,
-                          rerun=args.rerun, scenes=not args.no_scenes)
+    """Checks the systems results.json lacks, then writes summary.md and the static site (harness.run)."""
+    result = run.report(_catalogue(), args.out, names=args.systems, jobs=args.jobs, examples=args.examples,
+                        seed=args.seed, rerun=args.rerun, scenes=not args.no_scenes)
     for name, reason in result["failed"].items():
         print(f"FAILED {reason}", file=sys.stderr)
     print(f"wrote {Path(args.out) / 'index.html'} ({len(result['pages'])} pages)", file=sys.stderr)
@@ -148,181 +128,60 @@ def cmd_report(args) -> int:
 
 def cmd_new(args) -> int:
     """Scaffold ``models/NAME.py`` (harness.scaffold)."""
-    from harness.scaffold import scaffold
+    from harness.catalogue import MODELS_PATH_VARIABLE
 
-    import models
-
-    path = scaffold(args.name, args.dir)
+    path, on_path = run.new(_catalogue(), args.name, args.dir)
     print(f"wrote {path}: follow the checklist in its docstring, then run `harness check {args.name}`")
-    if str(path.parent.resolve()) not in {str(Path(p).resolve()) for p in models.__path__}:
-        print(f"note: add {path.parent} to {models.MODELS_PATH_VARIABLE} so that the catalogue finds it",
-              file=sys.stderr)
+    if not on_path:
+        print(f"note: add {path.parent} to {MODELS_PATH_VARIABLE} so that the catalogue finds it", file=sys.stderr)
     return 0
-
-
-def _classify_system(job) -> dict:
-    """Classify the claims of one system (runs in a worker process with --jobs): ``{"system", "failure",
-    "records"}``; a module that does not load, or a claim that cannot be evaluated, is a failure of its own."""
-    from harness.compare import claims
-    from harness.settings import draws_from_seed_only, load_hypothesis_profile
-
-    name, examples = job
-    load_hypothesis_profile()
-    with draws_from_seed_only():  # the examples depend on the seed only, not on our source's literals
-        return _classify(name, examples, claims)
-
-
-def _classify(name: str, examples, claims) -> dict:
-    import models
-
-    try:
-        system, printed = models.get(name), models.claims(name)
-    except HarnessError as exc:
-        return {"system": name, "failure": str(exc), "records": []}
-    out, failures = [], []
-    for claim in printed:
-        print(f"classifying {name} {claim.equation} …", file=sys.stderr, flush=True)
-        try:
-            v = claims.classify(system, claim, examples=examples)
-        except Exception as exc:  # noqa: BLE001 - one claim that cannot be evaluated does not lose the others
-            failures.append(f"{name} {claim.equation}: cannot be evaluated: {type(exc).__name__}: {exc}")
-            continue
-        out.append({"system": v.system, "equation": v.claim.equation, "quantity": v.claim.quantity,
-                    "description": v.claim.description, "classification": v.classification,
-                    "printed": str(v.claim.printed), "corrected": v.corrected, "convention": v.convention,
-                    "counterexample": v.counterexample, "note": v.claim.note, "examples": v.examples,
-                    "errors_over_tolerance": v.errors})
-    from harness.engines import warnings_log
-
-    failures += [f"{name}: unexplained {w['engine']} warning in {w['where']} ({w['count']}x): {w['message']}"
-                 for w in warnings_log.drain(name) if not w["explained"]]
-    return {"system": name, "failure": "; ".join(failures) or None, "records": out}
 
 
 def cmd_claims(args) -> int:
     """Classify every printed equation; errata are findings (reported, exit 0), 'engines disagree' fails."""
-    import multiprocessing
-
-    import models
-    from harness.io import atomic_write_text
-
-    names = args.systems or models.names()
-    for name in args.systems or []:
-        models.get(name)  # unknown or broken names given by the user fail before any work
-    if args.out:
-        from harness.report.results import check_folder
-
-        check_folder(args.out)
-    jobs = [(name, args.examples) for name in names]
-    if args.jobs > 1 and len(jobs) > 1:
-        with multiprocessing.get_context("spawn").Pool(args.jobs) as pool:
-            per_system = pool.map(_classify_system, jobs, chunksize=1)
-    else:
-        per_system = [_classify_system(job) for job in jobs]
-    records = [r for result in per_system for r in result["records"]]
-    failed = [result["failure"] for result in per_system if result["failure"]]
+    result = run.claims(_catalogue(), args.systems, examples=args.examples, jobs=args.jobs, out=args.out)
     if args.json:
-        print(json.dumps(records, indent=1))
+        print(json.dumps(result.records, indent=1))
     else:
-        for r in records:
+        for r in result.records:
             print(f"{r['system']:22s} {r['equation']:30s} {r['quantity']:16s} {r['classification']}")
-    for reason in failed:
+    for reason in result.failed:
         print(f"FAILED {reason}", file=sys.stderr)
-    if args.out:  # merged by system: the classified systems replace their records, the others are kept
-        path = Path(args.out) / "claims.json"
-        ran = {result["system"] for result in per_system}
-        kept = [r for r in _read_claims(path) if r.get("system") not in ran]
-        order = {name: k for k, name in enumerate(models.names())}
-        merged = sorted(kept + records, key=lambda r: order.get(r["system"], len(order)))  # stable: equation order
-        atomic_write_text(path, json.dumps(merged, indent=1) + "\n")
-        atomic_write_text(Path(args.out) / "errata.md", _errata_markdown(merged))
-    return 1 if failed or any(r["classification"] == "engines disagree" for r in records) else 0
-
-
-def _read_claims(path: Path) -> list[dict]:
-    try:
-        records = json.loads(path.read_text())
-    except (OSError, ValueError):
-        return []
-    return [r for r in records if isinstance(r, dict) and "system" in r] if isinstance(records, list) else []
-
-
-def _errata_markdown(records) -> str:
-    lines = ["# Printed equations of the lecture, checked", "",
-             "Each printed equation is evaluated on hypothesis states (random states and parameters) against our "
-             "derivation and, where an engine gives the quantity, Pinocchio and MuJoCo. Generated by "
-             "`harness claims --out reports`.", "",
-             "| system | equation | quantity | classification |", "|---|---|---|---|"]
-    lines += [f"| {r['system']} | {r['equation']} | {r['quantity']} | {r['classification']} |" for r in records]
-    errata = [r for r in records if r["classification"] != "confirmed"]
-    if errata:
-        lines += ["", "## Not confirmed", ""]
-        for r in errata:
-            lines += [f"### {r['system']} {r['equation']}: {r['classification']}", "",
-                      f"- printed: `{r['printed']}`", f"- derived: `{r['corrected']}`"]
-            if r["convention"]:
-                lines.append(f"- holds with the convention: {r['convention']}")
-            lines += [f"- minimal counterexample: {r['counterexample']}"]
-            if r["note"]:
-                lines.append(f"- transcription note: {r['note']}")
-            lines.append("")
-    return "\n".join(lines) + "\n"
+    return 0 if result.passed else 1
 
 
 def cmd_scenes(args) -> int:
     """List the scenes; with --run, simulate them and check the trajectories (harness/scenes/trajectories.py)."""
-    import models
-    from harness.scenes.trajectories import run_scene
-
-    names = args.systems or list(models.catalogue())
+    catalogue = _catalogue()
     failed = False
-    for name in names:
-        system = models.get(name)
-        chosen = models.scenes(name)
-        if args.scene:
-            known = [s.name for s in chosen]
-            if args.scene not in known:
-                raise InputError(f"unknown scene {args.scene!r} of {name}; known scenes: {', '.join(known) or 'none'}")
-            chosen = [s for s in chosen if s.name == args.scene]
-        for scene in chosen:
-            print(f"{name:22s} {scene.name:12s} {scene.horizon:6.2f} s  {', '.join(sorted(scene.effects)):40s} "
-                  f"{scene.description}")
-            if not args.run:
-                continue
-            result = run_scene(system, scene)
-            for c in result.checks:
-                print(f"    {c.name:45s} {c.source:10s} {c.value:.2e} / {c.bound:.0e}  "
-                      f"ratio {c.ratio:.2g}  {'ok' if c.passed else 'FAIL'}")
-            for key, value in result.notes.items():
-                print(f"    {key}: {value:.3g}" if isinstance(value, float) else f"    {key}: {value}")
-            failed |= not result.passed
+    for system, scene in run.select_scenes(catalogue, args.systems, args.scene):
+        print(f"{system.name:22s} {scene.name:12s} {scene.horizon:6.2f} s  {', '.join(sorted(scene.effects)):40s} "
+              f"{scene.description}")
+        if not args.run:
+            continue
+        result = run.run_scene(catalogue, system, scene)
+        for c in result.checks:
+            print(f"    {c.name:45s} {c.source:10s} {c.value:.2e} / {c.bound:.0e}  "
+                  f"ratio {c.ratio:.2g}  {'ok' if c.passed else 'FAIL'}")
+        for key, value in {**result.notes, **result.timings}.items():
+            print(f"    {key}: {value:.3g}" if isinstance(value, float) else f"    {key}: {value}")
+        failed |= not result.passed
     return 1 if failed else 0
 
 
 def cmd_export(args) -> int:
-    import models
-    from harness.export.files import export_files
-    from harness.io import atomic_write_text
-
-    out = Path(args.dir)
-    files = export_files(models.catalogue().values())
-    stale = [name for name, text in files.items()
-             if not (out / name).exists() or (out / name).read_text() != text]
+    files, stale = run.export(_catalogue(), args.dir, check_only=args.check)
     if args.check:
         for name in stale:
-            print(f"stale: {out / name} (run `harness export`)", file=sys.stderr)
+            print(f"stale: {Path(args.dir) / name} (run `harness export`)", file=sys.stderr)
         return 1 if stale else 0
-    for name, text in files.items():
-        atomic_write_text(out / name, text)
-    print(f"wrote {len(files)} files to {out}/ ({len(stale)} changed)")
+    print(f"wrote {len(files)} files to {Path(args.dir)}/ ({len(stale)} changed)")
     return 0
 
 
 def cmd_validate(args) -> int:
     """A user's own URDF/MJCF: safe parse, checks, load in the engines (harness/files/validate.py)."""
-    from harness.files.validate import validate
-
-    result = validate(args.file, root=args.root, states=args.states)
+    result = run.validate(args.file, root=args.root, states=args.states)
     if args.json:
         print(json.dumps(result.to_json(), indent=1))
     else:
@@ -334,35 +193,31 @@ def cmd_importer(args) -> int:
     """MuJoCo's URDF importer vs our MJCF and Pinocchio (harness/files/importer.py): importer.json, importer.md."""
     from harness.files import importer
 
-    doc = importer.run(args.systems or None, states=args.states, seed=args.seed)
-    if args.out:
-        for path in importer.write(doc, Path(args.out)):
-            print(f"wrote {path}", file=sys.stderr)
+    doc, written = run.importer(_catalogue(), args.systems, states=args.states, seed=args.seed, out=args.out)
+    for path in written:
+        print(f"wrote {path}", file=sys.stderr)
     print(json.dumps(doc, indent=1) if args.json else importer.markdown(doc), end="")
     return 0 if doc["summary"]["differ"] == 0 and all(c["detected"] for c in doc["controls"]) else 1
 
 
 def cmd_bench(args) -> int:
     """The performance studies (harness/bench/); writes bench.json, bench.md and the figures."""
-    from harness.bench import merge, render, run_bench
-
     if args.render:
-        render(args.out)
+        run.bench_render(args.out)
         return 0
     if args.merge:
-        merge(args.out, args.merge)
+        run.bench_merge(args.out, args.merge)
         return 0
-    run_bench(out=args.out, quick=args.quick, scheduler=args.scheduler, systems=args.systems, scenes=args.scenes,
-              workers=args.workers, parts=tuple(args.parts), command="harness bench " + " ".join(sys.argv[2:]))
+    run.bench(_catalogue(), out=args.out, quick=args.quick, scheduler=args.scheduler, systems=args.systems,
+              scenes=args.scenes, workers=args.workers, parts=tuple(args.parts),
+              command="harness bench " + " ".join(sys.argv[2:]))
     return 0
 
 
 def cmd_hard(args) -> int:
     """The hard cases (harness/hard/): reports/hard.json and reports/hard/*.svg; exit 1 if a bound fails."""
-    from harness.hard import run
-
-    doc = run(Path(args.out), quick=args.quick, only=args.cases or None,
-              echo=lambda line: print(line, file=sys.stderr))
+    doc = run.hard(_catalogue(), args.out, quick=args.quick, only=args.cases or None,
+                   echo=lambda line: print(line, file=sys.stderr))
     print(f"wrote {Path(args.out) / 'hard.json'}", file=sys.stderr)
     return 0 if doc["passed"] else 1
 
@@ -465,8 +320,6 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv=None) -> int:
-    from harness.settings import load_hypothesis_profile
-
     load_hypothesis_profile()
     try:
         args = build_parser().parse_args(argv)

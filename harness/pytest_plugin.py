@@ -39,9 +39,9 @@ def assert_conformant(system, engines=("pinocchio", "mujoco"), examples: int | N
     from harness.settings import draws_from_seed_only
 
     if isinstance(system, str):
-        import models
+        from harness.catalogue import repository
 
-        system = models.get(system)
+        system = repository().get(system)
     with draws_from_seed_only():
         summary = conformance.run(system, engines=tuple(engines), examples=examples)
     if not summary.passed:
@@ -65,6 +65,6 @@ def harness_conformance(request):
 @pytest.fixture
 def harness_system():
     """``get(name)``: a catalogued system (models/ and HARNESS_MODELS_PATH)."""
-    import models
+    from harness.catalogue import repository
 
-    return models.get
+    return repository().get

@@ -14,7 +14,6 @@ from string import Template
 
 from harness.errors import InputError
 
-MODELS_DIR = Path(__file__).resolve().parent.parent / "models"
 _NAME = re.compile(r"[a-z][a-z0-9_]*\Z")
 
 TEMPLATE = Template('''"""TODO title, Example/Exercise X.Y of the lecture (Figure X.Y).
@@ -90,23 +89,29 @@ SCENES = []
 ''')
 
 
-def check_name(name: str) -> None:
-    """A new system's name: a lower-case identifier, not a Python keyword, not taken."""
-    import models
-
+def check_name(name: str, catalogue=None) -> None:
+    """A new system's name: a lower-case identifier, not a Python keyword, not taken in ``catalogue``."""
     if not _NAME.match(name) or keyword.iskeyword(name):
         raise InputError(f"new: {name!r} is not a valid system name; use a lower-case Python identifier such as "
                          f"pendulum_rod")
-    if name in models.catalogue():
-        raise InputError(f"new: a system named {name!r} exists already ({models.get(name).lecture})")
+    if catalogue is not None and name in catalogue:
+        raise InputError(f"new: a system named {name!r} exists already ({catalogue.get(name).lecture})")
 
 
-def scaffold(name: str, folder: str | Path | None = None) -> Path:
-    """Write ``<folder>/<name>.py`` (default ``models/``) from :data:`TEMPLATE`; refuses to overwrite."""
+def scaffold(name: str, folder: str | Path | None = None, catalogue=None) -> Path:
+    """Write ``<folder>/<name>.py`` (default: the catalogue's own folder, else ``models/``) from
+    :data:`TEMPLATE`; refuses to overwrite and refuses a name ``catalogue`` holds."""
     from harness.io import atomic_write_text
 
-    check_name(name)
-    path = Path(folder) if folder else MODELS_DIR
+    check_name(name, catalogue)
+    if folder:
+        path = Path(folder)
+    elif catalogue is not None:
+        path = Path(catalogue.path[0])
+    else:
+        from harness.catalogue import MODELS_DIR
+
+        path = MODELS_DIR
     target = path / f"{name}.py"
     if target.exists():
         raise InputError(f"new: {target} exists already")

@@ -1,7 +1,12 @@
-"""Hypothesis profiles, one place for tests and ``harness check``.
+"""Hypothesis settings, one place for tests, ``harness check`` and ``harness claims``.
+
+Profiles:
 
 * ``ci`` (default): 200 examples per check, derandomized (fixed seed), so a red run can be replayed.
 * ``long``: 2000 random examples, run on demand: ``HYPOTHESIS_PROFILE=long``.
+
+:func:`property_test` builds every property test of the oracles (conformance, claims) with the same overrides;
+:func:`apply_seed` makes every check of a run draw from one seed (``--seed``).
 """
 
 from __future__ import annotations
@@ -13,16 +18,42 @@ from hypothesis import HealthCheck, settings
 
 EXAMPLES_CI = 200
 
-settings.register_profile("ci", max_examples=EXAMPLES_CI, derandomize=True, deadline=None, print_blob=True,
-                          suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
-settings.register_profile("long", max_examples=2000, derandomize=False, deadline=None, print_blob=True,
-                          suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+OVERRIDES = {"suppress_health_check": [HealthCheck.too_slow, HealthCheck.data_too_large], "deadline": None}
+"""What every property test of the oracles overrides in the active profile: a check may be slow (an engine
+evaluation, a compiled model) and draw large states; it has no deadline. The profiles set the same."""
+
+settings.register_profile("ci", max_examples=EXAMPLES_CI, derandomize=True, print_blob=True, **OVERRIDES)
+settings.register_profile("long", max_examples=2000, derandomize=False, print_blob=True, **OVERRIDES)
 
 
 def load_hypothesis_profile() -> str:
     name = os.environ.get("HYPOTHESIS_PROFILE", "ci")
     settings.load_profile(name)
     return name
+
+
+def apply_seed(seed: int | None) -> None:
+    """Load the hypothesis profile; with ``seed``, every check draws from ``Random(seed)`` (no example
+    database, so that saved failures cannot change the run)."""
+    import hypothesis.core
+
+    name = load_hypothesis_profile()
+    if seed is not None:
+        settings.register_profile("seeded", parent=settings.get_profile(name), derandomize=False, database=None)
+        settings.load_profile("seeded")
+        hypothesis.core.global_force_seed = seed
+
+
+def property_test(strategy, check, examples: int | None = None):
+    """``check(example)`` as a hypothesis test over ``strategy`` with :data:`OVERRIDES` (``examples``: the
+    number of examples instead of the profile's). Calling the result runs it; a failing check is shrunk and
+    its exception raised. With a derandomized profile the seed derives from ``check``'s source."""
+    from hypothesis import given
+
+    overrides = dict(OVERRIDES)
+    if examples is not None:
+        overrides["max_examples"] = examples
+    return settings(**overrides)(given(strategy)(check))
 
 
 @contextmanager

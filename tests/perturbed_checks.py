@@ -81,7 +81,7 @@ def main(argv=None) -> int:
         name, scene_name = item.split("/")
         system = models.get(name)
         scene = next(s for s in models.scenes(name) if s.name == scene_name)
-        result = run_scene(system, scene_with_nudges(system, scene, args.ulps))
+        result = run_scene(system, scene_with_nudges(system, scene, args.ulps), catalogue=models.CATALOGUE)
         for c in result.checks:
             out[f"{name}/{scene_name}/{c.name}/{c.source}"] = [c.passed, c.ratio]
     json.dump({"checks": out}, sys.stdout)

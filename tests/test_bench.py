@@ -77,7 +77,7 @@ def test_chain_is_the_same_system_in_both_vocabularies():
 
 @pytest.mark.parametrize("method, order", [("RK4", 4), ("semi-implicit Euler", 1)])
 def test_fixed_step_integrators_converge_with_their_order(method, order):
-    system, scene = wp.get_scene("pendulum", "swing")
+    system, scene = wp.get_scene(models.CATALOGUE, "pendulum", "swing")
     dyn = sim.Dynamics(system, scene, "symbolic")
     t_eval = sim.sample_times(scene)
     ref = sim.integrate(system, scene, "symbolic", rtol=1e-12, atol=1e-12)

@@ -4,6 +4,7 @@
 import numpy as np
 import pytest
 
+import models
 from harness.scenes import simulate as sim
 from harness.bench import workprecision as wp
 from harness.bench.runner import Task, run_tasks
@@ -13,14 +14,15 @@ DETERMINISTIC = ("engine", "method", "rtol", "dt", "error", "evaluations", "skip
 
 @pytest.fixture(scope="module")
 def tiny_sweep():
-    system, scene = wp.get_scene("pendulum", "swing")
+    system, scene = wp.get_scene(models.CATALOGUE, "pendulum", "swing")
     ref = sim.integrate(system, scene, "symbolic", rtol=1e-10, atol=1e-10)  # a cheap stand-in reference
     reference = {"t": ref.t.tolist(), "q": ref.q.tolist(), "qd": ref.qd.tolist()}
     configs = [("symbolic", "DOP853", 1e-4), ("symbolic", "LSODA", 1e-3), ("pinocchio", "RK4", 1),
                ("pinocchio", "semi-implicit Euler", 1), ("mujoco", "RK4", 1), ("mujoco", "implicit", 2)]
     tasks = [Task("harness.bench.workprecision:run_task",
-                  {"system": "pendulum", "scene": "swing", "engine": e, "method": m, "setting": k, "repeats": 1,
-                   "budget": 10_000, "reference": reference}, f"{e} {m} {k}") for e, m, k in configs]
+                  {"catalogue": models.CATALOGUE, "system": "pendulum", "scene": "swing", "engine": e, "method": m,
+                   "setting": k, "repeats": 1, "budget": 10_000, "reference": reference}, f"{e} {m} {k}")
+             for e, m, k in configs]
     tasks.append(Task("harness.bench.runner:no_such_function", {}, "a failing task"))
     return tasks
 

@@ -56,7 +56,7 @@ def test_outside_the_map_is_a_clear_error_not_nan(native):
 def test_chart_switch_through_the_pole_in_both_engines():
     """phi_dot(0) = 1e-7: the bob passes within ~1e-7 of the pole; the chart switch keeps energy and angular
     momentum and the engines' runs agree with the reference."""
-    charts = pendulum_charts(1.0)
+    charts = pendulum_charts(models.get("spherical_pendulum"), 1.0)
     scene = scene_for("pole", {"gravity"})
     T, t_eval = 1.5, np.linspace(0.0, 1.5, 151)
     q0, qd0 = np.array([0.6, 0.0]), np.array([0.0, 1e-7])
@@ -165,7 +165,7 @@ def test_catalogue_report(tmp_path):
     """The whole catalogue at its shortened horizons: every bound holds, the JSON and the figures exist."""
     assert main(["hard", "--quick", "--out", str(tmp_path)]) == 0
     doc = json.loads((tmp_path / "hard.json").read_text())
-    assert doc["schema"] == "hard-cases/1" and doc["passed"]
+    assert doc["schema"] == "hard-cases/2" and doc["passed"]
     for case in doc["cases"]:
         if case["figure"]:
             assert (tmp_path / case["figure"]).exists()

@@ -76,10 +76,11 @@ def test_a_broken_user_module_blocks_nothing_else(user_models, capsys, module):
 
 
 def test_a_broken_module_is_a_failed_record_in_a_catalogue_run(user_models):
-    from harness.report.results import run_checks
+    from harness.run import run_checks
 
     (user_models / "user_raises.py").write_text(BROKEN["user_raises"][0])
-    records, _ = run_checks(["pendulum", "user_raises"], examples=2, scenes=False, progress=sys.stderr)
+    records = run_checks(models.CATALOGUE, ["pendulum", "user_raises"], examples=2, scenes=False,
+                         progress=sys.stderr)
     by_name = {r["system"]: r for r in records}
     assert by_name["pendulum"]["passed"]
     assert not by_name["user_raises"]["passed"] and "RuntimeError: boom" in by_name["user_raises"]["failure"]

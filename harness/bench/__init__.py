@@ -5,19 +5,23 @@ Parts: :mod:`~harness.bench.workprecision` (scenes: reference, sweeps, Pareto fr
 :mod:`~harness.bench.evalcost` (M, C·q̇, g, q̈ per state), :mod:`~harness.bench.derivation` (n-link chains
 against ``sympy.physics.mechanics``), :mod:`~harness.bench.runner` (process pool or Dask cluster),
 :mod:`~harness.bench.figures` (work-precision diagrams), :mod:`~harness.bench.report` (``bench.md``).
-An optional ``harness/bench/lightweight_robot.py`` with ``run(quick: bool = False) -> dict`` is called too.
+An optional ``harness/bench/lightweight_robot.py`` with ``run(catalogue, quick: bool = False) -> dict`` is called
+too. The systems come from the catalogue handed to :func:`run_bench` (:class:`harness.catalogue.Catalogue`); each
+task carries it to its worker, which rebuilds it from its description.
 
 Outputs (``--out DIR``, default ``reports``): ``DIR/bench.json``, ``DIR/bench.md`` (headline table),
 ``DIR/bench/*.svg`` (figures). Wall times depend on the machine and its load: the load average is recorded
 beside them; ratios are measured in the same process and run.
 
-Schema of ``bench.json`` (``schema: 1``; times in seconds, errors relative to the state's scale)::
+Schema of ``bench.json`` (``schema: 2``; times in seconds, errors relative to the state's scale)::
 
     {
-      "schema": 1, "generated": ISO-8601 UTC, "quick": bool, "command": str, "seconds": total wall time,
+      "schema": 2, "generated": ISO-8601 UTC, "quick": bool, "command": str, "seconds": total wall time,
       "machine": {"cpus": int, "loadavg_start": [1, 5, 15 min], "loadavg_end": [...]},
       "versions": {package: version}, "runner": {"backend": "process pool" | "dask", "workers" | "scheduler"},
-      "goals": [{"goal": str, "target": str, "measured": float | null, "met": bool | null, "where": str}],
+      "goals": [{"check": str, "source": "symbolic", "value": float | "nan" (not measured), "bound": float,
+                 "ratio": float | "inf", "basis": "bench goal", "passed": bool, "detail": str}],
+                (harness.checks.Check records: measured ratio against its target, where the time goes)
       "workprecision": {
         "accuracy": 1e-6, "grid": {"rtols": [...], "fixed_k": [...], "mujoco_k": [...], "repeats": int,
                                     "budget": int},
@@ -56,6 +60,10 @@ Schema of ``bench.json`` (``schema: 1``; times in seconds, errors relative to th
       "updates": [{"parts", "command", "generated", "seconds", "machine", "versions"}] (parts re-measured by a
                  later run and merged, ``harness bench --merge``)
     }
+
+Non-finite numbers are the strings ``"inf"``, ``"-inf"``, ``"nan"`` (:func:`harness.checks.json_clean`).
+Schema history: 2 — goals are check records (``goal``, ``target``, ``measured``, ``met``, ``where`` of schema 1
+are ``check``, ``bound``, ``value``, ``passed``, ``detail``).
 """
 
 from __future__ import annotations
@@ -63,20 +71,19 @@ from __future__ import annotations
 import datetime
 import importlib
 import json
-import math
 import os
 import platform
 import sys
 import time
 from pathlib import Path
 
-import models
 from harness.bench import derivation, evalcost, workprecision as wp
 from harness.bench.runner import Task, run_tasks
+from harness.checks import json_clean, json_restore
 from harness.errors import InputError
 from harness.io import atomic_write_text
 
-SCHEMA = 1
+SCHEMA = 2
 
 
 def _log(message: str) -> None:
@@ -99,10 +106,10 @@ def _versions() -> dict:
 QUICK_SCENES = (("pendulum", "swing"), ("planar_manipulator", "driven"), ("quarter_car", "bump"))
 
 
-def _cases(systems, scenes, quick: bool) -> list[tuple[str, str]]:
+def _cases(catalogue, systems, scenes, quick: bool) -> list[tuple[str, str]]:
     """Every scene (``--systems``, ``--scenes`` filter); ``--quick`` without filters: :data:`QUICK_SCENES`;
     stiff variants only in the full run (or by ``--scenes``)."""
-    cases = wp.scene_cases(systems)
+    cases = wp.scene_cases(catalogue, systems)
     if quick and not systems and not scenes:
         return [c for c in cases if c in QUICK_SCENES]
     stiff = {(s, v.label) for s, vs in wp.STIFF.items() for v in vs}
@@ -115,14 +122,14 @@ def _cases(systems, scenes, quick: bool) -> list[tuple[str, str]]:
     return [c for c in cases if not (quick and c in stiff)]  # stiff variants: full run (or --scenes)
 
 
-def run_bench(out="reports", quick: bool = False, scheduler: str | None = None, systems=None, scenes=None,
-              workers: int | None = None, parts=("workprecision", "evaluation", "derivation", "pruning"),
+def run_bench(catalogue, out="reports", quick: bool = False, scheduler: str | None = None, systems=None,
+              scenes=None, workers: int | None = None, parts=("workprecision", "evaluation", "derivation", "pruning"),
               command: str = "harness bench") -> dict:
-    """Run the studies, write ``bench.json``, ``bench.md`` and the figures into ``out``; return the document."""
+    """Run the studies on the systems of ``catalogue``, write ``bench.json``, ``bench.md`` and the figures into
+    ``out``; return the document."""
     from harness.bench import figures, report
 
-    for name in systems or []:
-        models.get(name)  # unknown names fail before any work
+    catalogue.require(systems)  # unknown names fail before any work
     unknown = set(parts) - {"workprecision", "evaluation", "derivation", "pruning"}
     if unknown:
         raise InputError(f"unknown bench part(s) {sorted(unknown)}")
@@ -135,27 +142,28 @@ def run_bench(out="reports", quick: bool = False, scheduler: str | None = None, 
            "runner": {"backend": "dask", "scheduler": str(scheduler)} if scheduler else
            {"backend": "process pool", "workers": workers or os.cpu_count()}}
     grid = wp.Grid.make(quick)
-    cases = _cases(systems, scenes, quick) if {"workprecision", "pruning"} & set(parts) else []
-    eval_systems = [s for s in (systems or (evalcost.QUICK if quick else list(models.catalogue())))
-                    if s in models.catalogue()] if "evaluation" in parts else []
+    cases = _cases(catalogue, systems, scenes, quick) if {"workprecision", "pruning"} & set(parts) else []
+    eval_systems = [s for s in (systems or (evalcost.QUICK if quick else list(catalogue.systems())))
+                    if s in catalogue] if "evaluation" in parts else []
 
     # phase 1: references, pruning, evaluation cost (independent tasks)
     first = []
     if "workprecision" in parts:
-        first += [Task("harness.bench.workprecision:reference_task", {"system": s, "scene": c},
+        first += [Task("harness.bench.workprecision:reference_task", {"catalogue": catalogue, "system": s, "scene": c},
                        f"reference {s}/{c}") for s, c in cases]
     if "pruning" in parts:
         first += [Task("harness.bench.workprecision:pruning_task",
-                       {"system": s, "scene": c, "repeats": 3}, f"pruning {s}/{c}") for s, c in cases]
-    first += [Task("harness.bench.evalcost:task", {"system": s, "states": 10_000}, f"evaluation cost {s}")
-              for s in eval_systems]
+                       {"catalogue": catalogue, "system": s, "scene": c, "repeats": 3}, f"pruning {s}/{c}")
+                  for s, c in cases]
+    first += [Task("harness.bench.evalcost:task", {"catalogue": catalogue, "system": s, "states": 10_000},
+                   f"evaluation cost {s}") for s in eval_systems]
     _log(f"bench: {len(first)} tasks (references, pruning, evaluation cost) …")
     results = run_tasks(first, scheduler=scheduler, workers=workers)
     by_task = dict(zip((t.label for t in first), results))
 
     # phase 2: the work-precision sweep against the references
     if "workprecision" in parts:
-        doc["workprecision"] = _workprecision(cases, by_task, grid, scheduler, workers, out)
+        doc["workprecision"] = _workprecision(catalogue, cases, by_task, grid, scheduler, workers, out)
     if "pruning" in parts:
         doc["pruning"] = [{"system": s, "scene": c, **by_task[f"pruning {s}/{c}"]} for s, c in cases]
     if eval_systems:
@@ -168,14 +176,15 @@ def run_bench(out="reports", quick: bool = False, scheduler: str | None = None, 
     if Path(__file__).with_name("lightweight_robot.py").exists() and (not systems or "lightweight_robot" in systems):
         _log("bench: lightweight_robot …")
         try:
-            doc["lightweight_robot"] = importlib.import_module("harness.bench.lightweight_robot").run(quick=quick)
+            doc["lightweight_robot"] = importlib.import_module("harness.bench.lightweight_robot").run(catalogue,
+                                                                                                      quick=quick)
         except Exception as exc:  # noqa: BLE001 - its failure is reported, the rest is kept
             doc["lightweight_robot"] = {"error": f"{type(exc).__name__}: {exc}"}
     doc["machine"]["loadavg_end"] = os.getloadavg()
     doc["seconds"] = time.perf_counter() - started
     doc["goals"] = report.goals(doc)
     figures.draw_all(doc, out)
-    atomic_write_text(out / "bench.json", json.dumps(_finite(doc), indent=1) + "\n")
+    atomic_write_text(out / "bench.json", dumps(doc))
     atomic_write_text(out / "bench.md", report.markdown(doc))
     _log(f"bench: wrote {out / 'bench.json'}, {out / 'bench.md'} and {out / 'bench'}/*.svg "
          f"in {doc['seconds']:.0f} s")
@@ -198,9 +207,9 @@ def merge(out="reports", other=None) -> dict:
         base[key] = new[key]
     base.setdefault("updates", []).append({k: new.get(k) for k in ("command", "generated", "seconds", "machine",
                                                                    "versions")} | {"parts": parts})
-    base["goals"] = report.goals(base)
+    base["schema"], base["goals"] = SCHEMA, report.goals(base)
     figures.draw_all(base, Path(out))
-    atomic_write_text(Path(out) / "bench.json", json.dumps(_finite(base), indent=1) + "\n")
+    atomic_write_text(Path(out) / "bench.json", dumps(base))
     atomic_write_text(Path(out) / "bench.md", report.markdown(base))
     return base
 
@@ -209,7 +218,7 @@ def _read(path: Path) -> dict:
     if not path.exists():
         raise InputError(f"{path}: no such file (run `harness bench` first)")
     try:
-        return _infinite(json.loads(path.read_text()))
+        return json_restore(json.loads(path.read_text()))
     except ValueError as exc:
         raise InputError(f"{path}: not a bench.json ({exc})") from None
 
@@ -220,25 +229,19 @@ def render(out="reports") -> dict:
 
     path = Path(out) / "bench.json"
     doc = _read(path)
-    doc["goals"] = report.goals(doc)
+    doc["schema"], doc["goals"] = SCHEMA, report.goals(doc)
     figures.draw_all(doc, Path(out))
-    atomic_write_text(path, json.dumps(_finite(doc), indent=1) + "\n")
+    atomic_write_text(path, dumps(doc))
     atomic_write_text(Path(out) / "bench.md", report.markdown(doc))
     return doc
 
 
-def _infinite(obj):
-    """The inverse of :func:`_finite`."""
-    if obj in ("inf", "-inf", "nan"):
-        return float(obj)
-    if isinstance(obj, dict):
-        return {k: _infinite(v) for k, v in obj.items()}
-    if isinstance(obj, list):
-        return [_infinite(v) for v in obj]
-    return obj
+def dumps(doc: dict) -> str:
+    """``bench.json``: non-finite numbers as strings (:func:`harness.checks.json_clean`)."""
+    return json.dumps(json_clean(doc), indent=1, allow_nan=False) + "\n"
 
 
-def _workprecision(cases, by_task, grid: wp.Grid, scheduler, workers, out: Path) -> dict:
+def _workprecision(catalogue, cases, by_task, grid: wp.Grid, scheduler, workers, out: Path) -> dict:
     configs = wp.configurations(grid)
     tasks, scenes = [], []
     for s, c in cases:
@@ -250,8 +253,9 @@ def _workprecision(cases, by_task, grid: wp.Grid, scheduler, workers, out: Path)
         reference = {k: ref[k] for k in ("t", "q", "qd")}
         for engine, method, setting in configs:
             tasks.append(Task("harness.bench.workprecision:run_task",
-                              {"system": s, "scene": c, "engine": engine, "method": method, "setting": setting,
-                               "repeats": grid.repeats, "budget": grid.budget, "reference": reference},
+                              {"catalogue": catalogue, "system": s, "scene": c, "engine": engine, "method": method,
+                               "setting": setting, "repeats": grid.repeats, "budget": grid.budget,
+                               "reference": reference},
                               f"{s}/{c} {engine} {method} {setting:g}"))
     _log(f"bench: work-precision sweep, {len(tasks)} runs over {len(cases)} scenes …")
     results = run_tasks(tasks, scheduler=scheduler, workers=workers)
@@ -277,13 +281,3 @@ def _workprecision(cases, by_task, grid: wp.Grid, scheduler, workers, out: Path)
                                               "pinocchio_methods": list(grid.pinocchio_methods)},
             "scenes": scenes}
 
-
-def _finite(obj):
-    """JSON has no infinity: ``inf`` becomes the string ``"inf"``."""
-    if isinstance(obj, float) and not math.isfinite(obj):
-        return "inf" if obj > 0 else ("-inf" if obj < 0 else "nan")
-    if isinstance(obj, dict):
-        return {k: _finite(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_finite(v) for v in obj]
-    return obj

@@ -30,7 +30,6 @@ import mujoco
 import numpy as np
 import pinocchio as pin
 
-import models
 from harness.derivation.compile import compiled
 from harness.engines.mujoco_engine import MujocoModel
 from harness.engines.pinocchio_engine import PinocchioModel
@@ -50,9 +49,9 @@ def per_call(fn, min_seconds: float = 0.02, repeats: int = 5) -> float:
     return statistics.median(timer.repeat(repeats, number)) / number
 
 
-def measure(system: str, states: int = 10_000, seed: int = 0) -> dict:
-    """Every time of the module docstring for one system (seconds per state)."""
-    s = models.get(system)
+def measure(catalogue, system: str, states: int = 10_000, seed: int = 0) -> dict:
+    """Every time of the module docstring for one system of ``catalogue`` (seconds per state)."""
+    s = catalogue.get(system)
     c = compiled(s)
     n, m = len(s.q), len(s.u)
     params = s.default_parameters()
@@ -157,5 +156,5 @@ def _ratios(out: dict) -> None:
         out["ratios"]["qdd_one_call_vs_mj_forward"] = out["symbolic"]["qdd"] / out["mujoco"]["qdd"]
 
 
-def task(system: str, states: int = 10_000) -> dict:
-    return measure(system, states)
+def task(catalogue, system: str, states: int = 10_000) -> dict:
+    return measure(catalogue, system, states)

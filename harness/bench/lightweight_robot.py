@@ -39,12 +39,12 @@ import numpy as np
 SYSTEM = "lightweight_robot"
 
 _CHILD = r"""
-import json, time
+import json, sys, time
 t0 = time.perf_counter()
-import models
+from harness.catalogue import rebuild
 from harness.derivation import derive as derive_module
 from harness.derivation.compile import CompiledModel
-system = models.get("lightweight_robot")
+system = rebuild(*json.loads(sys.argv[1])).get("lightweight_robot")
 t1 = time.perf_counter()
 d = derive_module.derive(system)
 t2 = time.perf_counter()
@@ -90,13 +90,15 @@ def _best(fn, repeats: int, number: int) -> float:
     return best
 
 
-def _derivation_in_child(timeout: float) -> dict:
+def _derivation_in_child(catalogue, timeout: float) -> dict:
+    """Derivation and compilation in a fresh process, which rebuilds ``catalogue`` from its description."""
     env = dict(os.environ)
     with tempfile.TemporaryDirectory() as cache:
         env["HARNESS_CACHE_DIR"] = cache
         start = time.perf_counter()
         try:
-            out = subprocess.run([sys.executable, "-c", _CHILD], capture_output=True, text=True, timeout=timeout,
+            out = subprocess.run([sys.executable, "-c", _CHILD, json.dumps(catalogue.description())],
+                                 capture_output=True, text=True, timeout=timeout,
                                  env=env, cwd=os.path.dirname(os.path.dirname(os.path.dirname(__file__))))
         except subprocess.TimeoutExpired:
             return {"timeout": timeout}
@@ -154,20 +156,20 @@ def _drake(c, system, q, qd, p, ours: dict) -> dict:
             "ours_cold_over_drake_symbolic": derivation / (built - loaded) if derivation else None}
 
 
-def run(quick: bool = False) -> dict:
-    """Derivation, compilation, evaluation and size of the lightweight robot; see the module docstring."""
+def run(catalogue, quick: bool = False) -> dict:
+    """Derivation, compilation, evaluation and size of the lightweight robot of ``catalogue``; see the module
+    docstring."""
     import pinocchio as pin
 
-    import models
     from harness.derivation.compile import compiled
     from harness.engines.base import State
     from harness.engines.pinocchio_engine import PinocchioModel
 
     load_start = os.getloadavg()
     doc: dict = {"system": SYSTEM, "quick": quick}
-    doc["derivation"] = _derivation_in_child(timeout=300.0)
+    doc["derivation"] = _derivation_in_child(catalogue, timeout=300.0)
 
-    system = models.get(SYSTEM)
+    system = catalogue.get(SYSTEM)
     c = compiled(system)  # derives in this process too (not cached, see the docstring)
     d = c.derivation
     doc["size"] = {name: {"graph_nodes": _graph_size(getattr(d, name)), **_cse_ops(getattr(d, name))}
@@ -231,4 +233,6 @@ def run(quick: bool = False) -> dict:
 
 
 if __name__ == "__main__":
-    print(json.dumps(run(quick="--quick" in sys.argv), indent=1))
+    from harness.catalogue import Catalogue
+
+    print(json.dumps(run(Catalogue("models"), quick="--quick" in sys.argv), indent=1))

@@ -1,10 +1,23 @@
-"""The goals of the benchmark, measured either way, and the headline Markdown (``bench.md``)."""
+"""The goals of the benchmark, measured either way, and the headline Markdown (``bench.md``).
+
+A goal is a check record (:class:`harness.checks.Check`): the measured ratio (``value``; NaN when not measured)
+against its target (``bound``), basis :data:`GOAL`, and where the time goes (``detail``)."""
 
 from __future__ import annotations
 
 import math
 
 from harness.bench import derivation, evalcost, workprecision as wp
+from harness.checks import Check
+
+GOAL = "bench goal"
+"""The basis of every goal: a target ratio of wall times the issue set, not a tolerance."""
+
+
+def _goal(what: str, measured, target: float, where: str) -> dict:
+    """A goal as a check record (``value``: the measured ratio, NaN when not measured)."""
+    value = math.nan if measured is None else float(measured)
+    return Check(what, "symbolic", value, float(target), GOAL, where).record()
 
 
 def _num(x):
@@ -56,8 +69,7 @@ def goals(doc: dict) -> list[dict]:
                               f"Pinocchio's {evalcost.pinocchio_sum(pin) * 1e9:.0f} ns")
                 met_on = sum(r["ratios"][key] <= target for r in rows)
                 where += f"; met on {met_on} of {len(rows)} systems"
-            out.append({"goal": what, "target": f"≤ {target:g} ×", "measured": ratio, "met": ratio <= target,
-                        "where": where})
+            out.append(_goal(what, ratio, target, where))
     d = doc.get("derivation")
     if d:
         row = next((r for r in d["rows"] if r["n"] == d["goal_n"]), None)
@@ -86,9 +98,8 @@ def goals(doc: dict) -> list[dict]:
                       f"{o['cold_seconds']:.1f} s, of which simplification {o['simplify_seconds']:.1f} s; mechanics "
                       f"{r['mechanics']['seconds']:.1f} s; count_ops(M) {o['count_ops_M']} vs "
                       f"{r['mechanics']['count_ops_M']})")
-        out.append({"goal": f"derivation vs sympy.physics.mechanics at n = {d['goal_n']} (cold)",
-                    "target": f"≤ {derivation.GOAL:g} ×", "measured": measured, "met": d.get("goal_met"),
-                    "where": where})
+        out.append(_goal(f"derivation vs sympy.physics.mechanics at n = {d['goal_n']} (cold)", measured,
+                         derivation.GOAL, where))
     scenes = doc.get("workprecision", {}).get("scenes", [])
     ratios = [(s, s["summary"]["symbolic_vs_fastest_engine"]) for s in scenes
               if "symbolic_vs_fastest_engine" in s.get("summary", {})]
@@ -104,9 +115,8 @@ def goals(doc: dict) -> list[dict]:
                   f"{sym['evaluations']} evaluations × {sym['seconds'] / max(sym['evaluations'], 1) * 1e6:.1f} µs vs "
                   f"{other['configuration']} {other['evaluations']} × "
                   f"{other['seconds'] / max(other['evaluations'], 1) * 1e6:.1f} µs" if missed else ""))
-        out.append({"goal": f"symbolic path at {wp.ACCURACY:g} accuracy vs the fastest engine configuration "
-                            "(worst scene)", "target": "≤ 1 ×", "measured": worst["ratio"],
-                    "met": worst["ratio"] <= 1, "where": where})
+        out.append(_goal(f"symbolic path at {wp.ACCURACY:g} accuracy vs the fastest engine configuration "
+                         "(worst scene)", worst["ratio"], 1.0, where))
     return out
 
 
@@ -138,8 +148,10 @@ def markdown(doc: dict) -> str:
                   f"{' / '.join(f'{x:.2f}' for x in load.get('loadavg_start', []))} at its start).", ""]
     lines += ["## Goals", "", "| goal | target | measured | met | where the time goes |", "|---|---|---|---|---|"]
     for g in doc.get("goals", []):
-        met = "—" if g["met"] is None else ("yes" if g["met"] else "**no**")
-        lines.append(f"| {g['goal']} | {g['target']} | {_fmt(_num(g['measured']), ' ×')} | {met} | {g['where']} |")
+        measured = _num(g["value"])
+        met = "—" if measured is None else ("yes" if g["passed"] else "**no**")
+        lines.append(f"| {g['check']} | ≤ {g['bound']:g} × | {_fmt(measured, ' ×')} | {met} | "
+                     f"{g.get('detail', '')} |")
     wpd = doc.get("workprecision")
     if wpd:
         lines += ["", f"## Work-precision: fastest configuration per engine reaching {wpd['accuracy']:g}", "",

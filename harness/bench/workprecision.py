@@ -37,7 +37,6 @@ import time
 
 import numpy as np
 
-import models
 from harness.scenes import simulate as sim
 from harness.scenes import structural
 from harness.modeling.scenes import Scene, with_idle_effects
@@ -110,20 +109,20 @@ class Grid:
 
 
 # --------------------------------------------------------------------------- scenes (with stiff variants)
-def scene_cases(systems=None) -> list[tuple[str, str]]:
-    """``(system, scene label)`` of every scene of the catalogue (or of ``systems``), stiff variants after."""
-    names = systems or list(models.catalogue())
+def scene_cases(catalogue, systems=None) -> list[tuple[str, str]]:
+    """``(system, scene label)`` of every scene of ``catalogue`` (or of ``systems``), stiff variants after."""
+    names = systems or list(catalogue.systems())
     out = []
     for name in names:
-        labels = [s.name for s in models.scenes(name)]
+        labels = [s.name for s in catalogue.scenes(name)]
         out += [(name, label) for label in labels]
         out += [(name, v.label) for v in STIFF.get(name, []) if v.scene in labels]
     return out
 
 
-def get_scene(system_name: str, label: str):
-    system = models.get(system_name)
-    by_name = {s.name: s for s in models.scenes(system_name)}
+def get_scene(catalogue, system_name: str, label: str):
+    system = catalogue.get(system_name)
+    by_name = {s.name: s for s in catalogue.scenes(system_name)}
     if label in by_name:
         return system, by_name[label]
     for v in STIFF.get(system_name, []):
@@ -151,14 +150,14 @@ def reference_methods(system: str, scene: str) -> tuple[str, str]:
     return ("Radau", "LSODA") if stiff else (sim.REFERENCE["method"], "Radau")
 
 
-def reference_task(system: str, scene: str) -> dict:
+def reference_task(catalogue, system: str, scene: str) -> dict:
     """The reference trajectory at 1e-12, confirmed by a method of another family (:func:`reference_methods`)."""
-    s, sc = get_scene(system, scene)
+    s, sc = get_scene(catalogue, system, scene)
     if _slips(s, sc):
         return {"system": system, "scene": scene, "description": sc.description, "skipped": SLIPS}
     kw = {k: v for k, v in sim.REFERENCE.items() if k != "method"}
     method, confirmation = reference_methods(system, scene)
-    ref, other = (_simulate(s, sc, "symbolic", m, kw["rtol"]) for m in (method, confirmation))
+    ref, other = (_simulate(s, sc, "symbolic", m, kw["rtol"], catalogue) for m in (method, confirmation))
     agreement = sim.max_error(other, ref)
     return {"system": system, "scene": scene, "description": sc.description, "horizon": sc.horizon,
             "effects": sorted(sc.effects), "params": dict(sc.params),
@@ -186,11 +185,12 @@ def _roll(sc: Scene):
     return next((e for e in sc.events if isinstance(e, structural.RollSlip)), None)
 
 
-def _simulate(s, sc: Scene, source: str, method: str, rtol: float) -> sim.Trajectory:
-    """``source``'s q̈ integrated by ``solve_ivp``'s ``method``, events located where the scene has them."""
+def _simulate(s, sc: Scene, source: str, method: str, rtol: float, catalogue=None) -> sim.Trajectory:
+    """``source``'s q̈ integrated by ``solve_ivp``'s ``method``, events located where the scene has them (a
+    lift-off's phase 2 from ``catalogue``)."""
     event = hybrid_event(sc)
     if event is not None:
-        return HYBRID[type(event)](s, sc, event, source, method=method, rtol=rtol, atol=rtol)
+        return HYBRID[type(event)](s, sc, event, source, method=method, rtol=rtol, atol=rtol, catalogue=catalogue)
     return sim.integrate(s, sc, source, method=method, rtol=rtol, atol=rtol)
 
 
@@ -212,10 +212,10 @@ def event_note(sc: Scene, engine: str, method: str) -> str | None:
         return f"{method} does not locate events"
     return None
 
-def run_task(system: str, scene: str, engine: str, method: str, setting: float, repeats: int, budget: int,
-             reference: dict) -> dict:
+def run_task(catalogue, system: str, scene: str, engine: str, method: str, setting: float, repeats: int,
+             budget: int, reference: dict) -> dict:
     """One configuration: ``setting`` is ``rtol`` (adaptive) or ``k`` (fixed step ``dt = Δ/k``)."""
-    s, sc = get_scene(system, scene)
+    s, sc = get_scene(catalogue, system, scene)
     adaptive = method in ADAPTIVE and engine != "mujoco"
     out = {"system": system, "scene": scene, "engine": engine, "method": method,
            "rtol": setting if adaptive else None,
@@ -229,11 +229,11 @@ def run_task(system: str, scene: str, engine: str, method: str, setting: float, 
         if steps > budget:
             return {**out, "skipped": f"over the budget of {budget} evaluations ({steps})"}
     if hybrid_event(sc) is not None and engine != "mujoco":
-        _simulate(s, sc, engine, method, 1e-3)  # warm-up: the compiled functions are built lazily, not timed
+        _simulate(s, sc, engine, method, 1e-3, catalogue)  # warm-up: the compiled functions are built lazily, not timed
     times, first = [], None
     for _ in range(max(1, repeats)):
         try:
-            tr = _one_run(s, sc, engine, method, setting, out["dt"], budget, reference["t"])
+            tr = _one_run(s, sc, engine, method, setting, out["dt"], budget, reference["t"], catalogue)
         except ValueError as exc:  # MuJoCo's own integrator does not apply
             return {**out, "skipped": str(exc)}
         except _Budget:
@@ -251,7 +251,7 @@ def run_task(system: str, scene: str, engine: str, method: str, setting: float, 
             "seconds_all": times, "evaluations": first.evaluations}
 
 
-def _one_run(s, sc: Scene, engine, method, setting, dt, budget, t_eval) -> sim.Trajectory:
+def _one_run(s, sc: Scene, engine, method, setting, dt, budget, t_eval, catalogue=None) -> sim.Trajectory:
     t_eval = np.asarray(t_eval)
     event, roll = hybrid_event(sc), _roll(sc)
     if engine == "mujoco" and (event or roll):  # its own dry friction / contact (implicitfast, event_note)
@@ -259,7 +259,7 @@ def _one_run(s, sc: Scene, engine, method, setting, dt, budget, t_eval) -> sim.T
             return (structural.mujoco_stick_slip(s, sc, event, dt) if event else
                     structural.mujoco_rolling(s, sc, roll, dt))
     if event is not None:  # solve_ivp with the events located (event_note)
-        return _simulate(s, sc, engine, method, setting)
+        return _simulate(s, sc, engine, method, setting, catalogue)
     if engine == "mujoco":
         with np.errstate(all="ignore"):
             tr = sim.mujoco_native(s, sc, dt, method)
@@ -337,13 +337,13 @@ def fixed_step(rhs, scene: Scene, y0, method: str, k: int, t_eval):
 
 
 # --------------------------------------------------------------------------- effect pruning
-def pruning_task(system: str, scene: str, repeats: int = 3) -> dict:
+def pruning_task(catalogue, system: str, scene: str, repeats: int = 3) -> dict:
     """Symbolic path, DOP853 1e-10: the pruned model against every effect present but idle
     (:func:`harness.modeling.scenes.with_idle_effects`), the measurement of :mod:`harness.scenes.trajectories`, median of repeats."""
-    s, sc = get_scene(system, scene)
-    lean = [symbolic_run(s, sc) for _ in range(repeats)]
+    s, sc = get_scene(catalogue, system, scene)
+    lean = [symbolic_run(s, sc, catalogue=catalogue) for _ in range(repeats)]
     idle_system, idle_scene = with_idle_effects(s, sc)
-    full = [symbolic_run(idle_system, idle_scene) for _ in range(repeats)]
+    full = [symbolic_run(idle_system, idle_scene, catalogue=catalogue) for _ in range(repeats)]
     t_lean = statistics.median(x.seconds for x in lean)
     t_full = statistics.median(x.seconds for x in full)
     return {"system": system, "scene": scene, "pruned_seconds": t_lean, "idle_seconds": t_full,

@@ -30,13 +30,12 @@ Classification (computed, never typed in):
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 import sympy as sp
-from hypothesis import HealthCheck, given, settings
 
+from harness.checks import Bound, Check, relative_error
 from harness.derivation.compile import compiled
 from harness.compare.conformance import FLOAT64_RTOL, scales
 from harness.engines import mujoco_engine, pinocchio_engine, symbolic
@@ -45,17 +44,31 @@ from harness.derivation.kinematics import link_poses, point_position
 from harness.modeling.claims import ENGINE_QUANTITIES, Claim, as_matrix as _as_matrix, symbols as _symbols
 from harness.modeling.system import Point, System
 from harness.compare.strategies import states
+from harness.settings import property_test
+
+CLAIM_TOLERANCE = Bound("printed equation", 1.0, "the printed expression's relative error against a source over "
+                        "the float64 tolerance (FLOAT64_RTOL, times κ(M) for an equation of motion or an "
+                        "equilibrium): at most 1 agrees")
+
 
 @dataclass
-class Verdict:
+class Classification:
+    """A printed equation classified: ``checks`` holds, per source, the largest error over tolerance seen (one
+    :class:`harness.checks.Check` each, bound :data:`CLAIM_TOLERANCE`)."""
+
     claim: Claim
     system: str
     classification: str
-    errors: dict                        # source -> largest relative error seen
+    checks: list[Check]
     counterexample: str | None = None
     corrected: str | None = None
     convention: str | None = None
     examples: int = 0
+
+    @property
+    def errors(self) -> dict[str, float]:
+        """Source → largest relative error over tolerance seen (``errors_over_tolerance`` of claims.json)."""
+        return {c.source: c.value for c in self.checks}
 
 
 _DERIVED: dict = {}
@@ -132,15 +145,6 @@ def _lambdify(system: System, expr, key=None):
     return _COMPILED_CLAIMS[key]
 
 
-def _relative(a, b, scale):
-    diff = float(np.max(np.abs(np.asarray(a, float) - np.asarray(b, float)))) if np.size(a) else 0.0
-    if diff == 0.0:
-        return 0.0
-    if not math.isfinite(diff):
-        return math.inf
-    return diff / max(scale, float(np.max(np.abs(a))), float(np.max(np.abs(b))), 1e-300)
-
-
 class _Disagrees(AssertionError):
     pass
 
@@ -179,7 +183,7 @@ def evaluate_claim(system: System, claim: Claim, state: State, engines=("pinocch
         q_star = np.asarray(fn(state.q, state.qd, np.zeros(n), state.p, state.u_vec), dtype=float).ravel()
         state = State.make(system, q_star, np.zeros(n), state.params, {})
         evaluations, s, kappa = _engine_values(claim, state, engines)
-        return {source: _relative(ev.qdd, np.zeros(n), s["qdd"]) / (FLOAT64_RTOL * kappa)
+        return {source: relative_error(ev.qdd, np.zeros(n), s["qdd"]) / (FLOAT64_RTOL * kappa)
                 for source, ev in evaluations.items()}
     evaluations, s, kappa = _engine_values(claim, state, engines)
     out = {}
@@ -194,7 +198,7 @@ def evaluate_claim(system: System, claim: Claim, state: State, engines=("pinocch
             terms = s["qdd"] * float(np.max(coefficients)) if np.any(coefficients) else \
                 max(s["qdd"] * float(np.max(np.abs(ev.M))), s["g"])
             residual = value
-            out[source] = _relative(residual, np.zeros_like(residual), terms) / (FLOAT64_RTOL * kappa)
+            out[source] = relative_error(residual, np.zeros_like(residual), terms) / (FLOAT64_RTOL * kappa)
             continue
         if kind in ENGINE_QUANTITIES:
             reference = _select(sp.Matrix(_value_of(claim, ev)), claim.index)
@@ -211,16 +215,17 @@ def evaluate_claim(system: System, claim: Claim, state: State, engines=("pinocch
         else:
             continue
         reference = np.asarray(reference, dtype=float).reshape(value.shape)
-        out[source] = _relative(value, reference, scale) / FLOAT64_RTOL
+        out[source] = relative_error(value, reference, scale) / FLOAT64_RTOL
     if kind == "C":  # C is not unique: does the printed C give the same C q̇?
         ref = evaluations["derivation"]
         printed_cqd = value.reshape(-1, len(state.qd)) @ state.qd if claim.index is None else None
         if printed_cqd is not None:
-            out["Cqd (from printed C)"] = _relative(printed_cqd, ref.Cqd, s["Cqd"]) / FLOAT64_RTOL
+            out["Cqd (from printed C)"] = relative_error(printed_cqd, ref.Cqd, s["Cqd"]) / FLOAT64_RTOL
     return out
 
 
-def classify(system: System, claim: Claim, engines=("pinocchio", "mujoco"), examples: int | None = None) -> Verdict:
+def classify(system: System, claim: Claim, engines=("pinocchio", "mujoco"),
+             examples: int | None = None) -> Classification:
     """Classify a claim on hypothesis states; a failing claim is shrunk to a minimal counterexample."""
     engines = tuple(e for e in engines if not system.engine_note(e))
     worst: dict[str, float] = {}
@@ -235,7 +240,9 @@ def classify(system: System, claim: Claim, engines=("pinocchio", "mujoco"), exam
             raise _Disagrees(_state_text(state))
 
     failure = _run(system, check, examples)
-    verdict = Verdict(claim, system.name, "confirmed", worst, examples=count[0])
+    verdict = Classification(claim, system.name, "confirmed",
+                             [CLAIM_TOLERANCE.check(claim.equation, source, v) for source, v in worst.items()],
+                             examples=count[0])
     if failure is None:
         return verdict
     verdict.counterexample = failure
@@ -272,10 +279,7 @@ def _holds_with(system, claim, engines, substitution):
 
 
 def _run(system: System, check, examples):
-    overrides = {"suppress_health_check": [HealthCheck.too_slow, HealthCheck.data_too_large], "deadline": None}
-    if examples is not None:
-        overrides["max_examples"] = examples
-    test = settings(**overrides)(given(states(system))(check))
+    test = property_test(states(system), check, examples)
     try:
         test()
     except _Disagrees as failure:

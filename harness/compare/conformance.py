@@ -26,13 +26,13 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from hypothesis import HealthCheck, given, settings
 
 from harness.compare import roundtrip
 from harness.checks import Bound, Check, flag, max_abs as _max, relative_error as _relative
 from harness.engines import pinocchio_engine, mujoco_engine, symbolic
 from harness.engines.base import Evaluation, State
 from harness.modeling.system import System
+from harness.settings import property_test
 from harness.compare.strategies import states
 
 FLOAT64_RTOL = 1e-12
@@ -168,10 +168,7 @@ def run(system: System, engines=("pinocchio", "mujoco"), examples: int | None = 
             if not f.passed:
                 raise ConformanceFailure(f, state)
 
-    overrides = {"suppress_health_check": [HealthCheck.too_slow, HealthCheck.data_too_large], "deadline": None}
-    if examples is not None:
-        overrides["max_examples"] = examples
-    test = settings(**overrides)(given(states(system, random_parameters))(check))
+    test = property_test(states(system, random_parameters), check, examples)
     try:
         test()
     except ConformanceFailure as failure:  # the shrunk (minimal) counterexample

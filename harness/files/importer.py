@@ -91,12 +91,14 @@ import sys
 import tempfile
 import warnings
 from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
 
 import mujoco
 import numpy as np
 import pinocchio as pin
 
+from harness.checks import Bound, Check, relative_error
 from harness.compare.conformance import FLOAT64_RTOL
 from harness.errors import EngineError, ModelError
 from harness.export.numeric import lump
@@ -111,6 +113,8 @@ TOLERANCE = FLOAT64_RTOL
 TOLERANCE_REASON = ("float64 round-off of the same decimals (principal axes, quaternions: a few ulps); "
                     "harness.compare.conformance tolerance policy")
 SCHEMA = "importer/1"
+BOUND = Bound("importer round-off", TOLERANCE, TOLERANCE_REASON)
+_rel = partial(relative_error, symmetric=False)   # relative to each quantity's scale (≥ the reference's size)
 QUANTITIES = ("M", "bias", "mass", "first moment of mass", "inertia")
 
 
@@ -328,7 +332,10 @@ def moving_joints(model: pin.Model) -> list[str]:
 
 # --------------------------------------------------------------------------------- comparison
 @dataclass
-class Check:
+class _Worst:
+    """The state where one quantity's error exceeds what is allowed there by the most; its verdict is a
+    :class:`harness.checks.Check` (relative error against :data:`TOLERANCE` plus the allowance at that state)."""
+
     quantity: str
     item: str
     max_error: float = 0.0
@@ -341,21 +348,24 @@ class Check:
 
     def update(self, error, scale, state, imported, reference, allowance=0.0):
         """Keep the state where the error exceeds what is allowed there by the most."""
-        excess = error - (allowance / scale if scale > 0 else allowance)
+        excess = error - self._allowed(scale, allowance)
         if excess > self.excess:
             self.max_error, self.scale, self.allowance, self.worst = float(error), float(scale), allowance, state
             self.imported, self.reference = np.asarray(imported).tolist(), np.asarray(reference).tolist()
             self.excess = excess
 
+    @staticmethod
+    def _allowed(scale, allowance) -> float:
+        return allowance / scale if scale > 0 else allowance
+
+    def check(self) -> Check:
+        bound = TOLERANCE + self._allowed(self.scale, self.allowance)
+        return Check(self.quantity, "mujoco import", self.max_error, bound, BOUND.name, self.item)
+
     def record(self) -> dict:
         return {"quantity": self.quantity, "item": self.item, "max_error": self.max_error, "scale": self.scale,
-                "tolerance": TOLERANCE, "allowance": self.allowance, "passed": bool(self.excess <= TOLERANCE),
+                "tolerance": TOLERANCE, "allowance": self.allowance, "passed": self.check().passed,
                 "worst_state": self.worst, "imported": self.imported, "reference": self.reference}
-
-
-def _rel(a, b, scale) -> float:
-    diff = float(np.max(np.abs(np.asarray(a) - np.asarray(b)))) if np.size(a) else 0.0
-    return diff / scale if scale > 0 else diff
 
 
 def _finite(what: str, state: dict, **values) -> None:
@@ -373,11 +383,11 @@ def compare(imported, reference, joints: list[str], prismatic: set[str], states:
     origin: an absolute ``allowance`` of ``n·bound`` on mass, ``n·bound·L`` on the first moment of mass,
     ``n·bound·max(1, L²)`` on inertia (``n`` bodies of both models). Non-finite numbers: EngineError."""
     rng = np.random.default_rng(seed)
-    checks: dict[tuple, Check] = {}
+    checks: dict[tuple, _Worst] = {}
     n_bound = (len(imported.body_names()) + len(reference.body_names())) * bound
 
     def check(quantity, item):
-        return checks.setdefault((quantity, item), Check(quantity, item))
+        return checks.setdefault((quantity, item), _Worst(quantity, item))
 
     for _ in range(states):
         theta = np.array([rng.uniform(-1, 1) if j in prismatic else rng.uniform(-np.pi, np.pi) for j in joints])
@@ -569,12 +579,10 @@ def probes(fixture: Path = FIXTURES[0], states: int = STATES, seed: int = SEED) 
     return out
 
 
-def run(systems=None, fixtures=FIXTURES, states: int = STATES, seed: int = SEED) -> dict:
-    """The ``importer.json`` document for the given systems (default: the catalogue) and fixtures."""
-    import models
-
-    chosen = [models.get(n) for n in systems] if systems else list(models.catalogue().values())
-    records = [compare_system(s, states, seed) for s in chosen]
+def run(systems=(), fixtures=FIXTURES, states: int = STATES, seed: int = SEED) -> dict:
+    """The ``importer.json`` document for ``systems`` (:class:`~harness.modeling.system.System`; the
+    application layer passes the catalogue's) and the fixtures."""
+    records = [compare_system(s, states, seed) for s in systems]
     records += [compare_urdf(p, p.read_text(), "fixture", states, seed) for p in fixtures]
     records += [compare_urdf(p, p.read_text(), "public", states, seed) for p in public_urdfs()]
     summary = {"models": len(records), "agree": sum(r["passed"] for r in records),

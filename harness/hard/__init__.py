@@ -13,12 +13,15 @@ Catalogue (module: case id — strategy):
 * :mod:`.mass_ratio`: ``trebuchet_mass_ratio`` — bounds scaled by κ(M), MuJoCo's point-mass inertia stated.
 * :mod:`.long_horizon`: ``pendulum_long_horizon`` — symplectic vs non-symplectic over 10⁴ periods.
 * :mod:`.events`: the lecture's own event scenes (stick-slip (3.80), the trebuchet's lift-off), included by
-  reference to ``models.scenes(...)`` and checked by :func:`harness.scenes.trajectories.run_scene`.
+  reference to the catalogue's scenes and checked by :func:`harness.scenes.trajectories.run_scene`.
+
+Every case is a function ``case(catalogue, quick=False)``: it takes its systems from the catalogue it is handed
+(:class:`harness.catalogue.Catalogue`), never from ``models``.
 
 ``reports/hard.json`` (written atomically by :func:`write_report`)::
 
     {
-      "schema": "hard-cases/1",
+      "schema": "hard-cases/2",
       "quick": bool,                      # the shortened horizons of the test suite
       "passed": bool,                     # every check of every case
       "cases": [{
@@ -28,7 +31,8 @@ Catalogue (module: case id — strategy):
         "remedy": str,                    # what the harness does instead
         "naive": {"what": str, "metric": str, "value": float | "inf" | "nan"},
         "checks": [{"check": str, "source": "symbolic" | "pinocchio" | "mujoco", "value": float | "inf",
-                    "bound": float, "reason": str, "passed": bool}],
+                    "bound": float, "ratio": float | "inf", "basis": str, "passed": bool,
+                    "detail": str}],      # harness.checks.Check records; detail: the bound's scale or reason
         "numbers": {...},                 # measured numbers of the case (free-form, JSON)
         "notes": [str],
         "figure": "hard/<id>.svg" | null, # relative to the report directory
@@ -38,14 +42,25 @@ Catalogue (module: case id — strategy):
       "pending": [{"id": str, "reason": str}]   # cases whose scenes do not exist yet
     }
 
-Non-finite numbers are written as the strings ``"inf"``, ``"-inf"``, ``"nan"`` (JSON has no such numbers).
+Non-finite numbers are written as the strings ``"inf"``, ``"-inf"``, ``"nan"`` (JSON has no such numbers;
+:func:`harness.checks.json_clean`).
+
+Schema history: ``hard-cases/2`` — a check is the one check record of the harness (:class:`harness.checks.Check`:
+``ratio`` and ``basis`` added, the former ``reason`` is its ``detail``, present when not empty);
+``hard-cases/1`` — checks ``{check, source, value, bound, reason, passed}``.
 """
 
 from __future__ import annotations
 
+import importlib
+import io
 import json
 import time
 from pathlib import Path
+
+from harness.checks import json_clean
+from harness.errors import InputError
+from harness.io import atomic_write_text
 
 CASES = {
     "spherical_pendulum_pole": ("harness.hard.singular", "spherical_pendulum_pole"),
@@ -63,30 +78,24 @@ CASES = {
 }
 
 
-def run_case(case_id: str, quick: bool = False):
-    """One case of the catalogue (a :class:`~harness.hard.common.CaseResult`), timed."""
-    import importlib
-
+def run_case(catalogue, case_id: str, quick: bool = False):
+    """One case (a :class:`~harness.hard.common.CaseResult`) on the systems of ``catalogue``, timed."""
     import matplotlib
     matplotlib.use("Agg")
-    from harness.errors import InputError
     if case_id not in CASES:
         raise InputError(f"unknown hard case {case_id!r}; cases: {', '.join(CASES)}")
     module, function = CASES[case_id]
     start = time.perf_counter()
-    result = getattr(importlib.import_module(module), function)(quick=quick)
+    result = getattr(importlib.import_module(module), function)(catalogue, quick=quick)
     result.seconds = time.perf_counter() - start
     return result
 
 
 def write_report(results: list, out: Path, quick: bool, pending: list = ()) -> Path:
     """``out/hard.json`` and ``out/hard/<id>.svg`` (atomic writes; figures first, then the JSON)."""
-    import io
-
     import matplotlib
     import matplotlib.pyplot as plt
 
-    from harness.io import atomic_write_text
     out = Path(out)
     (out / "hard").mkdir(parents=True, exist_ok=True)
     records = []
@@ -102,16 +111,15 @@ def write_report(results: list, out: Path, quick: bool, pending: list = ()) -> P
         records.append(r.record(path))
     pending = list(pending) + [{"id": rec["id"], "reason": rec["notes"][0]} for rec in records
                                if rec["strategy"] == "pending"]
-    report = {"schema": "hard-cases/1", "quick": quick, "passed": all(rec["passed"] for rec in records),
+    report = {"schema": "hard-cases/2", "quick": quick, "passed": all(rec["passed"] for rec in records),
               "cases": records, "pending": pending}
     target = out / "hard.json"
-    atomic_write_text(target, json.dumps(report, indent=1, ensure_ascii=False) + "\n")
+    atomic_write_text(target, json.dumps(json_clean(report), indent=1, ensure_ascii=False, allow_nan=False) + "\n")
     return target
 
 
-def run(out: Path, quick: bool = False, only=None, echo=print) -> dict:
-    """Run the catalogue (or the cases ``only``), write the report, return it."""
-    from harness.errors import InputError
+def run(catalogue, out: Path, quick: bool = False, only=None, echo=print) -> dict:
+    """Run every case (or the cases ``only``) on the systems of ``catalogue``, write the report, return it."""
     from harness.hard.common import CaseResult
     unknown = [c for c in (only or ()) if c not in CASES]
     if unknown:
@@ -119,7 +127,7 @@ def run(out: Path, quick: bool = False, only=None, echo=print) -> dict:
     results = []
     for case_id in (only or CASES):
         try:
-            r = run_case(case_id, quick)
+            r = run_case(catalogue, case_id, quick)
         except Exception as why:  # noqa: BLE001 - a case that cannot run is a failed case in the report
             r = CaseResult(case_id, case_id, [], "failed to run", "", "")
             r.check("the case runs", "harness", float("inf"), 0.0, f"{type(why).__name__}: {why}"[:500])

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import numpy as np
 
-import models
 from harness.hard.common import CaseResult, ENGINES, SOURCES, energy_function, finite, scene_for, second_order, solve
 from harness.scenes.simulate import Dynamics
 
@@ -21,7 +20,7 @@ DELTA0 = 1e-10
 ENERGY_TOL = {"symbolic": 1e-9, "pinocchio": 1e-7, "mujoco": 1e-7}   # reference 1e-12; engines 1e-10 per step
 
 
-def _chaos_case(case_id, title, system_name, q0, horizon, quick) -> CaseResult:
+def _chaos_case(catalogue, case_id, title, system_name, q0, horizon, quick) -> CaseResult:
     r = CaseResult(
         case_id, title, [system_name], "short justified horizon + invariants",
         "The motion is chaotic: any difference (round-off, the engines' integration error 1e-10) grows like "
@@ -29,7 +28,7 @@ def _chaos_case(case_id, title, system_name, q0, horizon, quick) -> CaseResult:
         f"Pointwise comparison only up to the measured horizon T* on which a perturbation of {DELTA0:g} stays below "
         f"{ENGINE_TOL:g} (Lyapunov-time argument, exponent fitted); over the long horizon only the energy "
         "E = T + V is compared (conservative scene).")
-    system = models.get(system_name)
+    system = catalogue.get(system_name)
     scene = scene_for("chaos", {"gravity"})
     T = horizon / 2 if quick else horizon
     n = len(system.coordinates)
@@ -93,11 +92,11 @@ def _chaos_case(case_id, title, system_name, q0, horizon, quick) -> CaseResult:
     return r
 
 
-def double_pendulum(quick: bool = False) -> CaseResult:
-    return _chaos_case("double_pendulum_chaos", "Double pendulum (planar manipulator, gravity only): chaos",
+def double_pendulum(catalogue, quick: bool = False) -> CaseResult:
+    return _chaos_case(catalogue, "double_pendulum_chaos", "Double pendulum (planar manipulator, gravity only): chaos",
                        "planar_manipulator", np.array([2.0, 1.5]), 20.0, quick)
 
 
-def planar_robot(quick: bool = False) -> CaseResult:
-    return _chaos_case("planar_robot_chaos", "Planar robot (A.123), gravity only: chaos", "planar_robot",
+def planar_robot(catalogue, quick: bool = False) -> CaseResult:
+    return _chaos_case(catalogue, "planar_robot_chaos", "Planar robot (A.123), gravity only: chaos", "planar_robot",
                        np.array([1.2, 2.5, -2.0]), 20.0, quick)

@@ -73,12 +73,10 @@ def integrate_charts(charts: list, dynamics: dict, start: int, q0, qd0, horizon:
 
 
 # ----------------------------------------------------------------------------- spherical pendulum, Example 5.3
-def pendulum_charts(length: float) -> list:
+def pendulum_charts(lecture: System, length: float) -> list:
     """Two spherical charts of the spherical pendulum: the lecture's ``(theta, phi)`` with its pole at the
     bottom ``-e_y`` (5.75), and ``(psi, chi)`` with the pole along ``e_z``: ``p = l [cos chi sin psi,
     -cos chi cos psi, -sin chi]`` (joint ``psi`` about ``z``, then ``chi`` about the new ``x``)."""
-    import models
-    lecture = models.get("spherical_pendulum")
     l = length
 
     def p_a(q):

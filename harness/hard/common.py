@@ -4,10 +4,12 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from functools import partial
 
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from harness.checks import Check, relative_error
 from harness.derivation.compile import compiled
 from harness.engines.base import Load, load_functions, to_lecture
 from harness.modeling.system import System
@@ -18,23 +20,8 @@ ENGINES = ("pinocchio", "mujoco")
 SOURCES = ("symbolic", *ENGINES)
 
 
-@dataclass
-class Check:
-    """One stated bound: ``value <= bound`` (and ``value`` finite)."""
-
-    name: str
-    source: str
-    value: float
-    bound: float
-    reason: str = ""
-
-    @property
-    def passed(self) -> bool:
-        return bool(np.isfinite(self.value)) and self.value <= self.bound
-
-    def record(self) -> dict:
-        return {"check": self.name, "source": self.source, "value": _num(self.value), "bound": self.bound,
-                "reason": self.reason, "passed": self.passed}
+reference_error = partial(relative_error, scale=1.0, symmetric=False)
+"""A run against the reference ``b``: ``max |a − b|`` relative to ``max(1, |b|)``."""
 
 
 @dataclass
@@ -49,44 +36,29 @@ class CaseResult:
     problem: str                  # what goes wrong naively
     remedy: str                   # what the harness does instead
     naive: dict = field(default_factory=dict)      # {"what", "metric", "value"}
-    checks: list = field(default_factory=list)
+    checks: list = field(default_factory=list)   # harness.checks.Check
     numbers: dict = field(default_factory=dict)
     notes: list = field(default_factory=list)
     figure: object = None         # a matplotlib Figure until written
     seconds: float = 0.0
 
-    def check(self, name, source, value, bound, reason=""):
-        self.checks.append(Check(name, source, float(value), float(bound), reason))
+    def check(self, name, source, value, bound, reason="", basis=""):
+        """``value <= bound`` (a :class:`harness.checks.Check`; ``reason``: how the bound or its scale was
+        chosen, its ``detail``)."""
+        self.checks.append(Check(name, source, float(value), float(bound), basis, reason))
 
     @property
     def passed(self) -> bool:
         return all(c.passed for c in self.checks)
 
     def record(self, figure_path: str | None) -> dict:
+        """The case as ``hard.json`` holds it (non-finite numbers are encoded by the writer,
+        :func:`harness.checks.json_clean`)."""
         return {"id": self.id, "title": self.title, "systems": self.systems, "strategy": self.strategy,
-                "problem": self.problem, "remedy": self.remedy,
-                "naive": {k: _num(v) for k, v in self.naive.items()},
-                "checks": [c.record() for c in self.checks], "numbers": _clean(self.numbers),
+                "problem": self.problem, "remedy": self.remedy, "naive": dict(self.naive),
+                "checks": [c.record() for c in self.checks], "numbers": self.numbers,
                 "notes": self.notes, "figure": figure_path, "seconds": round(self.seconds, 3),
                 "passed": self.passed}
-
-
-def _num(v):
-    if isinstance(v, (float, np.floating)):
-        return float(v) if np.isfinite(v) else str(float(v))
-    return v
-
-
-def _clean(obj):
-    if isinstance(obj, dict):
-        return {str(k): _clean(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_clean(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return _clean(obj.tolist())
-    if isinstance(obj, (np.integer,)):
-        return int(obj)
-    return _num(obj)
 
 
 def scene_for(name: str, effects, params=None, inputs=None, horizon: float = 1.0) -> Scene:

@@ -10,7 +10,6 @@ import dataclasses
 
 import numpy as np
 
-import models
 from harness.scenes import simulate as sim
 from harness.hard.common import ENGINES, CaseResult
 
@@ -31,26 +30,29 @@ def _event_error(a, b) -> float:
     return max((abs(x.time - y.time) for x, y in zip(ea, eb)), default=0.0)
 
 
-def _scene(system_name: str, kind: str):
+def _scene(catalogue, system_name: str, kind: str):
     """The first scene of ``system_name`` with an event of class ``kind`` (None if there is none yet)."""
-    for scene in models.scenes(system_name):
+    for scene in catalogue.scenes(system_name):
         if any(type(e).__name__ == kind for e in getattr(scene, "events", ())):
             return scene
     return None
 
 
-def _by_reference(case_id, title, system_name, kind, problem, remedy, quick) -> CaseResult:
-    system = models.get(system_name)
-    scene = _scene(system_name, kind)
+def _by_reference(catalogue, case_id, title, system_name, kind, problem, remedy, quick) -> CaseResult:
+    system = catalogue.get(system_name)
+    scene = _scene(catalogue, system_name, kind)
     if scene is None:
         r = CaseResult(case_id, title, [system_name], "pending", problem, remedy)
-        r.notes.append(f"no scene of {system_name} with a {kind} event in models.scenes({system_name!r}) yet")
+        r.notes.append(f"no scene of {system_name} with a {kind} event in the scenes of {system_name} yet")
         return r
     from harness.scenes import structural
     r = CaseResult(case_id, f"{title} (scene {system_name}/{scene.name})", [system_name], "event location",
                    problem, remedy)
     event = next(e for e in scene.events if type(e).__name__ == kind)
-    hybrid = structural.stick_slip if kind == "StickSlip" else structural.lift_off
+    simulate = structural.stick_slip if kind == "StickSlip" else structural.lift_off
+
+    def hybrid(*args, **kw):
+        return simulate(*args, catalogue=catalogue, **kw)
     ref = hybrid(system, scene, event, "symbolic")                       # DOP853 1e-12, events located
     second = hybrid(system, scene, event, "symbolic", method="LSODA")
     r.check("reference confirmed (LSODA vs DOP853)", "symbolic", sim.max_error(second, ref), REFERENCE_TOL,
@@ -115,9 +117,9 @@ def _by_reference(case_id, title, system_name, kind, problem, remedy, quick) -> 
     return r
 
 
-def stick_slip(quick: bool = False) -> CaseResult:
+def stick_slip(catalogue, quick: bool = False) -> CaseResult:
     return _by_reference(
-        "stick_slip_events", "Stick-slip switching (3.80)", "stick_slip", "StickSlip",
+        catalogue,         "stick_slip_events", "Stick-slip switching (3.80)", "stick_slip", "StickSlip",
         "Coulomb friction f_C = mu_C f_N sgn(x_dot) has no value at x_dot = 0: integrated as a smooth right-hand "
         "side the mass never sticks (the sign flips every step around rest) and the breakaway at "
         "|f_e| = mu_H f_N is missed.",
@@ -126,9 +128,9 @@ def stick_slip(quick: bool = False) -> CaseResult:
         "convergence.", quick)
 
 
-def trebuchet_lift_off(quick: bool = False) -> CaseResult:
+def trebuchet_lift_off(catalogue, quick: bool = False) -> CaseResult:
     return _by_reference(
-        "trebuchet_lift_off", "Trebuchet lift-off (Exercise A.15)", "trebuchet", "LiftOff",
+        catalogue,         "trebuchet_lift_off", "Trebuchet lift-off (Exercise A.15)", "trebuchet", "LiftOff",
         "Phase 1 keeps the projectile on the ground through the map (A.178); continued past the instant its normal "
         "force vanishes, the ground pulls the projectile down: a wrong motion without any numerical symptom.",
         "The normal force is computed from each source's dynamics and its zero located as an event; the "

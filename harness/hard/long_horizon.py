@@ -14,7 +14,6 @@ import math
 import numpy as np
 from scipy.special import ellipk
 
-import models
 from harness.derivation.compile import compiled
 from harness.hard.common import CaseResult, solve
 from harness.modeling.scenes import Scene
@@ -42,7 +41,7 @@ def verlet(accel, q0, v0, h, steps, sample_every):
     return np.array(out)
 
 
-def pendulum_energy_drift(quick: bool = False) -> CaseResult:
+def pendulum_energy_drift(catalogue, quick: bool = False) -> CaseResult:
     periods = 1000 if quick else 10000
     r = CaseResult(
         "pendulum_long_horizon", f"Pendulum over {periods} periods: energy drift, symplectic vs non-symplectic",
@@ -52,7 +51,7 @@ def pendulum_energy_drift(quick: bool = False) -> CaseResult:
         "Störmer–Verlet (symplectic) with h = T/64 on the symbolic model and on Pinocchio's forward dynamics, and "
         "MuJoCo's semi-implicit Euler (symplectic Euler) at the same step: the energy error stays in a band "
         "(growth ≤ 1.5) whose width is O((h ω0)²) resp. O(h ω0).")
-    system = models.get("pendulum")
+    system = catalogue.get("pendulum")
     phi0 = 1.0472
     g, l = 9.81, 1.0
     omega0 = math.sqrt(g / l)
@@ -67,7 +66,7 @@ def pendulum_energy_drift(quick: bool = False) -> CaseResult:
     def energy(q, v):
         return 0.5 * l * l * v * v + g * l * (1 - math.cos(q))
 
-    def rel_error(qs, vs):
+    def energy_error(qs, vs):
         return np.abs(np.array([energy(a, b) for a, b in zip(qs, vs)]) - E_scale) / E_scale
 
     results = {}
@@ -75,7 +74,7 @@ def pendulum_energy_drift(quick: bool = False) -> CaseResult:
     def accel(q):
         return -float(c("g", np.array([q]), p=p)[0, 0]) / float(c("M", np.array([q]), p=p)[0, 0])
     sym = verlet(accel, phi0, 0.0, h, steps, 61)
-    err = rel_error(sym[:, 1], sym[:, 2])
+    err = energy_error(sym[:, 1], sym[:, 2])
     results["symbolic Verlet"] = {"max": float(np.max(err)), "growth": _growth(err), "final": float(err[-1])}
     r.check("Verlet energy error band (symbolic)", "symbolic", float(np.max(err)), (h * omega0) ** 2,
             "O((h omega0)^2) for a second-order symplectic method")
@@ -84,7 +83,7 @@ def pendulum_energy_drift(quick: bool = False) -> CaseResult:
     pin = Dynamics(system, scene, "pinocchio")
     steps_pin = steps // 10
     pv = verlet(lambda q: float(pin(0.0, np.array([q]), np.array([0.0]))[0]), phi0, 0.0, h, steps_pin, 61)
-    err_pin = rel_error(pv[:, 1], pv[:, 2])
+    err_pin = energy_error(pv[:, 1], pv[:, 2])
     results[f"pinocchio Verlet ({periods // 10} periods)"] = {"max": float(np.max(err_pin)),
                                                               "growth": _growth(err_pin)}
     r.check(f"Verlet energy error band (Pinocchio, {periods // 10} periods)", "pinocchio", float(np.max(err_pin)),
@@ -94,7 +93,7 @@ def pendulum_energy_drift(quick: bool = False) -> CaseResult:
     mj = {}
     for integrator in ("Euler", "RK4"):
         ks, qs, vs, seconds = mujoco_steps(system, scene, h, steps, integrator, 61)
-        e = rel_error(qs, vs)
+        e = energy_error(qs, vs)
         mj[integrator] = (ks, e)
         results[f"mujoco mj_step {integrator}"] = {"max": float(np.max(e)), "growth": _growth(e[1:]),
                                                    "final": float(e[-1]), "seconds": seconds}
@@ -106,7 +105,7 @@ def pendulum_energy_drift(quick: bool = False) -> CaseResult:
     t_eval = np.linspace(0.0, steps * h, 4001)
     sol, cpu = solve(lambda t, y: [y[1], accel(y[0])], (0.0, steps * h), [phi0, 0.0], "RK45", 1e-6, 1e-9,
                      t_eval=t_eval)
-    err_rk = rel_error(sol.y[0], sol.y[1])
+    err_rk = energy_error(sol.y[0], sol.y[1])
     results["symbolic RK45 rtol 1e-6"] = {"max": float(np.max(err_rk)), "growth": _growth(err_rk),
                                           "final": float(err_rk[-1]), "cpu": cpu, "evaluations": sol.nfev}
     r.numbers["energy error |E - E0| / (m g l (1 - cos phi0))"] = results

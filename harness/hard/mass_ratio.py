@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import numpy as np
 
-import models
 from harness.export.numeric import MUJOCO_POINT_MASS_INERTIA
 from harness.hard.common import CaseResult, ENGINES, finite, scene_for, second_order, solve
 from harness.scenes.simulate import Dynamics
@@ -23,7 +22,7 @@ ENGINE_TOL = 1e-6
 RATIOS = (1e1, 1e2, 1e3, 1e4, 1e5, 1e6)
 
 
-def trebuchet_mass_ratio(quick: bool = False) -> CaseResult:
+def trebuchet_mass_ratio(catalogue, quick: bool = False) -> CaseResult:
     r = CaseResult(
         "trebuchet_mass_ratio",
         "Trebuchet (phase 2): counterweight/projectile up to 10⁶, point masses, massless links",
@@ -34,7 +33,7 @@ def trebuchet_mass_ratio(quick: bool = False) -> CaseResult:
         "q̈ is compared with the bound κ(M)·1e-12 + 1e-15/(m r²) (round-off amplified by the conditioning, plus "
         "MuJoCo's stated point-mass inertia relative to the projectile's m r²); trajectories at M/m = 10³ with "
         "both engines (DOP853 1e-10) against the reference.")
-    system = models.get("trebuchet_free")    # phase 2: the projectile has its own coordinate psi
+    system = catalogue.get("trebuchet_free")    # phase 2: the projectile has its own coordinate psi
     defaults = system.default_parameters()
     q, qd = np.array([0.25, 0.1, 1.2]), np.array([1.0, -0.5, 0.3])
     rows = []

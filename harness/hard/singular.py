@@ -7,20 +7,16 @@ import math
 
 import numpy as np
 
-import models
 from harness.derivation.compile import compiled
 from harness.errors import HarnessError, ModelError
 from harness.hard.charts import integrate_charts, pendulum_charts, toggle_press_chart_phi2, Chart, SWITCH
 from harness.hard.common import (CaseResult, ENGINES, SOURCES, Terms, finite, scene_for, second_order, solve)
+from harness.hard.common import reference_error as _rel
 from harness.scenes.simulate import Dynamics
 
 ENGINE_TOL = 1e-6     # engines' forward dynamics integrated at rtol = atol = 1e-10 (as harness/scenes/trajectories.py)
 REFERENCE_TOL = 1e-8  # the reference (DOP853 1e-12) confirmed by Radau 1e-12 (as harness/scenes/trajectories.py)
 INVARIANT_TOL = 1e-8  # energy / momentum of a conservative motion, relative to their scale
-
-
-def _rel(a, b) -> float:
-    return float(np.max(np.abs(np.asarray(a) - np.asarray(b)))) / max(1.0, float(np.max(np.abs(b))))
 
 
 def _raises_singularity(fn, expect: str) -> tuple[float, str]:
@@ -57,7 +53,7 @@ def _naive_solve(system, scene, q0, qd0, horizon, t_eval, source="symbolic", gua
 
 
 # ----------------------------------------------------------------------------- spherical pendulum
-def spherical_pendulum_pole(quick: bool = False) -> CaseResult:
+def spherical_pendulum_pole(catalogue, quick: bool = False) -> CaseResult:
     r = CaseResult(
         "spherical_pendulum_pole", "Spherical pendulum through and near the pole theta = 0", ["spherical_pendulum"],
         "chart switch",
@@ -69,7 +65,7 @@ def spherical_pendulum_pole(quick: bool = False) -> CaseResult:
         f"the regularity |sin theta| or |cos chi| falls to {SWITCH} (event location); the state is carried over "
         "through the bob's Cartesian position and velocity. Exactly at the pole the forward dynamics raises "
         "'coordinate singularity at theta = 0 in spherical_pendulum'.")
-    charts = pendulum_charts(1.0)
+    charts = pendulum_charts(catalogue.get("spherical_pendulum"), 1.0)
     scene = scene_for("pole", {"gravity"})
     T = 4.0 if quick else 8.0
     t_eval = np.linspace(0.0, T, 401)
@@ -165,7 +161,7 @@ def _pendulum_figure(t, ref, engine_runs, charts, scene, q0, rate, T, t_eval):
 
 
 # ----------------------------------------------------------------------------- governor
-def governor_pole(quick: bool = False) -> CaseResult:
+def governor_pole(catalogue, quick: bool = False) -> CaseResult:
     r = CaseResult(
         "governor_pole", "Centrifugal governor at alpha → 0", ["governor"], "reduction (conserved momentum)",
         "M = diag(2 m l² sin² alpha, 2 m l²) is singular at alpha = 0 (A.67a divides by sin² alpha): with the arms "
@@ -175,7 +171,7 @@ def governor_pole(quick: bool = False) -> CaseResult:
         "alpha_ddot = (f - C q̇ - g)_alpha / M_alphaalpha taken from each source's M, C q̇, g (never factorizing "
         "the singular M; M is diagonal, checked). Regular through alpha = 0 for p_phi = 0 and, for p_phi != 0, "
         "kept off the axis by the centrifugal barrier.")
-    system = models.get("governor")
+    system = catalogue.get("governor")
     scene = scene_for("pole", {"gravity"})
     T = 3.0 if quick else 6.0
     t_eval = np.linspace(0.0, T, 301)
@@ -273,7 +269,7 @@ def governor_pole(quick: bool = False) -> CaseResult:
 
 
 # ----------------------------------------------------------------------------- toggle press
-def toggle_press_dead_point(quick: bool = False) -> CaseResult:
+def toggle_press_dead_point(catalogue, quick: bool = False) -> CaseResult:
     r = CaseResult(
         "toggle_press_dead_point", "Toggle press through the dead point of the arcsin map", ["toggle_press"],
         "chart switch",
@@ -285,7 +281,7 @@ def toggle_press_dead_point(quick: bool = False) -> CaseResult:
         f"cos q = 0), located as the event |cos phi_2| = {SWITCH}; both engines simulate the phi_2 chart through "
         "its own nonlinear map theta = phi(phi_2). Beyond the map's domain the forward dynamics raises a clear "
         "error instead of returning NaN.")
-    lecture = models.get("toggle_press")
+    lecture = catalogue.get("toggle_press")
     chart_b = toggle_press_chart_phi2(lecture)
     params = {"L_1": 0.7, "L_2": 0.6}
     k = params["L_1"] / params["L_2"]
@@ -372,7 +368,7 @@ def _energy(system, scene):
 
 
 # ----------------------------------------------------------------------------- tower crane
-def tower_crane_rope(quick: bool = False) -> CaseResult:
+def tower_crane_rope(catalogue, quick: bool = False) -> CaseResult:
     r = CaseResult(
         "tower_crane_rope", "Tower crane with the rope reeled in, s_5 → 0", ["tower_crane"], "event location",
         "M_33 = m_L s_5² cos² phi_4: at s_5 = 0 the rope angles move nothing and M is singular; an integration that "
@@ -380,7 +376,7 @@ def tower_crane_rope(quick: bool = False) -> CaseResult:
         "The rope's end stop is an event: the integration stops where s_5 reaches the hook block's length "
         "s_min = 0.05 m (located by solve_ivp to 1e-12), in every source; the event time and the state there are "
         "compared. Exactly at s_5 = 0 the forward dynamics raises 'coordinate singularity at … s_5 = 0'.")
-    system = models.get("tower_crane")
+    system = catalogue.get("tower_crane")
     f_S = -(20.0 * 9.81 + 150.0)   # pulls the load up: f_S acts in the direction of increasing s_5
     from harness.modeling.scenes import Constant
     scene = scene_for("reel_in", {"gravity", "inputs"}, inputs={"f_S": Constant(f_S)})

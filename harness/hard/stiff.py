@@ -8,9 +8,9 @@ import math
 
 import numpy as np
 
-import models
 from harness.errors import HarnessError
 from harness.hard.common import CaseResult, SOURCES, finite, second_order, solve
+from harness.hard.common import reference_error as _rel
 from harness.modeling.scenes import Scene
 from harness.scenes.simulate import Dynamics, mujoco_native
 
@@ -18,12 +18,8 @@ ENGINE_TOL = 1e-6
 REFERENCE_TOL = 1e-8
 
 
-def _rel(a, b) -> float:
-    return float(np.max(np.abs(np.asarray(a) - np.asarray(b)))) / max(1.0, float(np.max(np.abs(b))))
-
-
 # ----------------------------------------------------------------------------- quarter car
-def quarter_car_stiff(quick: bool = False) -> CaseResult:
+def quarter_car_stiff(catalogue, quick: bool = False) -> CaseResult:
     r = CaseResult(
         "quarter_car_stiff", "Quarter car with the tyre stiffness ×1000", ["quarter_car"],
         "tolerance-controlled integration (implicit Radau checked)",
@@ -36,8 +32,8 @@ def quarter_car_stiff(quick: bool = False) -> CaseResult:
         "oscillatory and excited by the bump, so it must be resolved anyway and the implicit method costs more "
         "evaluations than explicit DOP853 at the same tolerance (see numbers); the loose default tolerance is "
         "what fails.")
-    system = models.get("quarter_car")
-    base = models.scenes("quarter_car")[0]
+    system = catalogue.get("quarter_car")
+    base = catalogue.scenes("quarter_car")[0]
     c_R = 2.0e8
     m_A, m_R, c_A, g = 400.0, 40.0, 2.0e4, 9.81
     rest = (-(m_A + m_R) * g / c_R, -(m_A + m_R) * g / c_R - m_A * g / c_A)       # (A.41), (A.42)
@@ -128,7 +124,7 @@ def a05_error(s, s_ref) -> float:
     return float(np.max(np.abs(np.asarray(s) - s_ref))) / float(np.ptp(s_ref))
 
 
-def flyball_a05(quick: bool = False) -> CaseResult:
+def flyball_a05(catalogue=None, quick: bool = False) -> CaseResult:
     horizon = 1.0 if quick else A05_HORIZON
     r = CaseResult(
         "flyball_governor_a05", "Stiff flyball governor (IFToMM benchmark A05), original parameters",

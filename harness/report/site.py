@@ -156,12 +156,11 @@ def _stale(folder: Path, keep: set[str], pattern: str) -> None:
                 path.unlink()
 
 
-def build_site(out: Path | str, progress=None) -> dict:
-    """Render the site from ``out/results.json`` (+ claims.json, hard.json, bench.json, importer.json).
-    Returns {"pages": [...], "failed": {system: reason}}."""
+def build_site(out: Path | str, catalogue=None, progress=None) -> dict:
+    """Render the site from ``out/results.json`` (+ claims.json, hard.json, bench.json, importer.json); the
+    model pages from ``catalogue`` (:class:`harness.catalogue.Catalogue`; without one, the recorded results
+    only). Returns {"pages": [...], "failed": {system: reason}}."""
     progress = sys.stderr if progress is None else progress
-    import models
-
     from harness.report.results import load_results
 
     out = Path(out)
@@ -182,12 +181,12 @@ def build_site(out: Path | str, progress=None) -> dict:
     common = {"extra_pages": extra_pages, "versions_line": ", ".join(f"{k} {v}" for k, v in versions.items())}
 
     try:
-        catalogue = models.catalogue()
-        catalogue_error = None
+        systems = {} if catalogue is None else catalogue.systems()
+        catalogue_error = None if catalogue is not None else "no catalogue given: the recorded results only"
     except Exception as exc:  # noqa: BLE001 - the report still renders the recorded results
-        catalogue, catalogue_error = {}, f"the catalogue does not load: {exc}"
+        systems, catalogue_error = {}, f"the catalogue does not load: {exc}"
     records = doc["systems"]
-    order = {name: k for k, name in enumerate(catalogue)}
+    order = {name: k for k, name in enumerate(systems)}
     records = sorted(records, key=lambda r: (order.get(r["system"], len(order)), r["system"]))
     written, figures, failed, views = [], set(), {}, []
     template = env.get_template("system")
@@ -197,10 +196,10 @@ def build_site(out: Path | str, progress=None) -> dict:
         model = None
         try:
             view = system_view(record, by_system.get(name, []), out, figures)
-            if name in catalogue:
-                system = catalogue[name]
+            if name in systems:
+                system = systems[name]
                 model = model_view(system)
-                model["scene_names"] = [s.name for s in models.scenes(name)]
+                model["scene_names"] = [s.name for s in catalogue.scenes(name)]
                 view["title"] = system.title
             else:
                 view["reason"] = view["reason"] or catalogue_error or f"{name} is not in the catalogue any more"

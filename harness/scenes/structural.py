@@ -116,8 +116,9 @@ class _StickSlipDynamics:
 
 
 def stick_slip(system, scene, event: StickSlip, source: str, method="DOP853", rtol=1e-12, atol=1e-12,
-               t_eval=None) -> HybridTrajectory:
-    """Event-located simulation of (3.80) with ``source``'s forward dynamics."""
+               t_eval=None, catalogue=None) -> HybridTrajectory:
+    """Event-located simulation of (3.80) with ``source``'s forward dynamics (``catalogue``: unused, as for
+    every switching simulation that stays in its system)."""
     h = _StickSlipDynamics(system, scene, event, source)
     t_eval = sim.sample_times(scene) if t_eval is None else t_eval
     y = np.concatenate([scene.q0, scene.qd0]).astype(float)
@@ -340,12 +341,17 @@ def mujoco_threshold(system, scene, event: RollSlip, dt: float, rel: float = 1e-
 
 
 # ----------------------------------------------------------------------------------------- lift-off (A.15)
-class _LiftOffDynamics:
-    def __init__(self, system, scene, event: LiftOff, source: str):
-        import models
+def phase_two_system(event: LiftOff, catalogue):
+    """The phase-2 system a lift-off switches to, from the catalogue handed in."""
+    if catalogue is None:
+        raise ModelError(f"lift-off to {event.free_system!r}: give the catalogue that holds the phase-2 system")
+    return catalogue.get(event.free_system)
 
+
+class _LiftOffDynamics:
+    def __init__(self, system, scene, event: LiftOff, source: str, catalogue=None):
         self.one = sim.Dynamics(system, scene, source)
-        self.free_system = models.get(event.free_system)
+        self.free_system = phase_two_system(event, catalogue)
         self.two = sim.Dynamics(self.free_system, scene, source)
         q1, qd1 = [c.symbol for c in system.coordinates], [c.rate for c in system.coordinates]
         q2 = [c.symbol for c in self.free_system.coordinates]
@@ -376,9 +382,10 @@ class _LiftOffDynamics:
 
 
 def lift_off(system, scene, event: LiftOff, source: str, method="DOP853", rtol=1e-12, atol=1e-12,
-             t_eval=None) -> HybridTrajectory:
-    """Phase 1 until ``λ = 0`` (a ``solve_ivp`` event), then phase 2; the trajectory in phase-2 coordinates."""
-    h = _LiftOffDynamics(system, scene, event, source)
+             t_eval=None, catalogue=None) -> HybridTrajectory:
+    """Phase 1 until ``λ = 0`` (a ``solve_ivp`` event), then phase 2 (``event.free_system`` from ``catalogue``);
+    the trajectory in phase-2 coordinates."""
+    h = _LiftOffDynamics(system, scene, event, source, catalogue)
     t_eval = sim.sample_times(scene) if t_eval is None else t_eval
     n1, n2 = len(system.coordinates), len(h.free_system.coordinates)
     start = time.perf_counter()
@@ -423,9 +430,9 @@ def lift_off(system, scene, event: LiftOff, source: str, method="DOP853", rtol=1
     return tr
 
 
-def in_free_coordinates(system, scene, event: LiftOff, tr: sim.Trajectory) -> sim.Trajectory:
+def in_free_coordinates(system, scene, event: LiftOff, tr: sim.Trajectory, catalogue=None) -> sim.Trajectory:
     """A phase-1 trajectory expressed in phase-2 coordinates (to compare it with a lift-off reference)."""
-    h = _LiftOffDynamics(system, scene, event, "symbolic")
+    h = _LiftOffDynamics(system, scene, event, "symbolic", catalogue)
     mapped = [h.to_free(np.concatenate([a, b])) for a, b in zip(tr.q, tr.qd)]
     q = np.array([m[0] for m in mapped])
     qd = np.array([m[1] @ b for m, b in zip(mapped, tr.qd)])

@@ -88,6 +88,7 @@ class SceneResult:
     checks: list[Check] = field(default_factory=list)
     notes: dict = field(default_factory=dict)
     trajectories: dict = field(default_factory=dict)
+    timings: dict = field(default_factory=dict)   # clock values (the pruning time ratio): timings.json
 
     def add(self, check: Check) -> None:
         self.checks.append(check)
@@ -131,31 +132,32 @@ def hybrid_event(scene: Scene):
     return next((e for e in scene.events if type(e) in HYBRID), None)
 
 
-def symbolic_run(system: System, scene: Scene, rtol: float = 1e-10) -> sim.Trajectory:
-    """Our symbolic simulation of ``scene`` (DOP853, ``atol = rtol``; events located when it has any)."""
+def symbolic_run(system: System, scene: Scene, rtol: float = 1e-10, catalogue=None) -> sim.Trajectory:
+    """Our symbolic simulation of ``scene`` (DOP853, ``atol = rtol``; events located when it has any; a lift-off
+    finds its phase-2 system in ``catalogue``)."""
     event = hybrid_event(scene)
     if event is not None:
-        return HYBRID[type(event)](system, scene, event, "symbolic", rtol=rtol, atol=rtol)
+        return HYBRID[type(event)](system, scene, event, "symbolic", rtol=rtol, atol=rtol, catalogue=catalogue)
     return sim.integrate(system, scene, "symbolic", rtol=rtol, atol=rtol)
 
 
 PRUNING_REPEATS = 3
 
 
-def _pruning(system: System, scene: Scene, result: "SceneResult") -> None:
+def _pruning(system: System, scene: Scene, result: "SceneResult", catalogue=None) -> None:
     """Idle-but-present against pruned: the same trajectory, and the time ratio (the fastest of
     ``PRUNING_REPEATS`` runs each, as a single timing on a shared machine is noise). A scene that calls for
     every effect of its system has nothing to prune: its ratio is 1 by construction."""
     idle_system, idle_scene = with_idle_effects(system, scene)
     key = "pruning time ratio (idle / pruned), symbolic"
     if idle_scene is scene:
-        result.notes[key] = 1.0
+        result.timings[key] = 1.0
         result.notes["pruning"] = "nothing to prune: the scene calls for every effect of the system"
         return
-    lean = [symbolic_run(system, scene) for _ in range(PRUNING_REPEATS)]
-    full = [symbolic_run(idle_system, idle_scene) for _ in range(PRUNING_REPEATS)]
+    lean = [symbolic_run(system, scene, catalogue=catalogue) for _ in range(PRUNING_REPEATS)]
+    full = [symbolic_run(idle_system, idle_scene, catalogue=catalogue) for _ in range(PRUNING_REPEATS)]
     result.add(ENGINE.check("pruned = all effects present but idle", "symbolic", sim.max_error(full[0], lean[0])))
-    result.notes[key] = min(t.seconds for t in full) / max(min(t.seconds for t in lean), 1e-12)
+    result.timings[key] = min(t.seconds for t in full) / max(min(t.seconds for t in lean), 1e-12)
     result.notes["pruning: effects left out"] = ", ".join(sorted(set(idle_scene.effects) - set(scene.effects)))
 
 
@@ -199,11 +201,11 @@ def _soft_convergence(result: "SceneResult", what: str, run, ref, dt: float) -> 
     return fine, dt / 2
 
 
-def _hybrid(system: System, scene: Scene, event, engines, result: "SceneResult") -> None:
+def _hybrid(system: System, scene: Scene, event, engines, result: "SceneResult", catalogue=None) -> None:
     """A scene whose branches switch at events: reference (DOP853) confirmed by LSODA, trajectories and event
     times of the engines' forward dynamics, the energy across the switch for a conservative scene."""
     def run(source, **kw):
-        return HYBRID[type(event)](system, scene, event, source, **kw)
+        return HYBRID[type(event)](system, scene, event, source, catalogue=catalogue, **kw)
 
     ref = run("symbolic", **{k: v for k, v in sim.REFERENCE.items() if k != "method"})
     result.trajectories["reference"] = ref
@@ -306,7 +308,10 @@ def _roll_slip(system: System, scene: Scene, event, result: "SceneResult") -> No
                                           abs(threshold / predicted - 1)))
 
 
-def run_scene(system: System, scene: Scene, engines=("pinocchio", "mujoco"), mujoco_dt: float | None = None) -> SceneResult:
+def run_scene(system: System, scene: Scene, engines=("pinocchio", "mujoco"), mujoco_dt: float | None = None,
+              catalogue=None) -> SceneResult:
+    """Simulate ``scene`` with every source and check it; ``catalogue`` resolves the systems an event switches
+    to (a lift-off's phase 2)."""
     result = SceneResult(system.name, scene.name)
     engines = tuple(e for e in engines if not system.engine_note(e))
     for engine in {"pinocchio", "mujoco"} - set(engines):
@@ -314,11 +319,11 @@ def run_scene(system: System, scene: Scene, engines=("pinocchio", "mujoco"), muj
             result.notes[engine] = system.engine_note(engine)
     event = hybrid_event(scene)
     if event is not None:
-        _hybrid(system, scene, event, engines, result)
+        _hybrid(system, scene, event, engines, result, catalogue)
         if constraints.constrained(system) and isinstance(event, structural.LiftOff):
             _constrained(system, scene, engines, result, horizon=result.trajectories["reference"].events[0].time,
-                         mapping=lambda tr: structural.in_free_coordinates(system, scene, event, tr))
-        _pruning(system, scene, result)
+                         mapping=lambda tr: structural.in_free_coordinates(system, scene, event, tr, catalogue))
+        _pruning(system, scene, result, catalogue)
         return result
     _smooth(system, scene, engines, mujoco_dt, result)
     if constraints.constrained(system):
@@ -430,37 +435,19 @@ def series(system: System, scene: Scene, result: SceneResult) -> dict:
     return out
 
 
-def scene_record(system: System, scene: Scene) -> tuple[dict, dict]:
-    """One scene's checks as a results.json record, and its series (written to ``series`` by the caller)."""
+def scene_record(system: System, scene: Scene, catalogue=None) -> tuple[dict, dict]:
+    """One scene's checks as a results.json record (its clock values in ``timings``), and its series (written
+    to ``series`` by the caller)."""
     record = {"scene": scene.name, "description": scene.description, "effects": sorted(scene.effects),
               "horizon": scene.horizon, "series": f"trajectories/{system.name}.{scene.name}.json"}
     try:
-        result = run_scene(system, scene)
+        result = run_scene(system, scene, catalogue=catalogue)
     except Exception as exc:  # noqa: BLE001 - one scene raising never loses the others
         record.update(passed=False, checks=[], notes={}, failure=f"{type(exc).__name__}: {exc}", series=None)
         return record, {}
     record.update(passed=result.passed, failure=None,
                   checks=[c.record() for c in result.checks],
                   notes={k: (float(v) if isinstance(v, (float, np.floating)) else str(v))
-                         for k, v in result.notes.items()})
+                         for k, v in result.notes.items()},
+                  timings={k: float(v) for k, v in result.timings.items()})
     return record, series(system, scene, result)
-
-
-def scene_records(system: System, series_dir=None) -> list[dict]:
-    """The records of every scene of ``system``; with ``series_dir``, each scene's series is written to
-    ``series_dir/<record['series']>`` (atomically)."""
-    import json
-    from pathlib import Path
-
-    import models
-    from harness.io import atomic_write_text
-
-    records = []
-    for scene in models.scenes(system.name):
-        record, data = scene_record(system, scene)
-        if series_dir is not None and data:
-            atomic_write_text(Path(series_dir) / record["series"], json.dumps(data) + "\n")
-        elif series_dir is None:
-            record["series"] = None
-        records.append(record)
-    return records

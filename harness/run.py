@@ -1,0 +1,501 @@
+"""The application layer: what each command does, from a catalogue (:class:`harness.catalogue.Catalogue`) to
+records and documents. ``harness.cli`` parses the arguments, calls one function here and prints what it returns;
+:mod:`harness.report` renders the documents (Markdown, HTML, figures). Library code never imports ``models``: it
+is handed the catalogue (or the systems) from here.
+
+Records
+-------
+* a **system record** (:func:`check_record`): the conformance checks of one system (:class:`harness.checks.Check`
+  records), its scenes, its engine warnings; its clock values in the typed field ``timings``, which the writer
+  (:func:`harness.report.results.write_results`) moves to ``timings.json``;
+* the **results document** (:func:`results_document`): the records, the bounds they refer to, versions and the
+  hypothesis settings (schema ``docs/results-schema.md``);
+* a **claim record** (:func:`classify_system`): one printed equation of the lecture with its classification.
+
+Process pools: ``--jobs N`` checks (or classifies) systems in spawned processes; each job carries the catalogue,
+which a worker rebuilds from its description. A run over some systems is merged by system into what the report
+folder holds (:func:`merge_records`, :func:`merge_claims`).
+"""
+
+from __future__ import annotations
+
+import importlib
+import json
+import os
+import platform
+import sys
+import time
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures.process import BrokenProcessPool
+from dataclasses import dataclass, field
+from multiprocessing import get_context
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from harness.errors import HarnessError, InputError
+from harness.io import atomic_write_text
+from harness.report.results import check_folder, load_results, read_claims, read_timings, write_claims, write_results
+from harness.settings import apply_seed, draws_from_seed_only, load_hypothesis_profile
+
+if TYPE_CHECKING:  # the catalogue is handed in; importing it would load the modeling vocabulary (SymPy)
+    from harness.catalogue import Catalogue
+
+SCHEMA_VERSION = 2
+SCHEMA_DOC = "docs/results-schema.md"
+
+
+def _reason(exc: BaseException) -> str:
+    return str(exc) if isinstance(exc, HarnessError) else f"{type(exc).__name__}: {exc}"
+
+
+# =========================================================================================== list, eval
+def listing(catalogue: Catalogue) -> list[tuple[str, str, str, str]]:
+    """``(system, dof, lecture, status)`` of every system, then of every module that does not load."""
+    rows = [(s.name, str(len(s.coordinates)), s.lecture, s.status) for s in catalogue.systems().values()]
+    return rows + [(name, "?", "—", "does not load (harness check shows why)") for name in catalogue.failures()]
+
+
+def evaluate(catalogue: Catalogue, name: str, engine: str, q, qd=None, params=None, inputs=None) -> dict:
+    """``M``, ``C``, ``C q̇``, ``g`` and ``q̈`` of system ``name`` at one state from ``engine``, in lecture
+    coordinates, with the state used and the engine call that produced each number (``harness eval --json``)."""
+    from harness.engines import evaluate as engine_evaluate
+    from harness.engines.base import State
+
+    system = catalogue.get(name)
+    state = State.make(system, q, qd, params or {}, inputs or {})
+    ev = engine_evaluate(engine, state)
+    return {"system": system.name, "engine": ev.engine,
+            "coordinates": [c.name for c in system.coordinates],
+            "q": state.q.tolist(), "qd": state.qd.tolist(), "params": state.params, "inputs": state.u,
+            "M": ev.M.tolist(), "C": None if ev.C is None else ev.C.tolist(), "Cqd": ev.Cqd.tolist(),
+            "g": ev.g.tolist(), "qdd": ev.qdd.tolist(), "calls": ev.calls}
+
+
+# =========================================================================================== the results document
+def hypothesis_record(examples: int | None, seed: int | None) -> dict:
+    """Profile, seed, example count and database location of a run (in the calling process)."""
+    from hypothesis import settings
+
+    profile = load_hypothesis_profile()
+    current = settings.get_profile(profile)
+    db = None if seed is not None else current.database
+    return {"profile": profile,
+            "seed": seed,
+            "derandomize": bool(current.derandomize) and seed is None,
+            "seeding": (f"every check draws from Random({seed})" if seed is not None else
+                        "each check's seed is derived from the check itself (derandomize)" if current.derandomize
+                        else "random seed per check (not reproducible; give --seed)"),
+            "max_examples": examples if examples is not None else current.max_examples,
+            "database": None if db is None else str(getattr(db, "path", db)),
+            "environment": {k: os.environ[k] for k in ("HYPOTHESIS_PROFILE",) if k in os.environ}}
+
+
+def versions() -> dict:
+    """Engine and library versions and the platform the numbers were produced with."""
+    import hypothesis
+    import mujoco
+    import numpy
+    import pinocchio
+    import scipy
+    import sympy
+
+    return {"python": platform.python_version(), "platform": platform.platform(), "pinocchio": pinocchio.__version__,
+            "mujoco": mujoco.__version__, "sympy": sympy.__version__, "numpy": numpy.__version__,
+            "scipy": scipy.__version__, "hypothesis": hypothesis.__version__}
+
+
+def tolerance_policy() -> str:
+    from harness.compare import conformance
+
+    text = conformance.__doc__.split("Tolerance policy")[1]
+    return text.split("-----\n")[-1].strip() if "-----\n" in text else text.strip(" -\n")
+
+
+def bounds_used(records: list[dict]) -> dict:
+    """The bounds (:class:`harness.checks.Bound`) the records' checks refer to, each stated once with its reason."""
+    from harness.checks import BOUNDS
+
+    importlib.import_module("harness.scenes.trajectories")  # declares the bounds of the scenes
+
+    used = {c.get("basis") for r in records for c in r.get("checks", [])}
+    used |= {c.get("basis") for r in records for s in r.get("scenes") or [] for c in s.get("checks", [])}
+    return {name: BOUNDS[name].record() for name in sorted(n for n in used if n in BOUNDS)}
+
+
+def results_document(records: list[dict], examples: int | None = None, seed: int | None = None) -> dict:
+    """``results.json`` (schema version :data:`SCHEMA_VERSION`, described in ``docs/results-schema.md``)."""
+    return {"schema": {"version": SCHEMA_VERSION, "description": SCHEMA_DOC},
+            "tolerance_policy": tolerance_policy(),
+            "bounds": bounds_used(records),
+            "versions": versions(),
+            "hypothesis": hypothesis_record(examples, seed),
+            "systems": records,
+            "passed": all(r["passed"] for r in records)}
+
+
+def merge_records(catalogue: Catalogue, existing: dict | None, records: list[dict]) -> list[dict]:
+    """The records of ``existing`` (a results document) with those of ``records`` replacing them by system:
+    a run over some systems never drops the others' results. Catalogue order, other systems after it."""
+    merged = {r["system"]: r for r in (existing or {}).get("systems", []) if isinstance(r, dict) and "system" in r}
+    merged.update({r["system"]: r for r in records})
+    order = catalogue.order()
+    return sorted(merged.values(), key=lambda r: (order.get(r["system"], len(order)), r["system"]))
+
+
+# =========================================================================================== one system's checks
+def scene_records(catalogue: Catalogue, system, series_dir=None) -> list[dict]:
+    """The records of every scene of ``system``; with ``series_dir``, each scene's series is written to
+    ``series_dir/<record['series']>`` (atomically)."""
+    from harness.scenes.trajectories import scene_record
+
+    records = []
+    for scene in catalogue.scenes(system.name):
+        record, data = scene_record(system, scene, catalogue)
+        if series_dir is not None and data:
+            atomic_write_text(Path(series_dir) / record["series"], json.dumps(data) + "\n")
+        elif series_dir is None:
+            record["series"] = None
+        records.append(record)
+    return records
+
+
+def check_record(catalogue: Catalogue, system, examples: int | None = None, scenes: bool = True,
+                 series_dir: str | None = None) -> dict:
+    """The conformance record of one system; a system raising gives a failed record with the reason. With
+    ``scenes``, the trajectory checks of its scenes too (their series written into ``series_dir``)."""
+    from harness.compare import conformance
+
+    try:
+        summary = conformance.run(system, examples=examples)
+        record = {"system": system.name, "passed": summary.passed, "examples": summary.examples,
+                  "failure": summary.failure, "not_applicable": summary.not_applicable,
+                  "checks": [c.record() for c in sorted(summary.worst.values(), key=lambda c: (c.name, c.source))]}
+    except Exception as exc:  # noqa: BLE001 - one system raising never loses the others' results
+        record = {"system": system.name, "passed": False, "examples": 0, "failure": f"{system.name}: {_reason(exc)}",
+                  "not_applicable": {}, "checks": []}
+    record["lecture"], record["status"] = system.lecture, system.status
+    if scenes:
+        record["scenes"] = scene_records(catalogue, system, series_dir)
+        record["passed"] = record["passed"] and all(s["passed"] for s in record["scenes"])
+    return with_warnings(record)
+
+
+def with_warnings(record: dict) -> dict:
+    """The engine warnings raised while checking the system (:mod:`harness.engines.warnings_log`); an
+    unexplained one fails the system."""
+    from harness.engines import warnings_log
+
+    record["warnings"] = warnings_log.drain(record["system"])
+    unexplained = [w for w in record["warnings"] if not w["explained"]]
+    if unexplained:
+        record["passed"] = False
+        reasons = "; ".join(f"unexplained {w['engine']} warning in {w['where']} ({w['count']}x): {w['message']} "
+                            f"[{w['reason']}]" for w in unexplained)
+        record["failure"] = f"{record['failure']}; {reasons}" if record["failure"] else f"{record['system']}: {reasons}"
+    return record
+
+
+def _failed_record(name: str, failure: str, status: str) -> dict:
+    return {"system": name, "passed": False, "examples": 0, "checks": [], "not_applicable": {}, "failure": failure,
+            "lecture": "", "status": status}
+
+
+@dataclass(frozen=True)
+class Job:
+    """What one worker checks: one system of ``catalogue`` (rebuilt in the worker from its description), with
+    the hypothesis settings of the run."""
+
+    catalogue: Catalogue
+    system: str
+    examples: int | None = None
+    seed: int | None = None
+    scenes: bool = True
+    series_dir: str | None = None
+
+
+def run_job(job: Job) -> dict:
+    """Check one system (in a worker process with ``--jobs``): its record, the wall time it took in its
+    ``timings``."""
+    start = time.perf_counter()
+    apply_seed(job.seed)
+    with draws_from_seed_only():
+        try:
+            system = job.catalogue.get(job.system)
+        except Exception as exc:  # noqa: BLE001 - a model that does not load is a failed record, not a lost run
+            record = _failed_record(job.system, f"{job.system}: {_reason(exc)}", "does not load")
+        else:
+            record = check_record(job.catalogue, system, job.examples, job.scenes, job.series_dir)
+    record["timings"] = {"seconds": round(time.perf_counter() - start, 2)}
+    return record
+
+
+def run_checks(catalogue: Catalogue, names: list[str], examples: int | None = None, seed: int | None = None,
+               jobs: int = 1, progress=None, scenes: bool = True, series_dir: str | None = None) -> list[dict]:
+    """Check ``names`` (in that order in the result), ``jobs`` systems at a time in spawned processes. Each
+    record holds its wall time in ``timings``. Progress goes to ``progress`` (stderr)."""
+    progress = sys.stderr if progress is None else progress
+    todo = [Job(catalogue, name, examples, seed, scenes, None if series_dir is None else str(series_dir))
+            for name in names]
+    records: dict[str, dict] = {}
+
+    def done(record):
+        records[record["system"]] = record
+        verdict = "ok" if record["passed"] else "FAILED"
+        print(f"[{len(records)}/{len(todo)}] {record['system']}: {verdict} ({record['timings']['seconds']:.1f} s)",
+              file=progress, flush=True)
+
+    if jobs > 1 and len(todo) > 1:
+        print(f"checking {len(todo)} systems in {min(jobs, len(todo))} processes …", file=progress, flush=True)
+        with ProcessPoolExecutor(min(jobs, len(todo)), mp_context=get_context("spawn")) as pool:
+            futures = {pool.submit(run_job, job): job for job in todo}
+            for future in as_completed(futures):
+                try:
+                    done(future.result())
+                except (BrokenProcessPool, Exception) as exc:  # noqa: BLE001 - a crashed worker loses one system
+                    name = futures[future].system
+                    done({**_failed_record(name, f"{name}: worker process failed: {_reason(exc)}", "check crashed"),
+                          "timings": {"seconds": 0.0}})
+    else:
+        for job in todo:
+            print(f"checking {job.system} …", file=progress, flush=True)
+            done(run_job(job))
+    return [records[name] for name in names]
+
+
+# =========================================================================================== harness check, report
+@dataclass
+class CheckRun:
+    """What ``harness check`` produced: the results document of this run (records with their ``timings``) and
+    the files written (``--out``: merged by system into what the folder held)."""
+
+    document: dict
+    written: list = field(default_factory=list)
+
+    @property
+    def passed(self) -> bool:
+        return self.document["passed"]
+
+
+def _systems(catalogue: Catalogue, names) -> list[str]:
+    """The names asked for (unknown or broken ones fail before any work), else every name of the catalogue (a
+    module that does not load is reported as that system's failure)."""
+    catalogue.require(names)
+    return list(names) if names else catalogue.names()
+
+
+def check(catalogue: Catalogue, names=None, examples: int | None = None, seed: int | None = None, jobs: int = 1,
+          scenes: bool = True, out=None, progress=None) -> CheckRun:
+    """Conformance (and scenes) of each system; with ``out``, results.json, timings.json and summary.md there,
+    merged by system into what the folder holds."""
+    names = _systems(catalogue, names)
+    if out:
+        check_folder(out)
+    records = run_checks(catalogue, names, examples=examples, seed=seed, jobs=jobs, scenes=scenes, series_dir=out,
+                         progress=progress)
+    run = CheckRun(results_document(records, examples, seed))
+    if out:  # merged by system into what the folder holds: other systems' results are kept
+        merged = results_document(merge_records(catalogue, load_results(out), records), examples, seed)
+        run.written = write_results(merged, out, timings=read_timings(out))
+    return run
+
+
+def report(catalogue: Catalogue, out, names=None, jobs: int = 1, examples: int | None = None,
+           seed: int | None = None, rerun: bool = False, scenes: bool = True, progress=None) -> dict:
+    """Check the systems that ``out/results.json`` does not hold yet (all with ``rerun``), write the results,
+    then the site. Returns {"passed": bool, "ran": [...], "failed": {...}, "pages": [...]}."""
+    from harness.report.site import build_site
+
+    progress = sys.stderr if progress is None else progress
+    out = check_folder(out)
+    requested = _systems(catalogue, names)
+    existing = load_results(out)
+    known = {r["system"] for r in (existing or {}).get("systems", [])}
+    todo = [name for name in requested if rerun or name not in known]
+    if todo or existing is None:
+        print(f"checking {len(todo)} system(s) not in {out / 'results.json'} …", file=progress, flush=True)
+        fresh = run_checks(catalogue, todo, examples=examples, seed=seed, jobs=jobs, progress=progress,
+                           scenes=scenes, series_dir=out)
+        doc = results_document(merge_records(catalogue, existing, fresh), examples, seed)
+    else:
+        doc = existing
+    write_results(doc, out, timings=read_timings(out))  # summary.md from the same writer
+    print(f"rendering {out / 'index.html'} …", file=progress, flush=True)
+    site = build_site(out, catalogue, progress=progress)
+    shown = [r for r in doc["systems"] if r["system"] in requested]
+    return {"passed": all(r["passed"] for r in shown) and not site["failed"], "ran": todo, **site}
+
+
+# =========================================================================================== harness claims
+def classify_system(job: tuple) -> dict:
+    """Classify the claims of one system (in a worker process with ``--jobs``): ``{"system", "failure",
+    "records"}``; a module that does not load, or a claim that cannot be evaluated, is a failure of its own."""
+    from harness.compare import claims
+    from harness.engines import warnings_log
+
+    catalogue, name, examples = job
+    load_hypothesis_profile()
+    with draws_from_seed_only():  # the examples depend on the seed only, not on our source's literals
+        try:
+            system, printed = catalogue.get(name), catalogue.claims(name)
+        except HarnessError as exc:
+            return {"system": name, "failure": str(exc), "records": []}
+        out, failures = [], []
+        for claim in printed:
+            print(f"classifying {name} {claim.equation} …", file=sys.stderr, flush=True)
+            try:
+                v = claims.classify(system, claim, examples=examples)
+            except Exception as exc:  # noqa: BLE001 - one claim that cannot be evaluated does not lose the others
+                failures.append(f"{name} {claim.equation}: cannot be evaluated: {type(exc).__name__}: {exc}")
+                continue
+            out.append(claim_record(v))
+    failures += [f"{name}: unexplained {w['engine']} warning in {w['where']} ({w['count']}x): {w['message']}"
+                 for w in warnings_log.drain(name) if not w["explained"]]
+    return {"system": name, "failure": "; ".join(failures) or None, "records": out}
+
+
+def claim_record(v) -> dict:
+    """A :class:`harness.compare.claims.Classification` as a ``claims.json`` record."""
+    return {"system": v.system, "equation": v.claim.equation, "quantity": v.claim.quantity,
+            "description": v.claim.description, "classification": v.classification,
+            "printed": str(v.claim.printed), "corrected": v.corrected, "convention": v.convention,
+            "counterexample": v.counterexample, "note": v.claim.note, "examples": v.examples,
+            "errors_over_tolerance": v.errors}
+
+
+def merge_claims(catalogue: Catalogue, existing: list[dict], ran, records: list[dict]) -> list[dict]:
+    """The claim records of the systems ``ran`` replace theirs in ``existing``, the others are kept; catalogue
+    order (stable: equation order within a system)."""
+    kept = [r for r in existing if r.get("system") not in set(ran)]
+    order = catalogue.order()
+    return sorted(kept + records, key=lambda r: order.get(r["system"], len(order)))
+
+
+@dataclass
+class ClaimsRun:
+    """What ``harness claims`` produced: the claim records of this run, the failures (a module that does not
+    load, a claim that cannot be evaluated, an unexplained engine warning) and the files written."""
+
+    records: list
+    failed: list
+    written: list = field(default_factory=list)
+
+    @property
+    def passed(self) -> bool:
+        """Errata are findings; a failure or engines that disagree fail the run."""
+        return not self.failed and not any(r["classification"] == "engines disagree" for r in self.records)
+
+
+def claims(catalogue: Catalogue, names=None, examples: int | None = None, jobs: int = 1, out=None) -> ClaimsRun:
+    """Classify every printed equation of ``names`` (default: the catalogue), ``jobs`` systems at a time; with
+    ``out``, claims.json and errata.md there, merged by system."""
+    names = _systems(catalogue, names)
+    if out:
+        check_folder(out)
+    jobs_ = [(catalogue, name, examples) for name in names]
+    if jobs > 1 and len(jobs_) > 1:
+        with get_context("spawn").Pool(jobs) as pool:
+            per_system = pool.map(classify_system, jobs_, chunksize=1)
+    else:
+        per_system = [classify_system(job) for job in jobs_]
+    run = ClaimsRun([r for result in per_system for r in result["records"]],
+                    [result["failure"] for result in per_system if result["failure"]])
+    if out:  # merged by system: the classified systems replace their records, the others are kept
+        merged = merge_claims(catalogue, read_claims(out), [result["system"] for result in per_system], run.records)
+        run.written = write_claims(merged, out)
+    return run
+
+
+# =========================================================================================== harness scenes
+def select_scenes(catalogue: Catalogue, names=None, scene: str | None = None) -> list[tuple]:
+    """``(system, scene)`` of every scene of ``names`` (default: every system that loads), or only the scene
+    named ``scene`` (unknown: one line, before any work)."""
+    out = []
+    for name in names or list(catalogue.systems()):
+        system = catalogue.get(name)
+        chosen = catalogue.scenes(name)
+        if scene:
+            known = [s.name for s in chosen]
+            if scene not in known:
+                raise InputError(f"unknown scene {scene!r} of {name}; known scenes: {', '.join(known) or 'none'}")
+            chosen = [s for s in chosen if s.name == scene]
+        out += [(system, s) for s in chosen]
+    return out
+
+
+def run_scene(catalogue: Catalogue, system, scene):
+    """Simulate ``scene`` and check its trajectories (:func:`harness.scenes.trajectories.run_scene`)."""
+    from harness.scenes.trajectories import run_scene as simulate_and_check
+
+    return simulate_and_check(system, scene, catalogue=catalogue)
+
+
+# =========================================================================================== export, new
+def export(catalogue: Catalogue, folder, check_only: bool = False) -> tuple[dict, list[str]]:
+    """The exported files of every system (URDF, MJCF, coordinate maps) and the names of those that differ
+    from ``folder``; unless ``check_only``, written there (atomically)."""
+    from harness.export.files import export_files
+
+    folder = Path(folder)
+    files = export_files(catalogue.systems().values())
+    stale = [name for name, text in files.items()
+             if not (folder / name).exists() or (folder / name).read_text() != text]
+    if not check_only:
+        for name, text in files.items():
+            atomic_write_text(folder / name, text)
+    return files, stale
+
+
+def new(catalogue: Catalogue, name: str, folder=None) -> tuple[Path, bool]:
+    """Scaffold ``<folder>/<name>.py`` (default: the catalogue's own folder); whether the folder is on the
+    catalogue's search path."""
+    from harness.scaffold import scaffold
+
+    path = scaffold(name, folder, catalogue)
+    return path, str(path.parent.resolve()) in {str(Path(p).resolve()) for p in catalogue.path}
+
+
+# =========================================================================================== hard, bench, importer
+def hard(catalogue: Catalogue, out, quick: bool = False, only=None, echo=print) -> dict:
+    """The hard cases (:mod:`harness.hard`): ``out/hard.json`` and ``out/hard/*.svg``; the document."""
+    from harness.hard import run as run_cases
+
+    return run_cases(catalogue, Path(out), quick=quick, only=only, echo=echo)
+
+
+def bench(catalogue: Catalogue, **options) -> dict:
+    """The performance studies (:func:`harness.bench.run_bench`): bench.json, bench.md and the figures."""
+    from harness.bench import run_bench
+
+    return run_bench(catalogue, **options)
+
+
+def bench_render(out) -> dict:
+    """Redraw bench.md and the figures from ``out/bench.json`` (:func:`harness.bench.render`)."""
+    from harness.bench import render
+
+    return render(out)
+
+
+def bench_merge(out, other) -> dict:
+    """Take the parts another run measured (its bench.json) into ``out/bench.json`` (:func:`harness.bench.merge`)."""
+    from harness.bench import merge
+
+    return merge(out, other)
+
+
+def validate(path, root=None, states: int = 20):
+    """A user's own URDF or MJCF: safe parse, checks, load in the engines (:func:`harness.files.validate.validate`)."""
+    from harness.files.validate import validate as validate_file
+
+    return validate_file(path, root=root, states=states)
+
+
+def importer(catalogue: Catalogue, names=None, states: int = 20, seed: int = 0, out=None) -> tuple[dict, list]:
+    """MuJoCo's URDF importer against our MJCF and Pinocchio (:mod:`harness.files.importer`): the document and,
+    with ``out``, importer.json and importer.md written there."""
+    from harness.files import importer as study
+
+    catalogue.require(names)
+    systems = [catalogue.get(n) for n in names] if names else list(catalogue.systems().values())
+    doc = study.run(systems, states=states, seed=seed)
+    return doc, (study.write(doc, Path(out)) if out else [])

@@ -1,0 +1,53 @@
+"""The catalogue is an object handed to the library: it pickles as its description (a worker process rebuilds
+it, with the folders added to its search path), and no library module imports ``models``."""
+
+from __future__ import annotations
+
+import ast
+import multiprocessing
+import pickle
+from pathlib import Path
+
+import models
+from harness.catalogue import MODELS_DIR, Catalogue, repository
+
+HARNESS = Path(__file__).resolve().parent.parent / "harness"
+
+
+def _names(catalogue: Catalogue) -> list[str]:
+    return catalogue.names()
+
+
+def test_a_catalogue_pickles_as_its_description():
+    again = pickle.loads(pickle.dumps(models.CATALOGUE))
+    assert isinstance(again, Catalogue) and again is not models.CATALOGUE
+    assert again.description() == models.CATALOGUE.description()
+    assert again.names() == models.names() and again.get("pendulum") is models.get("pendulum")
+
+
+def test_a_worker_process_rebuilds_the_catalogue_with_its_search_path(user_models):
+    (user_models / "user_pendulum.py").write_text(
+        "import dataclasses\nfrom models.pendulum import SYSTEM as _S\n"
+        "SYSTEM = dataclasses.replace(_S, name='user_pendulum')\n")
+    models.reload()
+    assert "user_pendulum" in models.names()
+    with multiprocessing.get_context("spawn").Pool(1) as pool:   # a fresh interpreter: only the description
+        (names,) = pool.map(_names, [models.CATALOGUE])
+    assert names == models.names()
+
+
+def test_the_repository_catalogue_is_the_models_folder_located_by_path():
+    assert repository() is models.CATALOGUE
+    assert Path(repository().path[0]).resolve() == MODELS_DIR
+
+
+def test_library_code_never_imports_models():
+    """Not even the entry points: they create the catalogue with :func:`harness.catalogue.repository`."""
+    offenders = []
+    for path in sorted(HARNESS.rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text())):
+            names = ([a.name for a in node.names] if isinstance(node, ast.Import) else
+                     [node.module or ""] if isinstance(node, ast.ImportFrom) and not node.level else [])
+            if any(n == "models" or n.startswith("models.") for n in names):
+                offenders.append(f"{path.relative_to(HARNESS.parent)}:{node.lineno}")
+    assert not offenders, offenders
