@@ -13,7 +13,9 @@ from pathlib import Path
 
 import numpy as np
 
-from harness.errors import HarnessError, InputError
+from harness import limits
+from harness.errors import EngineError, HarnessError, InputError
+from harness.io import writable_folder
 
 PROJECT_ROOT = Path(__file__).resolve().parent.parent
 
@@ -29,6 +31,8 @@ def _assignments(items, what: str) -> dict[str, float]:
         name, sep, value = item.partition("=")
         if not sep or not name:
             raise InputError(f"--{what} takes NAME=VALUE, got {item!r}")
+        if name in out:
+            raise InputError(f"--{what} {name} is given twice ({name}={out[name]:g} and {item}): give it once")
         try:
             out[name] = float(value)
         except ValueError:
@@ -54,7 +58,18 @@ def cmd_eval(args) -> int:
 
     system = models.get(args.system)
     state = State.make(system, args.q, args.qd, _assignments(args.param, "param"), _assignments(args.input, "input"))
-    ev = evaluate(args.engine, state)
+    _check_state_regular(state)  # one verdict for every engine at a coordinate singularity
+    try:
+        ev = evaluate(args.engine, state)
+    except np.linalg.LinAlgError as exc:
+        raise EngineError(f"{system.name}: {args.engine} failed at q = {state.q.tolist()}: {exc}") from None
+    for key in ("M", "C", "Cqd", "g", "qdd"):
+        value = getattr(ev, key)
+        if value is not None and not np.all(np.isfinite(value)):
+            changed = ", ".join(f"{k}={v:g}" for k, v in state.params.items()
+                                if v != system.default_parameters()[k]) or "default parameters"
+            raise EngineError(f"{system.name}: {args.engine} gives a non-finite {key} at q = {state.q.tolist()}, "
+                              f"qd = {state.qd.tolist()} ({changed})")
     out = {"system": system.name, "engine": ev.engine,
            "coordinates": [c.name for c in system.coordinates],
            "q": state.q.tolist(), "qd": state.qd.tolist(), "params": state.params, "inputs": state.u,
@@ -68,17 +83,27 @@ def cmd_eval(args) -> int:
     return 0
 
 
+def _check_state_regular(state) -> None:
+    """Raise the symbolic model's ModelError where ``M(q)`` is singular (a coordinate singularity), whatever
+    the engine: Pinocchio would return NaN and MuJoCo, with its lower bound on inertias, q̈ = 0 there."""
+    from harness.derivation.compile import check_regular, compiled
+
+    M = compiled(state.system)("M", state.q, state.qd, state.p, state.u_vec)
+    check_regular(state.system, M, state.q)
+
+
 def cmd_check(args) -> int:
     """Conformance of each system; ``--out`` writes results.json, timings.json and summary.md (harness.report)."""
     import models
     from harness.report.results import (check_folder, load_results, merge_records, read_timings, results_document,
                                         run_checks, timings_of, write_results)
 
+    if args.out:
+        writable_folder(args.out)
+        check_folder(args.out)
     names = args.systems or models.names()   # a module that does not load is reported as that system's failure
     for name in args.systems or []:
         models.get(name)  # unknown or broken names given by the user fail before any work
-    if args.out:
-        check_folder(args.out)
     results, seconds = run_checks(names, examples=args.examples, seed=args.seed, jobs=args.jobs,
                                   scenes=not args.no_scenes, series_dir=args.out)
     doc = results_document(results, args.examples, args.seed)
@@ -138,6 +163,7 @@ def cmd_report(args) -> int:
     """Checks the systems results.json lacks, then writes summary.md and the static site (harness.report)."""
     from harness.report import build_report
 
+    writable_folder(args.out)
     result = build_report(args.out, names=args.systems, jobs=args.jobs, examples=args.examples, seed=args.seed,
                           rerun=args.rerun, scenes=not args.no_scenes)
     for name, reason in result["failed"].items():
@@ -206,13 +232,14 @@ def cmd_claims(args) -> int:
     import models
     from harness.io import atomic_write_text
 
-    names = args.systems or models.names()
-    for name in args.systems or []:
-        models.get(name)  # unknown or broken names given by the user fail before any work
     if args.out:
         from harness.report.results import check_folder
 
+        writable_folder(args.out)
         check_folder(args.out)
+    names = args.systems or models.names()
+    for name in args.systems or []:
+        models.get(name)  # unknown or broken names given by the user fail before any work
     jobs = [(name, args.examples) for name in names]
     if args.jobs > 1 and len(jobs) > 1:
         with multiprocessing.get_context("spawn").Pool(args.jobs) as pool:
@@ -305,6 +332,8 @@ def cmd_export(args) -> int:
     from harness.io import atomic_write_text
 
     out = Path(args.dir)
+    if not args.check:
+        writable_folder(out, "--dir")
     files = export_files(models.catalogue().values())
     stale = [name for name, text in files.items()
              if not (out / name).exists() or (out / name).read_text() != text]
@@ -320,9 +349,9 @@ def cmd_export(args) -> int:
 
 def cmd_validate(args) -> int:
     """A user's own URDF/MJCF: safe parse, checks, load in the engines (harness/files/validate.py)."""
-    from harness.files.validate import validate
+    from harness.files.validate import validate_isolated
 
-    result = validate(args.file, root=args.root, states=args.states)
+    result = validate_isolated(args.file, root=args.root, states=args.states)
     if args.json:
         print(json.dumps(result.to_json(), indent=1))
     else:
@@ -334,6 +363,8 @@ def cmd_importer(args) -> int:
     """MuJoCo's URDF importer vs our MJCF and Pinocchio (harness/files/importer.py): importer.json, importer.md."""
     from harness.files import importer
 
+    if args.out:
+        writable_folder(args.out)
     doc = importer.run(args.systems or None, states=args.states, seed=args.seed)
     if args.out:
         for path in importer.write(doc, Path(args.out)):
@@ -346,6 +377,7 @@ def cmd_bench(args) -> int:
     """The performance studies (harness/bench/); writes bench.json, bench.md and the figures."""
     from harness.bench import merge, render, run_bench
 
+    writable_folder(args.out)
     if args.render:
         render(args.out)
         return 0
@@ -361,6 +393,7 @@ def cmd_hard(args) -> int:
     """The hard cases (harness/hard/): reports/hard.json and reports/hard/*.svg; exit 1 if a bound fails."""
     from harness.hard import run
 
+    writable_folder(args.out)
     doc = run(Path(args.out), quick=args.quick, only=args.cases or None,
               echo=lambda line: print(line, file=sys.stderr))
     print(f"wrote {Path(args.out) / 'hard.json'}", file=sys.stderr)
@@ -384,19 +417,19 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("check", help="conformance checks against Pinocchio and MuJoCo")
     p.add_argument("systems", nargs="*")
-    p.add_argument("--examples", type=int, default=None, help="hypothesis examples per system (default: profile)")
+    p.add_argument("--examples", type=limits.bounded_int(1, limits.EXAMPLES, "harness.limits.EXAMPLES"), default=None, help="hypothesis examples per system (default: profile)")
     p.add_argument("--json", action="store_true")
     p.add_argument("--no-scenes", action="store_true", help="skip the trajectory checks of the scenes")
     p.add_argument("--out", help="folder for results.json, timings.json and summary.md")
-    p.add_argument("--jobs", type=int, default=1, help="systems checked in parallel processes")
+    p.add_argument("--jobs", type=limits.bounded_int(1, limits.JOBS, "harness.limits.JOBS"), default=1, help="systems checked in parallel processes")
     p.add_argument("--seed", type=int, default=None, help="hypothesis seed (default: the profile's fixed seeds)")
     p.set_defaults(func=cmd_check)
 
     p = sub.add_parser("report", help="readable reports: index.html, summary.md, results.json")
     p.add_argument("systems", nargs="*", help="default: every system")
     p.add_argument("--out", default="reports", help="report folder (default: reports)")
-    p.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="systems checked in parallel")
-    p.add_argument("--examples", type=int, default=None, help="hypothesis examples per system (default: profile)")
+    p.add_argument("--jobs", type=limits.bounded_int(1, limits.JOBS, "harness.limits.JOBS"), default=os.cpu_count() or 1, help="systems checked in parallel")
+    p.add_argument("--examples", type=limits.bounded_int(1, limits.EXAMPLES, "harness.limits.EXAMPLES"), default=None, help="hypothesis examples per system (default: profile)")
     p.add_argument("--seed", type=int, default=None, help="hypothesis seed (default: the profile's fixed seeds)")
     p.add_argument("--rerun", action="store_true", help="check every system again, even if results.json has it")
     p.add_argument("--no-scenes", action="store_true", help="skip the trajectory checks of the scenes")
@@ -409,8 +442,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("claims", help="check the lecture's printed equations (errata report)")
     p.add_argument("systems", nargs="*")
-    p.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="systems classified in parallel")
-    p.add_argument("--examples", type=int, default=None)
+    p.add_argument("--jobs", type=limits.bounded_int(1, limits.JOBS, "harness.limits.JOBS"), default=os.cpu_count() or 1, help="systems classified in parallel")
+    p.add_argument("--examples", type=limits.bounded_int(1, limits.EXAMPLES, "harness.limits.EXAMPLES"), default=None)
     p.add_argument("--json", action="store_true")
     p.add_argument("--out", help="folder for claims.json and errata.md")
     p.set_defaults(func=cmd_claims)
@@ -430,7 +463,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", default=str(PROJECT_ROOT / "reports"), help="folder for bench.json, bench.md, bench/")
     p.add_argument("--quick", action="store_true", help="small grids and a representative set (about 2 min)")
     p.add_argument("--scheduler", default=None, metavar="ADDR", help="run the sweeps on this Dask scheduler")
-    p.add_argument("--workers", type=int, default=None, help="local processes (default: one per CPU)")
+    p.add_argument("--workers", type=limits.bounded_int(1, limits.JOBS, "harness.limits.JOBS"), default=None, help="local processes (default: one per CPU)")
     p.add_argument("--systems", nargs="+", default=None)
     p.add_argument("--scenes", nargs="+", default=None, help="scene names (stiff variants: SCENE_PARAM_xFACTOR…)")
     p.add_argument("--parts", nargs="+", default=["workprecision", "evaluation", "derivation", "pruning"],
@@ -444,14 +477,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("file", help="a .urdf or MJCF .xml file")
     p.add_argument("--root", default=None, help="folder its mesh/package/include files must stay in "
                    "(default: the file's folder)")
-    p.add_argument("--states", type=int, default=20, help="random states for the importer comparison")
+    p.add_argument("--states", type=limits.bounded_int(1, limits.STATES, "harness.limits.STATES"), default=20, help="random states for the importer comparison")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_validate)
 
     p = sub.add_parser("importer", help="MuJoCo's URDF importer vs our MJCF and Pinocchio")
     p.add_argument("systems", nargs="*", help="default: every system (the test models are always included)")
     p.add_argument("--out", default=None, help="folder for importer.json and importer.md")
-    p.add_argument("--states", type=int, default=20)
+    p.add_argument("--states", type=limits.bounded_int(1, limits.STATES, "harness.limits.STATES"), default=20)
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_importer)
@@ -464,12 +497,20 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+NO_DERIVATION = frozenset({"list", "new", "validate"})
+"""Commands that never read or write the derivation cache."""
+
+
 def main(argv=None) -> int:
     from harness.settings import load_hypothesis_profile
 
     load_hypothesis_profile()
     try:
         args = build_parser().parse_args(argv)
+        if args.command not in NO_DERIVATION and os.environ.get("HARNESS_CACHE_DIR"):
+            from harness.derivation.cache import cache_dir
+
+            writable_folder(cache_dir(), "HARNESS_CACHE_DIR")  # before the work, not after it
         return args.func(args)
     except HarnessError as exc:
         print(f"error: {exc}", file=sys.stderr)
