@@ -13,14 +13,21 @@ from pathlib import Path
 
 import numpy as np
 
-from harness import run
+from harness import limits, run
 from harness.errors import HarnessError, InputError
+from harness.io import writable_folder
 from harness.report import margins
 from harness.report.markdown import CHECK_HEADER, check_rows
 from harness.report.results import dumps, split_timings
 from harness.settings import load_hypothesis_profile
 
 PROJECT_ROOT = Path(__file__).resolve().parent.parent
+
+
+# counts a user may give, each bounded by its limit in harness/limits.py (0 or too many: one line, exit 2)
+EXAMPLES = limits.bounded_int(1, limits.EXAMPLES, "harness.limits.EXAMPLES")
+JOBS = limits.bounded_int(1, limits.JOBS, "harness.limits.JOBS")
+STATES = limits.bounded_int(1, limits.STATES, "harness.limits.STATES")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -34,6 +41,8 @@ def _assignments(items, what: str) -> dict[str, float]:
         name, sep, value = item.partition("=")
         if not sep or not name:
             raise InputError(f"--{what} takes NAME=VALUE, got {item!r}")
+        if name in out:
+            raise InputError(f"--{what} {name} is given twice ({name}={out[name]:g} and {item}): give it once")
         try:
             out[name] = float(value)
         except ValueError:
@@ -239,19 +248,19 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("check", help="conformance checks against Pinocchio and MuJoCo")
     p.add_argument("systems", nargs="*")
-    p.add_argument("--examples", type=int, default=None, help="hypothesis examples per system (default: profile)")
+    p.add_argument("--examples", type=EXAMPLES, default=None, help="hypothesis examples per system (default: profile)")
     p.add_argument("--json", action="store_true")
     p.add_argument("--no-scenes", action="store_true", help="skip the trajectory checks of the scenes")
     p.add_argument("--out", help="folder for results.json, timings.json and summary.md")
-    p.add_argument("--jobs", type=int, default=1, help="systems checked in parallel processes")
+    p.add_argument("--jobs", type=JOBS, default=1, help="systems checked in parallel processes")
     p.add_argument("--seed", type=int, default=None, help="hypothesis seed (default: the profile's fixed seeds)")
     p.set_defaults(func=cmd_check)
 
     p = sub.add_parser("report", help="readable reports: index.html, summary.md, results.json")
     p.add_argument("systems", nargs="*", help="default: every system")
     p.add_argument("--out", default="reports", help="report folder (default: reports)")
-    p.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="systems checked in parallel")
-    p.add_argument("--examples", type=int, default=None, help="hypothesis examples per system (default: profile)")
+    p.add_argument("--jobs", type=JOBS, default=os.cpu_count() or 1, help="systems checked in parallel")
+    p.add_argument("--examples", type=EXAMPLES, default=None, help="hypothesis examples per system (default: profile)")
     p.add_argument("--seed", type=int, default=None, help="hypothesis seed (default: the profile's fixed seeds)")
     p.add_argument("--rerun", action="store_true", help="check every system again, even if results.json has it")
     p.add_argument("--no-scenes", action="store_true", help="skip the trajectory checks of the scenes")
@@ -264,8 +273,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("claims", help="check the lecture's printed equations (errata report)")
     p.add_argument("systems", nargs="*")
-    p.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="systems classified in parallel")
-    p.add_argument("--examples", type=int, default=None)
+    p.add_argument("--jobs", type=JOBS, default=os.cpu_count() or 1, help="systems classified in parallel")
+    p.add_argument("--examples", type=EXAMPLES, default=None)
     p.add_argument("--json", action="store_true")
     p.add_argument("--out", help="folder for claims.json and errata.md")
     p.set_defaults(func=cmd_claims)
@@ -285,7 +294,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", default=str(PROJECT_ROOT / "reports"), help="folder for bench.json, bench.md, bench/")
     p.add_argument("--quick", action="store_true", help="small grids and a representative set (about 2 min)")
     p.add_argument("--scheduler", default=None, metavar="ADDR", help="run the sweeps on this Dask scheduler")
-    p.add_argument("--workers", type=int, default=None, help="local processes (default: one per CPU)")
+    p.add_argument("--workers", type=JOBS, default=None, help="local processes (default: one per CPU)")
     p.add_argument("--systems", nargs="+", default=None)
     p.add_argument("--scenes", nargs="+", default=None, help="scene names (stiff variants: SCENE_PARAM_xFACTOR…)")
     p.add_argument("--parts", nargs="+", default=["workprecision", "evaluation", "derivation", "pruning"],
@@ -299,14 +308,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("file", help="a .urdf or MJCF .xml file")
     p.add_argument("--root", default=None, help="folder its mesh/package/include files must stay in "
                    "(default: the file's folder)")
-    p.add_argument("--states", type=int, default=20, help="random states for the importer comparison")
+    p.add_argument("--states", type=STATES, default=20, help="random states for the importer comparison")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_validate)
 
     p = sub.add_parser("importer", help="MuJoCo's URDF importer vs our MJCF and Pinocchio")
     p.add_argument("systems", nargs="*", help="default: every system (the test models are always included)")
     p.add_argument("--out", default=None, help="folder for importer.json and importer.md")
-    p.add_argument("--states", type=int, default=20)
+    p.add_argument("--states", type=STATES, default=20)
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_importer)
@@ -319,10 +328,18 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+NO_DERIVATION = frozenset({"list", "new", "validate"})
+"""Commands that never read or write the derivation cache."""
+
+
 def main(argv=None) -> int:
     load_hypothesis_profile()
     try:
         args = build_parser().parse_args(argv)
+        if args.command not in NO_DERIVATION and os.environ.get("HARNESS_CACHE_DIR"):
+            from harness.derivation.cache import cache_dir
+
+            writable_folder(cache_dir(), "HARNESS_CACHE_DIR")  # before the work, not after it
         return args.func(args)
     except HarnessError as exc:
         print(f"error: {exc}", file=sys.stderr)

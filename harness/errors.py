@@ -19,3 +19,7 @@ class ExportError(HarnessError):
 
 class EngineError(HarnessError):
     """An engine refused a model or produced non-finite numbers."""
+
+
+class OutputError(HarnessError):
+    """A destination that cannot be written (not a folder, no permission, a full disk)."""

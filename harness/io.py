@@ -1,10 +1,18 @@
-"""File output that never leaves a half-written file: write a temporary file, then rename."""
+"""File output that never leaves a half-written file: write a temporary file, then rename.
+
+A destination is checked before the work (:func:`writable_folder`: a folder we can create files in, or one
+we can create), and a failure while writing (a full disk, a file size limit, a folder removed meanwhile) is
+one :class:`~harness.errors.OutputError` line; the temporary file is removed and the old file, if any, kept.
+"""
 
 from __future__ import annotations
 
+import errno
 import os
 import tempfile
 from pathlib import Path
+
+from harness.errors import OutputError
 
 
 def _umask() -> int:
@@ -13,17 +21,50 @@ def _umask() -> int:
     return mask
 
 
+def _why(exc: OSError) -> str:
+    return exc.strerror or errno.errorcode.get(exc.errno or 0, type(exc).__name__)
+
+
+def writable_folder(path: Path | str, what: str = "--out") -> Path:
+    """``path`` if it is a folder we can write files into, or could be created as one; else one
+    :class:`OutputError` line naming ``what`` (the option or variable). Nothing is created: the nearest
+    existing ancestor is probed with a temporary file that is removed at once."""
+    path = Path(path)
+    if path.exists() and not path.is_dir():
+        raise OutputError(f"{what} {path}: exists and is not a folder")
+    probe = path
+    while not probe.exists():
+        if probe.parent == probe:
+            break
+        probe = probe.parent
+    if not probe.is_dir():
+        raise OutputError(f"{what} {path}: {probe} is not a folder")
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=".write-probe.", dir=probe)
+        os.close(fd)
+        os.unlink(tmp)
+    except OSError as exc:
+        raise OutputError(f"{what} {path}: cannot write into {probe}: {_why(exc)}") from None
+    return path
+
+
 def atomic_write_bytes(path: Path | str, data: bytes) -> None:
     """Write ``data`` to ``path`` atomically, with the permissions a plain ``open`` would give (``mkstemp``
-    creates 0600, which a web server could not serve)."""
+    creates 0600, which a web server could not serve). An ``OSError`` becomes one :class:`OutputError` line."""
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    except OSError as exc:
+        raise OutputError(f"{path}: cannot write: {_why(exc)}") from None
     try:
         with os.fdopen(fd, "wb") as fh:
             fh.write(data)
         os.chmod(tmp, 0o666 & ~_umask())
         os.replace(tmp, path)
+    except OSError as exc:
+        Path(tmp).unlink(missing_ok=True)
+        raise OutputError(f"{path}: cannot write: {_why(exc)}; the file was left as it was") from None
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise

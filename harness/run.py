@@ -32,7 +32,9 @@ from multiprocessing import get_context
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from harness.errors import HarnessError, InputError
+import numpy as np
+
+from harness.errors import EngineError, HarnessError, InputError
 from harness.io import atomic_write_text
 from harness.report.results import check_folder, load_results, read_claims, read_timings, write_claims, write_results
 from harness.settings import apply_seed, draws_from_seed_only, load_hypothesis_profile
@@ -63,12 +65,32 @@ def evaluate(catalogue: Catalogue, name: str, engine: str, q, qd=None, params=No
 
     system = catalogue.get(name)
     state = State.make(system, q, qd, params or {}, inputs or {})
-    ev = engine_evaluate(engine, state)
+    _check_state_regular(state)  # one verdict for every engine at a coordinate singularity
+    try:
+        ev = engine_evaluate(engine, state)
+    except np.linalg.LinAlgError as exc:
+        raise EngineError(f"{system.name}: {engine} failed at q = {state.q.tolist()}: {exc}") from None
+    for key in ("M", "C", "Cqd", "g", "qdd"):
+        value = getattr(ev, key)
+        if value is not None and not np.all(np.isfinite(value)):
+            changed = ", ".join(f"{k}={v:g}" for k, v in state.params.items()
+                                if v != system.default_parameters()[k]) or "default parameters"
+            raise EngineError(f"{system.name}: {engine} gives a non-finite {key} at q = {state.q.tolist()}, "
+                              f"qd = {state.qd.tolist()} ({changed})")
     return {"system": system.name, "engine": ev.engine,
             "coordinates": [c.name for c in system.coordinates],
             "q": state.q.tolist(), "qd": state.qd.tolist(), "params": state.params, "inputs": state.u,
             "M": ev.M.tolist(), "C": None if ev.C is None else ev.C.tolist(), "Cqd": ev.Cqd.tolist(),
             "g": ev.g.tolist(), "qdd": ev.qdd.tolist(), "calls": ev.calls}
+
+
+def _check_state_regular(state) -> None:
+    """Raise the symbolic model's ModelError where ``M(q)`` is singular (a coordinate singularity), whatever
+    the engine: Pinocchio would return NaN and MuJoCo, with its lower bound on inertias, q̈ = 0 there."""
+    from harness.derivation.compile import check_regular, compiled
+
+    M = compiled(state.system)("M", state.q, state.qd, state.p, state.u_vec)
+    check_regular(state.system, M, state.q)
 
 
 # =========================================================================================== the results document
@@ -435,7 +457,7 @@ def export(catalogue: Catalogue, folder, check_only: bool = False) -> tuple[dict
     from ``folder``; unless ``check_only``, written there (atomically)."""
     from harness.export.files import export_files
 
-    folder = Path(folder)
+    folder = Path(folder) if check_only else check_folder(folder, "--dir")
     files = export_files(catalogue.systems().values())
     stale = [name for name, text in files.items()
              if not (folder / name).exists() or (folder / name).read_text() != text]
@@ -459,13 +481,14 @@ def hard(catalogue: Catalogue, out, quick: bool = False, only=None, echo=print) 
     """The hard cases (:mod:`harness.hard`): ``out/hard.json`` and ``out/hard/*.svg``; the document."""
     from harness.hard import run as run_cases
 
-    return run_cases(catalogue, Path(out), quick=quick, only=only, echo=echo)
+    return run_cases(catalogue, check_folder(out), quick=quick, only=only, echo=echo)
 
 
 def bench(catalogue: Catalogue, **options) -> dict:
     """The performance studies (:func:`harness.bench.run_bench`): bench.json, bench.md and the figures."""
     from harness.bench import run_bench
 
+    check_folder(options.get("out", "reports"))
     return run_bench(catalogue, **options)
 
 
@@ -473,21 +496,21 @@ def bench_render(out) -> dict:
     """Redraw bench.md and the figures from ``out/bench.json`` (:func:`harness.bench.render`)."""
     from harness.bench import render
 
-    return render(out)
+    return render(check_folder(out))
 
 
 def bench_merge(out, other) -> dict:
     """Take the parts another run measured (its bench.json) into ``out/bench.json`` (:func:`harness.bench.merge`)."""
     from harness.bench import merge
 
-    return merge(out, other)
+    return merge(check_folder(out), other)
 
 
 def validate(path, root=None, states: int = 20):
     """A user's own URDF or MJCF: safe parse, checks, load in the engines (:func:`harness.files.validate.validate`)."""
-    from harness.files.validate import validate as validate_file
+    from harness.files.validate import validate_isolated
 
-    return validate_file(path, root=root, states=states)
+    return validate_isolated(path, root=root, states=states)
 
 
 def importer(catalogue: Catalogue, names=None, states: int = 20, seed: int = 0, out=None) -> tuple[dict, list]:
@@ -495,6 +518,8 @@ def importer(catalogue: Catalogue, names=None, states: int = 20, seed: int = 0, 
     with ``out``, importer.json and importer.md written there."""
     from harness.files import importer as study
 
+    if out:
+        check_folder(out)
     catalogue.require(names)
     systems = [catalogue.get(n) for n in names] if names else list(catalogue.systems().values())
     doc = study.run(systems, states=states, seed=seed)

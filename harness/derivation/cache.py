@@ -27,6 +27,7 @@ from pathlib import Path
 
 import sympy as sp
 
+from harness.errors import OutputError
 from harness.io import atomic_write_text
 
 PROJECT_ROOT = Path(__file__).resolve().parents[2]
@@ -141,4 +142,7 @@ def store(key: str, values: dict, graph: bool = False) -> None:
     else:
         entries = {name: sp.srepr(value) for name, value in values.items()}
         doc = {"sha256": _checksum(entries), "entries": entries}
-    atomic_write_text(cache_dir() / f"{key}.json", json.dumps(doc))
+    try:
+        atomic_write_text(cache_dir() / f"{key}.json", json.dumps(doc))
+    except OutputError:  # a full disk or a folder gone read-only: the derivation in memory is still good
+        pass

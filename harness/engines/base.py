@@ -10,6 +10,7 @@ from functools import cache, cached_property
 import numpy as np
 import sympy as sp
 
+from harness import limits
 from harness.derivation.compile import compiled
 from harness.errors import InputError
 from harness.export.numeric import NumericTree, instantiate
@@ -36,9 +37,16 @@ class State:
                 raise InputError(f"{system.name}: --{label} needs {n} value(s) ({names}), got {len(vec)}")
             if not all(math.isfinite(float(v)) for v in vec):
                 raise InputError(f"{system.name}: --{label} must be finite numbers, got {list(vec)}")
+            if any(abs(float(v)) > limits.MAGNITUDE for v in vec):
+                raise InputError(f"{system.name}: --{label} {list(vec)}: exceeds {limits.MAGNITUDE:g} in magnitude "
+                                 "(harness.limits.MAGNITUDE: results would overflow)")
         values = system.default_parameters()
         for name, value in (params or {}).items():
             system.parameter(name).check(float(value))
+            try:
+                limits.check_magnitude(f"parameter {name}", float(value))
+            except ValueError as exc:
+                raise InputError(f"{system.name}: {exc}") from None
             values[name] = float(value)
         inputs = {i.name: 0.0 for i in system.inputs}
         for name, value in (u or {}).items():
@@ -47,6 +55,8 @@ class State:
                 raise InputError(f"{system.name}: unknown input {name!r} (inputs: {known})")
             if not math.isfinite(float(value)):
                 raise InputError(f"{system.name}: input {name} must be finite")
+            if abs(float(value)) > limits.MAGNITUDE:
+                raise InputError(f"{system.name}: input {name}={value!r}: exceeds {limits.MAGNITUDE:g} in magnitude")
             inputs[name] = float(value)
         state = State(system, np.asarray(q, dtype=float), np.asarray(qd, dtype=float), values, inputs)
         state.tree  # instantiating checks that masses and inertia tensors are physical

@@ -169,11 +169,17 @@ def public_urdfs() -> list[Path]:
 
 
 def load_pinocchio(urdf_text: str, source: str) -> pin.Model:
+    """The URDF in Pinocchio; a refusal is one :class:`ModelError` line holding Pinocchio's message and
+    what urdfdom printed (which names the link: "link 'arm' is not unique")."""
+    refused = None
     with captured_output() as out:
         try:
             model = pin.buildModelFromXML(urdf_text)
         except (ValueError, RuntimeError) as exc:
-            raise ModelError(f"{source}: Pinocchio refused the URDF: {one_line(exc)}") from None
+            refused = one_line(exc)
+    if refused is not None:
+        said = one_line(out[0]) if out and out[0].strip() else ""
+        raise ModelError(f"{source}: Pinocchio refused the URDF: {refused}" + (f" (urdfdom: {said})" if said else ""))
     if out and out[0].strip():  # urdfdom complains without failing (e.g. a dropped inertial)
         raise ModelError(f"{source}: Pinocchio/urdfdom reported: {one_line(out[0])}")
     return model
@@ -252,18 +258,21 @@ class MujocoTree:
     def rigid(self, theta) -> dict[str, Rigid]:
         self.set(theta, np.zeros(len(theta)))
         m, d = self.model, self.data
+        children: dict[int, list[int]] = {}
+        for c in range(1, m.nbody):  # once, not per joint: a chain of n links costs n², not n³
+            children.setdefault(int(m.body_parentid[c]), []).append(c)
+        world = {}
+        for b in range(m.nbody):
+            R = d.ximat[b].reshape(3, 3)
+            world[b] = (m.body_mass[b], d.xipos[b].copy(), R @ np.diag(m.body_inertia[b]) @ R.T)
         out = {}
         for name, jid in zip(self.joints, self.jids):
-            subtree, stack = [], [m.jnt_bodyid[jid]]
+            subtree, stack = [], [int(m.jnt_bodyid[jid])]
             while stack:
                 b = stack.pop()
                 subtree.append(b)
-                stack += [c for c in range(1, m.nbody) if m.body_parentid[c] == b]
-            parts = []
-            for b in subtree:
-                R = d.ximat[b].reshape(3, 3)
-                parts.append((m.body_mass[b], d.xipos[b].copy(), R @ np.diag(m.body_inertia[b]) @ R.T))
-            out[name] = _lump(parts)
+                stack += children.get(b, [])
+            out[name] = _lump([world[b] for b in subtree])
         return out
 
 

@@ -11,7 +11,15 @@ engine (or lxml/yourdfpy) unchecked:
 * **Files outside the model.** A mesh ``filename="package://p/../../../../etc/shadow"``, ``file:///...`` or
   an MJCF ``<include file="/...">`` makes the loader read files the model does not own.
   :func:`check_uris` resolves every file reference against the model's root folder (by default the folder of
-  the file; symlinks followed) and refuses any that lands outside it, and any other URI scheme.
+  the file; symlinks followed) and refuses any that lands outside it, and any other URI scheme. "Every" is
+  every attribute MuJoCo resolves to a path (``file`` of include/mesh/skin/hfield/texture/flexcomp, the six
+  cube faces ``fileright`` … ``fileback`` of a texture, the compiler's ``assetdir``/``meshdir``/``texturedir``,
+  in the main file and in its includes), against every folder MuJoCo may resolve it from. The refusal names
+  what the model wrote, never what it resolves to, so it does not tell whether a file outside exists. A
+  ``<model>`` asset (another model file) and engine plugins are refused outright.
+* **Work without bound.** :func:`check_work` counts, before any engine sees the file, what the engines would
+  build (elements after ``<replicate>`` expansion, height-field samples, texture pixels, MuJoCo's arena; links
+  and joints of a URDF) against :mod:`harness.limits`.
 * **Numbers that are not numbers.** urdfdom drops a link's whole ``<inertial>`` (the link loads massless,
   the complaint goes to stderr only) when one number does not parse; NaN/inf parse and poison every result.
   :func:`check_numbers` requires every numeric attribute the URDF/MJCF parsers read to be a plain finite
@@ -25,6 +33,7 @@ owner, e.g. ``<inertia> of link 'arm'``) and attribute; an unreadable file is an
 
 from __future__ import annotations
 
+import os
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -34,24 +43,16 @@ import defusedxml
 import defusedxml.ElementTree as safe_et
 from lxml import etree
 
+from harness import limits
 from harness.errors import InputError, ModelError
 
-MAX_BYTES = 8 * 2**20
-"""Largest model file read (8 MiB): the largest public robot descriptions are a few hundred kB of XML."""
-
-MAX_DEPTH = 200
-"""Deepest element nesting accepted. A URDF is flat (depth ≤ 5); an MJCF nests one ``<body>`` per link of a
-chain. 200 is far beyond any robot, keeps the engines' recursive parsers away from stack exhaustion and
-stays below libxml2's own limit (256)."""
-
-MAX_INCLUDES = 16
-"""MJCF ``<include>`` nesting depth followed by the checks."""
-
-MAX_MAGNITUDE = 1e12
-"""Largest magnitude of a geometric, inertial or force-element number (SI: kg, m, kg m², N/m, N s/m): beyond
-any mechanism, and products of a few such numbers stay far from float64 overflow. A file with mass
-1.79e308 passes "finite" yet overflows every engine to NaN (found by the fuzz test). Joint limits and MJCF
-``*range`` attributes are exempt (a huge limit means "no limit")."""
+MAX_BYTES = limits.MODEL_BYTES
+MAX_DEPTH = limits.XML_DEPTH
+MAX_INCLUDES = limits.INCLUDE_DEPTH
+MAX_MAGNITUDE = limits.MAGNITUDE
+"""The bounds of :mod:`harness.limits` (with their reasons) under the names this module has always used.
+Joint limits and MJCF ``*range`` attributes are exempt from :data:`MAX_MAGNITUDE` (a huge limit means "no
+limit")."""
 UNBOUNDED_URDF = frozenset({"limit", "safety_controller", "calibration"})
 
 URDF, MJCF = "urdf", "mjcf"
@@ -95,10 +96,29 @@ time value scale boundmass boundinertia settotalmass fitscale rgb1 rgb2 markrgb 
 cutoff noise lengthscale
 """.split()) - {"shellinertia"}
 
-# File references: URDF (element, attribute); MJCF: any ``file`` attribute, plus compiler folders.
+# File references. URDF: (element, attribute). MJCF: every attribute MuJoCo resolves to a path (its XML schema,
+# src/xml/mjcf.schema, and reader, src/xml/xml_native_reader.cc / xml.cc): the compiler folders, ``file`` of
+# <include>, <mesh>, <skin>, <hfield>, <texture>, <flexcomp>, <model>, and the six cube faces of a <texture>.
+# Any other attribute whose name starts with "file" is treated as a path too (a newer MuJoCo may add one).
 URDF_FILES = {("mesh", "filename"), ("texture", "filename")}
 MJCF_DIRS = ("assetdir", "meshdir", "texturedir")
-_MJCF_DIR_FOR = {"mesh": "meshdir", "skin": "meshdir", "hfield": "assetdir", "texture": "texturedir"}
+MJCF_FILE_ATTRS = ("file", "fileright", "fileleft", "fileup", "filedown", "filefront", "fileback")
+_MJCF_BASES = {  # the folders (compiler attributes, "" = the model's folder) MuJoCo may resolve a file against
+    "include": ("",), "model": ("",), "flexcomp": ("", "meshdir", "assetdir"),
+    "mesh": ("meshdir", "assetdir"), "skin": ("assetdir", "meshdir"), "hfield": ("assetdir",),
+    "texture": ("texturedir", "assetdir"),
+}
+MJCF_REFUSED = {
+    "model": "a <model> asset makes MuJoCo parse another model file, which these checks do not see",
+    "plugin": "an engine plugin runs code of its own and may read files",
+    "extension": "an engine plugin runs code of its own and may read files",
+    "instance": "an engine plugin runs code of its own and may read files",
+}
+"""MJCF elements refused outright in a file we did not write."""
+
+
+def _is_path_attr(attr: str) -> bool:
+    return attr in MJCF_FILE_ATTRS or attr.startswith("file")
 
 
 @dataclass
@@ -111,6 +131,7 @@ class ModelFile:
     root: etree._Element
     folder: Path
     includes: list["ModelFile"] = field(default_factory=list)
+    include_of: dict = field(default_factory=dict)  # id(<include> element) -> the ModelFile it includes
 
     def where(self, el) -> str:
         return f"{self.source}:{el.sourceline}"
@@ -237,97 +258,228 @@ def check_numbers(model: ModelFile) -> None:
 
 
 # ----------------------------------------------------------------------------------------------- files
+LEAVES = "is outside the model's folder"
+"""The refusal of a path outside the root: the same words whether or not the file exists (the message names
+only what the model wrote, never what the path resolves to)."""
+
+
+def _inside(path: Path, root: Path) -> bool:
+    return path == root or root in path.parents
+
+
 def resolve_uri(uri: str, root: Path, folder: Path | None = None, base: str = "") -> Path:
     """The file a URI names, which must lie inside ``root`` (symlinks followed).
 
-    ``package://NAME/REST`` resolves to ``root/REST`` (the package is the root folder); a relative path
+    ``package://NAME/REST`` resolves to ``root/base/REST`` (the package is the root folder); a relative path
     against ``folder`` (the model's own folder, default ``root``) joined with ``base`` (an MJCF
     ``meshdir``-style folder); ``file://`` and absolute paths must already be inside ``root``; any other
-    scheme is refused. A ``ValueError`` says why."""
+    scheme is refused. A ``ValueError`` says why, in words that do not depend on anything outside ``root``:
+    a path is first normalised without the file system and refused when it leaves ``root``; only a path
+    inside is resolved (its symlinks followed, which may lead out again: refused the same way)."""
     folder = folder if folder is not None else root
+    if "\x00" in uri:
+        raise ValueError("holds a NUL character")
     parts = urlsplit(uri)
     scheme = parts.scheme.lower()
     if scheme == "package":
         rel = unquote(parts.path).lstrip("/")
-        target = root / base / rel
+        target = Path(root) / base / rel
     elif scheme == "file":
         target = Path(unquote(parts.path))
     elif scheme == "" or (len(scheme) == 1 and uri[1:2] == ":"):  # relative, absolute or a Windows drive
         if len(scheme) == 1:
-            raise ValueError("a Windows drive path leaves the model's folder")
+            raise ValueError("is a Windows drive path: it is outside the model's folder")
         path = uri.replace("\\", "/")
-        target = Path(path) if path.startswith("/") else folder / base / path
+        target = Path(path) if path.startswith("/") else Path(folder) / base / path
     else:
         raise ValueError(f"scheme {scheme}:// is not allowed (only package://, file:// and relative paths)")
-    real_root = root.resolve()
-    resolved = target.resolve()
-    if resolved != real_root and real_root not in resolved.parents:
-        raise ValueError(f"resolves to {resolved}, outside the model's folder {real_root}")
+    try:
+        real_root = Path(root).resolve()
+        lexical = Path(os.path.normpath(os.path.join(os.path.abspath(root), target)))
+        lexical_root = Path(os.path.normpath(os.path.abspath(root)))
+        if not _inside(lexical, lexical_root):
+            raise ValueError(f"{LEAVES} {root}")
+        resolved = lexical.resolve()
+    except (OSError, RuntimeError):  # a symlink loop inside the folder
+        raise ValueError(f"cannot be resolved (a symlink loop?); it may not leave the model's folder {root}") from None
+    if not _inside(resolved, real_root):
+        raise ValueError(f"{LEAVES} {root} (through a symlink)")
     return resolved
 
 
-def _check_dir(model: ModelFile, el, attr: str, root: Path) -> None:
-    value = el.get(attr)
-    if value is not None:
-        try:
-            resolve_uri(value, root, model.folder)
-        except ValueError as exc:
-            raise ModelError(f"{model.where(el)}: {_owner(el)}: {attr}={value!r} {exc}") from None
+def _refuse(model: ModelFile, el, attr: str, value: str, exc: ValueError):
+    raise ModelError(f"{model.where(el)}: {_owner(el)}: {attr}={value!r} {exc}") from None
+
+
+def _all_files(model: ModelFile):
+    """``model`` and every file it includes, with the folder of the including file (for nested includes)."""
+    yield model
+    for inc in model.includes:
+        yield from _all_files(inc)
 
 
 def check_uris(model: ModelFile, root: Path | str | None = None) -> list[Path]:
-    """Every file the model refers to stays inside ``root`` (default: the model's folder). Returns them."""
+    """Every file the model refers to stays inside ``root`` (default: the model's folder), against every
+    folder MuJoCo may resolve it from (the model's folder, the compiler's ``assetdir``/``meshdir``/
+    ``texturedir`` wherever they are set, the folder of an including file). Returns the files."""
     root = Path(root) if root is not None else model.folder
-    files = []
-    dirs: dict[str, str] = {}
-    if model.kind == MJCF:
-        for comp in model.root.iter("compiler"):
+    files: list[Path] = []
+    dirs: dict[str, set[str]] = {attr: set() for attr in MJCF_DIRS}
+    for part in _all_files(model):  # compiler folders, in the main file and its includes, any kind of model
+        for comp in part.root.iter("compiler"):
             for attr in MJCF_DIRS:
-                _check_dir(model, comp, attr, root)
-                if comp.get(attr) is not None:
-                    dirs[attr] = comp.get(attr)
-    for el in model.root.iter():
-        if not isinstance(el.tag, str):
-            continue
-        if model.kind == URDF:
-            attrs = [a for (tag, a) in URDF_FILES if tag == el.tag]
-            base = ""
-        else:
-            attrs = ["file"] if "file" in el.attrib else []
-            key = _MJCF_DIR_FOR.get(el.tag)
-            base = dirs.get(key, dirs.get("assetdir", "")) if key else ""
-        for attr in attrs:
-            value = el.get(attr)
-            if value is None:
+                value = comp.get(attr)
+                if value is not None:
+                    try:
+                        resolve_uri(value, root, model.folder)
+                    except ValueError as exc:
+                        _refuse(part, comp, attr, value, exc)
+                    dirs[attr].add(value)
+    for part in _all_files(model):
+        folders = {model.folder, Path(part.source).parent} if part is not model else {model.folder}
+        for el in part.root.iter():
+            if not isinstance(el.tag, str):
                 continue
-            try:
-                files.append(resolve_uri(value, root, model.folder, base))
-            except ValueError as exc:
-                raise ModelError(f"{model.where(el)}: {_owner(el)}: {attr}={value!r} {exc}") from None
-    for inc in model.includes:
-        files += check_uris(inc, root)
+            if part.kind == URDF:
+                for tag, attr in URDF_FILES:
+                    if el.tag == tag and (value := el.get(attr)) is not None:
+                        try:
+                            files.append(resolve_uri(value, root, model.folder))
+                        except ValueError as exc:
+                            _refuse(part, el, attr, value, exc)
+                continue
+            if el.tag in MJCF_REFUSED and (el.tag != "model" or el.getparent() is not None
+                                           and el.getparent().tag == "asset"):
+                raise ModelError(f"{part.where(el)}: {_owner(el)}: refused: {MJCF_REFUSED[el.tag]}")
+            for attr, value in el.attrib.items():
+                if not _is_path_attr(attr):
+                    continue
+                bases = {""} | {d for key in _MJCF_BASES.get(el.tag, ("assetdir", "meshdir", "texturedir"))
+                                if key for d in dirs.get(key, ())}
+                for folder in folders:
+                    for base in sorted(bases):
+                        try:
+                            resolved = resolve_uri(value, root, folder, base)
+                        except ValueError as exc:
+                            _refuse(part, el, attr, value, exc)
+                if el.tag != "include":
+                    files.append(resolved)
     return files
 
 
 def _follow_includes(model: ModelFile, root: Path, level: int = 0) -> None:
-    """Parse MJCF ``<include file=…>`` targets (inside ``root``) with the same safe parser."""
+    """Parse MJCF ``<include file=…>`` targets (inside ``root``) with the same safe parser. MuJoCo looks for
+    an included file in the main model's folder, then in the folder of the including file: both must be
+    inside ``root``."""
     if model.kind != MJCF:
         return
+    main_folder = model.folder
     for el in model.root.iter("include"):
         value = el.get("file")
         if value is None:
             raise ModelError(f"{model.where(el)}: <include> without a file attribute")
         if level >= MAX_INCLUDES:
             raise ModelError(f"{model.where(el)}: <include> nested deeper than {MAX_INCLUDES} levels")
-        try:
-            path = resolve_uri(value, root, model.folder)
-        except ValueError as exc:
-            raise ModelError(f"{model.where(el)}: <include> file={value!r} {exc}") from None
+        candidates = []
+        for folder in dict.fromkeys([main_folder, Path(model.source).parent if level else main_folder]):
+            try:
+                candidates.append(resolve_uri(value, root, folder))
+            except ValueError as exc:
+                raise ModelError(f"{model.where(el)}: <include> file={value!r} {exc}") from None
+        path = next((p for p in candidates if p.is_file()), candidates[0])
         text = _read_text(path)
         root_el = parse_xml(text, str(path))
-        inc = ModelFile(str(path), text, MJCF, root_el, model.folder)  # MuJoCo resolves from the main folder
+        inc = ModelFile(str(path), text, MJCF, root_el, main_folder)  # MuJoCo resolves from the main folder
         _follow_includes(inc, root, level + 1)
         model.includes.append(inc)
+        model.include_of[id(el)] = inc
+
+
+# ----------------------------------------------------------------------------------------------- work
+_MEMORY = re.compile(r"\s*(\d+)\s*([KMGTPE]?)\s*\Z", re.IGNORECASE)
+
+
+def _int_attr(model: ModelFile, el, attr: str, default: int = 0) -> int:
+    value = el.get(attr)
+    if value is None:
+        return default
+    try:
+        return int(value.strip())
+    except ValueError:
+        raise ModelError(f"{model.where(el)}: {_owner(el)}: {attr}={value!r} is not an integer") from None
+
+
+def _ints(model: ModelFile, el, attr: str) -> list[int]:
+    value = el.get(attr)
+    try:
+        return [int(float(t)) for t in value.split()] if value is not None else []
+    except (ValueError, OverflowError):
+        raise ModelError(f"{model.where(el)}: {_owner(el)}: {attr}={value!r} is not a list of integers") from None
+
+
+def check_work(model: ModelFile) -> None:
+    """The bounds of :mod:`harness.limits` on what the engines would build from the file, counted from the
+    XML before any engine sees it: elements after ``<replicate>`` expansion, copies of nested replicates,
+    height-field samples, texture pixels, MuJoCo's arena size (MJCF); links and joints (URDF)."""
+    if model.kind == URDF:
+        for tag in ("link", "joint"):
+            n = len(model.root.findall(tag))  # the robot's own links and joints (not a transmission's)
+            if n > limits.URDF_LINKS:
+                raise ModelError(f"{model.source}: {n} <{tag}> elements, more than the {limits.URDF_LINKS} "
+                                 f"accepted (harness.limits.URDF_LINKS: validation time grows with the cube)")
+        return
+    total = 0
+    stack = [(model, model.root, 1)]  # iterative: includes nest up to 16 files of 200 levels each
+    while stack:
+        part, el, copies = stack.pop()
+        if not isinstance(el.tag, str):
+            continue
+        if el.tag == "replicate":
+            count = _int_attr(part, el, "count", 1)
+            if count < 1:
+                raise ModelError(f"{part.where(el)}: <replicate> count={count} must be positive")
+            copies *= count
+            if copies > limits.REPLICATE_COPIES:
+                raise ModelError(f"{part.where(el)}: nested <replicate> make {copies} copies, more than the "
+                                 f"{limits.REPLICATE_COPIES} accepted (harness.limits.REPLICATE_COPIES)")
+        generated = 1
+        if el.tag in ("composite", "flexcomp"):
+            for attr in ("count", "cellcount"):
+                for n in _ints(part, el, attr):
+                    generated *= max(n, 1)
+        total += copies * generated
+        if total > limits.MJCF_ELEMENTS:
+            raise ModelError(f"{part.where(el)}: more than {limits.MJCF_ELEMENTS} elements after <replicate> "
+                             f"expansion (harness.limits.MJCF_ELEMENTS: MuJoCo's compile time and memory grow "
+                             f"with the count)")
+        if el.tag == "hfield":
+            cells = _int_attr(part, el, "nrow") * _int_attr(part, el, "ncol")
+            if cells > limits.HFIELD_CELLS:
+                raise ModelError(f"{part.where(el)}: {_owner(el)}: nrow*ncol = {cells} samples, more than the "
+                                 f"{limits.HFIELD_CELLS} accepted (harness.limits.HFIELD_CELLS)")
+        if el.tag == "texture":
+            width = _int_attr(part, el, "width")
+            height = _int_attr(part, el, "height") or width
+            faces = 6 if el.get("type") in ("cube", "skybox") else 1
+            if width * height * faces > limits.TEXTURE_PIXELS:
+                raise ModelError(f"{part.where(el)}: {_owner(el)}: {width} x {height} x {faces} pixels, more "
+                                 f"than the {limits.TEXTURE_PIXELS} accepted (harness.limits.TEXTURE_PIXELS)")
+        if el.tag == "mesh" and el.get("builtin") is not None:
+            if any(abs(n) > 1000 for n in _ints(part, el, "params")):
+                raise ModelError(f"{part.where(el)}: {_owner(el)}: params={el.get('params')!r}: a builtin mesh "
+                                 "resolution above 1000 is refused (its vertices grow with the square)")
+        if el.tag == "size" and (memory := el.get("memory")) is not None and memory.strip() != "-1":
+            match = _MEMORY.match(memory)
+            if match is None:
+                raise ModelError(f"{part.where(el)}: <size> memory={memory!r} is not a size such as 64M")
+            size = int(match[1]) * 1024 ** " KMGTPE".index(match[2].upper() or " ")
+            if size > limits.MJCF_MEMORY_BYTES:
+                raise ModelError(f"{part.where(el)}: <size> memory={memory!r} exceeds the "
+                                 f"{limits.MJCF_MEMORY_BYTES} bytes accepted (harness.limits.MJCF_MEMORY_BYTES)")
+        if el.tag == "include" and id(el) in part.include_of:
+            inc = part.include_of[id(el)]
+            stack.append((inc, inc.root, copies))
+        stack.extend((part, child, copies) for child in el)
 
 
 # ----------------------------------------------------------------------------------------------- entry
@@ -336,6 +488,7 @@ def check_model(model: ModelFile, root: Path | str | None = None) -> ModelFile:
     root = Path(root) if root is not None else model.folder
     _follow_includes(model, root)  # each include is checked to lie inside root before it is read
     check_uris(model, root)
+    check_work(model)
     check_numbers(model)
     return model
 

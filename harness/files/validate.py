@@ -17,10 +17,19 @@ Steps (the first failure is one :class:`~harness.errors.HarnessError` line, exit
    …) is an :class:`~harness.errors.EngineError`;
 5. a URDF with only 1-dof joints: MuJoCo's import compared with Pinocchio (:func:`harness.files.importer.compare`,
    mass matrix, bias forces, what every joint moves, at random states). A difference is a finding: exit 1.
+
+The work is bounded before any engine sees the file (:func:`harness.files.untrusted.check_work`, the counts of
+:mod:`harness.limits`), and ``harness validate`` runs steps 3-5 in a child process (:func:`validate_isolated`)
+with a time limit (:data:`~harness.limits.COMPILE_SECONDS`) and an address-space limit
+(:data:`~harness.limits.COMPILE_MEMORY_BYTES`): whatever the engines do with a file, the command ends with
+one line.
 """
 
 from __future__ import annotations
 
+import json
+import subprocess
+import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -30,12 +39,13 @@ import numpy as np
 from harness.files import importer
 from harness.files import untrusted
 from harness.engines.mujoco_engine import check_warnings
-from harness.errors import ModelError
+from harness import limits
+from harness.errors import EngineError, HarnessError, InputError, ModelError
 from harness.export.numeric import check_inertia
 from harness.compare.roundtrip import rpy_matrix
 
 STEP_SECONDS = 1.0
-MAX_STEPS = 20_000
+MAX_STEPS = limits.MJCF_STEPS
 """At most this many ``mj_step`` calls (a model's own ``timestep`` below 50 µs shortens the 1 s run): a file
 cannot make ``validate`` hang."""
 
@@ -96,6 +106,102 @@ def check_urdf_inertials(model: untrusted.ModelFile) -> None:
         check_inertia(where, float(mass_el.get("value")), R @ tensor @ R.T)
 
 
+def check_urdf_tree(model: untrusted.ModelFile) -> None:
+    """The links and joints form one tree: names unique, every joint between two defined links, each link the
+    child of at most one joint, one root, no cycle. Each refusal names the link or joint (urdfdom's own
+    message for some of these is "The XML stream does not contain a valid URDF model")."""
+    links: dict[str, object] = {}
+    for el in model.root.findall("link"):
+        name = el.get("name")
+        if name in links:
+            raise ModelError(f"{model.where(el)}: link {name!r} is defined twice (first at line "
+                             f"{links[name].sourceline}): link names must be unique")
+        links[name] = el
+    parent_of: dict[str, tuple[str, str]] = {}  # child link -> (joint, parent link)
+    joints: dict[str, object] = {}
+    for el in model.root.findall("joint"):
+        name = el.get("name")
+        if name in joints:
+            raise ModelError(f"{model.where(el)}: joint {name!r} is defined twice: joint names must be unique")
+        joints[name] = el
+        ends = {}
+        for end in ("parent", "child"):
+            ref = el.find(end)
+            link = ref.get("link") if ref is not None else None
+            if link is None:
+                raise ModelError(f"{model.where(el)}: joint {name!r} has no <{end} link=…>")
+            if link not in links:
+                raise ModelError(f"{model.where(el)}: joint {name!r} names {end} link {link!r}, which is not defined")
+            ends[end] = link
+        if ends["child"] in parent_of:
+            raise ModelError(f"{model.where(el)}: link {ends['child']!r} is the child of two joints "
+                             f"({parent_of[ends['child']][0]!r} and {name!r}): a URDF is a tree, a closed loop of "
+                             "joints is not allowed")
+        if ends["child"] == ends["parent"]:
+            raise ModelError(f"{model.where(el)}: joint {name!r} connects link {ends['child']!r} to itself")
+        parent_of[ends["child"]] = (name, ends["parent"])
+    roots = [name for name in links if name not in parent_of]
+    if not roots and links:
+        first = next(iter(links))
+        raise ModelError(f"{model.source}: the joints form a cycle through link {first!r}: no root link")
+    if len(roots) > 1:
+        raise ModelError(f"{model.source}: links {roots[0]!r} and {roots[1]!r} are both roots (not connected by "
+                         "a joint): a URDF is one tree")
+    for name in links:  # with one parent each and one root, a link not reaching the root lies on a cycle
+        seen, link = set(), name
+        while link in parent_of:
+            if link in seen:
+                raise ModelError(f"{model.source}: link {link!r} lies on a cycle of joints "
+                                 f"(through joint {parent_of[link][0]!r}): a URDF is a tree")
+            seen.add(link)
+            link = parent_of[link][1]
+
+
+def check_regular_mass(pmodel, source: str, seed: int = importer.SEED, states: int = 3) -> None:
+    """Every moving joint moves mass: a joint whose whole subtree (the links it moves) has neither mass nor
+    inertia, or a mass matrix singular at random states (a massless link on a prismatic joint, a URDF without
+    any ``<inertial>``), makes the model invalid; the message names the link."""
+    import pinocchio as pin
+
+    from harness.derivation.compile import regular_spectrum
+
+    def child_link(jid):
+        for f in pmodel.frames:
+            if f.type == pin.FrameType.BODY and f.parentJoint == jid:
+                return f.name
+        return pmodel.names[jid]
+
+    for jid in range(1, pmodel.njoints):
+        if pmodel.joints[jid].nv == 0:
+            continue
+        subtree = pmodel.subtrees[jid]
+        mass = sum(pmodel.inertias[k].mass for k in subtree)
+        inertia = max(float(np.abs(np.array(pmodel.inertias[k].inertia)).max()) for k in subtree)
+        if mass == 0 and inertia == 0:
+            raise ModelError(f"{source}: link {child_link(jid)!r} (moved by joint {pmodel.names[jid]!r}) and "
+                             "everything it carries have no mass and no inertia: the mass matrix is singular "
+                             "(give the link an <inertial>)")
+    data = pmodel.createData()
+    rng = np.random.default_rng(seed)
+    singular = None
+    for _ in range(states):
+        q = pin.randomConfiguration(pmodel, -np.ones(pmodel.nq), np.ones(pmodel.nq)) if pmodel.nq else pin.neutral(pmodel)
+        q = np.where(np.isfinite(q), q, rng.uniform(-1, 1, pmodel.nq))
+        M = pin.crba(pmodel, data, q)
+        M = np.triu(M) + np.triu(M, 1).T
+        w, v = np.linalg.eigh(M)
+        if regular_spectrum(w):
+            return
+        singular = v[:, 0]
+    if singular is not None:
+        idx = int(np.argmax(np.abs(singular)))
+        jid = next(j for j in range(1, pmodel.njoints)
+                   if pmodel.joints[j].idx_v <= idx < pmodel.joints[j].idx_v + pmodel.joints[j].nv)
+        raise ModelError(f"{source}: the mass matrix is singular at {states} random states: a motion of joint "
+                         f"{pmodel.names[jid]!r} (link {child_link(jid)!r}) moves no mass (give it an <inertial> "
+                         "with mass and inertia)")
+
+
 def _step(model: mujoco.MjModel, source: str) -> dict:
     if not model.opt.timestep > 0:
         raise ModelError(f"{source}: <option timestep={model.opt.timestep:g}> must be positive")
@@ -118,8 +224,10 @@ def validate(path: Path | str, root: Path | str | None = None, states: int = imp
     model = untrusted.read_model(path, root)
     result = Validation(str(path), model.kind)
     if model.kind == untrusted.URDF:
+        check_urdf_tree(model)
         check_urdf_inertials(model)
         pmodel = importer.load_pinocchio(model.text, str(path))
+        check_regular_mass(pmodel, str(path), seed)
         result.engines["Pinocchio"] = {"joints": pmodel.njoints - 1, "dof": pmodel.nv, "moving mass":
                                        f"{sum(pmodel.inertias[i].mass for i in range(1, pmodel.njoints)):.6g} kg"}
         mj, refused, bound = importer.load_import(importer.without_geometry(model.text, str(path)),
@@ -144,3 +252,78 @@ def validate(path: Path | str, root: Path | str | None = None, states: int = imp
         mj = importer.compile_mujoco(model.text, str(path), mj_path)
         result.engines["MuJoCo"] = {**_mujoco_facts(mj), **_step(mj, str(path))}
     return result
+
+
+# ----------------------------------------------------------------------------------------- isolation
+_ERRORS = {cls.__name__: cls for cls in (ModelError, EngineError, InputError, HarnessError)}
+
+
+def _limit_memory() -> None:
+    """In the child, after the engines are imported: bound its address space (a forked ``preexec_fn`` is
+    not safe in a process with threads)."""
+    import resource
+
+    resource.setrlimit(resource.RLIMIT_AS, (limits.COMPILE_MEMORY_BYTES, limits.COMPILE_MEMORY_BYTES))
+
+
+def validate_isolated(path: Path | str, root: Path | str | None = None, states: int = importer.STATES,
+                      seed: int = importer.SEED) -> Validation:
+    """:func:`validate` with the engines in a child process: the checks of the file run here (their errors
+    need no child), then the child loads, steps and compares under :data:`~harness.limits.COMPILE_SECONDS`
+    and :data:`~harness.limits.COMPILE_MEMORY_BYTES`. A timeout or a crash of the engines is one
+    :class:`ModelError` line; nothing is written."""
+    path = Path(path)
+    model = untrusted.read_model(path, root)
+    if model.kind == untrusted.URDF:
+        check_urdf_tree(model)
+        check_urdf_inertials(model)
+    request = json.dumps({"path": str(path), "root": None if root is None else str(root), "states": states,
+                          "seed": seed})
+    import os
+
+    env = dict(os.environ)
+    package_root = str(Path(__file__).resolve().parents[2])
+    env["PYTHONPATH"] = os.pathsep.join([package_root] + [p for p in [env.get("PYTHONPATH")] if p])
+    try:
+        proc = subprocess.run([sys.executable, "-m", "harness.files.validate", request], capture_output=True,
+                              timeout=limits.COMPILE_SECONDS, env=env, check=False)
+    except subprocess.TimeoutExpired:
+        raise ModelError(f"{path}: loading and stepping the model in the engines took longer than "
+                         f"{limits.COMPILE_SECONDS:g} s (harness.limits.COMPILE_SECONDS); refused") from None
+    lines = proc.stdout.decode(errors="replace").strip().splitlines()
+    try:
+        answer = json.loads(lines[-1])
+    except (IndexError, ValueError):
+        answer = None
+    if not isinstance(answer, dict):
+        memory = b"MemoryError" in proc.stderr or b"bad_alloc" in proc.stderr
+        why = (f"ran out of the {limits.COMPILE_MEMORY_BYTES} bytes of memory allowed "
+               "(harness.limits.COMPILE_MEMORY_BYTES)" if memory else f"crashed (exit status {proc.returncode})")
+        raise ModelError(f"{path}: the engines {why} while loading the model; refused")
+    if "error" in answer:
+        raise _ERRORS.get(answer.get("kind"), HarnessError)(answer["error"])
+    doc = answer["result"]
+    return Validation(doc["source"], doc["kind"], doc["engines"], doc["comparison"], doc["findings"])
+
+
+def _child(request: str) -> int:
+    """The child of :func:`validate_isolated`: one JSON line on stdout, the result or the error."""
+    args = json.loads(request)
+    try:
+        _limit_memory()
+        result = validate(args["path"], args["root"], args["states"], args["seed"])
+        answer = {"result": result.to_json()}
+    except HarnessError as exc:
+        answer = {"error": str(exc), "kind": type(exc).__name__}
+    except MemoryError:
+        answer = {"error": f"{args['path']}: the engines ran out of the {limits.COMPILE_MEMORY_BYTES} bytes of "
+                           "memory allowed (harness.limits.COMPILE_MEMORY_BYTES); refused", "kind": "ModelError"}
+    except Exception as exc:  # noqa: BLE001 - an engine failing on a file we did not write: one line
+        answer = {"error": f"{args['path']}: the engines failed on the model: {type(exc).__name__}: "
+                           f"{importer.one_line(exc)}", "kind": "EngineError"}
+    print(json.dumps(answer), flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(_child(sys.argv[1]))

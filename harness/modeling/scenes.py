@@ -113,6 +113,15 @@ class Scene:
         unknown = set(self.effects) - set(EFFECTS)
         if unknown:
             raise InputError(f"scene {self.name}: unknown effect(s) {sorted(unknown)}; effects are {EFFECTS}")
+        from harness.limits import SCENE_HORIZON
+
+        try:
+            horizon = float(self.horizon)
+        except (TypeError, ValueError):
+            raise InputError(f"scene {self.name}: horizon={self.horizon!r} is not a number") from None
+        if not 0 < horizon <= SCENE_HORIZON:
+            raise InputError(f"scene {self.name}: horizon={self.horizon!r} s must be positive and at most "
+                             f"{SCENE_HORIZON:g} s (harness.limits.SCENE_HORIZON)")
 
     def u(self, t: float, system: System) -> np.ndarray:
         return np.array([self.inputs[i.name](t) if i.name in self.inputs else 0.0 for i in system.inputs])

@@ -14,8 +14,7 @@ import json
 from pathlib import Path
 
 from harness.checks import json_clean
-from harness.errors import InputError
-from harness.io import atomic_write_text
+from harness.io import atomic_write_text, writable_folder
 from harness.report.markdown import errata_markdown, summary_markdown
 
 TIMINGS = "timings"
@@ -69,12 +68,10 @@ def write_results(doc: dict, out: Path | str, timings: dict | None = None) -> li
     return [out / "results.json", out / "timings.json", out / "summary.md"]
 
 
-def check_folder(out: Path | str) -> Path:
-    """The report folder; an existing file in its place is bad input (one line, no partial output)."""
-    out = Path(out)
-    if out.exists() and not out.is_dir():
-        raise InputError(f"--out {out}: exists and is not a folder")
-    return out
+def check_folder(out: Path | str, what: str = "--out") -> Path:
+    """The report folder, checked before the work: an existing file in its place, or a folder we cannot write
+    into, is bad input (one line, no partial output; :func:`harness.io.writable_folder`)."""
+    return writable_folder(out, what)
 
 
 def load_results(out: Path | str) -> dict | None:
