@@ -235,6 +235,57 @@ class Job:
     series_dir: str | None = None
 
 
+class Interrupted(HarnessError):
+    """Ctrl-C during a run: the records of the systems that finished (written by the caller), then exit 130."""
+
+    exit_code = 130
+
+    def __init__(self, finished: list, total: int):
+        super().__init__(f"interrupted: {len(finished)} of {total} systems finished; their results are kept")
+        self.finished = finished
+
+
+def parallel(work, jobs: list, workers: int, done, lost, announce=None) -> bool:
+    """Run ``work(job)`` for every job, ``workers`` at a time in spawned processes (in this process with one
+    worker), handing each result to ``done``. A worker that dies (killed, out of memory, a crash in an engine)
+    loses no other job: the jobs its pool had not finished run again, each in a fresh process of its own, and
+    only a job that kills its own process is given up (``done(lost(job, reason))``). On Ctrl-C the workers are
+    stopped, nothing more is started and ``True`` is returned (the finished results have been handed over)."""
+    if workers <= 1 or len(jobs) <= 1:
+        try:
+            for job in jobs:
+                announce and announce(job)
+                done(work(job))
+        except KeyboardInterrupt:
+            return True
+        return False
+    context = get_context("spawn")
+    pool = ProcessPoolExecutor(min(workers, len(jobs)), mp_context=context)
+    unfinished = []
+    try:
+        futures = {pool.submit(work, job): job for job in jobs}
+        for future in as_completed(futures):
+            try:
+                done(future.result())
+            except BrokenProcessPool:
+                unfinished.append(futures[future])
+        pool.shutdown()
+        for job in [j for j in jobs if j in unfinished]:  # isolated: a job that kills its process is found out
+            single = ProcessPoolExecutor(1, mp_context=context)
+            pool = single
+            try:
+                done(single.submit(work, job).result())
+            except BrokenProcessPool:
+                done(lost(job, "its worker process died twice (killed, out of memory or a crash in an engine)"))
+            single.shutdown()
+    except KeyboardInterrupt:
+        for process in list(getattr(pool, "_processes", {}).values()):  # the executor has no public terminate
+            process.terminate()
+        pool.shutdown(wait=False, cancel_futures=True)
+        return True
+    return False
+
+
 def run_job(job: Job) -> dict:
     """Check one system (in a worker process with ``--jobs``): its record, the wall time it took in its
     ``timings``."""
@@ -266,21 +317,15 @@ def run_checks(catalogue: Catalogue, names: list[str], examples: int | None = No
         print(f"[{len(records)}/{len(todo)}] {record['system']}: {verdict} ({record['timings']['seconds']:.1f} s)",
               file=progress, flush=True)
 
+    def lost(job, reason):
+        return {**_failed_record(job.system, f"{job.system}: {reason}", "check crashed"), "timings": {"seconds": 0.0}}
+
     if jobs > 1 and len(todo) > 1:
         print(f"checking {len(todo)} systems in {min(jobs, len(todo))} processes …", file=progress, flush=True)
-        with ProcessPoolExecutor(min(jobs, len(todo)), mp_context=get_context("spawn")) as pool:
-            futures = {pool.submit(run_job, job): job for job in todo}
-            for future in as_completed(futures):
-                try:
-                    done(future.result())
-                except (BrokenProcessPool, Exception) as exc:  # noqa: BLE001 - a crashed worker loses one system
-                    name = futures[future].system
-                    done({**_failed_record(name, f"{name}: worker process failed: {_reason(exc)}", "check crashed"),
-                          "timings": {"seconds": 0.0}})
-    else:
-        for job in todo:
-            print(f"checking {job.system} …", file=progress, flush=True)
-            done(run_job(job))
+    interrupted = parallel(run_job, todo, jobs, done, lost,
+                           announce=lambda job: print(f"checking {job.system} …", file=progress, flush=True))
+    if interrupted:
+        raise Interrupted([records[n] for n in names if n in records], len(todo))
     return [records[name] for name in names]
 
 
@@ -312,8 +357,14 @@ def check(catalogue: Catalogue, names=None, examples: int | None = None, seed: i
     names = _systems(catalogue, names)
     if out:
         check_folder(out)
-    records = run_checks(catalogue, names, examples=examples, seed=seed, jobs=jobs, scenes=scenes, series_dir=out,
-                         progress=progress)
+    try:
+        records = run_checks(catalogue, names, examples=examples, seed=seed, jobs=jobs, scenes=scenes,
+                             series_dir=out, progress=progress)
+    except Interrupted as stop:  # what finished is kept
+        if out and stop.finished:
+            merged = results_document(merge_records(catalogue, load_results(out), stop.finished), examples, seed)
+            write_results(merged, out, timings=read_timings(out))
+        raise
     run = CheckRun(results_document(records, examples, seed))
     if out:  # merged by system into what the folder holds: other systems' results are kept
         merged = results_document(merge_records(catalogue, load_results(out), records), examples, seed)
@@ -335,8 +386,14 @@ def report(catalogue: Catalogue, out, names=None, jobs: int = 1, examples: int |
     todo = [name for name in requested if rerun or name not in known]
     if todo or existing is None:
         print(f"checking {len(todo)} system(s) not in {out / 'results.json'} …", file=progress, flush=True)
-        fresh = run_checks(catalogue, todo, examples=examples, seed=seed, jobs=jobs, progress=progress,
-                           scenes=scenes, series_dir=out)
+        try:
+            fresh = run_checks(catalogue, todo, examples=examples, seed=seed, jobs=jobs, progress=progress,
+                               scenes=scenes, series_dir=out)
+        except Interrupted as stop:  # what finished is kept
+            if stop.finished:
+                write_results(results_document(merge_records(catalogue, existing, stop.finished), examples, seed),
+                              out, timings=read_timings(out))
+            raise
         doc = results_document(merge_records(catalogue, existing, fresh), examples, seed)
     else:
         doc = existing
@@ -414,16 +471,17 @@ def claims(catalogue: Catalogue, names=None, examples: int | None = None, jobs: 
     if out:
         check_folder(out)
     jobs_ = [(catalogue, name, examples) for name in names]
-    if jobs > 1 and len(jobs_) > 1:
-        with get_context("spawn").Pool(jobs) as pool:
-            per_system = pool.map(classify_system, jobs_, chunksize=1)
-    else:
-        per_system = [classify_system(job) for job in jobs_]
+    finished: dict[str, dict] = {}
+    interrupted = parallel(classify_system, jobs_, jobs, lambda result: finished.__setitem__(result["system"], result),
+                           lambda job, reason: {"system": job[1], "failure": f"{job[1]}: {reason}", "records": []})
+    per_system = [finished[name] for name in names if name in finished]
     run = ClaimsRun([r for result in per_system for r in result["records"]],
                     [result["failure"] for result in per_system if result["failure"]])
     if out:  # merged by system: the classified systems replace their records, the others are kept
         merged = merge_claims(catalogue, read_claims(out), [result["system"] for result in per_system], run.records)
         run.written = write_claims(merged, out)
+    if interrupted:
+        raise Interrupted(per_system, len(names))
     return run
 
 
