@@ -79,6 +79,9 @@ def cmd_check(args) -> int:
         models.get(name)  # unknown or broken names given by the user fail before any work
     if args.out:
         check_folder(args.out)
+    from harness.report import ci
+
+    baseline = ci.prepare(args.junit, args.baseline)
     results, seconds = run_checks(names, examples=args.examples, seed=args.seed, jobs=args.jobs,
                                   scenes=not args.no_scenes, series_dir=args.out)
     doc = results_document(results, args.examples, args.seed)
@@ -91,6 +94,8 @@ def cmd_check(args) -> int:
         timings = {**read_timings(args.out), **timings_of(seconds)}
         written = write_results(merged, args.out, timings=timings)
         print(f"wrote {', '.join(map(str, written))}", file=sys.stderr)
+    ci.finish(results, seconds, junit=args.junit, baseline=baseline, baseline_path=args.baseline, out=args.out,
+              stream=sys.stderr if args.json else sys.stdout)
     return 0 if doc["passed"] else 1
 
 
@@ -390,6 +395,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", help="folder for results.json, timings.json and summary.md")
     p.add_argument("--jobs", type=int, default=1, help="systems checked in parallel processes")
     p.add_argument("--seed", type=int, default=None, help="hypothesis seed (default: the profile's fixed seeds)")
+    p.add_argument("--junit", metavar="FILE", help="also write the results as JUnit XML (one test case per "
+                   "system x check x engine)")
+    p.add_argument("--baseline", metavar="RESULTS_JSON", help="print (and with --out write changes.json, "
+                   "changes.md) what changed since this earlier results.json")
     p.set_defaults(func=cmd_check)
 
     p = sub.add_parser("report", help="readable reports: index.html, summary.md, results.json")

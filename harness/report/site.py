@@ -24,6 +24,7 @@ OPTIONAL_PAGES = (
     ("hard.html", "Hard cases", "hard.json", "hard.md", "hard"),
     ("bench.html", "Benchmarks", "bench.json", "bench.md", "bench"),
     ("importer.html", "Importer findings", "importer.json", "importer.md", None),
+    ("changes.html", "Changes", "changes.json", "changes.md", None),  # harness check --baseline
 )
 
 
