@@ -201,8 +201,11 @@ def tolerance_policy() -> str:
 
 def bounds_used(records: list[dict]) -> dict:
     """The bounds (:class:`harness.checks.Bound`) the records' checks refer to, each stated once with its reason."""
-    import harness.scenes.trajectories  # noqa: F401 - declares the bounds of the scenes (and of structural, constraints)
+    from importlib import import_module
+
     from harness.checks import BOUNDS
+
+    import_module("harness.scenes.trajectories")  # declares the bounds of the scenes (and of structural, constraints)
 
     used = {c.get("basis") for r in records for c in r.get("checks", [])}
     used |= {c.get("basis") for r in records for s in r.get("scenes") or [] for c in s.get("checks", [])}

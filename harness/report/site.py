@@ -81,7 +81,8 @@ def system_view(record: dict, claims: list[dict], out: Path, figures: set) -> di
                 "effects": list(sc.get("effects") or []), "horizon": sc.get("horizon"),
                 "passed": bool(sc.get("passed")), "notes": sc.get("notes") or {},
                 "checks": [_check_view(c) for c in sc.get("checks", [])], "figure": None,
-                "figure_note": ""}
+                "figure_note": "", "series": sc.get("series"), "strip": None, "strip_size": (0, 0),
+                "strip_sources": [], "strip_note": ""}
         series = sc.get("series")
         if series and (out / series).is_file():
             target = f"figures/{name}.{view['scene']}.svg"
@@ -120,6 +121,27 @@ def _add_equations(view: dict, model: dict, system, claims) -> None:
         row["record"] = queue.pop(0) if queue else None
     model["claims"] = rows
     model["equation_notes"] = page["notes"]
+
+
+def _add_pictures(view: dict, rendered: dict | None, figures: set) -> None:
+    """The mechanism rendered by MuJoCo and a filmstrip per scene (harness.report.render), into the view."""
+    if not rendered:
+        return
+    if rendered.get("error"):
+        view["picture_note"] = f"picture not rendered: {rendered['error']}"
+    shot = rendered.get("picture")
+    if shot:
+        figures.add(shot["target"])
+        view.update(picture=shot["target"], picture_size=tuple(shot["size"]), picture_caption=shot["caption"])
+    for sc in view["scenes"]:
+        strip = rendered.get("strips", {}).get(sc["scene"])
+        if not strip:
+            continue
+        if "error" in strip:
+            sc["strip_note"] = f"filmstrip not rendered: {strip['error']}"
+            continue
+        figures.add(strip["target"])
+        sc.update(strip=strip["target"], strip_size=tuple(strip["size"]), strip_sources=strip["sources"])
 
 
 # --------------------------------------------------------------------------- generic JSON (optional pages)
@@ -202,6 +224,13 @@ def build_site(out: Path | str, progress=None) -> dict:
     records = sorted(records, key=lambda r: (order.get(r["system"], len(order)), r["system"]))
     written, figures, failed, views = [], set(), {}, []
     template = env.get_template("system")
+    from harness.report.render import render_all
+
+    print(f"rendering the mechanisms of {len(records)} system(s) with MuJoCo …", file=progress, flush=True)
+    rendered = render_all([{"system": r["system"], "out": str(out),
+                            "scenes": [(sc.get("scene"), sc["series"]) for sc in r.get("scenes") or []
+                                       if sc.get("series") and (out / sc["series"]).is_file()]}
+                           for r in records if r["system"] in catalogue])
     for k, record in enumerate(records, 1):
         name = record["system"]
         print(f"[{k}/{len(records)}] page {name}", file=progress, flush=True)
@@ -214,6 +243,7 @@ def build_site(out: Path | str, progress=None) -> dict:
                 model["scene_names"] = [s.name for s in models.scenes(name)]
                 view["title"] = system.title
                 _add_equations(view, model, system, models.claims(name))
+                _add_pictures(view, rendered.get(name), figures)
             else:
                 view["reason"] = view["reason"] or catalogue_error or f"{name} is not in the catalogue any more"
             text = template.render(s=view, model=model, root="../", **common)
@@ -267,4 +297,5 @@ def build_site(out: Path | str, progress=None) -> dict:
         written.append(file)
     _stale(out / "systems", set(written), "*.html")
     _stale(out / "figures", figures, "*.svg")
+    _stale(out / "figures", figures, "*.png")
     return {"pages": written, "failed": failed}

@@ -32,6 +32,11 @@ figure.picture { float: right; margin: 0 0 1em 1.5em; max-width: 45%; }
 figure.picture img { max-width: 100%; height: auto; border: 1px solid #ddd; }
 figure.picture figcaption { font-size: 12px; color: #555; }
 math { font-size: 110%; }
+figure.strip { margin: .5em 0; } figure.strip img { max-width: 100%; height: auto; border: 1px solid #ddd; }
+figure.strip figcaption { font-size: 12px; color: #555; }
+.src-symbolic { color: #969696; font-weight: bold; } .src-pinocchio { color: #1f77b4; font-weight: bold; }
+.src-mujoco { color: #d62728; font-weight: bold; }
+h2 { clear: both; }
 """
 
 BASE = """<!DOCTYPE html>
@@ -162,6 +167,9 @@ number follows (compared in <a href="#claims">Printed equations</a>).</p>
 {% if sc.checks %}<table><tr><th>check</th><th>source</th><th>value</th><th>bound</th><th>ratio</th><th>verdict</th></tr>
 {% for c in sc.checks %}<tr class="{{ 'ok' if c.passed else 'fail' }}"><td>{{ c.check }}</td><td>{{ c.source }}</td><td class="num">{{ c.error }}</td><td class="num" title="{{ c.basis }}">{{ c.tolerance }}</td><td class="num">{{ c.ratio }}</td><td>{{ 'ok' if c.passed else 'FAIL' }}</td></tr>{% endfor %}</table>{% endif %}
 {% if sc.notes %}<ul>{% for k, v in sc.notes.items() %}<li>{{ k }}: {{ v }}</li>{% endfor %}</ul>{% endif %}
+{% if sc.strip %}<figure class="strip"><img src="../{{ sc.strip }}" width="{{ sc.strip_size[0] }}" height="{{ sc.strip_size[1] }}" alt="filmstrip of {{ s.name }} {{ sc.scene }}">
+<figcaption>The reference trajectory at a few instants; the lines are the path of the last body's centre of mass as computed by {% for src in sc.strip_sources %}<span class="src-{{ src }}">{{ src }}</span>{{ ", " if not loop.last }}{% endfor %} (they overlap where the engines agree).</figcaption></figure>
+{% elif sc.strip_note %}<p><small>{{ sc.strip_note }}</small></p>{% endif %}
 {% if sc.figure %}<p><img class="figure" src="../{{ sc.figure }}" alt="trajectories, error and energy of {{ s.name }} {{ sc.scene }}"></p>
 {% elif sc.figure_note %}<p><small>{{ sc.figure_note }}</small></p>{% endif %}
 {% else %}<p>No scene results in results.json{% if model and model.scene_names %} (declared scenes: {{ model.scene_names|join(", ") }}; they appear once <code>harness check</code> simulates them){% endif %}.</p>{% endfor %}
