@@ -23,11 +23,13 @@ code { font-family: ui-monospace, monospace; }
 img.figure { max-width: 100%; border: 1px solid #ddd; }
 small { color: #666; }
 .doc { max-width: 60em; }
-.eq { display: flex; align-items: center; gap: 1em; margin: .4em 0; overflow-x: auto; }
+.eq { display: flex; align-items: center; gap: 1em; margin: .4em 0; overflow-x: auto; min-width: 0; }
 .eq math { flex: 1 1 auto; }
 .eqtitle { flex: 0 0 12em; color: #444; }
+.claim { border-left: 4px solid #ccc; padding: .3em .8em; margin: .8em 0; }
+.claim.ok { border-color: #7c7; background: #f5fbf5; } .claim.erratum { border-color: #e9a23b; background: #fffaf0; }
+.claim .eqtitle { flex-basis: 5em; }
 .eqno { flex: 0 0 auto; color: #444; text-align: right; white-space: nowrap; }
-table.claims td { vertical-align: middle; }
 figure.picture { float: right; margin: 0 0 1em 1.5em; max-width: 45%; }
 figure.picture img { max-width: 100%; height: auto; border: 1px solid #ddd; }
 figure.picture figcaption { font-size: 12px; color: #555; }
@@ -135,11 +137,11 @@ SYSTEM = """{% extends "base" %}
 {% if model.inputs %}<h3>Inputs u</h3><table><tr><th>input</th><th>unit</th><th>meaning</th></tr>
 {% for i in model.inputs %}<tr><td title="{{ i.name }}">{{ i.symbol|safe }}</td><td>{{ i.unit }}</td><td>{{ i.description }}</td></tr>{% endfor %}</table>{% endif %}
 <h3>Bodies</h3>
-<table><tr><th>link</th><th>mass</th><th>centre of mass (link frame)</th><th>inertia about the centre of mass</th><th>description</th></tr>
-{% for b in model.links %}<tr><td><code>{{ b.name }}</code></td><td>{{ b.mass|safe }}</td><td>{{ b.com|safe }}</td><td>{{ b.inertia|safe }}</td><td>{{ b.description }}</td></tr>{% endfor %}</table>
+<div class="wide"><table><tr><th>link</th><th>mass</th><th>centre of mass (link frame)</th><th>inertia about the centre of mass</th><th>description</th></tr>
+{% for b in model.links %}<tr><td><code>{{ b.name }}</code></td><td>{{ b.mass|safe }}</td><td>{{ b.com|safe }}</td><td>{{ b.inertia|safe }}</td><td>{{ b.description }}</td></tr>{% endfor %}</table></div>
 <h3>Joints and the map θ = φ(q)</h3>
-<table><tr><th>joint</th><th>type</th><th>parent → child</th><th>axis</th><th>origin</th><th>θ = φ(q)</th></tr>
-{% for j in model.joints %}<tr><td><code>{{ j.name }}</code></td><td>{{ j.type }}</td><td>{{ j.parent }} → {{ j.child }}</td><td>{{ j.axis|safe }}</td><td>{{ j.origin|safe }}</td><td>{{ j.phi|safe }}</td></tr>{% endfor %}</table>
+<div class="wide"><table><tr><th>joint</th><th>type</th><th>parent → child</th><th>axis</th><th>origin</th><th>θ = φ(q)</th></tr>
+{% for j in model.joints %}<tr><td><code>{{ j.name }}</code></td><td>{{ j.type }}</td><td>{{ j.parent }} → {{ j.child }}</td><td>{{ j.axis|safe }}</td><td>{{ j.origin|safe }}</td><td>{{ j.phi|safe }}</td></tr>{% endfor %}</table></div>
 {% if model.forces %}<h3>Force elements</h3><table><tr><th>element</th><th>kind</th><th>what it does</th></tr>
 {% for f in model.forces %}<tr><td><code>{{ f.name }}</code></td><td>{{ f.kind }}</td><td>{{ f.sentence|safe }}</td></tr>{% endfor %}</table>{% endif %}
 <p>{{ model.gravity|safe }}</p>
@@ -174,12 +176,13 @@ number follows (compared in <a href="#claims">Printed equations</a>).</p>
 {% elif sc.figure_note %}<p><small>{{ sc.figure_note }}</small></p>{% endif %}
 {% else %}<p>No scene results in results.json{% if model and model.scene_names %} (declared scenes: {{ model.scene_names|join(", ") }}; they appear once <code>harness check</code> simulates them){% endif %}.</p>{% endfor %}
 <h2 id="claims">Printed equations of the lecture</h2>
-{% if model and model.claims %}<p>Each equation as the lecture prints it, beside the derived quantity it is compared with
+{% if model and model.claims %}<p>Each equation as the lecture prints it, and under it the derived quantity it is compared with
 (equations of motion as residuals = 0).{% if not s.claims %} Not classified yet: run <code>harness claims --out</code>.{% endif %}</p>
-<table class="claims"><tr><th>equation</th><th>printed</th><th>derived</th><th>classification</th></tr>
-{% for c in model.claims %}{% set r = c.record %}<tr class="{{ 'na' if not r else ('ok' if r.classification == 'confirmed' else 'erratum') }}"><td>{{ c.equation }}<br><small>{{ c.quantity }}{% if c.description %}: {{ c.description }}{% endif %}</small></td>
-<td>{{ c.printed|safe }}</td><td>{{ c.derived|safe }}{% if c.note %}<small>{{ c.note }}</small>{% endif %}</td>
-<td>{% if r %}{{ r.classification }}{% if r.convention %}<br>convention: {{ r.convention }}{% endif %}{% if r.counterexample %}<br><small>counterexample: {{ r.counterexample }}</small>{% endif %}{% else %}—{% endif %}</td></tr>{% endfor %}</table>
+{% for c in model.claims %}{% set r = c.record %}<div class="claim {{ 'na' if not r else ('ok' if r.classification == 'confirmed' else 'erratum') }}">
+<div class="claimhead"><b>{{ c.equation }}</b> <small>{{ c.quantity }}{% if c.description %}: {{ c.description }}{% endif %}</small> — {% if r %}<b>{{ r.classification }}</b>{% if r.convention %}; convention: {{ r.convention }}{% endif %}{% if r.counterexample %}<br><small>counterexample: {{ r.counterexample }}</small>{% endif %}{% else %}not classified{% endif %}</div>
+<div class="eq"><div class="eqtitle">printed</div>{{ c.printed|safe }}</div>
+<div class="eq"><div class="eqtitle">derived</div>{{ c.derived|safe }}{% if c.note %}<small>{{ c.note }}</small>{% endif %}</div></div>
+{% endfor %}
 {% elif s.claims %}<table><tr><th>equation</th><th>quantity</th><th>description</th><th>classification</th><th>printed</th><th>derived / counterexample</th></tr>
 {% for c in s.claims %}<tr class="{{ 'ok' if c.classification == 'confirmed' else 'erratum' }}"><td>{{ c.equation }}</td><td>{{ c.quantity }}</td><td>{{ c.description }}</td><td>{{ c.classification }}</td><td><code>{{ c.printed }}</code></td>
 <td>{% if c.corrected %}<code>{{ c.corrected }}</code>{% endif %}{% if c.convention %}<br>convention: {{ c.convention }}{% endif %}{% if c.counterexample %}<br><small>{{ c.counterexample }}</small>{% endif %}</td></tr>{% endfor %}</table>
