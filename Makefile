@@ -2,14 +2,21 @@
 VENV   := .venv
 PYTHON := $(VENV)/bin/python
 CHROMIUM := /usr/bin/chromium
+# OpenGL for MuJoCo's offscreen renderer (the report's pictures): EGL through Mesa (MUJOCO_GL=egl, the default
+# of harness/report/render.py), OSMesa as the fallback (MUJOCO_GL=osmesa)
+GL_MARKER := /usr/lib/x86_64-linux-gnu/libEGL_mesa.so.0
 
 .PHONY: setup check test bench
 
-setup: $(VENV)/.installed $(CHROMIUM)
+setup: $(VENV)/.installed $(CHROMIUM) $(GL_MARKER)
 
 # Debian's headless browser for the report's browser test (tests/test_report_browser.py); skipped when present
 $(CHROMIUM):
 	apt-get update && apt-get install -y --no-install-recommends chromium
+
+# Debian's Mesa EGL/OSMesa for headless rendering (skipped when present)
+$(GL_MARKER):
+	apt-get update && apt-get install -y --no-install-recommends libosmesa6 libegl1 libegl-mesa0 libgl1-mesa-dri
 
 $(VENV)/.installed: pyproject.toml
 	python3 -m venv $(VENV)

@@ -78,7 +78,11 @@ def cmd_eval(args) -> int:
 
 
 def cmd_check(args) -> int:
-    """Conformance of each system; ``--out`` writes results.json, timings.json and summary.md (harness.run)."""
+    """Conformance of each system; ``--out`` writes results.json, timings.json and summary.md (harness.run);
+    ``--junit`` and ``--baseline`` the CI outputs (harness.report.ci)."""
+    from harness.report import ci
+
+    baseline = ci.prepare(args.junit, args.baseline)  # bad flags fail before the work
     result = run.check(_catalogue(), args.systems, examples=args.examples, seed=args.seed, jobs=args.jobs,
                        scenes=not args.no_scenes, out=args.out)
     if args.json:
@@ -87,6 +91,10 @@ def cmd_check(args) -> int:
         _print_table(result.document)
     if result.written:
         print(f"wrote {', '.join(map(str, result.written))}", file=sys.stderr)
+    records = result.document["systems"]
+    ci.finish(records, {r["system"]: (r.get("timings") or {}).get("seconds") for r in records}, junit=args.junit,
+              baseline=baseline, baseline_path=args.baseline, out=args.out,
+              stream=sys.stderr if args.json else sys.stdout)
     return 0 if result.passed else 1
 
 
@@ -254,6 +262,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", help="folder for results.json, timings.json and summary.md")
     p.add_argument("--jobs", type=JOBS, default=1, help="systems checked in parallel processes")
     p.add_argument("--seed", type=int, default=None, help="hypothesis seed (default: the profile's fixed seeds)")
+    p.add_argument("--junit", metavar="FILE", help="also write the results as JUnit XML (one test case per "
+                   "system x check x engine)")
+    p.add_argument("--baseline", metavar="RESULTS_JSON", help="print (and with --out write changes.json, "
+                   "changes.md) what changed since this earlier results.json")
     p.set_defaults(func=cmd_check)
 
     p = sub.add_parser("report", help="readable reports: index.html, summary.md, results.json")

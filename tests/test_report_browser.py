@@ -64,6 +64,23 @@ def add_other_artifacts(out: Path) -> None:
     (out / "importer.json").write_text(json.dumps({"findings": ["inertia frame rotated"], "checked": 3}))
 
 
+# Every <math> element: well-formed as XML (its own markup, parsed alone), no <merror>, and laid out with a
+# non-zero box (Chromium's MathML Core renders it; an element it does not know would collapse).
+MATH_PROBLEMS = """() => {
+  const out = [];
+  const parser = new DOMParser();
+  for (const m of document.getElementsByTagName('math')) {
+    const text = new XMLSerializer().serializeToString(m);
+    const doc = parser.parseFromString(text, 'application/xml');
+    if (doc.getElementsByTagName('parsererror').length) out.push('MathML does not parse: ' + text.slice(0, 120));
+    if (m.getElementsByTagName('merror').length) out.push('MathML error: ' + m.textContent.slice(0, 80));
+    const box = m.getBoundingClientRect();
+    if (box.width === 0 || box.height === 0) out.push('MathML not rendered: ' + text.slice(0, 120));
+  }
+  return out;
+}"""
+
+
 @pytest.fixture(scope="module")
 def report(tmp_path_factory) -> Path:
     out = tmp_path_factory.mktemp("report")
@@ -84,6 +101,7 @@ def test_every_page_and_link_works_in_chromium(report, tmp_path):
     assert CHROMIUM.exists(), "Debian's chromium is missing: `make setup` installs it"
 
     problems: list[str] = []
+    math_count: dict[str, int] = {}
     visited: set[Path] = set()
     todo = [(report / "index.html").resolve()]
     with sync_playwright() as p:
@@ -101,9 +119,14 @@ def test_every_page_and_link_works_in_chromium(report, tmp_path):
             page.wait_for_load_state("load")
             if path.name == "index.html" and path.parent == report.resolve():
                 page.screenshot(path=str(tmp_path / "index.png"), full_page=True)
+            if path.name == "cart_pendulum.html":
+                page.screenshot(path=str(tmp_path / "cart_pendulum.png"), full_page=True)
             broken_images = page.evaluate(
-                "Array.from(document.images).filter(i => !i.complete || i.naturalWidth === 0).map(i => i.src)")
+                "Array.from(document.images).filter(i => !i.complete || i.naturalWidth === 0 || i.naturalHeight === 0"
+                " || i.getBoundingClientRect().width === 0).map(i => i.src)")
             problems += [f"{path.name}: image not shown: {src}" for src in broken_images]
+            problems += [f"{path.name}: {issue}" for issue in page.evaluate(MATH_PROBLEMS)]
+            math_count[path.name] = page.evaluate("document.getElementsByTagName('math').length")
             for href in page.eval_on_selector_all("a[href]", "els => els.map(e => e.href)"):
                 target, fragment = urldefrag(href)
                 local = _local(target)
@@ -124,4 +147,8 @@ def test_every_page_and_link_works_in_chromium(report, tmp_path):
     assert {"index.html", "pendulum.html", "cart_pendulum.html", "errata.html", "bench.html", "hard.html",
             "importer.html"} <= names
     assert (tmp_path / "index.png").stat().st_size > 10_000
+    assert (tmp_path / "cart_pendulum.png").stat().st_size > 10_000   # screenshots kept as test artifacts
     assert (report / "figures" / "pendulum.swing.svg").is_file()
+    assert math_count["cart_pendulum.html"] > 20 and math_count["pendulum.html"] > 5
+    for picture in ("pendulum.png", "cart_pendulum.png", "pendulum.swing.strip.png"):  # rendered by MuJoCo
+        assert (report / "figures" / picture).stat().st_size > 500, picture

@@ -116,6 +116,7 @@ def mjcf_spec(tree: NumericTree) -> mujoco.MjSpec:
             bodies[j.child] = body
     for point in tree.points:
         bodies[point.link].add_site(name=point.name, pos=point.position)
+    add_visuals(tree, bodies, fused)
     for name, a, b, stiffness, rest, damping in tree.tendons:
         tendon = spec.add_tendon(name=name, stiffness=[stiffness, 0.0, 0.0], springlength=[rest, rest],
                                  damping=[damping, 0.0, 0.0])
@@ -128,6 +129,75 @@ def mjcf_spec(tree: NumericTree) -> mujoco.MjSpec:
         act.ctrllimited = mujoco.mjtLimited.mjLIMITED_FALSE
         act.forcelimited = mujoco.mjtLimited.mjLIMITED_FALSE
     return spec
+
+
+# --------------------------------------------------------------------------- what the mechanism looks like
+VISUAL_GROUP = 2          # MuJoCo geom group of the visual-only geoms (the renderer shows groups 0-2)
+_COLOURS = ((0.20, 0.45, 0.75, 1.0), (0.85, 0.45, 0.15, 1.0), (0.25, 0.6, 0.3, 1.0), (0.6, 0.3, 0.65, 1.0),
+            (0.75, 0.6, 0.15, 1.0), (0.35, 0.35, 0.35, 1.0))
+
+
+def model_scale(tree: NumericTree) -> float:
+    """The size of the mechanism: the largest joint offset, centre of mass or attachment point (1 m if none)."""
+    lengths = [np.linalg.norm(j.origin) for j in tree.joints] + [np.linalg.norm(k.com) for k in tree.links]
+    lengths += [np.linalg.norm(p.position) for p in tree.points]
+    return max([v for v in lengths if np.isfinite(v)] + [0.0]) or 1.0
+
+
+def equivalent_box(mass: float, inertia: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Half edge lengths and orientation (quaternion) of the homogeneous cuboid with this mass and inertia tensor
+    about its centre (3.128) — the body's size as the model states it: edges ``a_i² = 6 (I_j + I_k − I_i) / m``
+    along the principal axes."""
+    moments, axes = np.linalg.eigh(0.5 * (inertia + inertia.T))
+    if np.linalg.det(axes) < 0:
+        axes[:, 2] *= -1
+    total = moments.sum()
+    edges = np.sqrt(np.maximum(6.0 * (total - 2.0 * moments) / mass, 0.0))
+    quat = np.zeros(4)
+    mujoco.mju_mat2Quat(quat, axes.ravel())
+    return edges / 2.0, quat
+
+
+def _capsule(body, name: str, a: np.ndarray, b: np.ndarray, radius: float, rgba) -> None:
+    d = np.asarray(b, dtype=float) - np.asarray(a, dtype=float)
+    length = float(np.linalg.norm(d))
+    if length < 1e-9:
+        return
+    quat = np.zeros(4)
+    mujoco.mju_quatZ2Vec(quat, d / length)
+    body.add_geom(name=name, type=mujoco.mjtGeom.mjGEOM_CAPSULE, pos=(np.asarray(a) + np.asarray(b)) / 2.0,
+                  quat=quat, size=[radius, length / 2.0, 0.0], rgba=rgba, contype=0, conaffinity=0,
+                  group=VISUAL_GROUP, mass=0.0)
+
+
+def add_visuals(tree: NumericTree, bodies: dict, fused: set) -> None:
+    """Visual-only geoms sized from the model (``contype = conaffinity = 0``, no mass; the inertia is explicit,
+    ``inertiafromgeom="false"``, so that the dynamics do not change): a rigid body as the cuboid of its mass and
+    inertia tensor (:func:`equivalent_box`), a point mass as a sphere, and the link frame as capsules from its
+    origin to its centre of mass and to the joints of its children."""
+    scale = model_scale(tree)
+    radius = 0.015 * scale
+    for k, link in enumerate(tree.links):
+        if link.name not in bodies or link.name == WORLD:
+            continue
+        body, rgba = bodies[link.name], _COLOURS[k % len(_COLOURS)]
+        ends = [j.origin for j in tree.joints if j.parent == link.name and j.parent not in fused]
+        ends += [p.position for p in tree.points if p.link == link.name]
+        if link.mass > 0:
+            ends.append(link.com)
+        for n, end in enumerate(ends):
+            _capsule(body, f"visual_{link.name}_{n}", np.zeros(3), end, radius, rgba)
+        if link.mass <= 0:
+            continue
+        if not np.any(link.inertia):
+            body.add_geom(name=f"visual_{link.name}_mass", type=mujoco.mjtGeom.mjGEOM_SPHERE, pos=link.com,
+                          size=[0.06 * scale, 0.0, 0.0], rgba=rgba, contype=0, conaffinity=0, group=VISUAL_GROUP,
+                          mass=0.0)
+            continue
+        half, quat = equivalent_box(link.mass, link.inertia)
+        half = np.clip(half, 0.01 * scale, 2.0 * scale)
+        body.add_geom(name=f"visual_{link.name}_body", type=mujoco.mjtGeom.mjGEOM_BOX, pos=link.com, quat=quat,
+                      size=half, rgba=rgba, contype=0, conaffinity=0, group=VISUAL_GROUP, mass=0.0)
 
 
 def _numbers(values) -> str:
@@ -166,9 +236,17 @@ _FIELDS = {
     ("spatial", "damping"): (_OBJ.mjOBJ_TENDON, lambda m, i: [m.tendon_damping[i], *m.tendon_dampingpoly[i]]),
     ("spatial", "springlength"): (_OBJ.mjOBJ_TENDON, lambda m, i: m.tendon_lengthspring[i]),
     ("general", "gear"): (_OBJ.mjOBJ_ACTUATOR, lambda m, i: m.actuator_gear[i]),
+    ("geom", "pos"): (_OBJ.mjOBJ_GEOM, lambda m, i: m.geom_pos[i]),
+    ("geom", "quat"): (_OBJ.mjOBJ_GEOM, lambda m, i: m.geom_quat[i]),
+    ("geom", "size"): (_OBJ.mjOBJ_GEOM, lambda m, i: m.geom_size[i]),
+    ("geom", "rgba"): (_OBJ.mjOBJ_GEOM, lambda m, i: [round(float(v), 6) for v in m.geom_rgba[i]]),  # float32
+    ("geom", "contype"): (_OBJ.mjOBJ_GEOM, lambda m, i: [m.geom_contype[i]]),
+    ("geom", "conaffinity"): (_OBJ.mjOBJ_GEOM, lambda m, i: [m.geom_conaffinity[i]]),
+    ("geom", "group"): (_OBJ.mjOBJ_GEOM, lambda m, i: [m.geom_group[i]]),
+    ("geom", "mass"): (_OBJ.mjOBJ_GEOM, lambda m, i: [0.0]),
 }
 _ID_TAGS = {_OBJ.mjOBJ_BODY: "body", _OBJ.mjOBJ_JOINT: "joint", _OBJ.mjOBJ_SITE: "site",
-            _OBJ.mjOBJ_TENDON: "spatial", _OBJ.mjOBJ_ACTUATOR: "general"}
+            _OBJ.mjOBJ_TENDON: "spatial", _OBJ.mjOBJ_ACTUATOR: "general", _OBJ.mjOBJ_GEOM: "geom"}
 _NAME_ATTRIBUTES = {"name", "model", "joint", "site"}
 
 

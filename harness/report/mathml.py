@@ -96,6 +96,50 @@ def _numeric_entities(text: str) -> str:
     return re.sub(r"&([A-Za-z][A-Za-z0-9]*);", numeric, text)
 
 
+def readable(expr, digits: int = 6):
+    """``expr`` with its floating-point numbers rounded to ``digits`` significant digits, for reading (an inertia
+    ``0.00666666666666667 m_W`` reads as ``0.00666667 m_W``); exact numbers are kept."""
+    expr = sp.sympify(expr)
+    floats = {f: sp.Float(f, digits) for f in expr.atoms(sp.Float)}
+    return expr.xreplace(floats) if floats else expr
+
+
+def body(expr, *, names: dict[str, Override] | None = None) -> str:
+    """``expr`` as presentation MathML without the ``<math>`` element (to be composed with :func:`math`);
+    floating-point numbers rounded for reading (:func:`readable`)."""
+    return _numeric_entities(LecturePrinter(names, mat_delim="[").doprint(readable(expr)))
+
+
+def bold(letter: str, *, subscript: str = "", superscript: str = "", args: str = "") -> str:
+    """The lecture's bold quantity symbol (``M``, ``C``, ``g``, ``f``) with optional sub- and superscript and
+    argument list (``args="q"`` gives M(q), ``"q, qd"`` gives C(q, q̇)) as MathML, for left-hand sides."""
+    node = f'<mi mathvariant="bold">{escape(letter)}</mi>'
+    if subscript and superscript:
+        node = f"<msubsup>{node}<mi>{escape(subscript)}</mi><mi>{escape(superscript)}</mi></msubsup>"
+    elif subscript or superscript:
+        tag = "msub" if subscript else "msup"
+        node = f"<{tag}>{node}<mi>{escape(subscript or superscript)}</mi></{tag}>"
+    if args:
+        inner = "<mo>,</mo>".join(_argument(a.strip()) for a in args.split(","))
+        node += f"<mo>(</mo>{inner}<mo>)</mo>"
+    return f"<mrow>{node}</mrow>"
+
+
+def _argument(name: str) -> str:
+    letter = f'<mi mathvariant="bold">{escape(name.removesuffix("dd").removesuffix("d"))}</mi>'
+    accent = {"dd": _ACCENTS["ddot"], "d": _ACCENTS["dot"]}
+    for suffix in ("dd", "d"):
+        if name.endswith(suffix) and len(name) > len(suffix):
+            return f'<mover accent="true">{letter}<mo>{accent[suffix]}</mo></mover>'
+    return letter
+
+
+def math(*rows: str, display: bool = True) -> str:
+    """MathML fragments (from :func:`body`, :func:`bold`, ``<mo>=</mo>``) joined into one ``<math>`` element."""
+    attributes = ' display="block"' if display else ""
+    return f'<math xmlns="http://www.w3.org/1998/Math/MathML"{attributes}><mrow>{"".join(rows)}</mrow></math>'
+
+
 def mathml(expr, *, names: dict[str, Override] | None = None, display: bool = True, label: str = "") -> str:
     """``expr`` (an expression, a matrix or an ``Eq``) as one ``<math>`` element; ``label`` (an equation number
     such as ``(5.92b)``) is set at the right as the lecture sets it."""

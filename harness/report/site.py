@@ -24,7 +24,11 @@ OPTIONAL_PAGES = (
     ("hard.html", "Hard cases", "hard.json", "hard.md", "hard"),
     ("bench.html", "Benchmarks", "bench.json", "bench.md", "bench"),
     ("importer.html", "Importer findings", "importer.json", "importer.md", None),
+    ("changes.html", "Changes", "changes.json", "changes.md", None),  # harness check --baseline
 )
+
+
+NO_PICTURE = {"picture": None, "picture_size": (0, 0), "picture_caption": "", "picture_note": ""}
 
 
 def _read_json(path: Path):
@@ -35,34 +39,23 @@ def _read_json(path: Path):
 
 
 # --------------------------------------------------------------------------- the model in the lecture's terms
-def _s(expr) -> str:
-    return str(expr)
-
-
 def model_view(system) -> dict:
-    """Coordinates, parameters (units, defaults), bodies, joints with the map, force elements, engine notes."""
-    forces = []
-    for f in system.forces:
-        details = {k: _s(v) for k, v in vars(f).items() if k != "name"}
-        forces.append({"kind": type(f).__name__, "name": f.name,
-                       "details": ", ".join(f"{k}={v}" for k, v in details.items())})
-    phi = list(system.phi)
-    gravity = "none" if system.gravity is None else \
-        f"g = {system.gravity.g} along e_g = {tuple(system.gravity.direction)}"
+    """Coordinates, parameters (units, defaults), bodies, joints with the map, force elements, engine notes, for
+    a reader: the docstring rendered, symbols and laws as MathML (harness.report.model_text)."""
+    from harness.report import model_text as mt
+
     return {
-        "status": system.status, "doc": (system.doc or "").strip(), "not_in_engines": list(system.not_in_engines),
-        "coordinates": [{"name": c.name, "unit": c.unit, "description": c.description,
+        "status": system.status, "doc": mt.docstring_html(system.doc or ""),
+        "not_in_engines": list(system.not_in_engines),
+        "coordinates": [{"name": c.name, "symbol": mt.inline(c), "rate": mt.inline(c.rate), "unit": c.unit,
+                         "description": c.description,
                          "range": "default" if c.range is None else str(tuple(c.range))} for c in system.coordinates],
-        "parameters": [{"name": p.name, "default": p.default, "unit": p.unit, "description": p.description,
-                        "assumption": p.assumption} for p in system.parameters],
-        "inputs": [{"name": i.name, "unit": i.unit, "description": i.description} for i in system.inputs],
-        "links": [{"name": k.name, "mass": _s(k.mass), "com": _s(tuple(k.com)),
-                   "inertia": "point mass" if k.is_point_mass else
-                   ("—" if not k.has_mass else _s(k.inertia.matrix.tolist())), "description": k.description}
-                  for k in system.links],
-        "joints": [{"name": j.name, "type": j.type, "parent": j.parent, "child": j.child, "axis": _s(tuple(j.axis)),
-                    "origin": _s(tuple(j.origin)), "phi": f"theta_{j.name} = {e}"} for j, e in zip(system.joints, phi)],
-        "forces": forces, "gravity": gravity, "scene_names": [],
+        "parameters": [{"name": p.name, "symbol": mt.inline(p), "default": p.default, "unit": p.unit,
+                        "description": p.description, "assumption": p.assumption} for p in system.parameters],
+        "inputs": [{"name": i.name, "symbol": mt.inline(i), "unit": i.unit, "description": i.description}
+                   for i in system.inputs],
+        "links": mt.link_rows(system), "joints": mt.joint_rows(system), "forces": mt.force_rows(system),
+        "gravity": mt.gravity_sentence(system), "scene_names": [],
     }
 
 
@@ -88,7 +81,8 @@ def system_view(record: dict, claims: list[dict], out: Path, figures: set) -> di
                 "effects": list(sc.get("effects") or []), "horizon": sc.get("horizon"),
                 "passed": bool(sc.get("passed")), "notes": sc.get("notes") or {},
                 "checks": [_check_view(c) for c in sc.get("checks", [])], "figure": None,
-                "figure_note": ""}
+                "figure_note": "", "series": sc.get("series"), "strip": None, "strip_size": (0, 0),
+                "strip_sources": [], "strip_note": ""}
         series = sc.get("series")
         if series and (out / series).is_file():
             target = f"figures/{name}.{view['scene']}.svg"
@@ -108,7 +102,46 @@ def system_view(record: dict, claims: list[dict], out: Path, figures: set) -> di
             "not_applicable": record.get("not_applicable") or {}, "checks": checks, "matrix": matrix,
             "checks_passed": sum(c["passed"] for c in checks), "scenes": scenes,
             "scenes_passed": sum(s["passed"] for s in scenes), "claims": claims, "claims_confirmed": confirmed,
-            "claims_other": ", ".join(f"{n} {k}" for k, n in sorted(counts.items()))}
+            "claims_other": ", ".join(f"{n} {k}" for k, n in sorted(counts.items())), **NO_PICTURE}
+
+
+def _add_equations(view: dict, model: dict, system, claims) -> None:
+    """The derived equations and each printed equation beside its derived form (harness.report.equations);
+    the classification of claims.json joins by equation and quantity, in order."""
+    from harness.report.equations import page_equations
+
+    page = page_equations(system, claims)
+    model["equations"] = page["equations"]
+    rows = page["claims"]
+    records: dict[tuple, list] = {}
+    for record in view["claims"]:
+        records.setdefault((record.get("equation"), record.get("quantity")), []).append(record)
+    for row in rows:
+        queue = records.get((row["equation"], row["quantity"]), [])
+        row["record"] = queue.pop(0) if queue else None
+    model["claims"] = rows
+    model["equation_notes"] = page["notes"]
+
+
+def _add_pictures(view: dict, rendered: dict | None, figures: set) -> None:
+    """The mechanism rendered by MuJoCo and a filmstrip per scene (harness.report.render), into the view."""
+    if not rendered:
+        return
+    if rendered.get("error"):
+        view["picture_note"] = f"picture not rendered: {rendered['error']}"
+    shot = rendered.get("picture")
+    if shot:
+        figures.add(shot["target"])
+        view.update(picture=shot["target"], picture_size=tuple(shot["size"]), picture_caption=shot["caption"])
+    for sc in view["scenes"]:
+        strip = rendered.get("strips", {}).get(sc["scene"])
+        if not strip:
+            continue
+        if "error" in strip:
+            sc["strip_note"] = f"filmstrip not rendered: {strip['error']}"
+            continue
+        figures.add(strip["target"])
+        sc.update(strip=strip["target"], strip_size=tuple(strip["size"]), strip_sources=strip["sources"])
 
 
 # --------------------------------------------------------------------------- generic JSON (optional pages)
@@ -190,6 +223,13 @@ def build_site(out: Path | str, catalogue=None, progress=None) -> dict:
     records = sorted(records, key=lambda r: (order.get(r["system"], len(order)), r["system"]))
     written, figures, failed, views = [], set(), {}, []
     template = env.get_template("system")
+    from harness.report.render import render_all
+
+    print(f"rendering the mechanisms of {len(records)} system(s) with MuJoCo …", file=progress, flush=True)
+    rendered = render_all([{"system": r["system"], "out": str(out), "catalogue": catalogue,
+                            "scenes": [(sc.get("scene"), sc["series"]) for sc in r.get("scenes") or []
+                                       if sc.get("series") and (out / sc["series"]).is_file()]}
+                           for r in records if r["system"] in systems])
     for k, record in enumerate(records, 1):
         name = record["system"]
         print(f"[{k}/{len(records)}] page {name}", file=progress, flush=True)
@@ -201,6 +241,8 @@ def build_site(out: Path | str, catalogue=None, progress=None) -> dict:
                 model = model_view(system)
                 model["scene_names"] = [s.name for s in catalogue.scenes(name)]
                 view["title"] = system.title
+                _add_equations(view, model, system, catalogue.claims(name))
+                _add_pictures(view, rendered.get(name), figures)
             else:
                 view["reason"] = view["reason"] or catalogue_error or f"{name} is not in the catalogue any more"
             text = template.render(s=view, model=model, root="../", **common)
@@ -210,7 +252,7 @@ def build_site(out: Path | str, catalogue=None, progress=None) -> dict:
             view = {"name": name, "title": "", "lecture": record.get("lecture", ""), "passed": False,
                     "reason": reason, "examples": 0, "not_applicable": {}, "checks": [], "matrix": {},
                     "checks_passed": 0, "scenes": [], "scenes_passed": 0, "claims": [], "claims_confirmed": 0,
-                    "claims_other": ""}
+                    "claims_other": "", **NO_PICTURE}
             text = template.render(s=view, model=None, root="../", **common)
         atomic_write_text(out / "systems" / f"{name}.html", text)
         written.append(f"systems/{name}.html")
@@ -254,4 +296,5 @@ def build_site(out: Path | str, catalogue=None, progress=None) -> dict:
         written.append(file)
     _stale(out / "systems", set(written), "*.html")
     _stale(out / "figures", figures, "*.svg")
+    _stale(out / "figures", figures, "*.png")
     return {"pages": written, "failed": failed}

@@ -22,6 +22,23 @@ code { font-family: ui-monospace, monospace; }
 .reason { border-left: 4px solid #c33; padding: .3em .8em; background: #fbe3e3; }
 img.figure { max-width: 100%; border: 1px solid #ddd; }
 small { color: #666; }
+.doc { max-width: 60em; }
+.eq { display: flex; align-items: center; gap: 1em; margin: .4em 0; overflow-x: auto; min-width: 0; }
+.eq math { flex: 1 1 auto; }
+.eqtitle { flex: 0 0 12em; color: #444; }
+.claim { border-left: 4px solid #ccc; padding: .3em .8em; margin: .8em 0; }
+.claim.ok { border-color: #7c7; background: #f5fbf5; } .claim.erratum { border-color: #e9a23b; background: #fffaf0; }
+.claim .eqtitle { flex-basis: 5em; }
+.eqno { flex: 0 0 auto; color: #444; text-align: right; white-space: nowrap; }
+figure.picture { float: right; margin: 0 0 1em 1.5em; max-width: 45%; }
+figure.picture img { max-width: 100%; height: auto; border: 1px solid #ddd; }
+figure.picture figcaption { font-size: 12px; color: #555; }
+math { font-size: 110%; }
+figure.strip { margin: .5em 0; } figure.strip img { max-width: 100%; height: auto; border: 1px solid #ddd; }
+figure.strip figcaption { font-size: 12px; color: #555; }
+.src-symbolic { color: #969696; font-weight: bold; } .src-pinocchio { color: #1f77b4; font-weight: bold; }
+.src-mujoco { color: #d62728; font-weight: bold; }
+h2 { clear: both; }
 """
 
 BASE = """<!DOCTYPE html>
@@ -108,24 +125,36 @@ SYSTEM = """{% extends "base" %}
 <h2>Model</h2>
 <p>Status / engine treatment: {{ model.status }}</p>
 {% if model.not_in_engines %}<ul>{% for e, why in model.not_in_engines %}<li>{{ e }} does not apply: {{ why }}</li>{% endfor %}</ul>{% endif %}
-{% if model.doc %}<pre>{{ model.doc }}</pre>{% endif %}
+{% if s.picture %}<figure class="picture"><img src="../{{ s.picture }}" alt="{{ s.name }} rendered by MuJoCo from urdf/{{ s.name }}.xml" width="{{ s.picture_size[0] }}" height="{{ s.picture_size[1] }}">
+<figcaption>{{ s.picture_caption }}</figcaption></figure>{% elif s.picture_note %}<p><small>{{ s.picture_note }}</small></p>{% endif %}
+<div class="doc">{{ model.doc|safe }}</div>
 <h3>Coordinates q</h3>
-<table><tr><th>name</th><th>unit</th><th>meaning</th><th>range drawn</th></tr>
-{% for c in model.coordinates %}<tr><td><code>{{ c.name }}</code></td><td>{{ c.unit }}</td><td>{{ c.description }}</td><td>{{ c.range }}</td></tr>{% endfor %}</table>
+<table><tr><th>coordinate</th><th>rate</th><th>unit</th><th>meaning</th><th>range drawn</th></tr>
+{% for c in model.coordinates %}<tr><td title="{{ c.name }}">{{ c.symbol|safe }}</td><td>{{ c.rate|safe }}</td><td>{{ c.unit }}</td><td>{{ c.description }}</td><td>{{ c.range }}</td></tr>{% endfor %}</table>
 <h3>Parameters</h3>
 <table><tr><th>symbol</th><th>default</th><th>unit</th><th>meaning</th><th>assumption</th></tr>
-{% for p in model.parameters %}<tr><td><code>{{ p.name }}</code></td><td class="num">{{ p.default }}</td><td>{{ p.unit }}</td><td>{{ p.description }}</td><td>{{ p.assumption }}</td></tr>{% endfor %}</table>
-{% if model.inputs %}<h3>Inputs u</h3><table><tr><th>name</th><th>unit</th><th>meaning</th></tr>
-{% for i in model.inputs %}<tr><td><code>{{ i.name }}</code></td><td>{{ i.unit }}</td><td>{{ i.description }}</td></tr>{% endfor %}</table>{% endif %}
+{% for p in model.parameters %}<tr><td title="{{ p.name }}">{{ p.symbol|safe }}</td><td class="num">{{ p.default }}</td><td>{{ p.unit }}</td><td>{{ p.description }}</td><td>{{ p.assumption }}</td></tr>{% endfor %}</table>
+{% if model.inputs %}<h3>Inputs u</h3><table><tr><th>input</th><th>unit</th><th>meaning</th></tr>
+{% for i in model.inputs %}<tr><td title="{{ i.name }}">{{ i.symbol|safe }}</td><td>{{ i.unit }}</td><td>{{ i.description }}</td></tr>{% endfor %}</table>{% endif %}
 <h3>Bodies</h3>
-<table><tr><th>link</th><th>mass</th><th>centre of mass</th><th>inertia about the centre of mass</th><th>description</th></tr>
-{% for b in model.links %}<tr><td><code>{{ b.name }}</code></td><td><code>{{ b.mass }}</code></td><td><code>{{ b.com }}</code></td><td><code>{{ b.inertia }}</code></td><td>{{ b.description }}</td></tr>{% endfor %}</table>
+<div class="wide"><table><tr><th>link</th><th>mass</th><th>centre of mass (link frame)</th><th>inertia about the centre of mass</th><th>description</th></tr>
+{% for b in model.links %}<tr><td><code>{{ b.name }}</code></td><td>{{ b.mass|safe }}</td><td>{{ b.com|safe }}</td><td>{{ b.inertia|safe }}</td><td>{{ b.description }}</td></tr>{% endfor %}</table></div>
 <h3>Joints and the map θ = φ(q)</h3>
-<table><tr><th>joint</th><th>type</th><th>parent → child</th><th>axis</th><th>origin</th><th>θ = φ(q)</th></tr>
-{% for j in model.joints %}<tr><td><code>{{ j.name }}</code></td><td>{{ j.type }}</td><td>{{ j.parent }} → {{ j.child }}</td><td><code>{{ j.axis }}</code></td><td><code>{{ j.origin }}</code></td><td><code>{{ j.phi }}</code></td></tr>{% endfor %}</table>
-{% if model.forces %}<h3>Force elements</h3><table><tr><th>kind</th><th>name</th><th>details</th></tr>
-{% for f in model.forces %}<tr><td>{{ f.kind }}</td><td><code>{{ f.name }}</code></td><td><code>{{ f.details }}</code></td></tr>{% endfor %}</table>{% endif %}
-<p>Gravity: {{ model.gravity }}</p>
+<div class="wide"><table><tr><th>joint</th><th>type</th><th>parent → child</th><th>axis</th><th>origin</th><th>θ = φ(q)</th></tr>
+{% for j in model.joints %}<tr><td><code>{{ j.name }}</code></td><td>{{ j.type }}</td><td>{{ j.parent }} → {{ j.child }}</td><td>{{ j.axis|safe }}</td><td>{{ j.origin|safe }}</td><td>{{ j.phi|safe }}</td></tr>{% endfor %}</table></div>
+{% if model.forces %}<h3>Force elements</h3><table><tr><th>element</th><th>kind</th><th>what it does</th></tr>
+{% for f in model.forces %}<tr><td><code>{{ f.name }}</code></td><td>{{ f.kind }}</td><td>{{ f.sentence|safe }}</td></tr>{% endfor %}</table>{% endif %}
+<p>{{ model.gravity|safe }}</p>
+<h2 id="equations">Equations of motion, derived</h2>
+<p>By the lecture's procedure (chapter 5): M q̈ + C(q, q̇) q̇ + g(q) = f<sub>q</sub><sup>np</sup> (5.93). Equation
+numbers at the right: the lecture's general equation; where the lecture prints this system's quantity, its
+number follows (compared in <a href="#claims">Printed equations</a>).</p>
+{% for e in model.equations.quantities %}<div class="eq"><div class="eqtitle">{{ e.title }}</div>{{ e.math|safe }}<span class="eqno">{{ e.label }}{% if e.lecture %}<br>printed: {{ e.lecture }}{% endif %}</span></div>
+{% if e.note %}<p><small>{{ e.note }}</small></p>{% endif %}{% endfor %}
+{% if model.equations.eom %}<h3>Equations of motion</h3>
+{% for e in model.equations.eom %}<div class="eq">{{ e.math|safe }}<span class="eqno">{{ e.label }}{% if e.lecture %}<br>printed: {{ e.lecture }}{% endif %}</span></div>
+{% if e.note %}<p><small>{{ e.note }}</small></p>{% endif %}{% endfor %}{% endif %}
+{% for n in model.equations.notes + model.equation_notes %}<p><small>{{ n }}</small></p>{% endfor %}
 {% endif %}
 <h2>Conformance checks</h2>
 {% if s.not_applicable %}<ul>{% for e, why in s.not_applicable.items() %}<li>{{ e }}: {{ why }}</li>{% endfor %}</ul>{% endif %}
@@ -140,11 +169,21 @@ SYSTEM = """{% extends "base" %}
 {% if sc.checks %}<table><tr><th>check</th><th>source</th><th>value</th><th>bound</th><th>ratio</th><th>verdict</th></tr>
 {% for c in sc.checks %}<tr class="{{ 'ok' if c.passed else 'fail' }}"><td>{{ c.check }}</td><td>{{ c.source }}</td><td class="num">{{ c.error }}</td><td class="num" title="{{ c.basis }}">{{ c.tolerance }}</td><td class="num">{{ c.ratio }}</td><td>{{ 'ok' if c.passed else 'FAIL' }}</td></tr>{% endfor %}</table>{% endif %}
 {% if sc.notes %}<ul>{% for k, v in sc.notes.items() %}<li>{{ k }}: {{ v }}</li>{% endfor %}</ul>{% endif %}
+{% if sc.strip %}<figure class="strip"><img src="../{{ sc.strip }}" width="{{ sc.strip_size[0] }}" height="{{ sc.strip_size[1] }}" alt="filmstrip of {{ s.name }} {{ sc.scene }}">
+<figcaption>The reference trajectory at a few instants; the lines are the path of the last body's centre of mass as computed by {% for src in sc.strip_sources %}<span class="src-{{ src }}">{{ src }}</span>{{ ", " if not loop.last }}{% endfor %} (they overlap where the engines agree).</figcaption></figure>
+{% elif sc.strip_note %}<p><small>{{ sc.strip_note }}</small></p>{% endif %}
 {% if sc.figure %}<p><img class="figure" src="../{{ sc.figure }}" alt="trajectories, error and energy of {{ s.name }} {{ sc.scene }}"></p>
 {% elif sc.figure_note %}<p><small>{{ sc.figure_note }}</small></p>{% endif %}
 {% else %}<p>No scene results in results.json{% if model and model.scene_names %} (declared scenes: {{ model.scene_names|join(", ") }}; they appear once <code>harness check</code> simulates them){% endif %}.</p>{% endfor %}
-<h2>Printed equations of the lecture</h2>
-{% if s.claims %}<table><tr><th>equation</th><th>quantity</th><th>description</th><th>classification</th><th>printed</th><th>derived / counterexample</th></tr>
+<h2 id="claims">Printed equations of the lecture</h2>
+{% if model and model.claims %}<p>Each equation as the lecture prints it, and under it the derived quantity it is compared with
+(equations of motion as residuals = 0).{% if not s.claims %} Not classified yet: run <code>harness claims --out</code>.{% endif %}</p>
+{% for c in model.claims %}{% set r = c.record %}<div class="claim {{ 'na' if not r else ('ok' if r.classification == 'confirmed' else 'erratum') }}">
+<div class="claimhead"><b>{{ c.equation }}</b> <small>{{ c.quantity }}{% if c.description %}: {{ c.description }}{% endif %}</small> — {% if r %}<b>{{ r.classification }}</b>{% if r.convention %}; convention: {{ r.convention }}{% endif %}{% if r.counterexample %}<br><small>counterexample: {{ r.counterexample }}</small>{% endif %}{% else %}not classified{% endif %}</div>
+<div class="eq"><div class="eqtitle">printed</div>{{ c.printed|safe }}</div>
+<div class="eq"><div class="eqtitle">derived</div>{{ c.derived|safe }}{% if c.note %}<small>{{ c.note }}</small>{% endif %}</div></div>
+{% endfor %}
+{% elif s.claims %}<table><tr><th>equation</th><th>quantity</th><th>description</th><th>classification</th><th>printed</th><th>derived / counterexample</th></tr>
 {% for c in s.claims %}<tr class="{{ 'ok' if c.classification == 'confirmed' else 'erratum' }}"><td>{{ c.equation }}</td><td>{{ c.quantity }}</td><td>{{ c.description }}</td><td>{{ c.classification }}</td><td><code>{{ c.printed }}</code></td>
 <td>{% if c.corrected %}<code>{{ c.corrected }}</code>{% endif %}{% if c.convention %}<br>convention: {{ c.convention }}{% endif %}{% if c.counterexample %}<br><small>{{ c.counterexample }}</small>{% endif %}</td></tr>{% endfor %}</table>
 {% else %}<p>No classified printed equations (run <code>harness claims --out</code>).</p>{% endif %}

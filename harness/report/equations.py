@@ -1,0 +1,258 @@
+"""The derived equations of a system as mathematics for its report page: ``M(q)`` (5.21), ``C(q, q̇)`` from the
+Christoffel symbols (5.95), (5.97), ``g(q)`` (5.96), ``f_q^np`` (5.60), (5.73) and the equations of motion in
+the form (5.93), printed as MathML in the lecture's notation (:mod:`harness.report.mathml`); and each printed
+equation of the lecture (a claim) beside the derived quantity it is compared with.
+
+Simplification is for reading only and has a budget, so that the report stays fast: an entry with more than
+:data:`SIMPLIFY_MAX_OPS` operations is shown as derived, and once a system's simplification has taken
+:data:`BUDGET_SECONDS` the remaining entries are too (the page says so). A quantity with more than
+:data:`PRINT_MAX_OPS` operations, or derived per body as an expression graph (the 7-DoF arm), is not printed:
+the page says how large it is instead.
+"""
+
+from __future__ import annotations
+
+import signal
+import threading
+import time
+from contextlib import contextmanager
+from dataclasses import dataclass
+
+import sympy as sp
+
+from harness.report.mathml import body, bold, math
+
+SIMPLIFY_MAX_OPS = 300
+PRINT_MAX_OPS = 1500
+BUDGET_SECONDS = 2.0
+
+
+class _OutOfTime(BaseException):
+    """Raised by the timer inside a simplification (a BaseException: SymPy's own ``except Exception`` must not
+    swallow it)."""
+
+
+@contextmanager
+def _deadline(seconds: float):
+    """Interrupt the block after ``seconds`` (SIGALRM; in the main thread only, elsewhere no limit)."""
+    if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "setitimer"):
+        yield
+        return
+
+    def expire(signum, frame):
+        raise _OutOfTime
+
+    previous = signal.signal(signal.SIGALRM, expire)
+    signal.setitimer(signal.ITIMER_REAL, max(seconds, 1e-3))
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+
+# the lecture's general equations the derived quantities follow
+GENERAL = {"M": "(5.21)", "C": "(5.95), (5.97)", "g": "(5.96)", "f_np": "(5.60), (5.73)", "eom": "(5.93)"}
+
+
+@dataclass
+class Budget:
+    """The simplification budget of one system (wall clock), and whether it ran out."""
+
+    seconds: float = BUDGET_SECONDS
+    start: float | None = None     # the clock starts at the first simplification (not at imports)
+    exhausted: bool = False
+    skipped_large: int = 0
+
+    def simplify(self, expr):
+        """``expr`` simplified for reading (expand, trigsimp, common factors), or as it is when large or over
+        the budget."""
+        expr = sp.sympify(expr)
+        if isinstance(expr, sp.MatrixBase):
+            return expr.applyfunc(self.simplify)
+        if expr.is_number or expr.is_Symbol:
+            return expr
+        if self.start is None:
+            self.start = time.perf_counter()
+        left = self.seconds - (time.perf_counter() - self.start)
+        if left <= 0:
+            self.exhausted = True
+            return expr
+        if sp.count_ops(expr) > SIMPLIFY_MAX_OPS:
+            self.skipped_large += 1
+            return expr
+        try:
+            with _deadline(left):
+                out = sp.expand(expr)
+                if out.has(sp.sin, sp.cos) and sp.count_ops(out) <= SIMPLIFY_MAX_OPS:
+                    out = sp.trigsimp(out)
+                out = sp.factor_terms(out)
+        except _OutOfTime:
+            self.exhausted = True
+            return expr
+        return out if sp.count_ops(out) <= sp.count_ops(expr) else expr
+
+    def notes(self) -> list[str]:
+        out = []
+        if self.exhausted:
+            out.append(f"The simplification budget of {self.seconds:g} s ran out: later entries are shown as derived "
+                       "(unsimplified).")
+        if self.skipped_large:
+            out.append(f"{self.skipped_large} entr{'y' if self.skipped_large == 1 else 'ies'} with more than "
+                       f"{SIMPLIFY_MAX_OPS} operations shown as derived (unsimplified).")
+        return out
+
+
+def _too_large(expr) -> int:
+    """The operation count of ``expr`` when it is too large to print, else 0."""
+    ops = sp.count_ops(expr)
+    return ops if ops > PRINT_MAX_OPS else 0
+
+
+def _equation(lhs: str, expr, *, label: str = "", lecture: str = "", names=None) -> dict:
+    size = _too_large(expr)
+    if size:
+        return {"math": math(lhs, "<mo>=</mo>", "<mo>…</mo>"), "label": label, "lecture": lecture,
+                "note": f"{size} operations: too large to print here"}
+    return {"math": math(lhs, "<mo>=</mo>", body(expr, names=names)), "label": label, "lecture": lecture, "note": ""}
+
+
+def _claim_labels(claims, quantity: str) -> str:
+    return ", ".join(dict.fromkeys(c.equation for c in claims if c.quantity == quantity))
+
+
+def derived_equations(system, claims=(), budget: Budget | None = None) -> dict:
+    """The derived quantities of ``system`` as MathML: ``{"quantities": [...], "eom": [...], "notes": [...]}``;
+    each entry ``{"title", "math", "label" (the lecture's general equation), "lecture" (the system's own printed
+    equations of that quantity, from its claims), "note"}``."""
+    from harness.derivation.derive import derive, is_per_body
+
+    budget = budget or Budget()
+    d = derive(system)
+    if is_per_body(system):
+        return {"quantities": [], "eom": [], "notes": [
+            "Derived per body as an expression graph (one shared subexpression per body pose): the entries of M, "
+            "C, g are far too large to print; their values are what the checks compare."]}
+    q = sp.Matrix(system.q)
+    qd = sp.Matrix(system.qd)
+    qdd = sp.Matrix([c.accel for c in system.coordinates])
+    M, C, g, f = (budget.simplify(x) for x in (d.M, d.C, d.g, d.f_np))
+    quantities = [
+        {"title": "Mass matrix", **_equation(bold("M", args="q"), M, label=GENERAL["M"],
+                                            lecture=_claim_labels(claims, "M"))},
+        {"title": "Coriolis matrix from the Christoffel symbols", **_equation(
+            bold("C", args="q, qd"), C, label=GENERAL["C"], lecture=_claim_labels(claims, "C"))},
+        {"title": "Potential forces", **_equation(bold("g", args="q"), g, label=GENERAL["g"],
+                                                 lecture=_claim_labels(claims, "g"))},
+        {"title": "Non-potential generalized forces", **_equation(
+            bold("f", subscript="q", superscript="np"), f, label=GENERAL["f_np"],
+            lecture=_claim_labels(claims, "f_np"))},
+    ]
+    eom = []
+    by_row = {}
+    for c in claims:
+        if c.quantity == "eom":
+            for k in (range(len(q)) if c.index is None else [c.index[0]]):
+                by_row.setdefault(k, []).append(c.equation)
+    Cqd = C * qd
+    for k in range(len(q)):
+        terms = [M[k, j] * qdd[j] for j in range(len(q))] + [budget.simplify(Cqd[k]), g[k]]
+        lhs = sp.Add(*[t for t in terms if t != 0], evaluate=False) if any(t != 0 for t in terms) else sp.S.Zero
+        if _too_large(lhs) or _too_large(f[k]):
+            eom.append({"math": "", "label": GENERAL["eom"], "lecture": ", ".join(by_row.get(k, [])),
+                        "note": f"row {k + 1}: {sp.count_ops(lhs) + sp.count_ops(f[k])} operations, too large to print"})
+            continue
+        eom.append({"math": math(body(lhs), "<mo>=</mo>", body(f[k])), "label": GENERAL["eom"],
+                    "lecture": ", ".join(by_row.get(k, [])), "note": ""})
+    return {"quantities": quantities, "eom": eom, "notes": []}
+
+
+# --------------------------------------------------------------------------- claims: printed beside derived
+def _claim_lhs(claim) -> str:
+    """The left-hand side the printed expression is the value of (none for residuals and parameters)."""
+    kind, _, point = claim.quantity.partition(":")
+    index = "".join(str(i + 1) for i in claim.index) if claim.index else ""
+    lhs = {"M": bold("M", subscript=index), "C": bold("C", subscript=index),
+           "g": bold("g", subscript=index), "f_np": bold("f", subscript=index, superscript="np"),
+           "T": "<mi>T</mi>", "V": "<mi>V</mi>",
+           "Cqd": f'<mrow>{bold("C")}<mover accent="true"><mi mathvariant="bold">q</mi><mo>\u02d9</mo></mover>'
+                  f'</mrow>' + (f"<msub><mrow/><mi>{index}</mi></msub>" if index else ""),
+           "position": bold("p", subscript=point)}.get(kind)
+    return lhs or ""
+
+
+def _claim_math(claim, expr) -> str:
+    expr = sp.Matrix(expr) if isinstance(expr, (sp.MatrixBase, list, tuple)) else sp.sympify(expr)
+    if isinstance(expr, sp.MatrixBase) and expr.shape == (1, 1):
+        expr = expr[0, 0]
+    size = _too_large(expr)
+    text = "<mo>…</mo>" if size else body(expr)
+    kind = claim.quantity.split(":")[0]
+    if kind in ("eom", "equilibrium"):
+        return math(text, "<mo>=</mo>", "<mn>0</mn>")
+    lhs = _claim_lhs(claim)
+    return math(lhs, "<mo>=</mo>", text) if lhs else math(text)
+
+
+def claim_equations(system, claims, budget: Budget | None = None) -> list[dict]:
+    """Per printed equation: ``{"equation", "quantity", "description", "printed", "derived", "note"}`` with the
+    printed form and the derived quantity it is compared with as MathML (the derived one simplified within the
+    budget; an equation of motion both as residuals ``… = 0``)."""
+    from harness.compare.claims import _derived
+    from harness.derivation.derive import is_per_body
+
+    budget = budget or Budget()
+    per_body = is_per_body(system)
+    out = []
+    for claim in claims:
+        row = {"equation": claim.equation, "quantity": claim.quantity, "description": claim.description,
+               "printed": _claim_math(claim, claim.printed), "derived": "", "note": ""}
+        if per_body:
+            row["note"] = "derived per body as an expression graph: too large to print"
+            out.append(row)
+            continue
+        try:
+            derived = _derived(system, claim)
+            row["derived"] = _claim_math(claim, budget.simplify(derived))
+        except Exception as exc:  # noqa: BLE001 - a claim whose quantity cannot be derived keeps its printed form
+            row["note"] = f"derived form not available: {type(exc).__name__}: {exc}"
+        out.append(row)
+    return out
+
+
+# --------------------------------------------------------------------------- one system's page, cached
+def _cache_key(system, claims) -> str:
+    import hashlib
+    from pathlib import Path
+
+    digest = hashlib.sha256(system.fingerprint().encode())
+    for claim in claims:
+        digest.update(sp.srepr((claim.equation, claim.quantity, claim.printed, claim.index)).encode())
+    here = Path(__file__).parent
+    for name in ("equations.py", "mathml.py"):
+        digest.update((here / name).read_bytes())
+    return f"{system.name}-{digest.hexdigest()[:20]}"
+
+
+def page_equations(system, claims, use_cache: bool = True) -> dict:
+    """``{"equations": derived_equations(...), "claims": claim_equations(...), "notes": [...]}`` of one system,
+    cached on disk (next to the derivation cache) by the model's fingerprint, its claims and this code."""
+    import json
+
+    from harness.derivation.cache import cache_dir
+    from harness.io import atomic_write_text
+
+    path = cache_dir().parent / "equations" / f"{_cache_key(system, claims)}.json"
+    if use_cache:
+        try:
+            return json.loads(path.read_text())
+        except (OSError, ValueError):
+            pass
+    budget = Budget()
+    out = {"equations": derived_equations(system, claims, budget), "claims": claim_equations(system, claims, budget)}
+    out["notes"] = budget.notes()
+    if use_cache:
+        try:
+            atomic_write_text(path, json.dumps(out))
+        except OSError:
+            pass  # a read-only cache folder costs the speed-up only
+    return out

@@ -1,0 +1,340 @@
+"""Pictures of the mechanism for the report, by MuJoCo's own offscreen renderer from the exported MJCF (the file
+the engines load, ``urdf/<system>.xml``, with its visual-only geoms: harness/export/mjcf.py ``add_visuals``).
+
+Headless: MuJoCo's ``Renderer`` through EGL (``MUJOCO_GL=egl``, Debian's ``libegl1 libegl-mesa0
+libgl1-mesa-dri``), else OSMesa (``libosmesa6``); the backend is chosen before ``mujoco`` is imported and
+recorded in the picture's caption. Each picture shows the mechanism at a scene's initial state (else at
+q = 0), seen along the axis the mechanism moves least in (the normal of a planar mechanism's plane), with the
+lecture's coordinates marked at the joints they drive (θ = φ(q)). A scene's filmstrip shows a few frames of its
+reference trajectory with the paths of one tracked point as each engine computed them drawn on every frame:
+where the engines diverge, the paths separate.
+
+Small files: 8-bit palette PNGs (a picture ≈ 10–30 kB).
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+
+WIDTH, HEIGHT = 360, 270
+FRAME = (200, 150)
+FRAMES = 4
+_FONT = Path("/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf")
+_SOURCES = {"symbolic": (150, 150, 150), "pinocchio": (31, 119, 180), "mujoco": (214, 39, 40)}
+_WIDTHS = {"symbolic": 6, "pinocchio": 3, "mujoco": 1}
+_BACKENDS = ("egl", "osmesa")
+
+
+def backend() -> str:
+    """The OpenGL backend MuJoCo renders with: ``MUJOCO_GL`` if set, else EGL (set here, before ``mujoco``
+    creates a context)."""
+    os.environ.setdefault("MUJOCO_GL", "egl")
+    os.environ.setdefault("PYOPENGL_PLATFORM", os.environ["MUJOCO_GL"])
+    return os.environ["MUJOCO_GL"]
+
+
+def _greek(name: str) -> str:
+    """A coordinate name in the lecture's letters for a label (``phi_1`` → φ1, ``s_2`` → s2)."""
+    from sympy.printing.pretty.pretty_symbology import greek_unicode
+
+    parts = name.split("_")
+    base = greek_unicode.get(parts[0], parts[0])
+    return base + "".join(greek_unicode.get(p, p).translate(_SUBSCRIPT_DIGITS) for p in parts[1:])
+
+
+_SUBSCRIPT_DIGITS = str.maketrans("0123456789", "₀₁₂₃₄₅₆₇₈₉")
+
+
+class Scene3D:
+    """One system's MJCF in MuJoCo with a camera chosen for it and a projection of world points to pixels."""
+
+    def __init__(self, system, xml: str, width: int = WIDTH, height: int = HEIGHT):
+        backend()
+        import mujoco
+
+        from harness.derivation.compile import compiled
+
+        self.mujoco, self.system = mujoco, system
+        self.model = mujoco.MjModel.from_xml_string(xml)
+        self.data = mujoco.MjData(self.model)
+        self.compiled = compiled(system)
+        self.params = system.default_parameters()
+        self.p = [self.params[s.name] for s in system.p]
+        self.width, self.height = width, height
+        self.renderer = mujoco.Renderer(self.model, height, width)
+        self.option = mujoco.MjvOption()
+        self.option.geomgroup[:] = 1
+        self.option.sitegroup[:] = 0
+        self.camera = mujoco.MjvCamera()
+
+    def close(self) -> None:
+        self.renderer.close()
+
+    # ----------------------------------------------------------------- state
+    def set_q(self, q) -> None:
+        """Pose the tree at the lecture coordinates ``q`` (θ = φ(q))."""
+        theta = np.ravel(self.compiled.map_at(np.asarray(q, float), np.zeros(len(q)), self.p,
+                                              np.zeros(len(self.system.u)))[0])
+        for joint, value in zip(self.system.joints, theta):
+            jid = self.mujoco.mj_name2id(self.model, self.mujoco.mjtObj.mjOBJ_JOINT, joint.name)
+            if jid >= 0:
+                self.data.qpos[self.model.jnt_qposadr[jid]] = value
+        self.mujoco.mj_kinematics(self.model, self.data)
+        self.mujoco.mj_comPos(self.model, self.data)
+        self.mujoco.mj_tendon(self.model, self.data)
+
+    def points(self) -> np.ndarray:
+        """World positions that outline the mechanism: body origins, centres of mass, geoms, sites."""
+        d, m = self.data, self.model
+        reach = m.geom_rbound[:, None] * np.array([[1, 1, 1]]) if m.ngeom else np.zeros((0, 3))
+        geoms = np.vstack([d.geom_xpos - reach, d.geom_xpos + reach]) if m.ngeom else np.zeros((0, 3))
+        return np.vstack([d.xpos[1:], d.xipos[1:], geoms, d.site_xpos])
+
+    # ----------------------------------------------------------------- camera
+    def frame(self, states) -> None:
+        """Point the camera at the region the mechanism covers in ``states`` (lecture coordinates), looking along
+        the axis of least extent."""
+        pts = []
+        for q in states:
+            self.set_q(q)
+            pts.append(self.points())
+        pts = np.vstack(pts)
+        lo, hi = pts.min(axis=0), pts.max(axis=0)
+        extent = hi - lo
+        normal = int(np.argmin(extent + 1e-9 * np.arange(3)[::-1]))  # ties: prefer z, then y (a top/side view)
+        if normal == 0:       # looking along -x: y to the right, z up
+            azimuth, elevation = 180.0, 0.0
+        elif normal == 1:     # looking along +y: x to the right, z up
+            azimuth, elevation = 90.0, 0.0
+        else:                 # looking down -z: x to the right, y up
+            azimuth, elevation = 90.0, -90.0
+        size = float(max(np.max(extent), 0.2))
+        self.camera.type = self.mujoco.mjtCamera.mjCAMERA_FREE
+        self.camera.lookat[:] = (lo + hi) / 2.0
+        self.camera.azimuth, self.camera.elevation = azimuth, elevation
+        fovy = np.radians(self.model.vis.global_.fovy)
+        self.camera.distance = 1.15 * (size / 2.0) / np.tan(fovy / 2.0)
+
+    def render(self) -> np.ndarray:
+        """The image, on a white background (pixels no object covers, from a segmentation pass)."""
+        self.renderer.update_scene(self.data, camera=self.camera, scene_option=self.option)
+        image = self.renderer.render().copy()
+        self.renderer.enable_segmentation_rendering()
+        try:
+            self.renderer.update_scene(self.data, camera=self.camera, scene_option=self.option)
+            empty = self.renderer.render()[:, :, 0] < 0
+        finally:
+            self.renderer.disable_segmentation_rendering()
+        image[empty] = 255
+        return image
+
+    def project(self, points: np.ndarray) -> np.ndarray:
+        """World points to pixel coordinates of the last rendered image (MuJoCo's OpenGL camera)."""
+        cam = self.renderer.scene.camera[0]
+        pos, forward, up = np.array(cam.pos), np.array(cam.forward), np.array(cam.up)
+        right = np.cross(forward, up)
+        v = np.atleast_2d(points) - pos
+        depth = v @ forward
+        depth = np.where(np.abs(depth) < 1e-9, 1e-9, depth)
+        x = (v @ right) * cam.frustum_near / depth
+        y = (v @ up) * cam.frustum_near / depth
+        half_h = (cam.frustum_top - cam.frustum_bottom) / 2.0
+        half_w = half_h * self.width / self.height
+        px = (x - cam.frustum_center + half_w) / (2 * half_w) * self.width
+        py = (1.0 - (y - cam.frustum_bottom) / (2 * half_h)) * self.height
+        return np.stack([px, py], axis=1)
+
+    # ----------------------------------------------------------------- marks
+    def joint_marks(self) -> list[tuple[np.ndarray, str]]:
+        """(world anchor, label) per tree joint: the lecture coordinates its θ depends on."""
+        import sympy as sp
+
+        marks = []
+        for joint, expr in zip(self.system.joints, self.system.phi):
+            names = {s.name for s in sp.sympify(expr).free_symbols}
+            used = [c.name for c in self.system.coordinates if c.name in names]
+            if not used:
+                continue
+            jid = self.mujoco.mj_name2id(self.model, self.mujoco.mjtObj.mjOBJ_JOINT, joint.name)
+            if jid < 0:
+                continue
+            marks.append((np.array(self.data.xanchor[jid]), ", ".join(_greek(u) for u in used)))
+        return marks
+
+    def tracked_point(self) -> np.ndarray:
+        """The centre of mass of the body farthest down the tree (the end of the chain)."""
+        return np.array(self.data.xipos[self.model.nbody - 1])
+
+
+def _font(size: int):
+    from PIL import ImageFont
+
+    try:
+        return ImageFont.truetype(str(_FONT), size)
+    except OSError:
+        return ImageFont.load_default()
+
+
+def _annotate(image, scene: Scene3D, labels: bool = True):
+    from PIL import ImageDraw
+
+    draw = ImageDraw.Draw(image)
+    font = _font(13)
+    placed = []
+    for anchor, text in scene.joint_marks() if labels else []:
+        x, y = scene.project(anchor)[0]
+        if not (0 <= x < scene.width and 0 <= y < scene.height):
+            continue
+        draw.ellipse([x - 3, y - 3, x + 3, y + 3], outline=(0, 0, 0), width=2)
+        tx, ty = x + 6, y - 16
+        while any(abs(tx - px) < 30 and abs(ty - py) < 14 for px, py in placed):
+            ty += 14
+        placed.append((tx, ty))
+        draw.text((tx, ty), text, fill=(0, 0, 0), font=font, stroke_width=2, stroke_fill=(255, 255, 255))
+    return image
+
+
+def _png(image, path: Path) -> tuple[int, int]:
+    import io
+
+    from harness.io import atomic_write_bytes
+
+    buf = io.BytesIO()
+    image.convert("RGB").quantize(colors=96, method=2, dither=0).save(buf, format="PNG", optimize=True)
+    atomic_write_bytes(path, buf.getvalue())
+    return image.size
+
+
+def _states(system, scenes) -> list:
+    n = len(system.coordinates)
+    out = [np.zeros(n)]
+    for sc in scenes:
+        out.append(np.asarray(sc.q0, dtype=float))
+    return out
+
+
+def picture(system, xml: str, path: Path, scenes=()) -> dict:
+    """The mechanism at its first scene's initial state (else q = 0), coordinates marked; writes ``path``."""
+    from PIL import Image
+
+    scene = Scene3D(system, xml)
+    try:
+        states = _states(system, scenes)
+        scene.frame(states)
+        q = states[1] if len(states) > 1 else states[0]
+        scene.set_q(q)
+        image = _annotate(Image.fromarray(scene.render()), scene)
+    finally:
+        scene.close()
+    size = _png(image, path)
+    where = "at the initial state of scene " + scenes[0].name if scenes else "at q = 0"
+    return {"size": size, "caption": f"Rendered by MuJoCo ({backend()}) from urdf/{system.name}.xml {where}; "
+                                      "labels: the lecture coordinates each joint follows."}
+
+
+def filmstrip(system, xml: str, series: dict, path: Path) -> dict:
+    """A few frames of a scene's reference trajectory; on each, the path of the tracked point as every engine
+    computed it (grey symbolic, wide; blue Pinocchio; red MuJoCo, thin) up to that frame's time."""
+    from PIL import Image, ImageDraw
+
+    t = np.asarray(series["t"], dtype=float)
+    sources = {name: np.asarray(s["q"], dtype=float) for name, s in series["sources"].items()
+               if name in _SOURCES and s.get("q") is not None}
+    sources = {k: (v.reshape(len(t), -1) if v.ndim == 1 else (v if v.shape[0] == len(t) else v.T))
+               for k, v in sources.items()}
+    reference = sources.get("symbolic", next(iter(sources.values())))
+    scene = Scene3D(system, xml, *FRAME)
+    try:
+        step = max(1, len(t) // 200)
+        paths = {}
+        for name, q in sources.items():
+            pts = []
+            for k in range(0, len(t), step):
+                scene.set_q(q[k])
+                pts.append(scene.tracked_point())
+            paths[name] = np.array(pts)
+        scene.frame([reference[k] for k in range(0, len(t), max(1, len(t) // 20))])
+        picks = np.linspace(0, len(t) - 1, FRAMES).round().astype(int)
+        strip = Image.new("RGB", (FRAME[0] * FRAMES, FRAME[1] + 16), (255, 255, 255))
+        font = _font(11)
+        for n, k in enumerate(picks):
+            scene.set_q(reference[k])
+            image = Image.fromarray(scene.render())
+            draw = ImageDraw.Draw(image)
+            upto = k // step + 1
+            for name, pts in paths.items():  # widest first: where the lines coincide, every colour shows
+                xy = [tuple(p) for p in scene.project(pts[:upto])]
+                if len(xy) > 1:
+                    draw.line(xy, fill=_SOURCES[name], width=_WIDTHS[name])
+            strip.paste(image, (n * FRAME[0], 0))
+            ImageDraw.Draw(strip).text((n * FRAME[0] + 4, FRAME[1] + 1), f"t = {t[k]:.2f} s", fill=(0, 0, 0),
+                                       font=font)
+    finally:
+        scene.close()
+    size = _png(strip, path)
+    return {"size": size, "sources": sorted(paths)}
+
+
+def mjcf_text(system) -> str:
+    """The MJCF the engines load at the default parameters: the exported ``urdf/<system>.xml`` (regenerated when
+    the folder does not hold it)."""
+    from harness.cli import PROJECT_ROOT
+
+    path = PROJECT_ROOT / "urdf" / f"{system.name}.xml"
+    if path.is_file():
+        return path.read_text()
+    from harness.export.mjcf import mjcf_string
+    from harness.export.numeric import instantiate
+
+    return mjcf_string(instantiate(system, system.default_parameters()))
+
+
+# --------------------------------------------------------------------------- the report's rendering process
+def _render_system(job: dict) -> dict:
+    """Picture and filmstrips of one system (in the rendering process); failures are returned, not raised."""
+    import json
+
+    catalogue, out = job["catalogue"], Path(job["out"])
+    result: dict = {"picture": None, "strips": {}}
+    try:
+        system = catalogue.get(job["system"])
+        xml = mjcf_text(system)
+        target = f"figures/{system.name}.png"
+        result["picture"] = {"target": target, **picture(system, xml, out / target, catalogue.scenes(system.name))}
+    except Exception as exc:  # noqa: BLE001 - reported on the page
+        result["error"] = f"{type(exc).__name__}: {exc}"
+        return result
+    for scene, series in job["scenes"]:
+        target = f"figures/{system.name}.{scene}.strip.png"
+        try:
+            strip = filmstrip(system, xml, json.loads((out / series).read_text()), out / target)
+            result["strips"][scene] = {"target": target, **strip}
+        except Exception as exc:  # noqa: BLE001 - a series the renderer cannot follow costs its strip only
+            result["strips"][scene] = {"error": f"{type(exc).__name__}: {exc}"}
+    return result
+
+
+def _render_jobs(jobs: list[dict]) -> dict:
+    backend()
+    return {job["system"]: _render_system(job) for job in jobs}
+
+
+def render_all(jobs: list[dict]) -> dict:
+    """Render every job (``{"system", "out", "catalogue", "scenes": [(scene, series path)]}``) in one separate process, whose
+    MuJoCo is imported with ``MUJOCO_GL`` set (MuJoCo picks its OpenGL backend when imported, and an OpenGL
+    failure may abort the process: the report's own process is unaffected). ``{system: result}``."""
+    from concurrent.futures import ProcessPoolExecutor
+    from multiprocessing import get_context
+
+    if not jobs:
+        return {}
+    backend()  # the spawned process inherits the environment
+    try:
+        with ProcessPoolExecutor(1, mp_context=get_context("spawn")) as pool:
+            return pool.submit(_render_jobs, jobs).result()
+    except Exception as exc:  # noqa: BLE001 - no OpenGL: the pages say so
+        reason = f"rendering process failed ({backend()}): {type(exc).__name__}: {exc}"
+        return {job["system"]: {"picture": None, "strips": {}, "error": reason} for job in jobs}

@@ -1,0 +1,76 @@
+"""The equations of a system page as mathematics (harness/report/equations.py) and the model section written for
+a reader (harness/report/model_text.py): well-formed MathML in the lecture's letters, the lecture's equation
+numbers, the simplification budget, no Python reprs."""
+
+from __future__ import annotations
+
+import time
+from xml.dom.minidom import parseString
+
+import sympy as sp
+
+import models
+from harness.report import equations, model_text
+
+
+def _parses(fragment: str) -> None:
+    parseString(fragment)
+
+
+def test_derived_equations_of_the_cart_pendulum():
+    system, claims = models.get("cart_pendulum"), models.claims("cart_pendulum")
+    page = equations.page_equations(system, claims, use_cache=False)
+    quantities = page["equations"]["quantities"]
+    assert [q["label"] for q in quantities] == ["(5.21)", "(5.95), (5.97)", "(5.96)", "(5.60), (5.73)"]
+    for entry in quantities + page["equations"]["eom"]:
+        _parses(entry["math"])
+    eom = page["equations"]["eom"]
+    assert [e["lecture"] for e in eom] == ["(5.92a)", "(5.92b)"]     # the claims' equation numbers, per row
+    assert "&#966;" in eom[1]["math"] and "<mover" in eom[1]["math"]  # φ and its accents
+    rows = page["claims"]
+    assert [r["equation"] for r in rows] == [c.equation for c in claims]
+    for r in rows:
+        _parses(r["printed"])
+        _parses(r["derived"])
+
+
+def test_budget_falls_back_to_the_derived_form():
+    x = sp.Symbol("x")
+    expr = sp.sin(x) ** 2 + sp.cos(x) ** 2
+    budget = equations.Budget(seconds=0.0)
+    assert budget.simplify(expr) == expr and budget.exhausted
+    assert "ran out" in budget.notes()[0]
+    assert equations.Budget().simplify(expr) == 1
+
+
+def test_deadline_interrupts_a_long_simplification():
+    start = time.perf_counter()
+    try:
+        with equations._deadline(0.05):
+            while True:
+                pass
+    except equations._OutOfTime:
+        pass
+    assert time.perf_counter() - start < 2
+
+
+def test_model_section_has_no_reprs():
+    system = models.get("planar_manipulator")
+    html = model_text.docstring_html(system.doc)
+    assert "``" not in html and "<math" in html
+    forces = model_text.force_rows(system)
+    assert forces and all("Point(" not in f["sentence"] and "<math" in f["sentence"] for f in forces)
+    for row in model_text.link_rows(system) + model_text.joint_rows(system):
+        for value in row.values():
+            if isinstance(value, str) and value.startswith("<math"):
+                _parses(value)
+
+
+def test_large_per_body_derivation_is_not_printed(monkeypatch):
+    import harness.derivation.derive as derive
+
+    monkeypatch.setattr(derive, "is_per_body", lambda system: True)  # as the 7-DoF arm (slow to load here)
+    system = models.get("pendulum")
+    page = equations.derived_equations(system, models.claims("pendulum"))
+    assert not page["quantities"] and "too large" in page["notes"][0]
+    assert all("too large" in r["note"] for r in equations.claim_equations(system, models.claims("pendulum")))
