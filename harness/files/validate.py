@@ -29,7 +29,8 @@ import numpy as np
 
 from harness.files import importer
 from harness.files import untrusted
-from harness.engines.mujoco_engine import check_warnings
+from harness.engines.mujoco_engine import MujocoModel, compile_text
+from harness.engines.pinocchio_engine import PinocchioModel, load_urdf
 from harness.errors import ModelError
 from harness.export.numeric import check_inertia
 from harness.compare.roundtrip import rpy_matrix
@@ -96,20 +97,14 @@ def check_urdf_inertials(model: untrusted.ModelFile) -> None:
         check_inertia(where, float(mass_el.get("value")), R @ tensor @ R.T)
 
 
-def _step(model: mujoco.MjModel, source: str) -> dict:
+def _loaded_and_stepped(model: mujoco.MjModel, source: str) -> dict:
+    """What MuJoCo loaded, and :data:`STEP_SECONDS` of its own stepping with zero controls."""
     if not model.opt.timestep > 0:
         raise ModelError(f"{source}: <option timestep={model.opt.timestep:g}> must be positive")
-    data = mujoco.MjData(model)
+    mm = MujocoModel.loaded(model, [])
     steps = min(MAX_STEPS, int(round(STEP_SECONDS / model.opt.timestep)))
-    for _ in range(steps):
-        mujoco.mj_step(model, data)
-    check_warnings(model, data, f"{source}: {steps} x mj_step with zero controls")
-    return {"steps": f"{steps} x mj_step ({data.time:g} s), no warnings"}
-
-
-def _mujoco_facts(m: mujoco.MjModel) -> dict:
-    return {"bodies": m.nbody - 1, "dof": m.nv, "actuators": m.nu,
-            "moving mass": f"{float(m.body_mass[m.body_weldid != 0].sum()):.6g} kg"}
+    mm.rollout(steps, check=f"{source}: {steps} x mj_step with zero controls")
+    return {**mm.facts(), "steps": f"{steps} x mj_step ({mm.time:g} s), no warnings"}
 
 
 def validate(path: Path | str, root: Path | str | None = None, states: int = importer.STATES,
@@ -119,13 +114,13 @@ def validate(path: Path | str, root: Path | str | None = None, states: int = imp
     result = Validation(str(path), model.kind)
     if model.kind == untrusted.URDF:
         check_urdf_inertials(model)
-        pmodel = importer.load_pinocchio(model.text, str(path))
+        pmodel = load_urdf(model.text, str(path))
         result.engines["Pinocchio"] = {"joints": pmodel.njoints - 1, "dof": pmodel.nv, "moving mass":
                                        f"{sum(pmodel.inertias[i].mass for i in range(1, pmodel.njoints)):.6g} kg"}
         mj, refused, bound = importer.load_import(importer.without_geometry(model.text, str(path)),
                                                   f"{path} (MuJoCo's URDF importer)")
         facts = {"refused as is": refused, "loaded with": importer.BOUND_NOTE} if refused else {}
-        result.engines["MuJoCo (URDF importer)"] = {**_mujoco_facts(mj), **_step(mj, str(path)), **facts}
+        result.engines["MuJoCo (URDF importer)"] = {**_loaded_and_stepped(mj, str(path)), **facts}
         try:
             joints = importer.moving_joints(pmodel)
         except ModelError as exc:
@@ -133,14 +128,14 @@ def validate(path: Path | str, root: Path | str | None = None, states: int = imp
         else:
             prismatic = {pmodel.names[i] for i in range(1, pmodel.njoints)
                          if pmodel.joints[i].shortname().startswith("JointModelP")}
-            mj.opt.gravity[:] = pmodel.gravity.linear
-            checks = importer.compare(importer.MujocoTree(mj, joints), importer.PinocchioTree(pmodel, joints),
-                                      joints, prismatic, states, seed, bound)
+            imported, reference = MujocoModel.loaded(mj, joints), PinocchioModel.loaded(pmodel, joints)
+            imported.set_gravity(reference.gravity)
+            checks = importer.compare(imported, reference, joints, prismatic, states, seed, bound)
             result.comparison = {"states": states, "seed": seed, "checks": checks}
             result.findings = [importer.finding(c) for c in checks if not c["passed"]]
     else:
         refers_to_files = bool(untrusted.check_uris(model, root)) or bool(model.includes)
         mj_path = path if refers_to_files else None  # MuJoCo resolves them from the model's own folder
-        mj = importer.compile_mujoco(model.text, str(path), mj_path)
-        result.engines["MuJoCo"] = {**_mujoco_facts(mj), **_step(mj, str(path))}
+        mj = compile_text(model.text, str(path), mj_path)
+        result.engines["MuJoCo"] = _loaded_and_stepped(mj, str(path))
     return result

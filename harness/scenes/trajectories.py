@@ -51,6 +51,7 @@ import numpy as np
 
 from harness.checks import Bound, Check
 from harness.derivation.compile import compiled
+from harness.engines import ENGINES
 from harness.modeling.system import System
 from harness.modeling.scenes import Scene, pruned, with_idle_effects
 from harness.scenes import constraints
@@ -308,10 +309,10 @@ def _roll_slip(system: System, scene: Scene, event, result: "SceneResult") -> No
 
 def run_scene(system: System, scene: Scene, engines=("pinocchio", "mujoco"), mujoco_dt: float | None = None) -> SceneResult:
     result = SceneResult(system.name, scene.name)
-    engines = tuple(e for e in engines if not system.engine_note(e))
-    for engine in {"pinocchio", "mujoco"} - set(engines):
-        if system.engine_note(engine):
-            result.notes[engine] = system.engine_note(engine)
+    engines = tuple(e for e in engines if not ENGINES[e].applies(system))
+    for engine in ENGINES:
+        if ENGINES[engine].applies(system):
+            result.notes[engine] = ENGINES[engine].applies(system)
     event = hybrid_event(scene)
     if event is not None:
         _hybrid(system, scene, event, engines, result)
