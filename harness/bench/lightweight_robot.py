@@ -17,8 +17,8 @@ Measured (wall time, ``time.perf_counter``; the machine's load average is record
   common-subexpression-eliminated form (replacements + reduced expressions: the operations the compiled
   code performs).
 
-* **Drake** (optional, when ``pydrake`` imports; pinned ``drake==1.51.1``, the newest release the package registry
-  offers here; 1.58.0 is not on it): our exported ``urdf/lightweight_robot.urdf`` in a ``MultibodyPlant``,
+* **Drake** (the third engine, :mod:`harness.engines.drake_engine`; pinned ``drake==1.51.1``, the newest release
+  the package registry offers here; 1.58.0 is not on it): our exported ``urdf/lightweight_robot.urdf`` in a ``MultibodyPlant``,
   ``ToSymbolic()``, symbolic ``q``, ``v``: ``CalcMassMatrix``, ``CalcBiasTerm`` (``C·q̇``; Drake gives no
   Christoffel ``C``) and ``CalcGravityGeneralizedForces`` (``= −g``: opposite sign). Timed: building the
   expressions, and ``Evaluate`` of all three at one state; size: characters of ``to_string()`` of ``M[0,0]`` and
@@ -108,46 +108,27 @@ def _derivation_in_child(timeout: float) -> dict:
 
 
 def _drake(c, system, q, qd, p, ours: dict) -> dict:
-    """Drake's symbolic path on our exported URDF (see the module docstring); ``skipped`` without pydrake."""
-    try:
-        from pydrake.multibody.parsing import Parser
-        from pydrake.multibody.plant import MultibodyPlant
-        from pydrake.symbolic import Evaluate, MakeVectorVariable
-    except ImportError:
-        return {"skipped": "pydrake is not installed (optional: drake==1.51.1)"}
-    from harness.derivation.cache import PROJECT_ROOT
-
-    start = time.perf_counter()
-    plant = MultibodyPlant(0.0)
-    Parser(plant).AddModels(file_name=str(PROJECT_ROOT / "urdf" / f"{SYSTEM}.urdf"))
-    plant.mutable_gravity_field().set_gravity_vector([0.0, 0.0, -system.default_parameters()["g"]])
-    plant.Finalize()
-    names = [plant.get_joint(j).name() for j in plant.GetJointIndices()]
-    if names != [j.name for j in system.joints]:
-        return {"error": f"Drake's joint order {names} is not ours"}
-    loaded = time.perf_counter()
-    symbolic = plant.ToSymbolic()
-    context = symbolic.CreateDefaultContext()
-    n = len(names)
-    qs, vs = MakeVectorVariable(n, "q"), MakeVectorVariable(n, "v")
-    symbolic.SetPositions(context, qs)
-    symbolic.SetVelocities(context, vs)
-    M = symbolic.CalcMassMatrix(context)
-    Cqd = symbolic.CalcBiasTerm(context)
-    tau_g = symbolic.CalcGravityGeneralizedForces(context)
-    built = time.perf_counter()
-    env = {qs[i]: q[i] for i in range(n)} | {vs[i]: qd[i] for i in range(n)}
-    M_n = Evaluate(M, env)
-    Cqd_n = Evaluate(Cqd.reshape(n, 1), env).ravel()
-    g_n = -Evaluate(tau_g.reshape(n, 1), env).ravel()  # Drake's gravity generalized force is −g
-    evaluated = time.perf_counter()
-    derivation = ours.get("cold_seconds")
+    """Drake's symbolic path on our exported URDF (see the module docstring) through the Drake adapter
+    (:meth:`harness.engines.drake_engine.DrakeModel.symbolic_terms`)."""
     from importlib.metadata import version
 
+    from harness.derivation.cache import PROJECT_ROOT
+    from harness.engines import engine
+    from harness.export.numeric import instantiate
+
+    start = time.perf_counter()
+    tree = instantiate(system, system.default_parameters())
+    model = engine("drake")(tree, (PROJECT_ROOT / "urdf" / f"{SYSTEM}.urdf").read_text())
+    loaded = time.perf_counter()
+    terms = model.symbolic_terms()
+    built = time.perf_counter()
+    M_n, Cqd_n, g_n = terms["at"](q, qd)
+    evaluated = time.perf_counter()
+    derivation = ours.get("cold_seconds")
     return {"version": version("drake"),
             "load_seconds": loaded - start, "symbolic_seconds": built - loaded,
             "evaluate_one_state_seconds": evaluated - built,
-            "to_string_chars": {"M[0,0]": len(M[0, 0].to_string()), "Cqd[0]": len(Cqd[0].to_string())},
+            "to_string_chars": {"M[0,0]": len(terms["M"][0, 0].to_string()), "Cqd[0]": len(terms["Cqd"][0].to_string())},
             "agreement_abs": {"M": float(np.abs(M_n - c("M", q, qd, p)).max()),
                               "Cqd": float(np.abs(Cqd_n - c("C", q, qd, p) @ qd).max()),
                               "g": float(np.abs(g_n - c("g", q, qd, p).ravel()).max())},

@@ -58,3 +58,9 @@ def evaluate(source: str, state):
 
         return symbolic.evaluate(state)
     return engine(source)(state.tree).evaluate(state)
+
+
+def simulating(engines, phenomenon: str) -> tuple[str, ...]:
+    """The engines of ``engines`` (names) that simulate ``phenomenon`` themselves
+    (:attr:`~harness.engines.base.TreeEngine.natively`), in the given order."""
+    return tuple(name for name in engines if engine(name).simulates(phenomenon))

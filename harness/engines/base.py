@@ -212,11 +212,14 @@ class TreeEngine:
 
     Class attributes: ``name`` (the registry key and the source of its checks), ``reads`` (the exported text it
     loads: ``"URDF"`` or ``"MJCF"``), ``integrators`` (its own time stepping, :meth:`rollout`; empty for an
-    engine that only gives the dynamics)."""
+    engine that only gives the dynamics), ``natively`` (the scene phenomena it simulates itself, beyond the
+    forward dynamics every engine gives: ``"stepping"``, ``"dry friction"``, ``"contact"``, ``"soft
+    constraints"``, ``"kkt constraints"``; the scene code asks for a phenomenon, never for an engine by name)."""
 
     name: str = ""
     reads: str = ""
     integrators: tuple = ()
+    natively: frozenset = frozenset()
     tree: NumericTree | None = None
 
     @classmethod
@@ -224,6 +227,11 @@ class TreeEngine:
         """``None`` when the engine applies to ``system``, else the reason it does not
         (``System.not_in_engines``)."""
         return system.engine_note(cls.name)
+
+    @classmethod
+    def simulates(cls, phenomenon: str) -> bool:
+        """Whether the engine simulates ``phenomenon`` itself (one of :attr:`natively`)."""
+        return phenomenon in cls.natively
 
     @property
     def label(self) -> str:

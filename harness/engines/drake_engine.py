@@ -151,6 +151,30 @@ class DrakeModel(TreeEngine):
                    "qdd": "generalized acceleration output port (applied generalized force = inputs + springs + "
                           "dampers)"})
 
+    # ----- the benchmarks' symbolic peer (harness.bench.lightweight_robot)
+    def symbolic_terms(self) -> dict:
+        """Drake's own symbolic path: ``MultibodyPlant.ToSymbolic()`` at symbolic ``q``, ``v`` (``MakeVectorVariable``),
+        ``M = CalcMassMatrix``, ``C θ̇ = CalcBiasTerm``, ``τ_g = CalcGravityGeneralizedForces`` as Drake expressions in
+        our joint order, with ``at(θ, θ̇)`` evaluating them (``pydrake.symbolic.Evaluate``) to ``(M, C θ̇, g = −τ_g)``."""
+        from pydrake.symbolic import Evaluate, MakeVectorVariable
+
+        plant = self.plant.ToSymbolic()
+        context = plant.CreateDefaultContext()
+        n = plant.num_velocities()
+        qs, vs = MakeVectorVariable(n, "q"), MakeVectorVariable(n, "v")
+        plant.SetPositions(context, qs)
+        plant.SetVelocities(context, vs)
+        M = plant.CalcMassMatrix(context)[np.ix_(self.iv, self.iv)]
+        Cqd = plant.CalcBiasTerm(context)[self.iv]
+        tau_g = plant.CalcGravityGeneralizedForces(context)[self.iv]   # the gravity force: -g
+
+        def at(theta, theta_dot):
+            env = {qs[i]: x for i, x in zip(self.iq, theta)} | {vs[i]: x for i, x in zip(self.iv, theta_dot)}
+            return (Evaluate(M, env), Evaluate(Cqd.reshape(-1, 1), env).ravel(),
+                    -Evaluate(tau_g.reshape(-1, 1), env).ravel())
+
+        return {"M": M, "Cqd": Cqd, "tau_g": tau_g, "at": at}
+
     # ----- the export round trip (harness.compare.roundtrip): the URDF as loaded
     @property
     def dofs(self) -> int:

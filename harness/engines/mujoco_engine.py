@@ -29,6 +29,8 @@ from harness.export.mjcf import mjcf_spec, mjcf_string, rpy_quat
 from harness.modeling.system import WORLD
 from harness.export.numeric import NumericTree
 
+VERSION = mujoco.__version__
+
 WARNINGS = {
     mujoco.mjtWarning.mjWARN_INERTIA: "inertia matrix too close to singular",
     mujoco.mjtWarning.mjWARN_CONTACTFULL: "too many contacts",
@@ -94,6 +96,7 @@ class MujocoModel(TreeEngine):
 
     name, reads = "mujoco", "MJCF"
     integrators = ("Euler", "RK4", "implicit", "implicitfast")
+    natively = frozenset({"stepping", "dry friction", "contact", "soft constraints"})
 
     def __init__(self, tree: NumericTree, xml: str | None = None, transforms=(),
                  where: str = "MjSpec.compile (scene)"):

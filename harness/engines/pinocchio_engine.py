@@ -17,6 +17,7 @@ from harness.export.numeric import NumericTree
 from harness.export.urdf import urdf_string
 
 LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+VERSION = pin.__version__
 
 
 def load_urdf(urdf_text: str, source: str) -> pin.Model:
@@ -31,10 +32,23 @@ def load_urdf(urdf_text: str, source: str) -> pin.Model:
     return model
 
 
+def moving_joints(model: pin.Model) -> list[str]:
+    """Names of the 1-dof joints (revolute, continuous, prismatic) of a Pinocchio model, in tree order
+    (a :class:`ModelError` for any other joint: only 1-dof joints are compared)."""
+    names = []
+    for jid in range(1, model.njoints):
+        if model.joints[jid].nv != 1:
+            raise ModelError(f"joint {model.names[jid]}: only 1-dof joints are compared "
+                             f"({model.joints[jid].shortname()})")
+        names.append(model.names[jid])
+    return names
+
+
 class PinocchioModel(TreeEngine):
     """A Pinocchio model of one :class:`NumericTree` with the index maps to our joint order."""
 
     name, reads = "pinocchio", "URDF"
+    natively = frozenset({"kkt constraints"})
 
     def __init__(self, tree: NumericTree, urdf: str | None = None):
         self.tree = tree
@@ -195,6 +209,18 @@ class PinocchioModel(TreeEngine):
 
     def body_names(self) -> list[str]:
         return [f.name for f in self.model.frames if f.type == pin.FrameType.BODY]
+
+    @property
+    def prismatic(self) -> set[str]:
+        """The names of the prismatic joints among :attr:`joints` (their positions are lengths, not angles)."""
+        return {name for name, jid in zip(self.joints, self.jids)
+                if self.model.joints[jid].shortname().startswith("JointModelP")}
+
+    def facts(self) -> dict:
+        """What Pinocchio loaded: joints, degrees of freedom and the moving mass."""
+        m = self.model
+        return {"joints": m.njoints - 1, "dof": m.nv,
+                "moving mass": f"{sum(m.inertias[i].mass for i in range(1, m.njoints)):.6g} kg"}
 
     @property
     def gravity(self) -> np.ndarray:

@@ -88,14 +88,13 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-import mujoco
+from typing import TYPE_CHECKING
+
 import numpy as np
-import pinocchio as pin
 
 from harness.compare.conformance import FLOAT64_RTOL
-from harness.engines.base import captured_output, one_line  # noqa: F401 - what the engines print while loading
-from harness.engines.mujoco_engine import MujocoModel, compile_text
-from harness.engines.pinocchio_engine import PinocchioModel, load_urdf
+from harness.engines.mujoco_engine import VERSION as MUJOCO_VERSION, MujocoModel, compile_text
+from harness.engines.pinocchio_engine import VERSION as PINOCCHIO_VERSION, PinocchioModel, load_urdf, moving_joints
 from harness.errors import EngineError, ModelError
 from harness.export.numeric import lump
 
@@ -108,6 +107,9 @@ SEED = 0
 TOLERANCE = FLOAT64_RTOL
 TOLERANCE_REASON = ("float64 round-off of the same decimals (principal axes, quaternions: a few ulps); "
                     "harness.compare.conformance tolerance policy")
+if TYPE_CHECKING:
+    import mujoco
+
 SCHEMA = "importer/1"
 QUANTITIES = ("M", "bias", "mass", "first moment of mass", "inertia")
 
@@ -154,17 +156,6 @@ def _lump(parts) -> Rigid:
 def rigid(view, theta) -> dict[str, Rigid]:
     """What each joint of ``view`` (an engine adapter) moves, lumped into one body at ``θ``."""
     return {name: _lump(parts) for name, parts in view.subtree_parts(theta).items()}
-
-
-def moving_joints(model: pin.Model) -> list[str]:
-    """Names of the 1-dof joints (revolute, continuous, prismatic) of a Pinocchio model, in tree order."""
-    names = []
-    for jid in range(1, model.njoints):
-        if model.joints[jid].nv != 1:
-            raise ModelError(f"joint {model.names[jid]}: only 1-dof joints are compared "
-                             f"({model.joints[jid].shortname()})")
-        names.append(model.names[jid])
-    return names
 
 
 # --------------------------------------------------------------------------------- comparison
@@ -260,7 +251,7 @@ BOUND_NOTE = (f"compiler boundmass = boundinertia = {IMPORT_BOUND:g} (MuJoCo ref
               "massless moving link as is)")
 
 
-def load_import(urdf_text: str, source: str) -> tuple[mujoco.MjModel, str | None, float]:
+def load_import(urdf_text: str, source: str) -> tuple["mujoco.MjModel", str | None, float]:
     """MuJoCo's import, as is or (refused as is: point masses, massless moving links) with the lower bound
     :data:`IMPORT_BOUND` on masses and inertias: the model, MuJoCo's refusal, the bound used."""
     try:
@@ -271,7 +262,7 @@ def load_import(urdf_text: str, source: str) -> tuple[mujoco.MjModel, str | None
         return model, refused, IMPORT_BOUND
 
 
-def _load_import(urdf_text: str, source: str, record: dict) -> tuple[mujoco.MjModel, float]:
+def _load_import(urdf_text: str, source: str, record: dict) -> tuple["mujoco.MjModel", float]:
     model, record["refused"], bound = load_import(urdf_text, source)
     if record["refused"]:
         record["adjustments"].append(BOUND_NOTE)
@@ -331,11 +322,10 @@ def compare_urdf(path: Path, text: str, kind: str = "fixture", states: int = STA
     record = _record(path.stem, kind, path, "Pinocchio (same URDF)")
     try:
         pmodel = load_urdf(text, str(path))
-        joints = moving_joints(pmodel)
-        prismatic = {pmodel.names[i] for i in range(1, pmodel.njoints)
-                     if pmodel.joints[i].shortname().startswith("JointModelP")}
+        ref = PinocchioModel.loaded(pmodel, moving_joints(pmodel))
+        joints, prismatic = ref.joints, ref.prismatic
         imported, bound = _load_import(without_geometry(import_text or text, str(path)), str(path), record)
-        ref, imp = PinocchioModel.loaded(pmodel, joints), MujocoModel.loaded(imported, joints)
+        imp = MujocoModel.loaded(imported, joints)
         imp.set_gravity(ref.gravity)
         record["bodies"] = {"imported": imp.body_names(), "reference": ref.body_names()}
         return _finish(record, compare(imp, ref, joints, prismatic, states, seed, bound))
@@ -423,7 +413,7 @@ def run(systems=None, fixtures=FIXTURES, states: int = STATES, seed: int = SEED)
                "refused_as_is": sum(r["refused"] is not None for r in records),
                "not_loaded": sum(not r["loaded"] for r in records)}
     return {"schema": SCHEMA, "command": "harness importer --out reports",
-            "versions": {"mujoco": mujoco.__version__, "pinocchio": pin.__version__},
+            "versions": {"mujoco": MUJOCO_VERSION, "pinocchio": PINOCCHIO_VERSION},
             "seed": seed, "states": states, "tolerance": TOLERANCE, "tolerance_reason": TOLERANCE_REASON,
             "summary": summary, "models": records, "probes": probes(fixtures[0], states, seed),
             "controls": controls(fixtures, states, seed)}

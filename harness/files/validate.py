@@ -24,16 +24,20 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import mujoco
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from harness.files import importer
 from harness.files import untrusted
 from harness.engines.mujoco_engine import MujocoModel, compile_text
-from harness.engines.pinocchio_engine import PinocchioModel, load_urdf
+from harness.engines.pinocchio_engine import PinocchioModel, load_urdf, moving_joints
 from harness.errors import ModelError
 from harness.export.numeric import check_inertia
 from harness.compare.roundtrip import rpy_matrix
+
+if TYPE_CHECKING:
+    import mujoco
 
 STEP_SECONDS = 1.0
 MAX_STEPS = 20_000
@@ -97,7 +101,7 @@ def check_urdf_inertials(model: untrusted.ModelFile) -> None:
         check_inertia(where, float(mass_el.get("value")), R @ tensor @ R.T)
 
 
-def _loaded_and_stepped(model: mujoco.MjModel, source: str) -> dict:
+def _loaded_and_stepped(model: "mujoco.MjModel", source: str) -> dict:
     """What MuJoCo loaded, and :data:`STEP_SECONDS` of its own stepping with zero controls."""
     if not model.opt.timestep > 0:
         raise ModelError(f"{source}: <option timestep={model.opt.timestep:g}> must be positive")
@@ -115,20 +119,18 @@ def validate(path: Path | str, root: Path | str | None = None, states: int = imp
     if model.kind == untrusted.URDF:
         check_urdf_inertials(model)
         pmodel = load_urdf(model.text, str(path))
-        result.engines["Pinocchio"] = {"joints": pmodel.njoints - 1, "dof": pmodel.nv, "moving mass":
-                                       f"{sum(pmodel.inertias[i].mass for i in range(1, pmodel.njoints)):.6g} kg"}
+        result.engines["Pinocchio"] = PinocchioModel.loaded(pmodel, []).facts()
         mj, refused, bound = importer.load_import(importer.without_geometry(model.text, str(path)),
                                                   f"{path} (MuJoCo's URDF importer)")
         facts = {"refused as is": refused, "loaded with": importer.BOUND_NOTE} if refused else {}
         result.engines["MuJoCo (URDF importer)"] = {**_loaded_and_stepped(mj, str(path)), **facts}
         try:
-            joints = importer.moving_joints(pmodel)
+            reference = PinocchioModel.loaded(pmodel, moving_joints(pmodel))
         except ModelError as exc:
             result.engines["comparison"] = {"skipped": str(exc)}
         else:
-            prismatic = {pmodel.names[i] for i in range(1, pmodel.njoints)
-                         if pmodel.joints[i].shortname().startswith("JointModelP")}
-            imported, reference = MujocoModel.loaded(mj, joints), PinocchioModel.loaded(pmodel, joints)
+            joints, prismatic = reference.joints, reference.prismatic
+            imported = MujocoModel.loaded(mj, joints)
             imported.set_gravity(reference.gravity)
             checks = importer.compare(imported, reference, joints, prismatic, states, seed, bound)
             result.comparison = {"states": states, "seed": seed, "checks": checks}

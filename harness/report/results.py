@@ -77,6 +77,8 @@ def hypothesis_record(examples: int | None, seed: int | None) -> dict:
 
 def versions() -> dict:
     """Engine and library versions and the platform the numbers were produced with."""
+    from importlib.metadata import version
+
     import hypothesis
     import mujoco
     import numpy
@@ -86,7 +88,7 @@ def versions() -> dict:
 
     return {"python": platform.python_version(), "platform": platform.platform(), "pinocchio": pinocchio.__version__,
             "mujoco": mujoco.__version__, "sympy": sympy.__version__, "numpy": numpy.__version__,
-            "scipy": scipy.__version__, "hypothesis": hypothesis.__version__}
+            "scipy": scipy.__version__, "hypothesis": hypothesis.__version__, "drake": version("drake")}
 
 
 # --------------------------------------------------------------------------- one system
@@ -201,8 +203,11 @@ def tolerance_policy() -> str:
 
 def bounds_used(records: list[dict]) -> dict:
     """The bounds (:class:`harness.checks.Bound`) the records' checks refer to, each stated once with its reason."""
-    import harness.scenes.trajectories  # noqa: F401 - declares the bounds of the scenes (and of structural, constraints)
+    from importlib import import_module
+
     from harness.checks import BOUNDS
+
+    import_module("harness.scenes.trajectories")  # declares the bounds of the scenes (and of structural, constraints)
 
     used = {c.get("basis") for r in records for c in r.get("checks", [])}
     used |= {c.get("basis") for r in records for s in r.get("scenes") or [] for c in s.get("checks", [])}
