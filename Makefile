@@ -41,5 +41,4 @@ test: setup
 # performance studies (on demand, not part of check/test): work-precision of the scenes, evaluation and
 # derivation cost; writes reports/bench.json, reports/bench.md, reports/bench/*.svg. BENCH_ARGS=--quick for ~2 min
 bench: setup
-	$(PYTHON) -m pip install --quiet --disable-pip-version-check -e '.[bench]'
 	$(VENV)/bin/harness bench --out reports $(BENCH_ARGS)

@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from harness import limits, run
+from harness.engines import SOURCES
 from harness.errors import HarnessError, InputError
 from harness.io import writable_folder
 from harness.report import margins
@@ -246,7 +247,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("eval", help="M, C, Cqd, g, qdd of one system at one state")
     p.add_argument("system")
-    p.add_argument("--engine", default="symbolic", choices=("symbolic", "pinocchio", "mujoco"))
+    p.add_argument("--engine", default="symbolic", choices=SOURCES)
     p.add_argument("--q", nargs="+", type=float, required=True)
     p.add_argument("--qd", nargs="+", type=float)
     p.add_argument("--param", nargs="*", action="extend", metavar="NAME=VALUE")

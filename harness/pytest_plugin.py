@@ -5,8 +5,8 @@ Installed with the package (entry point ``pytest11``: nothing to configure; ``-p
 Fixtures
 --------
 ``harness_conformance``
-    ``check(system, engines=("pinocchio", "mujoco"), examples=None)``: every conformance check of
-    ``harness check`` (M, C·q̇, Christoffel C, g, springs, dampers, q̈, export round trip, self-checks) on
+    ``check(system, engines=None, examples=None)``: every conformance check of ``harness check`` by the given
+    engines (default: every engine of :data:`harness.engines.ENGINES`) (M, C·q̇, Christoffel C, g, springs, dampers, q̈, export round trip, self-checks) on
     hypothesis states with random parameters; fails the test with the shrunk counterexample and returns the
     :class:`harness.compare.conformance.Summary` (``summary.worst`` holds the largest error per check and engine).
     ``system`` is a :class:`harness.modeling.system.System` (your own model) or the name of a catalogued one.
@@ -33,7 +33,7 @@ def pytest_addoption(parser):
                     help="hypothesis examples per conformance check (default: the hypothesis profile's)")
 
 
-def assert_conformant(system, engines=("pinocchio", "mujoco"), examples: int | None = None):
+def assert_conformant(system, engines=None, examples: int | None = None):
     """Run every conformance check of ``system``; raise AssertionError with the counterexample on a failure."""
     from harness.compare import conformance
     from harness.settings import draws_from_seed_only
@@ -43,7 +43,7 @@ def assert_conformant(system, engines=("pinocchio", "mujoco"), examples: int | N
 
         system = repository().get(system)
     with draws_from_seed_only():
-        summary = conformance.run(system, engines=tuple(engines), examples=examples)
+        summary = conformance.run(system, engines=engines, examples=examples)
     if not summary.passed:
         worst = [f"{c} ({e}): {f.value:.3e} > {f.bound:.1e}" for (c, e), f in sorted(summary.worst.items())
                  if not f.passed]
@@ -53,10 +53,10 @@ def assert_conformant(system, engines=("pinocchio", "mujoco"), examples: int | N
 
 @pytest.fixture
 def harness_conformance(request):
-    """``check(system, engines=("pinocchio", "mujoco"), examples=None)`` → Summary; fails on a disagreement."""
+    """``check(system, engines=None, examples=None)`` → Summary; fails on a disagreement."""
     default = request.config.getoption("--harness-examples")
 
-    def check(system, engines=("pinocchio", "mujoco"), examples: int | None = None):
+    def check(system, engines=None, examples: int | None = None):
         return assert_conformant(system, engines, examples if examples is not None else default)
 
     return check

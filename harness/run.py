@@ -114,6 +114,8 @@ def hypothesis_record(examples: int | None, seed: int | None) -> dict:
 
 def versions() -> dict:
     """Engine and library versions and the platform the numbers were produced with."""
+    from importlib.metadata import version
+
     import hypothesis
     import mujoco
     import numpy
@@ -123,7 +125,7 @@ def versions() -> dict:
 
     return {"python": platform.python_version(), "platform": platform.platform(), "pinocchio": pinocchio.__version__,
             "mujoco": mujoco.__version__, "sympy": sympy.__version__, "numpy": numpy.__version__,
-            "scipy": scipy.__version__, "hypothesis": hypothesis.__version__}
+            "scipy": scipy.__version__, "hypothesis": hypothesis.__version__, "drake": version("drake")}
 
 
 def tolerance_policy() -> str:

@@ -163,7 +163,7 @@ def test_urdfdom_complaint_becomes_one_line(capfd, tmp_path):
 def test_urdfdom_silently_drops_an_unreadable_inertial():
     """Why the number check exists: urdfdom loads the link massless, exit status fine, when a number does not
     parse (here Pinocchio, which reads URDF through urdfdom); our check refuses the file first."""
-    from harness.files.importer import captured_output
+    from harness.engines.base import captured_output
 
     with captured_output():
         model = pin.buildModelFromXML(urdf(f'<mass value="1,5"/>{INERTIA}'))

@@ -10,6 +10,7 @@ import pytest
 
 import models
 from harness import cli
+from harness.engines import ENGINES, SOURCES
 
 
 def run(*args):
@@ -24,13 +25,13 @@ def test_list_shows_every_system():
 
 def test_eval_planar_manipulator_agrees_across_engines(capsys):
     results = {}
-    for engine in ("symbolic", "pinocchio", "mujoco"):
+    for engine in SOURCES:
         assert cli.main(["eval", "planar_manipulator", "--engine", engine, "--q", "0.3", "-0.7",
                          "--qd", "1", "2", "--json"]) == 0
         results[engine] = json.loads(capsys.readouterr().out)
     ref = results["symbolic"]
     assert ref["q"] == [0.3, -0.7] and ref["qd"] == [1.0, 2.0] and "m_1" in ref["params"]
-    for engine in ("pinocchio", "mujoco"):
+    for engine in ENGINES:
         for key in ("M", "C", "Cqd", "g", "qdd"):
             a, b = np.array(results[engine][key]), np.array(ref[key])
             assert a.shape == b.shape

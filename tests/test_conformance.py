@@ -5,15 +5,16 @@ import pytest
 
 import models
 from harness.compare import conformance
+from harness.engines import ENGINES
 from harness.settings import EXAMPLES_CI
 
 SYSTEMS = list(models.catalogue())
 
 
-@pytest.mark.parametrize("engine", ["pinocchio", "mujoco"])
+@pytest.mark.parametrize("engine", list(ENGINES))
 @pytest.mark.parametrize("system", SYSTEMS)
 def test_engine_agrees_with_derivation(system, engine):
-    reason = models.get(system).engine_note(engine)
+    reason = ENGINES[engine].applies(models.get(system))
     if reason:
         pytest.skip(f"{engine} does not apply to {system}: {reason}")
     summary = conformance.run(models.get(system), engines=(engine,))

@@ -16,6 +16,11 @@
 * **MuJoCo, per call**: ``mj_fwdPosition + mj_fullM`` (M), ``mj_fwdPosition + mj_fwdVelocity`` (``qfrc_bias``
   = C·q̇ + g), ``mj_forward`` (q̈).
 
+The engines' calls are the raw calls their adapters name at one state (``kernels``,
+:meth:`harness.engines.pinocchio_engine.PinocchioModel.kernels`,
+:meth:`harness.engines.mujoco_engine.MujocoModel.kernels`): what is timed is the engine, not the adapter's
+mapping to our coordinates.
+
 Each time is the median over 5 repeats of a loop long enough to take ≳ 20 ms. The goals of the issue compare the
 sum ``M + C·q̇ + g``: batched compiled per state ≤ 0.2 × Pinocchio per call, one compiled call ≤ 2 ×.
 """
@@ -26,18 +31,16 @@ import statistics
 import time
 import timeit
 
-import mujoco
 import numpy as np
-import pinocchio as pin
 
 from harness.derivation.compile import compiled
-from harness.engines.mujoco_engine import MujocoModel
-from harness.engines.pinocchio_engine import PinocchioModel
+from harness.engines import ENGINES
 from harness.export.numeric import instantiate
 
 GOAL_BATCHED = 0.2
 GOAL_ONE_CALL = 2.0
 QUICK = ("pendulum", "planar_manipulator", "planar_robot")     # --quick: a representative set
+TIMED = ("pinocchio", "mujoco")                                   # the engines whose calls are timed
 
 
 def per_call(fn, min_seconds: float = 0.02, repeats: int = 5) -> float:
@@ -96,38 +99,18 @@ def measure(catalogue, system: str, states: int = 10_000, seed: int = 0) -> dict
         bat[key] = per_call(fn, repeats=3) / states
     c.batched_terms(Q[:2], QD[:2], p, U[:2])  # compiles
     bat["terms_native"] = per_call(lambda: c.batched_terms(Q, QD, p, U), repeats=3) / states
-    for engine, note in (("pinocchio", s.engine_note("pinocchio")), ("mujoco", s.engine_note("mujoco"))):
-        if note:
-            out[engine] = {"skipped": note}
     tree = instantiate(s, params)
     theta = np.asarray(c("phi", q, qd, p, u), dtype=float).ravel()
     theta_dot = np.asarray(c("J_phi", q, qd, p, u), dtype=float) @ qd
-    if "pinocchio" not in out:
-        pm = PinocchioModel(tree)
-        model, data = pm.model, pm.data
-        pq, pv = pm.to_pin(theta), pm.to_pin(theta_dot)
-        tau = np.zeros(model.nv)
-        out["pinocchio"] = {"M": per_call(lambda: pin.crba(model, data, pq)),
-                            "nle": per_call(lambda: pin.nonLinearEffects(model, data, pq, pv)),
-                            "g": per_call(lambda: pin.computeGeneralizedGravity(model, data, pq)),
-                            "qdd": per_call(lambda: pin.aba(model, data, pq, pv, tau))}
+    for engine in TIMED:
+        note = ENGINES[engine].applies(s)
+        if note:
+            out[engine] = {"skipped": note}
+            continue
+        kernels = ENGINES[engine](tree).kernels(theta, theta_dot)
+        out[engine] = {key: per_call(call) for key, call in kernels.items()}
+    if "nle" in out["pinocchio"]:
         out["pinocchio"]["Cqd"] = out["pinocchio"]["nle"] + out["pinocchio"]["g"]
-    if "mujoco" not in out:
-        mm = MujocoModel(tree)
-        mj, d = mm.model, mm.data
-        d.qpos[mm.qpos_index], d.qvel[mm.dof_index] = theta, theta_dot
-        dense = np.zeros((mj.nv, mj.nv))
-
-        def mass():
-            mujoco.mj_fwdPosition(mj, d)
-            mujoco.mj_fullM(mj, d, dense)
-
-        def bias():
-            mujoco.mj_fwdPosition(mj, d)
-            mujoco.mj_fwdVelocity(mj, d)
-
-        out["mujoco"] = {"M": per_call(mass), "bias": per_call(bias),
-                         "qdd": per_call(lambda: mujoco.mj_forward(mj, d))}
     _ratios(out)
     return out
 

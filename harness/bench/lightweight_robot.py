@@ -17,8 +17,8 @@ Measured (wall time, ``time.perf_counter``; the machine's load average is record
   common-subexpression-eliminated form (replacements + reduced expressions: the operations the compiled
   code performs).
 
-* **Drake** (optional, when ``pydrake`` imports; pinned ``drake==1.51.1``, the newest release the package registry
-  offers here; 1.58.0 is not on it): our exported ``urdf/lightweight_robot.urdf`` in a ``MultibodyPlant``,
+* **Drake** (the third engine, :mod:`harness.engines.drake_engine`; pinned ``drake==1.51.1``, the newest release
+  the package registry offers here; 1.58.0 is not on it): our exported ``urdf/lightweight_robot.urdf`` in a ``MultibodyPlant``,
   ``ToSymbolic()``, symbolic ``q``, ``v``: ``CalcMassMatrix``, ``CalcBiasTerm`` (``C·q̇``; Drake gives no
   Christoffel ``C``) and ``CalcGravityGeneralizedForces`` (``= −g``: opposite sign). Timed: building the
   expressions, and ``Evaluate`` of all three at one state; size: characters of ``to_string()`` of ``M[0,0]`` and
@@ -110,46 +110,27 @@ def _derivation_in_child(catalogue, timeout: float) -> dict:
 
 
 def _drake(c, system, q, qd, p, ours: dict) -> dict:
-    """Drake's symbolic path on our exported URDF (see the module docstring); ``skipped`` without pydrake."""
-    try:
-        from pydrake.multibody.parsing import Parser
-        from pydrake.multibody.plant import MultibodyPlant
-        from pydrake.symbolic import Evaluate, MakeVectorVariable
-    except ImportError:
-        return {"skipped": "pydrake is not installed (optional: drake==1.51.1)"}
-    from harness.derivation.cache import PROJECT_ROOT
-
-    start = time.perf_counter()
-    plant = MultibodyPlant(0.0)
-    Parser(plant).AddModels(file_name=str(PROJECT_ROOT / "urdf" / f"{SYSTEM}.urdf"))
-    plant.mutable_gravity_field().set_gravity_vector([0.0, 0.0, -system.default_parameters()["g"]])
-    plant.Finalize()
-    names = [plant.get_joint(j).name() for j in plant.GetJointIndices()]
-    if names != [j.name for j in system.joints]:
-        return {"error": f"Drake's joint order {names} is not ours"}
-    loaded = time.perf_counter()
-    symbolic = plant.ToSymbolic()
-    context = symbolic.CreateDefaultContext()
-    n = len(names)
-    qs, vs = MakeVectorVariable(n, "q"), MakeVectorVariable(n, "v")
-    symbolic.SetPositions(context, qs)
-    symbolic.SetVelocities(context, vs)
-    M = symbolic.CalcMassMatrix(context)
-    Cqd = symbolic.CalcBiasTerm(context)
-    tau_g = symbolic.CalcGravityGeneralizedForces(context)
-    built = time.perf_counter()
-    env = {qs[i]: q[i] for i in range(n)} | {vs[i]: qd[i] for i in range(n)}
-    M_n = Evaluate(M, env)
-    Cqd_n = Evaluate(Cqd.reshape(n, 1), env).ravel()
-    g_n = -Evaluate(tau_g.reshape(n, 1), env).ravel()  # Drake's gravity generalized force is −g
-    evaluated = time.perf_counter()
-    derivation = ours.get("cold_seconds")
+    """Drake's symbolic path on our exported URDF (see the module docstring) through the Drake adapter
+    (:meth:`harness.engines.drake_engine.DrakeModel.symbolic_terms`)."""
     from importlib.metadata import version
 
+    from harness.derivation.cache import PROJECT_ROOT
+    from harness.engines import engine
+    from harness.export.numeric import instantiate
+
+    start = time.perf_counter()
+    tree = instantiate(system, system.default_parameters())
+    model = engine("drake")(tree, (PROJECT_ROOT / "urdf" / f"{SYSTEM}.urdf").read_text())
+    loaded = time.perf_counter()
+    terms = model.symbolic_terms()
+    built = time.perf_counter()
+    M_n, Cqd_n, g_n = terms["at"](q, qd)
+    evaluated = time.perf_counter()
+    derivation = ours.get("cold_seconds")
     return {"version": version("drake"),
             "load_seconds": loaded - start, "symbolic_seconds": built - loaded,
             "evaluate_one_state_seconds": evaluated - built,
-            "to_string_chars": {"M[0,0]": len(M[0, 0].to_string()), "Cqd[0]": len(Cqd[0].to_string())},
+            "to_string_chars": {"M[0,0]": len(terms["M"][0, 0].to_string()), "Cqd[0]": len(terms["Cqd"][0].to_string())},
             "agreement_abs": {"M": float(np.abs(M_n - c("M", q, qd, p)).max()),
                               "Cqd": float(np.abs(Cqd_n - c("C", q, qd, p) @ qd).max()),
                               "g": float(np.abs(g_n - c("g", q, qd, p).ravel()).max())},
@@ -159,8 +140,6 @@ def _drake(c, system, q, qd, p, ours: dict) -> dict:
 def run(catalogue, quick: bool = False) -> dict:
     """Derivation, compilation, evaluation and size of the lightweight robot of ``catalogue``; see the module
     docstring."""
-    import pinocchio as pin
-
     from harness.derivation.compile import compiled
     from harness.engines.base import State
     from harness.engines.pinocchio_engine import PinocchioModel
@@ -197,27 +176,23 @@ def run(catalogue, quick: bool = False) -> dict:
 
     state = State.make(system, q, qd)
     pm = PinocchioModel(state.tree)
-    model, data = pm.model, pm.data
-    pq, pv = pm.to_pin(q), pm.to_pin(qd)
-    pinocchio = {"M": _best(lambda: pin.crba(model, data, pq), repeats, number),
-                 "Cqd": _best(lambda: pin.nonLinearEffects(model, data, pq, pv)
-                              - pin.computeGeneralizedGravity(model, data, pq), repeats, number),
-                 "g": _best(lambda: pin.computeGeneralizedGravity(model, data, pq), repeats, number)}
-    PQ, PV = [pm.to_pin(x) for x in Q], [pm.to_pin(x) for x in QD]
+    at = pm.kernels(q, qd)   # Pinocchio's raw calls at one state (the identity map: tree coordinates are ours)
+    pinocchio = {"M": _best(at["M"], repeats, number),
+                 "Cqd": _best(lambda: at["nle"]() - at["g"](), repeats, number),
+                 "g": _best(at["g"], repeats, number)}
+    every = [pm.kernels(a, b) for a, b in zip(Q, QD)]
 
     def loop(fn):
-        return lambda: [fn(a, b) for a, b in zip(PQ, PV)]
+        return lambda: [fn(k) for k in every]
 
-    pinocchio_loop = {"M": _best(loop(lambda a, b: pin.crba(model, data, a)), 3, 1) / N,
-                      "Cqd": _best(loop(lambda a, b: pin.nonLinearEffects(model, data, a, b)
-                                        - pin.computeGeneralizedGravity(model, data, a)), 3, 1) / N,
-                      "g": _best(loop(lambda a, b: pin.computeGeneralizedGravity(model, data, a)), 3, 1) / N}
+    pinocchio_loop = {"M": _best(loop(lambda k: k["M"]()), 3, 1) / N,
+                      "Cqd": _best(loop(lambda k: k["nle"]() - k["g"]()), 3, 1) / N,
+                      "g": _best(loop(lambda k: k["g"]()), 3, 1) / N}
 
     # the symbolic and Pinocchio numbers agree on these states (the comparison is the conformance suite's job;
     # this guards the benchmark against timing a wrong function)
     k = N - 1
-    agree = max(float(np.abs(c.batched("M", Q[k:], QD[k:], p)[0] - pm.from_pin_matrix(pin.crba(model, data, PQ[k]))
-                             ).max()), 0.0)
+    agree = max(float(np.abs(c.batched("M", Q[k:], QD[k:], p)[0] - pm.mass_and_bias(Q[k], QD[k])[0]).max()), 0.0)
     doc["evaluation"] = {
         "states": N, "seconds_per_call": {"symbolic": symbolic, "pinocchio": pinocchio},
         "terms_one_call": {"symbolic": terms, "pinocchio_sum": sum(pinocchio.values()),

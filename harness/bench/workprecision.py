@@ -37,6 +37,7 @@ import time
 
 import numpy as np
 
+from harness.engines import ENGINES
 from harness.scenes import simulate as sim
 from harness.scenes import structural
 from harness.modeling.scenes import Scene, with_idle_effects
@@ -52,6 +53,11 @@ ACCURACY = 1e-6           # the accuracy at which the engines are compared (the 
 SLIPS = ("the sphere slips: our model (Ex. 3.17) rolls, so there is no reference; MuJoCo's slipping contact is "
          "checked against the predicted threshold by harness check")
 _STAGES = {"RK4": 4, "semi-implicit Euler": 1, "Euler": 1, "implicitfast": 1, "implicit": 1}
+
+
+def steps_itself(engine: str) -> bool:
+    """Whether ``engine`` runs with its own integrators (MuJoCo's ``mj_step``) rather than scipy's."""
+    return engine in ENGINES and bool(ENGINES[engine].integrators)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -103,7 +109,7 @@ class Grid:
         """Pinocchio's q̈ equals ours to round-off, so a scipy method takes the same steps with either: its
         error and evaluations repeat ours and only the time per evaluation differs. In the full grid Pinocchio
         runs every other tolerance (the full set for ours) to halve the sweep."""
-        if engine == "pinocchio" and method in ADAPTIVE and len(self.rtols) > 4:
+        if engine in ENGINES and method in ADAPTIVE and len(self.rtols) > 4:
             return self.rtols[::2]
         return self.rtols
 
@@ -173,7 +179,7 @@ class _Budget(Exception):
 
 
 def _not_applicable(s, engine: str) -> str | None:
-    return s.engine_note(engine)
+    return ENGINES[engine].applies(s) if engine in ENGINES else None
 
 
 def _slips(s, sc: Scene) -> bool:
@@ -197,7 +203,7 @@ def _simulate(s, sc: Scene, source: str, method: str, rtol: float, catalogue=Non
 def event_note(sc: Scene, engine: str, method: str) -> str | None:
     """Why a configuration does not apply to a scene with events (None: it applies)."""
     event, roll = hybrid_event(sc), _roll(sc)
-    if engine == "mujoco":
+    if steps_itself(engine):
         if isinstance(event, structural.LiftOff):
             return ("MuJoCo has no lift-off of its own here (its phase 1, a point held on the ground by an equality, "
                     "is checked by harness check)")
@@ -216,7 +222,7 @@ def run_task(catalogue, system: str, scene: str, engine: str, method: str, setti
              budget: int, reference: dict) -> dict:
     """One configuration: ``setting`` is ``rtol`` (adaptive) or ``k`` (fixed step ``dt = Δ/k``)."""
     s, sc = get_scene(catalogue, system, scene)
-    adaptive = method in ADAPTIVE and engine != "mujoco"
+    adaptive = method in ADAPTIVE and not steps_itself(engine)
     out = {"system": system, "scene": scene, "engine": engine, "method": method,
            "rtol": setting if adaptive else None,
            "dt": None if adaptive else sc.horizon / (len(reference["t"]) - 1) / setting}
@@ -224,11 +230,11 @@ def run_task(catalogue, system: str, scene: str, engine: str, method: str, setti
     if note:
         return {**out, "skipped": note}
     ref = _trajectory("reference", reference["t"], reference["q"], reference["qd"])
-    if not adaptive and engine != "mujoco":
+    if not adaptive and not steps_itself(engine):
         steps = int(setting) * (len(reference["t"]) - 1) * _STAGES[method]
         if steps > budget:
             return {**out, "skipped": f"over the budget of {budget} evaluations ({steps})"}
-    if hybrid_event(sc) is not None and engine != "mujoco":
+    if hybrid_event(sc) is not None and not steps_itself(engine):
         _simulate(s, sc, engine, method, 1e-3, catalogue)  # warm-up: the compiled functions are built lazily, not timed
     times, first = [], None
     for _ in range(max(1, repeats)):
@@ -254,13 +260,13 @@ def run_task(catalogue, system: str, scene: str, engine: str, method: str, setti
 def _one_run(s, sc: Scene, engine, method, setting, dt, budget, t_eval, catalogue=None) -> sim.Trajectory:
     t_eval = np.asarray(t_eval)
     event, roll = hybrid_event(sc), _roll(sc)
-    if engine == "mujoco" and (event or roll):  # its own dry friction / contact (implicitfast, event_note)
+    if steps_itself(engine) and (event or roll):  # MuJoCo's dry friction / contact (implicitfast, event_note)
         with np.errstate(all="ignore"):
             return (structural.mujoco_stick_slip(s, sc, event, dt) if event else
                     structural.mujoco_rolling(s, sc, roll, dt))
     if event is not None:  # solve_ivp with the events located (event_note)
         return _simulate(s, sc, engine, method, setting, catalogue)
-    if engine == "mujoco":
+    if steps_itself(engine):
         with np.errstate(all="ignore"):
             tr = sim.mujoco_native(s, sc, dt, method)
         tr.evaluations *= _STAGES[method]

@@ -38,7 +38,7 @@ import sympy as sp
 from harness.checks import Bound, Check, relative_error
 from harness.derivation.compile import compiled
 from harness.compare.conformance import FLOAT64_RTOL, scales
-from harness.engines import mujoco_engine, pinocchio_engine, symbolic
+from harness.engines import ENGINES, symbolic
 from harness.engines.base import State
 from harness.derivation.kinematics import link_poses, point_position
 from harness.modeling.claims import ENGINE_QUANTITIES, Claim, as_matrix as _as_matrix, symbols as _symbols
@@ -149,6 +149,10 @@ class _Disagrees(AssertionError):
     pass
 
 
+CLAIM_ENGINES = ("pinocchio", "mujoco")
+"""The engines a claim is checked against (besides the derivation)."""
+
+
 def _engine_values(claim: Claim, state: State, engines):
     """The claimed quantity from each source, with the scale and tolerance it is compared at."""
     ref = symbolic.evaluate(state)
@@ -158,10 +162,8 @@ def _engine_values(claim: Claim, state: State, engines):
     kind = claim.quantity.split(":")[0]
     evaluations = {"derivation": ref}
     if kind in ENGINE_QUANTITIES | {"eom", "equilibrium"}:
-        if "pinocchio" in engines:
-            evaluations["pinocchio"] = pinocchio_engine.evaluate(state)
-        if "mujoco" in engines:
-            evaluations["mujoco"] = mujoco_engine.evaluate(state)
+        for name in engines:
+            evaluations[name] = ENGINES[name](state.tree).evaluate(state)
     return evaluations, s, kappa
 
 
@@ -169,7 +171,7 @@ def _value_of(claim: Claim, ev):
     return {"M": ev.M, "C": ev.C, "Cqd": ev.Cqd, "g": ev.g}[claim.quantity]
 
 
-def evaluate_claim(system: System, claim: Claim, state: State, engines=("pinocchio", "mujoco"),
+def evaluate_claim(system: System, claim: Claim, state: State, engines=CLAIM_ENGINES,
                    substitution: dict | None = None) -> dict[str, float]:
     """Relative error of the printed expression against each source at one state (relative to tolerance:
     a value ≤ 1 means 'agrees')."""
@@ -224,10 +226,9 @@ def evaluate_claim(system: System, claim: Claim, state: State, engines=("pinocch
     return out
 
 
-def classify(system: System, claim: Claim, engines=("pinocchio", "mujoco"),
-             examples: int | None = None) -> Classification:
+def classify(system: System, claim: Claim, engines=CLAIM_ENGINES, examples: int | None = None) -> Classification:
     """Classify a claim on hypothesis states; a failing claim is shrunk to a minimal counterexample."""
-    engines = tuple(e for e in engines if not system.engine_note(e))
+    engines = tuple(e for e in engines if not ENGINES[e].applies(system))
     worst: dict[str, float] = {}
     count = [0]
 

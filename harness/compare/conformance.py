@@ -1,4 +1,5 @@
-"""Conformance checks of one system: our derivation against Pinocchio and MuJoCo on hypothesis states.
+"""Conformance checks of one system: our derivation against every engine of the registry (Pinocchio, MuJoCo,
+Drake; :data:`harness.engines.ENGINES`) that applies to it, on hypothesis states.
 
 Tolerance policy (the only one; never tuned per test)
 -----------------------------------------------------
@@ -29,7 +30,7 @@ import numpy as np
 
 from harness.compare import roundtrip
 from harness.checks import Bound, Check, flag, max_abs as _max, relative_error as _relative
-from harness.engines import pinocchio_engine, mujoco_engine, symbolic
+from harness.engines import ENGINES, symbolic
 from harness.engines.base import Evaluation, State
 from harness.modeling.system import System
 from harness.settings import property_test
@@ -110,25 +111,19 @@ def self_checks(state: State, ref: Evaluation) -> list[Check]:
     ]
 
 
-def evaluate_all(state: State, engines=("pinocchio", "mujoco"), pin_urdf=None, mj_xml=None) -> list[Check]:
-    """All checks at one state. ``pin_urdf``/``mj_xml`` may replace the exported model text (to show that a
-    wrong export is caught)."""
+def evaluate_all(state: State, engines=None, pin_urdf=None, mj_xml=None) -> list[Check]:
+    """All checks at one state, by every engine of ``engines`` (default: the registry). ``pin_urdf``/``mj_xml``
+    may replace the exported model text Pinocchio/MuJoCo load (to show that a wrong export is caught)."""
     ref = symbolic.evaluate(state)
     ref.extra["qd"] = state.qd
     findings = self_checks(state, ref)
-    for engine in engines:
-        if engine == "pinocchio":
-            model = pinocchio_engine.PinocchioModel(state.tree, urdf=pin_urdf(state.tree) if pin_urdf else None)
-            findings += compare(state, ref, pinocchio_engine.evaluate(state, model))
-            items = roundtrip.pinocchio_roundtrip(state.tree, model)
-        elif engine == "mujoco":
-            model = mujoco_engine.MujocoModel(state.tree, xml=mj_xml(state.tree) if mj_xml else None)
-            findings += compare(state, ref, mujoco_engine.evaluate(state, model))
-            items = roundtrip.mujoco_roundtrip(state.tree, model)
-        else:
-            continue
-        worst = max(items, key=lambda item: item.error)
-        findings.append(EXPORT.check("export round trip", engine, worst.error, detail=worst.item))
+    texts = {"pinocchio": pin_urdf, "mujoco": mj_xml}
+    for name in ENGINES if engines is None else engines:
+        text = texts.get(name)
+        model = ENGINES[name](state.tree, text(state.tree) if text else None)
+        findings += compare(state, ref, model.evaluate(state))
+        worst = max(roundtrip.items(state.tree, model), key=lambda item: item.error)
+        findings.append(EXPORT.check("export round trip", name, worst.error, detail=worst.item))
     return findings
 
 
@@ -153,11 +148,13 @@ class Summary:
                 self.worst[key] = c
 
 
-def run(system: System, engines=("pinocchio", "mujoco"), examples: int | None = None,
+def run(system: System, engines=None, examples: int | None = None,
         random_parameters: bool = True, pin_urdf=None, mj_xml=None) -> Summary:
-    """Run every check on hypothesis states; on a failure, hypothesis shrinks it to a minimal state."""
+    """Run every check on hypothesis states by ``engines`` (default: every engine of the registry that applies);
+    on a failure, hypothesis shrinks it to a minimal state."""
     summary = Summary(system.name)
-    summary.not_applicable = {e: system.engine_note(e) for e in engines if system.engine_note(e)}
+    engines = tuple(ENGINES) if engines is None else tuple(engines)
+    summary.not_applicable = {e: ENGINES[e].applies(system) for e in engines if ENGINES[e].applies(system)}
     engines = tuple(e for e in engines if e not in summary.not_applicable)
 
     def check(state: State):

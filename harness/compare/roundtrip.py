@@ -14,22 +14,20 @@ the :class:`NumericTree` they were exported from:
 * per attachment point: the link it is fixed in and its position in that link's frame;
 * the number of degrees of freedom (an extra joint would go unnoticed otherwise).
 
-:func:`pinocchio_roundtrip` and :func:`mujoco_roundtrip` return one record per compared item (error 0 when
-it matches); :func:`roundtrip` keeps the findings, the items whose error exceeds the tolerance.
+:func:`urdf_roundtrip` (an engine that reads the URDF: Pinocchio, Drake) and :func:`mjcf_roundtrip` (MuJoCo)
+return one record per compared item (error 0 when it matches), :func:`items` the one for the file the engine
+reads; :func:`roundtrip` keeps the findings, the items whose error exceeds the tolerance. The numbers as loaded
+are each adapter's own reading (``link_as_loaded``, ``joint_as_loaded``, ``point_as_loaded``, ``dofs``,
+:mod:`harness.engines`): no engine is called here.
 """
 
 from __future__ import annotations
 
 import math
-import re
 from dataclasses import dataclass
 
-import mujoco
 import numpy as np
-import pinocchio as pin
 
-from harness.engines.mujoco_engine import MujocoModel
-from harness.engines.pinocchio_engine import PinocchioModel
 from harness.export.mjcf import fused_links
 from harness.export.numeric import MUJOCO_POINT_MASS_INERTIA, NumericTree
 from harness.modeling.system import WORLD
@@ -43,7 +41,6 @@ tensor and its quaternions cost a few ulps (observed ≤ 2e-14 relative), Pinocc
 about the same. 1e-12 leaves two orders of margin above that and is six orders below the damage a number
 printed with 6 significant digits does (1e-6)."""
 
-PINOCCHIO, MUJOCO = "pinocchio", "mujoco"
 
 
 @dataclass
@@ -91,99 +88,58 @@ def rpy_matrix(rpy) -> np.ndarray:
     return rz @ ry @ rx
 
 
-# --------------------------------------------------------------------------- Pinocchio
-_PIN_ALIGNED = re.compile(r"JointModel([RP])([XYZ])")
-_PIN_UNALIGNED = {"JointModelRevoluteUnaligned": "revolute", "JointModelPrismaticUnaligned": "prismatic"}
+# --------------------------------------------------------------------------- URDF (Pinocchio, Drake)
+def urdf_roundtrip(tree: NumericTree, model) -> list[RoundTripError]:
+    """Every item of ``tree`` against an engine that loaded our URDF (Pinocchio, Drake).
 
-
-def _pin_joint_axis(joint) -> tuple[str, list]:
-    """(type, axis) of a Pinocchio joint: axis-aligned joints (``JointModelRZ``, ``JointModelPX``) carry the
-    axis in their type, unaligned ones (URDF axes that are not +x/+y/+z, e.g. -z) in ``.axis``. Any other
-    joint model (e.g. ``JointModelRUBZ`` for a continuous joint) is reported by its name, without axis."""
-    name = joint.shortname()
-    if match := _PIN_ALIGNED.fullmatch(name):
-        return ("revolute" if match[1] == "R" else "prismatic"), np.eye(3)["XYZ".index(match[2])].tolist()
-    if name in _PIN_UNALIGNED:
-        return _PIN_UNALIGNED[name], np.asarray(joint.extract().axis, dtype=float).tolist()
-    return name, []
-
-
-def pinocchio_roundtrip(tree: NumericTree, model: PinocchioModel) -> list[RoundTripError]:
-    """Every item of ``tree`` against the Pinocchio model loaded from our URDF.
-
-    ``model.inertias[jid]`` is the spatial inertia of everything rigidly attached to joint ``jid``, in the
-    joint frame (massless point links add nothing); in our trees each joint carries exactly one link whose
-    frame is the joint frame, so it must equal that link's mass, centre of mass (``lever``) and inertia about
-    the centre of mass (``inertia``). Links and points are found as BODY frames of their name; a point's
-    frame placement is relative to its parent joint, i.e. to its link's frame (joint 0, ``universe``, for
-    world points)."""
-    E, m = PINOCCHIO, model.model
-    joint_of = {j.child: j.name for j in tree.joints} | {WORLD: "universe"}
-    out = [_names(E, "dofs", [len(tree.joints)], [m.nv])]
-
-    def body_frame(name):
-        return m.frames[m.getFrameId(name, pin.FrameType.BODY)] if m.existFrame(name, pin.FrameType.BODY) else None
-
+    Per link: the moving joint that carries it, its frame relative to that joint's frame (in our trees each
+    joint carries exactly one link whose frame is the joint frame: identity), mass, centre of mass (lever) and
+    inertia about the centre of mass in the link frame; per joint: the parent joint, type, axis, placement in
+    the parent link; per point: the joint that carries it and its position in its link's frame (joints are named
+    as in our tree, ``None`` for the world)."""
+    E = model.name
+    joint_of = {j.child: j.name for j in tree.joints} | {WORLD: None}
+    out = [_names(E, "dofs", [len(tree.joints)], [model.dofs])]
     for link in tree.links:
-        frame = body_frame(link.name)
-        if frame is None:
+        loaded = model.link_as_loaded(link.name)
+        if loaded is None:
             out.append(_missing(E, link.name))
             continue
-        jid = frame.parentJoint
-        inertia = m.inertias[jid]
-        out += [_names(E, f"{link.name} joint", [joint_of[link.name]], [m.names[jid]]),
-                _numbers(E, f"{link.name} frame", np.eye(4)[:3], frame.placement.homogeneous[:3]),
-                _numbers(E, f"{link.name} mass", [link.mass], [inertia.mass]),
-                _numbers(E, f"{link.name} inertia", link.inertia, inertia.inertia)]
+        out += [_names(E, f"{link.name} joint", [joint_of[link.name]], [loaded["joint"]]),
+                _numbers(E, f"{link.name} frame", np.eye(4)[:3], loaded["frame"]),
+                _numbers(E, f"{link.name} mass", [link.mass], [loaded["mass"]]),
+                _numbers(E, f"{link.name} inertia", link.inertia, loaded["inertia"])]
         if link.mass > 0:  # a massless link has no centre of mass (and none is exported)
-            out.append(_numbers(E, f"{link.name} com", link.com, inertia.lever))
+            out.append(_numbers(E, f"{link.name} com", link.com, loaded["com"]))
     for j in tree.joints:
-        if not m.existJointName(j.name):
+        loaded = model.joint_as_loaded(j.name)
+        if loaded is None:
             out.append(_missing(E, j.name))
             continue
-        jid = m.getJointId(j.name)
-        kind, axis = _pin_joint_axis(m.joints[jid])
-        placement = m.jointPlacements[jid]
-        out += [_names(E, f"{j.name} parent", [joint_of[j.parent]], [m.names[m.parents[jid]]]),
-                _names(E, f"{j.name} type", [j.type], [kind]),
-                _numbers(E, f"{j.name} axis", j.axis, axis),
-                _numbers(E, f"{j.name} origin", j.origin, placement.translation),
-                _numbers(E, f"{j.name} rotation", rpy_matrix(j.rpy), placement.rotation)]
+        out += [_names(E, f"{j.name} parent", [joint_of[j.parent]], [loaded["parent"]]),
+                _names(E, f"{j.name} type", [j.type], [loaded["type"]]),
+                _numbers(E, f"{j.name} axis", j.axis, loaded["axis"]),
+                _numbers(E, f"{j.name} origin", j.origin, loaded["origin"]),
+                _numbers(E, f"{j.name} rotation", rpy_matrix(j.rpy), loaded["rotation"])]
     for point in tree.points:
-        frame = body_frame(point.name)
-        if frame is None:
+        loaded = model.point_as_loaded(point.name)
+        if loaded is None:
             out.append(_missing(E, point.name))
             continue
-        out += [_names(E, f"{point.name} link", [joint_of[point.link]], [m.names[frame.parentJoint]]),
-                _numbers(E, f"{point.name} position", point.position, frame.placement.translation)]
+        out += [_names(E, f"{point.name} link", [joint_of[point.link]], [loaded["joint"]]),
+                _numbers(E, f"{point.name} position", point.position, loaded["position"])]
     return out
 
 
-# --------------------------------------------------------------------------- MuJoCo
-_MJ_TYPE = {mujoco.mjtJoint.mjJNT_HINGE: "revolute", mujoco.mjtJoint.mjJNT_SLIDE: "prismatic"}
+# --------------------------------------------------------------------------- MJCF (MuJoCo)
+def mjcf_roundtrip(tree: NumericTree, model) -> list[RoundTripError]:
+    """Every item of ``tree`` against MuJoCo's model compiled from our MJCF.
 
-
-def _quat_matrix(quat) -> np.ndarray:
-    mat = np.zeros(9)
-    mujoco.mju_quat2Mat(mat, np.asarray(quat, dtype=float))
-    return mat.reshape(3, 3)
-
-
-def mujoco_roundtrip(tree: NumericTree, model: MujocoModel) -> list[RoundTripError]:
-    """Every item of ``tree`` against the compiled MuJoCo model.
-
-    MuJoCo keeps a body's inertia as principal moments ``body_inertia`` in the frame ``body_iquat`` at
-    ``body_ipos``; the full tensor in the body frame is ``R diag(I) Rᵀ``. A joint's axis ``jnt_axis`` is in
-    its body's frame, its anchor ``jnt_pos`` must be the body origin (our joint frame), and the body's
-    placement in its parent is ``body_pos``/``body_quat``. Points are sites, ``site_pos`` in their body."""
-    E, m = MUJOCO, model.model
-
-    def find(kind, name):
-        return mujoco.mj_name2id(m, kind, name)
-
-    def body_name(bid):
-        return mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, bid)
-
+    MuJoCo keeps a body's inertia as principal moments in a frame of their own; the adapter reads the full tensor
+    in the body frame. A joint's anchor must be the body origin (our joint frame), and the body's placement in
+    its parent is the joint's placement. Points are sites. A massless link is fused into its child's body
+    (:func:`~harness.export.mjcf.fused_links`): it has no body of its own, its joint is checked in the child's."""
+    E = model.name
     fused = fused_links(tree)
     child_of = {j.parent: j.child for j in tree.joints}
 
@@ -192,57 +148,58 @@ def mujoco_roundtrip(tree: NumericTree, model: MujocoModel) -> list[RoundTripErr
             link = child_of[link]
         return link
 
-    out = [_names(E, "dofs", [len(tree.joints)], [m.nv])]
+    out = [_names(E, "dofs", [len(tree.joints)], [model.dofs])]
     for link in tree.links:
         if link.name in fused:
             continue  # no body of its own; its joint is checked in the child's body below
-        bid = find(mujoco.mjtObj.mjOBJ_BODY, link.name)
-        if bid < 0:
+        loaded = model.body_as_loaded(link.name)
+        if loaded is None:
             out.append(_missing(E, link.name))
             continue
-        R = _quat_matrix(m.body_iquat[bid])
         intended = link.inertia
         if not np.any(intended):
             # A zero inertia tensor (point mass) is exported as the isotropic MUJOCO_POINT_MASS_INERTIA,
             # which MuJoCo requires (see numeric.py); exactly that value counts as a match, anything else
             # (zero included) is a finding.
             intended = np.eye(3) * MUJOCO_POINT_MASS_INERTIA
-        out += [_numbers(E, f"{link.name} mass", [link.mass], [m.body_mass[bid]]),
-                _numbers(E, f"{link.name} inertia", intended, R @ np.diag(m.body_inertia[bid]) @ R.T)]
+        out += [_numbers(E, f"{link.name} mass", [link.mass], [loaded["mass"]]),
+                _numbers(E, f"{link.name} inertia", intended, loaded["inertia"])]
         if link.mass > 0:  # a massless link has no centre of mass
-            out.append(_numbers(E, f"{link.name} com", link.com, m.body_ipos[bid]))
+            out.append(_numbers(E, f"{link.name} com", link.com, loaded["com"]))
     for j in tree.joints:
-        jid = find(mujoco.mjtObj.mjOBJ_JOINT, j.name)
-        if jid < 0:
+        loaded = model.joint_as_loaded(j.name)
+        if loaded is None:
             out.append(_missing(E, j.name))
             continue
-        bid = m.jnt_bodyid[jid]
-        kind = _MJ_TYPE.get(mujoco.mjtJoint(m.jnt_type[jid]), str(mujoco.mjtJoint(m.jnt_type[jid])))
         parent = j.parent
         while parent in fused:  # the placement of a fused chain is the first joint's
             parent = next(k.parent for k in tree.joints if k.child == parent)
-        out += [_names(E, f"{j.name} bodies", [body_of(parent), body_of(j.child)],
-                       [body_name(m.body_parentid[bid]), body_name(bid)]),
-                _names(E, f"{j.name} type", [j.type], [kind]),
-                _numbers(E, f"{j.name} axis", j.axis, m.jnt_axis[jid]),
-                _numbers(E, f"{j.name} anchor", np.zeros(3), m.jnt_pos[jid])]
+        out += [_names(E, f"{j.name} bodies", [body_of(parent), body_of(j.child)], loaded["bodies"]),
+                _names(E, f"{j.name} type", [j.type], [loaded["type"]]),
+                _numbers(E, f"{j.name} axis", j.axis, loaded["axis"]),
+                _numbers(E, f"{j.name} anchor", np.zeros(3), loaded["anchor"])]
         if j.parent not in fused:
-            out += [_numbers(E, f"{j.name} origin", j.origin, m.body_pos[bid]),
-                    _numbers(E, f"{j.name} rotation", rpy_matrix(j.rpy), _quat_matrix(m.body_quat[bid]))]
+            out += [_numbers(E, f"{j.name} origin", j.origin, loaded["origin"]),
+                    _numbers(E, f"{j.name} rotation", rpy_matrix(j.rpy), loaded["rotation"])]
     for point in tree.points:
-        sid = find(mujoco.mjtObj.mjOBJ_SITE, point.name)
-        if sid < 0:
+        loaded = model.point_as_loaded(point.name)
+        if loaded is None:
             out.append(_missing(E, point.name))
             continue
-        out += [_names(E, f"{point.name} link", [point.link], [body_name(m.site_bodyid[sid])]),
-                _numbers(E, f"{point.name} position", point.position, m.site_pos[sid])]
+        out += [_names(E, f"{point.name} link", [point.link], [loaded["link"]]),
+                _numbers(E, f"{point.name} position", point.position, loaded["position"])]
     return out
 
 
-def roundtrip(tree: NumericTree, pin_model: PinocchioModel | None, mj_model: MujocoModel | None,
-              rtol: float = ROUNDTRIP_RTOL) -> list[RoundTripError]:
-    """The findings: items of either engine (skipped when its model is ``None``) whose error exceeds
-    ``rtol``."""
-    items = (pinocchio_roundtrip(tree, pin_model) if pin_model is not None else []) \
-        + (mujoco_roundtrip(tree, mj_model) if mj_model is not None else [])
-    return [e for e in items if not e.error <= rtol]
+READERS = {"URDF": urdf_roundtrip, "MJCF": mjcf_roundtrip}
+
+
+def items(tree: NumericTree, model) -> list[RoundTripError]:
+    """Every item of ``tree`` against ``model`` (an engine adapter), by the file the engine reads."""
+    return READERS[model.reads](tree, model)
+
+
+def roundtrip(tree: NumericTree, *models, rtol: float = ROUNDTRIP_RTOL) -> list[RoundTripError]:
+    """The findings: items of each engine adapter in ``models`` (``None`` skipped) whose error exceeds ``rtol``."""
+    compared = [item for model in models if model is not None for item in items(tree, model)]
+    return [e for e in compared if not e.error <= rtol]

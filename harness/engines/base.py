@@ -1,9 +1,15 @@
-"""What every engine adapter takes (a :class:`State`) and gives (an :class:`Evaluation`), and the map of
-tree-joint quantities to lecture coordinates by virtual work (5.58)-(5.60)."""
+"""What every engine adapter takes (a :class:`State`) and gives (an :class:`Evaluation`), the map of
+tree-joint quantities to lecture coordinates by virtual work (5.58)-(5.60), and what the tree engines share
+(:class:`TreeEngine`: the interface; the springs, dampers, inputs and loads formed from an engine's own point
+positions and Jacobians; the Christoffel C by polarization of a bias that is quadratic in the velocity)."""
 
 from __future__ import annotations
 
+import contextlib
 import math
+import os
+import sys
+import tempfile
 from dataclasses import dataclass, field
 from functools import cache, cached_property
 
@@ -14,7 +20,7 @@ from harness import limits
 from harness.derivation.compile import compiled
 from harness.errors import InputError
 from harness.export.numeric import NumericTree, instantiate
-from harness.modeling.system import System
+from harness.modeling.system import WORLD, System
 
 
 @dataclass(frozen=True)
@@ -203,3 +209,133 @@ def to_lecture(engine: str, state: State, t: TreeQuantities) -> Evaluation:
 
 def _max_abs(x) -> float:
     return float(np.max(np.abs(x))) if x is not None and np.size(x) else 0.0
+
+
+# --------------------------------------------------------------------------------------------- tree engines
+class TreeEngine:
+    """One tree loaded in one engine, seen through named one-degree-of-freedom joints in our order (``θ``).
+
+    An adapter is built from our exported text of a :class:`NumericTree` (``Engine(tree)``, or
+    ``Engine(tree, text)`` for another text) or, without a tree, from a model the engine has already loaded and
+    the names of the joints to look through (``Engine.loaded(model, joints)``, for files of other origin:
+    :mod:`harness.files.importer`). Every number comes from a named engine call, recorded in ``calls``.
+
+    Class attributes: ``name`` (the registry key and the source of its checks), ``reads`` (the exported text it
+    loads: ``"URDF"`` or ``"MJCF"``), ``integrators`` (its own time stepping, :meth:`rollout`; empty for an
+    engine that only gives the dynamics), ``natively`` (the scene phenomena it simulates itself, beyond the
+    forward dynamics every engine gives: ``"stepping"``, ``"dry friction"``, ``"contact"``, ``"soft
+    constraints"``, ``"kkt constraints"``; the scene code asks for a phenomenon, never for an engine by name)."""
+
+    name: str = ""
+    reads: str = ""
+    integrators: tuple = ()
+    natively: frozenset = frozenset()
+    tree: NumericTree | None = None
+
+    @classmethod
+    def applies(cls, system: System) -> str | None:
+        """``None`` when the engine applies to ``system``, else the reason it does not
+        (``System.not_in_engines``)."""
+        return system.engine_note(cls.name)
+
+    @classmethod
+    def simulates(cls, phenomenon: str) -> bool:
+        """Whether the engine simulates ``phenomenon`` itself (one of :attr:`natively`)."""
+        return phenomenon in cls.natively
+
+    @property
+    def label(self) -> str:
+        """What error messages name: the system of the tree, or the engine for a model loaded without one."""
+        return self.tree.system if self.tree is not None else self.name
+
+    def quantities(self, theta, theta_dot, u: dict, loads=(), christoffel: bool = True) -> TreeQuantities:
+        """Everything in tree coordinates; ``christoffel=False`` skips the Coriolis matrices (simulation)."""
+        raise NotImplementedError
+
+    def forward_dynamics(self, theta, theta_dot, u: dict, loads=()) -> np.ndarray:
+        """``θ̈`` alone, the call a simulation makes."""
+        return self.quantities(theta, theta_dot, u, loads, christoffel=False).qdd
+
+    def evaluate(self, state: State) -> Evaluation:
+        """The quantities at ``state`` in lecture coordinates (:func:`to_lecture`)."""
+        return to_lecture(self.name, state, self.quantities(state.theta, state.theta_dot, state.u, state.loads))
+
+
+def polarization(bias, theta_dot) -> np.ndarray:
+    """The Christoffel ``C = ½ ∂(C θ̇)/∂θ̇`` from an engine's bias ``b(v)`` (``C(θ, v) v`` plus terms that do not
+    depend on ``v``): ``b`` is exactly quadratic in ``v``, so ``C e_j = (b(v + s e_j) − b(v − s e_j)) / (4 s)``
+    holds for any step ``s`` with no truncation error, only round-off (not a finite-difference approximation)."""
+    n = len(theta_dot)
+    step = max(1.0, float(np.max(np.abs(theta_dot))) if n else 1.0)
+    C = np.zeros((n, n))
+    for j in range(n):
+        e = np.zeros(n)
+        e[j] = step
+        C[:, j] = (bias(theta_dot + e) - bias(theta_dot - e)) / (4 * step)
+    return C
+
+
+def spring_damper_forces(tree: NumericTree, nv: int, q, v, position, jacobian, q_index: dict, v_index: dict):
+    """Generalized forces ``(f_spring, f_damper)`` in an engine's own order: tendons (springs/dampers between
+    points) ``Σ J_bᵀ f − J_aᵀ f`` from the engine's point positions ``position(point)`` (world) and
+    translational Jacobians ``jacobian(point)`` (``3 x nv``), joint springs and dampers at the engine's
+    position and velocity indices of each joint."""
+    f_spring = np.zeros(nv)
+    f_damper = np.zeros(nv)
+    for name, a, b, stiffness, rest, damping in tree.tendons:
+        r = position(b) - position(a)
+        length = np.linalg.norm(r)
+        e = r / length
+        J = jacobian(b) - jacobian(a)
+        length_rate = e @ (J @ v)
+        f_spring += J.T @ (-stiffness * (length - rest) * e)
+        f_damper += J.T @ (-damping * length_rate * e)
+    for joint, (stiffness, rest) in tree.joint_stiffness.items():
+        f_spring[v_index[joint]] += -stiffness * (q[q_index[joint]] - rest)
+    for joint, damping in tree.joint_damping.items():
+        k = v_index[joint]
+        f_damper[k] += -damping * v[k]
+    return f_spring, f_damper
+
+
+def input_forces(tree: NumericTree, nv: int, u: dict, loads, v_index: dict, rotation, point_jacobian,
+                 angular_jacobian) -> np.ndarray:
+    """Inputs on joints, and external forces/torques by (5.73) in an engine's own order: a force at a point
+    through the point's translational Jacobian ``point_jacobian(point)``, a torque on a link through its angular
+    Jacobian ``angular_jacobian(link)`` (both ``3 x nv``, world axes), components in a link's frame turned to
+    world axes by ``rotation(link)``."""
+    tau = np.zeros(nv)
+    for input_name, joint in tree.actuators:
+        tau[v_index[joint]] += u[input_name]
+    for load in loads:
+        R = np.eye(3) if load.frame == WORLD else rotation(load.frame)
+        vector = R @ load.vector
+        J = point_jacobian(load.where) if load.kind == "force" else angular_jacobian(load.where)
+        tau += J.T @ vector
+    return tau
+
+
+@contextlib.contextmanager
+def captured_output():
+    """Capture what C libraries print on file descriptors 1 and 2 (urdfdom's ``Error: …`` lines, MuJoCo's
+    compiler) while loading; yields a list that holds the text afterwards."""
+    sys.stdout.flush()
+    sys.stderr.flush()
+    text: list[str] = []
+    saved = [os.dup(1), os.dup(2)]
+    with tempfile.TemporaryFile(mode="w+b") as tmp:
+        try:
+            os.dup2(tmp.fileno(), 1)
+            os.dup2(tmp.fileno(), 2)
+            yield text
+        finally:
+            os.dup2(saved[0], 1)
+            os.dup2(saved[1], 2)
+            os.close(saved[0])
+            os.close(saved[1])
+            tmp.seek(0)
+            text.append(tmp.read().decode(errors="replace"))
+
+
+def one_line(message: str) -> str:
+    return "; ".join(line.strip() for line in str(message).splitlines() if line.strip())

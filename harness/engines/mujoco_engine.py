@@ -3,21 +3,33 @@
 (at zero velocity: gravity alone), ``qfrc_spring``, ``qfrc_damper`` (tendons and joints), ``qacc``.
 
 MuJoCo has no Coriolis matrix. The Christoffel ``C = ½ ∂(C θ̇)/∂θ̇`` is obtained from ``qfrc_bias`` by
-polarization: ``b(v) = qfrc_bias(v) − qfrc_bias(0)`` is exactly quadratic in ``v``, so
-``C e_j = (b(v + s e_j) − b(v − s e_j)) / (4 s)`` holds for any step ``s`` with no truncation error, only
-round-off (not a finite-difference approximation)."""
+polarization (:func:`~harness.engines.base.polarization`: ``qfrc_bias(v) − qfrc_bias(0)`` is exactly quadratic
+in ``v``).
+
+A scene's engine configuration is a list of **spec transforms** handed to :class:`MujocoModel`, each an edit of
+the exported ``MjSpec`` before it is compiled: :class:`Options` (time step, integrator, the effects switched on,
+friction cone), :class:`JointCoupling` and :class:`ClosureGuide` (equality constraints of closed chains and
+couplings), :class:`DryFriction` (joint ``frictionloss``), :class:`ContactSphere` (a sphere on a plane in
+contact). MuJoCo's own time stepping is one loop, :meth:`MujocoModel.rollout`, with hooks for what changes
+from step to step (inputs, loads, mode switches) and for sampling."""
 
 from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
 
 import mujoco
 import numpy as np
 
 from harness.engines import warnings_log
-from harness.engines.base import State, TreeQuantities, to_lecture
-from harness.errors import EngineError
-from harness.export.mjcf import mjcf_string
+from harness.engines.base import TreeEngine, TreeQuantities, captured_output, one_line, polarization
+from harness.errors import EngineError, ModelError
+from harness.export.mjcf import mjcf_spec, mjcf_string, rpy_quat
 from harness.modeling.system import WORLD
 from harness.export.numeric import NumericTree
+
+VERSION = mujoco.__version__
 
 WARNINGS = {
     mujoco.mjtWarning.mjWARN_INERTIA: "inertia matrix too close to singular",
@@ -57,26 +69,71 @@ def check_state(model: mujoco.MjModel, data: mujoco.MjData, what: str) -> None:
     check_warnings(model, data, what)
 
 
-class MujocoModel:
-    def __init__(self, tree: NumericTree, xml: str | None = None, spec: mujoco.MjSpec | None = None):
+def compile_text(text: str | None, source: str, path: Path | None = None,
+                 bound: float | None = None) -> mujoco.MjModel:
+    """An MJCF or URDF of other origin compiled by MuJoCo (from ``path`` when the model refers to files, else
+    from ``text``); ``bound`` sets ``compiler.boundmass``/``boundinertia``. A refusal or a compiler warning is a
+    :class:`ModelError` (what MuJoCo prints is captured)."""
+    with captured_output(), warnings.catch_warnings(record=True) as warned:
+        warnings.simplefilter("always")
+        try:
+            spec = mujoco.MjSpec.from_file(str(path)) if path is not None else mujoco.MjSpec.from_string(text)
+            if bound is not None:
+                spec.compiler.boundmass = bound
+                spec.compiler.boundinertia = bound
+            model = spec.compile()
+        except (ValueError, RuntimeError) as exc:
+            raise ModelError(f"{source}: MuJoCo refused the model: {one_line(exc)}") from None
+    if warned:  # e.g. "Inertia matrix is too close to singular": a model MuJoCo only half accepts
+        raise ModelError(f"{source}: MuJoCo warned while compiling: {one_line(warned[0].message)}")
+    return model
+
+
+class MujocoModel(TreeEngine):
+    """A MuJoCo model of one :class:`NumericTree` (our MJCF text; with ``transforms``, the exported ``MjSpec``
+    edited by each transform and compiled, its warnings recorded under ``where``) with the index maps to our
+    joint order."""
+
+    name, reads = "mujoco", "MJCF"
+    integrators = ("Euler", "RK4", "implicit", "implicitfast")
+    natively = frozenset({"stepping", "dry friction", "contact", "soft constraints"})
+
+    def __init__(self, tree: NumericTree, xml: str | None = None, transforms=(),
+                 where: str = "MjSpec.compile (scene)"):
         self.tree = tree
-        if spec is not None:  # a scene's engine configuration (contact, dry friction) on top of the export
-            self.model = warnings_log.compile_spec(spec, tree, "MjSpec.compile (scene)")
+        if transforms:  # a scene's engine configuration (constraints, contact, dry friction) on top of the export
+            spec = mjcf_spec(tree)
+            for transform in transforms:
+                transform(spec)
+            model = warnings_log.compile_spec(spec, tree, where)
         else:  # MuJoCo loads the MJCF text we export (the same text as urdf/<system>.xml for default parameters)
             xml = xml if xml is not None else mjcf_string(tree)
             with warnings_log.capture("mujoco", "MjModel.from_xml_string", tree):
-                self.model = mujoco.MjModel.from_xml_string(xml)
-        self.data = mujoco.MjData(self.model)
-        self.data_rest = mujoco.MjData(self.model)
-        self.qpos_index, self.dof_index = [], []
-        for j in tree.joints:
-            jid = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_JOINT, j.name)
-            if jid < 0:
-                raise EngineError(f"{tree.system}: joint {j.name} missing in the MuJoCo model")
-            self.qpos_index.append(self.model.jnt_qposadr[jid])
-            self.dof_index.append(self.model.jnt_dofadr[jid])
+                model = mujoco.MjModel.from_xml_string(xml)
+        self._attach(model, [j.name for j in tree.joints])
         self.actuators = {name: mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_ACTUATOR, name)
                           for name, _ in tree.actuators}
+
+    @classmethod
+    def loaded(cls, model: mujoco.MjModel, joints: list[str]) -> "MujocoModel":
+        """A model MuJoCo has compiled (a file of other origin), seen through ``joints`` (hinge, slide)."""
+        self = cls.__new__(cls)
+        self._attach(model, list(joints))
+        self.actuators = {}
+        return self
+
+    def _attach(self, model: mujoco.MjModel, joints: list[str]) -> None:
+        self.model, self.joints = model, joints
+        self.data = mujoco.MjData(model)
+        self.data_rest = mujoco.MjData(model)
+        self.jids, self.qpos_index, self.dof_index = [], [], []
+        for name in joints:
+            jid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name)
+            if jid < 0:
+                raise EngineError(f"{self.label + ': ' if self.tree else ''}joint {name} missing in the MuJoCo model")
+            self.jids.append(jid)
+            self.qpos_index.append(model.jnt_qposadr[jid])
+            self.dof_index.append(model.jnt_dofadr[jid])
 
     def _bias(self, theta, velocity):
         """``qfrc_bias`` (Coriolis, centrifugal and gravity) at one state, from ``mj_forward``."""
@@ -88,14 +145,7 @@ class MujocoModel:
         return self._pick(d.qfrc_bias)
 
     def christoffel(self, theta, theta_dot):
-        n = len(theta_dot)
-        step = max(1.0, float(np.max(np.abs(theta_dot))) if n else 1.0)
-        C = np.zeros((n, n))
-        for j in range(n):
-            e = np.zeros(n)
-            e[j] = step
-            C[:, j] = (self._bias(theta, theta_dot + e) - self._bias(theta, theta_dot - e)) / (4 * step)
-        return C
+        return polarization(lambda v: self._bias(theta, v), theta_dot)
 
     def _pick(self, vec):
         return np.asarray(vec)[self.dof_index].copy()
@@ -118,20 +168,31 @@ class MujocoModel:
                 mujoco.mj_applyFT(m, d, zero, vector, d.xpos[body].copy(), body, qfrc)
         return qfrc
 
+    def _forward(self, data, theta, theta_dot, u: dict, loads) -> None:
+        """``mj_forward`` of ``data`` at the state with inputs as ``ctrl`` and loads as ``qfrc_applied``."""
+        m = self.model
+        data.qpos[self.qpos_index] = theta
+        data.qvel[self.dof_index] = theta_dot
+        data.ctrl[:] = 0.0
+        data.qfrc_applied[:] = 0.0
+        for name, aid in self.actuators.items():
+            data.ctrl[aid] = u[name]
+        mujoco.mj_kinematics(m, data)
+        mujoco.mj_comPos(m, data)
+        if loads is not None:
+            data.qfrc_applied[:] = self.applied(loads)
+        mujoco.mj_forward(m, data)
+
+    def forward_dynamics(self, theta, theta_dot, u: dict, loads=()) -> np.ndarray:
+        """``θ̈`` alone: ``mj_forward → qacc`` (checked as :meth:`quantities` does)."""
+        self._forward(self.data, theta, theta_dot, u, loads)
+        check_state(self.model, self.data, self.tree.system)
+        return self._pick(self.data.qacc)
+
     def quantities(self, theta, theta_dot, u: dict, loads=(), christoffel: bool = True) -> TreeQuantities:
         m, d, d0 = self.model, self.data, self.data_rest
-        for data, vel in ((d, theta_dot), (d0, np.zeros_like(theta_dot))):
-            data.qpos[self.qpos_index] = theta
-            data.qvel[self.dof_index] = vel
-            data.ctrl[:] = 0.0
-            data.qfrc_applied[:] = 0.0
-            for name, aid in self.actuators.items():
-                data.ctrl[aid] = u[name]
-            mujoco.mj_kinematics(m, data)
-            mujoco.mj_comPos(m, data)
-            if data is d:
-                data.qfrc_applied[:] = self.applied(loads)
-            mujoco.mj_forward(m, data)
+        self._forward(d, theta, theta_dot, u, loads)
+        self._forward(d0, theta, np.zeros_like(theta_dot), u, None)
         M = np.zeros((m.nv, m.nv))
         mujoco.mj_fullM(m, d, M)
         gravity = self._pick(d0.qfrc_bias)
@@ -148,7 +209,366 @@ class MujocoModel:
             calls={"C": "polarization of qfrc_bias(qvel ± s e_j) / 4s", "M": "mj_fullM", "Cqd": "qfrc_bias(qvel) - qfrc_bias(qvel=0)", "g": "qfrc_bias(qvel=0) - qfrc_spring",
                    "f_damper": "qfrc_damper", "qdd": "mj_forward -> qacc"})
 
+    # ----- MuJoCo's own time stepping
+    def configure(self, options: "Options") -> None:
+        """``<option>`` settings on the compiled model (time step, integrator of :meth:`rollout`)."""
+        options.set(self.model.opt)
 
-def evaluate(state: State, model: MujocoModel | None = None):
-    model = model or MujocoModel(state.tree)
-    return to_lecture("mujoco", state, model.quantities(state.theta, state.theta_dot, state.u, state.loads))
+    def reset(self) -> None:
+        mujoco.mj_resetData(self.model, self.data)
+
+    def set_state(self, theta, theta_dot) -> None:
+        self.data.qpos[self.qpos_index] = theta
+        self.data.qvel[self.dof_index] = theta_dot
+
+    def theta(self) -> np.ndarray:
+        return self.data.qpos[self.qpos_index].copy()
+
+    def theta_dot(self) -> np.ndarray:
+        return self.data.qvel[self.dof_index].copy()
+
+    @property
+    def time(self) -> float:
+        return self.data.time
+
+    def address(self, joint: str) -> tuple[int, int]:
+        """``(qpos address, dof address)`` of a joint of the compiled model (also one of a transform's)."""
+        jid = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_JOINT, joint)
+        return int(self.model.jnt_qposadr[jid]), int(self.model.jnt_dofadr[jid])
+
+    def joint_state(self, address: tuple[int, int]):
+        """``(position, velocity)`` of the joint at ``address`` (:meth:`address`)."""
+        return self.data.qpos[address[0]], self.data.qvel[address[1]]
+
+    def set_joint(self, address: tuple[int, int], position: float, velocity: float) -> None:
+        self.data.qpos[address[0]], self.data.qvel[address[1]] = position, velocity
+
+    def set_inputs(self, values: dict) -> None:
+        """``ctrl`` of each actuator (an input on a joint) from ``values`` by input name."""
+        for name, aid in self.actuators.items():
+            self.data.ctrl[aid] = values[name]
+
+    def apply_loads(self, loads) -> None:
+        """``qfrc_applied`` of the external loads at the current kinematics (between ``mj_step1`` and ``mj_step2``)."""
+        self.data.qfrc_applied[:] = self.applied(loads)
+
+    def set_frictionloss(self, address: tuple[int, int], value: float) -> None:
+        self.model.dof_frictionloss[address[1]] = value
+
+    def forward(self) -> None:
+        mujoco.mj_forward(self.model, self.data)
+
+    def rollout(self, steps: int, every: int = 1, sample=None, before=None, between=None,
+                check: str | None = None) -> list:
+        """MuJoCo's own stepping from the current state, the one loop: ``steps`` calls of ``mj_step`` (split into
+        ``mj_step1``, ``between(k)``, ``mj_step2`` when ``between`` is given: forces that depend on the step's
+        kinematics), ``before(k)`` ahead of step ``k`` (inputs, mode switches), ``sample(k)`` at ``k = 0, every,
+        …`` up to ``steps`` (the samples returned). With ``check`` (a description), MuJoCo's warning counters are
+        checked at the end (:func:`check_warnings`): an unstable run is a failure, not a trajectory."""
+        m, d = self.model, self.data
+        out = []
+        for k in range(steps + 1):
+            if sample is not None and k % every == 0:
+                out.append(sample(k))
+            if k == steps:
+                break
+            if before is not None:
+                before(k)
+            if between is None:
+                mujoco.mj_step(m, d)
+            else:
+                mujoco.mj_step1(m, d)
+                between(k)
+                mujoco.mj_step2(m, d)
+        if check is not None:
+            check_warnings(m, d, check)
+        return out
+
+    # ----- a tree of other origin (harness.files.importer): M, bias, what each joint moves
+    def _set(self, theta, theta_dot) -> None:
+        d = self.data
+        d.qpos[:] = self.model.qpos0
+        d.qvel[:] = 0
+        d.qpos[self.qpos_index] = theta
+        d.qvel[self.dof_index] = theta_dot
+        mujoco.mj_forward(self.model, d)
+
+    def mass_and_bias(self, theta, theta_dot) -> tuple[np.ndarray, np.ndarray]:
+        """``M`` (``mj_fullM``) and the bias ``C θ̇ + g`` (``qfrc_bias``) at ``θ`` (other joints at ``qpos0``)."""
+        self._set(theta, theta_dot)
+        M = np.zeros((self.model.nv, self.model.nv))
+        mujoco.mj_fullM(self.model, self.data, M)
+        return M[np.ix_(self.dof_index, self.dof_index)], self.data.qfrc_bias[self.dof_index].copy()
+
+    def subtree_parts(self, theta) -> dict[str, list]:
+        """Per joint, the ``(mass, centre of mass, inertia tensor about it)`` of every body it moves, world axes
+        (``xipos``, ``ximat``, ``body_inertia``)."""
+        self._set(theta, np.zeros(len(theta)))
+        m, d = self.model, self.data
+        children: dict[int, list[int]] = {}
+        for c in range(1, m.nbody):  # once, not per joint: a chain of n links costs n², not n³
+            children.setdefault(int(m.body_parentid[c]), []).append(c)
+        world = {}
+        for b in range(m.nbody):
+            R = d.ximat[b].reshape(3, 3)
+            world[b] = (m.body_mass[b], d.xipos[b].copy(), R @ np.diag(m.body_inertia[b]) @ R.T)
+        out = {}
+        for name, jid in zip(self.joints, self.jids):
+            subtree, stack = [], [int(m.jnt_bodyid[jid])]
+            while stack:
+                b = stack.pop()
+                subtree.append(b)
+                stack += children.get(b, [])
+            out[name] = [world[b] for b in subtree]
+        return out
+
+    def body_names(self) -> list[str]:
+        return [self.model.body(i).name for i in range(self.model.nbody)]
+
+    @property
+    def gravity(self) -> np.ndarray:
+        return np.asarray(self.model.opt.gravity)
+
+    def set_gravity(self, gravity) -> None:
+        self.model.opt.gravity[:] = gravity
+
+    @property
+    def armature(self) -> np.ndarray:
+        return self.model.dof_armature[self.dof_index]
+
+    def set_armature(self, values) -> None:
+        self.model.dof_armature[self.dof_index] = values
+
+    def facts(self) -> dict:
+        """What ``harness validate`` reports of a loaded model."""
+        m = self.model
+        return {"bodies": m.nbody - 1, "dof": m.nv, "actuators": m.nu,
+                "moving mass": f"{float(m.body_mass[m.body_weldid != 0].sum()):.6g} kg"}
+
+    # ----- the export round trip (harness.compare.roundtrip): the MJCF as loaded
+    @property
+    def dofs(self) -> int:
+        return self.model.nv
+
+    def _id(self, kind, name) -> int:
+        return mujoco.mj_name2id(self.model, kind, name)
+
+    def _body_name(self, bid) -> str:
+        return mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_BODY, bid)
+
+    def body_as_loaded(self, name: str) -> dict | None:
+        """A body's mass, inertia tensor about its centre of mass in the body frame (``R diag(body_inertia) Rᵀ``,
+        ``R`` from ``body_iquat``) and centre of mass ``body_ipos``."""
+        bid = self._id(mujoco.mjtObj.mjOBJ_BODY, name)
+        if bid < 0:
+            return None
+        m = self.model
+        R = _quat_matrix(m.body_iquat[bid])
+        return {"mass": m.body_mass[bid], "inertia": R @ np.diag(m.body_inertia[bid]) @ R.T, "com": m.body_ipos[bid]}
+
+    def joint_as_loaded(self, name: str) -> dict | None:
+        """A joint's bodies (parent, its own), type, axis ``jnt_axis`` and anchor ``jnt_pos`` in its body, and
+        its body's placement in the parent (``body_pos``, ``body_quat``)."""
+        jid = self._id(mujoco.mjtObj.mjOBJ_JOINT, name)
+        if jid < 0:
+            return None
+        m = self.model
+        bid = m.jnt_bodyid[jid]
+        kind = _MJ_TYPE.get(mujoco.mjtJoint(m.jnt_type[jid]), str(mujoco.mjtJoint(m.jnt_type[jid])))
+        return {"bodies": [self._body_name(m.body_parentid[bid]), self._body_name(bid)], "type": kind,
+                "axis": m.jnt_axis[jid], "anchor": m.jnt_pos[jid], "origin": m.body_pos[bid],
+                "rotation": _quat_matrix(m.body_quat[bid])}
+
+    def point_as_loaded(self, name: str) -> dict | None:
+        """A point (site): its body and position ``site_pos`` in it."""
+        sid = self._id(mujoco.mjtObj.mjOBJ_SITE, name)
+        if sid < 0:
+            return None
+        return {"link": self._body_name(self.model.site_bodyid[sid]), "position": self.model.site_pos[sid]}
+
+    # ----- what a benchmark times: the raw calls at one state
+    def kernels(self, theta, theta_dot) -> dict:
+        """Zero-argument calls at ``(θ, θ̇)``: ``mj_fwdPosition + mj_fullM`` (M), ``mj_fwdPosition +
+        mj_fwdVelocity`` (``qfrc_bias`` = C θ̇ + g), ``mj_forward`` (θ̈)."""
+        m, d = self.model, self.data
+        d.qpos[self.qpos_index], d.qvel[self.dof_index] = theta, theta_dot
+        dense = np.zeros((m.nv, m.nv))
+
+        def mass():
+            mujoco.mj_fwdPosition(m, d)
+            mujoco.mj_fullM(m, d, dense)
+
+        def bias():
+            mujoco.mj_fwdPosition(m, d)
+            mujoco.mj_fwdVelocity(m, d)
+
+        return {"M": mass, "bias": bias, "qdd": lambda: mujoco.mj_forward(m, d)}
+
+
+_MJ_TYPE = {mujoco.mjtJoint.mjJNT_HINGE: "revolute", mujoco.mjtJoint.mjJNT_SLIDE: "prismatic"}
+
+
+def _quat_matrix(quat) -> np.ndarray:
+    mat = np.zeros(9)
+    mujoco.mju_quat2Mat(mat, np.asarray(quat, dtype=float))
+    return mat.reshape(3, 3)
+
+
+# --------------------------------------------------------------------------------------------- spec transforms
+_FLAGS = {"equality": mujoco.mjtDisableBit.mjDSBL_EQUALITY, "constraint": mujoco.mjtDisableBit.mjDSBL_CONSTRAINT,
+          "frictionloss": mujoco.mjtDisableBit.mjDSBL_FRICTIONLOSS, "contact": mujoco.mjtDisableBit.mjDSBL_CONTACT}
+STIFF_SOLIMP = [0.9999, 0.9999, 0.001, 0.5, 2.0]   # MuJoCo's impedance at its hardest
+
+
+@dataclass(frozen=True)
+class Options:
+    """``<option>``: the time step, the integrator (``Euler``, ``RK4``, ``implicit``, ``implicitfast``), the
+    effects switched on (their disable flags cleared: ``equality``, ``constraint``, ``frictionloss``,
+    ``contact``), an elliptic friction cone, noslip iterations. A spec transform, or set on a compiled model
+    (:meth:`MujocoModel.configure`)."""
+
+    timestep: float | None = None
+    integrator: str | None = None
+    enable: tuple = ()
+    elliptic: bool = False
+    noslip_iterations: int | None = None
+
+    def __call__(self, spec) -> None:
+        self.set(spec.option)
+
+    def set(self, option) -> None:
+        if self.enable:
+            bits = 0
+            for flag in self.enable:
+                bits |= _FLAGS[flag]
+            option.disableflags &= ~int(bits)
+        if self.elliptic:
+            option.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
+        if self.timestep is not None:
+            option.timestep = self.timestep
+        if self.integrator is not None:
+            option.integrator = getattr(mujoco.mjtIntegrator, f"mjINT_{self.integrator.upper()}")
+        if self.noslip_iterations is not None:
+            option.noslip_iterations = self.noslip_iterations
+
+
+@dataclass(frozen=True)
+class JointCoupling:
+    """``θ_dependent = offset + ratio θ_independent``: ``<equality><joint polycoef="offset ratio 0 0 0">``."""
+
+    dependent: str
+    independent: str
+    offset: float
+    ratio: float
+    solref: tuple
+    solimp: tuple = tuple(STIFF_SOLIMP)
+
+    def __call__(self, spec) -> None:
+        spec.add_equality(type=mujoco.mjtEq.mjEQ_JOINT, name1=self.dependent, name2=self.independent,
+                          data=[self.offset, self.ratio, 0, 0, 0] + [0.0] * 7, solref=list(self.solref),
+                          solimp=list(self.solimp))
+
+
+@dataclass(frozen=True)
+class ClosureGuide:
+    """A point (site) held on the plane ``nᵀ p = value`` by a guide body on two slide joints spanning the plane,
+    joined to the point by ``<equality><connect>``. The guide has ``mass`` (MuJoCo needs a mass on a moving
+    body), its weight is compensated (``gravcomp``) and its inertia cancelled step by step
+    (:meth:`compensation`)."""
+
+    name: str
+    point: str
+    normal: tuple
+    value: float
+    mass: float
+    solref: tuple
+    solimp: tuple = tuple(STIFF_SOLIMP)
+
+    def __call__(self, spec) -> None:
+        n = np.array(self.normal, dtype=float)
+        n /= np.linalg.norm(n)
+        t1 = np.cross(n, [1.0, 0.0, 0.0] if abs(n[0]) < 0.9 else [0.0, 1.0, 0.0])
+        t1 /= np.linalg.norm(t1)
+        t2 = np.cross(n, t1)
+        guide = spec.worldbody.add_body(name=f"guide_{self.name}", pos=self.value * n)
+        guide.explicitinertial = True
+        guide.mass = self.mass
+        guide.fullinertia = [guide.mass] * 3 + [0.0] * 3  # it only slides: its inertia never acts
+        guide.gravcomp = 1.0                                # its weight is compensated (it is massless in the model)
+        guide.add_joint(name=f"guide_{self.name}_1", type=mujoco.mjtJoint.mjJNT_SLIDE, axis=t1)
+        guide.add_joint(name=f"guide_{self.name}_2", type=mujoco.mjtJoint.mjJNT_SLIDE, axis=t2)
+        guide.add_site(name=f"guide_{self.name}")
+        spec.add_equality(type=mujoco.mjtEq.mjEQ_CONNECT, objtype=mujoco.mjtObj.mjOBJ_SITE,
+                          name1=self.point, name2=f"guide_{self.name}", solref=list(self.solref),
+                          solimp=list(self.solimp))
+
+    def place(self, mm: MujocoModel) -> None:
+        """The guide where the point is (at the model's current state)."""
+        m, d = mm.model, mm.data
+        mujoco.mj_kinematics(m, d)
+        site = d.site_xpos[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, self.point)]
+        body = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, f"guide_{self.name}")
+        for k in (1, 2):
+            jid = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, f"guide_{self.name}_{k}")
+            axis = m.jnt_axis[jid]
+            d.qpos[m.jnt_qposadr[jid]] = axis @ (site - m.body_pos[body])
+
+    def compensation(self, mm: MujocoModel):
+        """A per-step call (between ``mj_step1`` and ``mj_step2``) cancelling the guide's inertia with its last
+        acceleration, ``qfrc_applied = m_guide q̈_guide`` (lag dt)."""
+        m, d = mm.model, mm.data
+        body = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, f"guide_{self.name}")
+        dofs = [(int(m.jnt_dofadr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, f"guide_{self.name}_{k}")]),
+                 float(m.body_mass[body])) for k in (1, 2)]
+
+        def compensate():
+            for dof, mass in dofs:
+                d.qfrc_applied[dof] = mass * d.qacc[dof]
+        return compensate
+
+
+@dataclass(frozen=True)
+class DryFriction:
+    """Joint ``frictionloss`` (MuJoCo's dry friction, one coefficient: switch it with
+    :meth:`MujocoModel.set_frictionloss`), its soft-constraint parameters."""
+
+    joint: str
+    frictionloss: float
+    solref: tuple
+    solimp: tuple = tuple(STIFF_SOLIMP)
+
+    def __call__(self, spec) -> None:
+        joint = spec.joint(self.joint)
+        joint.solref_friction = list(self.solref)
+        joint.solimp_friction = list(self.solimp)
+        joint.frictionloss = self.frictionloss
+
+
+@dataclass(frozen=True)
+class ContactSphere:
+    """The link as a sphere of ``radius`` in contact with a plane of roll-pitch-yaw ``plane_rpy`` through the
+    point ``radius`` below its origin, friction ``mu`` (condim 3); a slide joint ``normal`` (along the link
+    frame's z) added first, so the sphere may leave the plane."""
+
+    link: str
+    radius: float
+    plane_rpy: tuple
+    mu: float
+    solref: tuple
+    solimp: tuple = tuple(STIFF_SOLIMP)
+
+    def __call__(self, spec) -> None:
+        body = spec.body(self.link)
+        old = [(j.name, j.type, list(j.axis)) for j in body.joints]
+        for j in list(body.joints):
+            spec.delete(j)
+        body.add_joint(name="normal", type=mujoco.mjtJoint.mjJNT_SLIDE, axis=[0, 0, 1])  # free to leave the plane
+        for name, kind, axis in old:
+            body.add_joint(name=name, type=kind, axis=axis)
+        quat = rpy_quat(list(self.plane_rpy))
+        normal = np.zeros(3)
+        mujoco.mju_rotVecQuat(normal, np.array([0.0, 0.0, 1.0]), quat)
+        contact = dict(friction=[self.mu, 0.0, 0.0], condim=3, solref=list(self.solref), solimp=list(self.solimp))
+        spec.worldbody.add_geom(name="plane", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 1],
+                                pos=-self.radius * normal, quat=quat, **contact)
+        body.add_geom(name="ball", type=mujoco.mjtGeom.mjGEOM_SPHERE, size=[self.radius, 0, 0], **contact)

@@ -1,48 +1,159 @@
 """Pinocchio, loading our URDF. Every number comes from a named Pinocchio call; springs, dampers and
 inputs are evaluated from Pinocchio's own frames and Jacobians (``framesForwardKinematics``,
-``computeFrameJacobian``), never from the symbolic model."""
+``computeFrameJacobian``), never from the symbolic model. Closed chains and couplings are rows of the constraint
+Jacobian of Pinocchio's KKT forward dynamics (:class:`Constraints`)."""
 
 from __future__ import annotations
+
+import re
 
 import numpy as np
 import pinocchio as pin
 
-from harness.engines.base import State, TreeQuantities, coriolis_to_lecture, to_lecture
-from harness.errors import EngineError
+from harness.engines.base import (State, TreeEngine, TreeQuantities, captured_output, coriolis_to_lecture,
+                                  input_forces, one_line, spring_damper_forces, to_lecture)
+from harness.errors import EngineError, ModelError
 from harness.export.numeric import NumericTree
 from harness.export.urdf import urdf_string
-from harness.modeling.system import WORLD
 
 LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+VERSION = pin.__version__
 
 
-class PinocchioModel:
+def load_urdf(urdf_text: str, source: str) -> pin.Model:
+    """A URDF of other origin in Pinocchio; a refusal is one :class:`ModelError` line holding Pinocchio's message
+    and what urdfdom printed (which names the link: "link 'arm' is not unique"); what urdfdom prints without
+    failing (a dropped inertial) is a :class:`ModelError` too."""
+    refused = None
+    with captured_output() as out:
+        try:
+            model = pin.buildModelFromXML(urdf_text)
+        except (ValueError, RuntimeError) as exc:
+            refused = one_line(exc)
+    if refused is not None:
+        said = one_line(out[0]) if out and out[0].strip() else ""
+        raise ModelError(f"{source}: Pinocchio refused the URDF: {refused}" + (f" (urdfdom: {said})" if said else ""))
+    if out and out[0].strip():  # urdfdom complains without failing (e.g. a dropped inertial)
+        raise ModelError(f"{source}: Pinocchio/urdfdom reported: {one_line(out[0])}")
+    return model
+
+
+def check_moves_mass(pmodel: pin.Model, source: str, seed: int, states: int = 3) -> None:
+    """Every moving joint moves mass: a joint whose whole subtree (the links it moves) has neither mass nor
+    inertia, or a mass matrix singular at random states (a massless link on a prismatic joint, a URDF without
+    any ``<inertial>``), makes the model invalid; the message names the link."""
+    from harness.derivation.compile import regular_spectrum
+
+    def child_link(jid):
+        for f in pmodel.frames:
+            if f.type == pin.FrameType.BODY and f.parentJoint == jid:
+                return f.name
+        return pmodel.names[jid]
+
+    for jid in range(1, pmodel.njoints):
+        if pmodel.joints[jid].nv == 0:
+            continue
+        subtree = pmodel.subtrees[jid]
+        mass = sum(pmodel.inertias[k].mass for k in subtree)
+        inertia = max(float(np.abs(np.array(pmodel.inertias[k].inertia)).max()) for k in subtree)
+        if mass == 0 and inertia == 0:
+            raise ModelError(f"{source}: link {child_link(jid)!r} (moved by joint {pmodel.names[jid]!r}) and "
+                             "everything it carries have no mass and no inertia: the mass matrix is singular "
+                             "(give the link an <inertial>)")
+    data = pmodel.createData()
+    rng = np.random.default_rng(seed)
+    singular = None
+    for _ in range(states):
+        q = pin.randomConfiguration(pmodel, -np.ones(pmodel.nq), np.ones(pmodel.nq)) if pmodel.nq else pin.neutral(pmodel)
+        q = np.where(np.isfinite(q), q, rng.uniform(-1, 1, pmodel.nq))
+        M = pin.crba(pmodel, data, q)
+        M = np.triu(M) + np.triu(M, 1).T
+        w, v = np.linalg.eigh(M)
+        if regular_spectrum(w):
+            return
+        singular = v[:, 0]
+    if singular is not None:
+        idx = int(np.argmax(np.abs(singular)))
+        jid = next(j for j in range(1, pmodel.njoints)
+                   if pmodel.joints[j].idx_v <= idx < pmodel.joints[j].idx_v + pmodel.joints[j].nv)
+        raise ModelError(f"{source}: the mass matrix is singular at {states} random states: a motion of joint "
+                         f"{pmodel.names[jid]!r} (link {child_link(jid)!r}) moves no mass (give it an <inertial> "
+                         "with mass and inertia)")
+
+
+def moving_joints(model: pin.Model) -> list[str]:
+    """Names of the 1-dof joints (revolute, continuous, prismatic) of a Pinocchio model, in tree order
+    (a :class:`ModelError` for any other joint: only 1-dof joints are compared)."""
+    names = []
+    for jid in range(1, model.njoints):
+        if model.joints[jid].nv != 1:
+            raise ModelError(f"joint {model.names[jid]}: only 1-dof joints are compared "
+                             f"({model.joints[jid].shortname()})")
+        names.append(model.names[jid])
+    return names
+
+
+class PinocchioModel(TreeEngine):
     """A Pinocchio model of one :class:`NumericTree` with the index maps to our joint order."""
+
+    name, reads = "pinocchio", "URDF"
+    natively = frozenset({"kkt constraints"})
 
     def __init__(self, tree: NumericTree, urdf: str | None = None):
         self.tree = tree
-        self.model = pin.buildModelFromXML(urdf if urdf is not None else urdf_string(tree))
-        self.model.gravity.linear = np.asarray(tree.gravity, dtype=float)
+        model = pin.buildModelFromXML(urdf if urdf is not None else urdf_string(tree))
+        model.gravity.linear = np.asarray(tree.gravity, dtype=float)
         for j in tree.joints:  # URDF has no rotor inertia: Pinocchio's armature is set from the model
             if j.armature:
-                self.model.armature[self.model.joints[self.model.getJointId(j.name)].idx_v] = j.armature
-        self.data = self.model.createData()
-        self.model_no_gravity = self.model.copy()
+                model.armature[model.joints[model.getJointId(j.name)].idx_v] = j.armature
+        if model.nq != model.nv:
+            raise EngineError(f"{tree.system}: Pinocchio model has nq != nv (continuous joints?)")
+        self._attach(model, [j.name for j in tree.joints])
+        self.frames = {p.name: model.getFrameId(p.name) for p in tree.points}
+
+    @classmethod
+    def loaded(cls, model: pin.Model, joints: list[str]) -> "PinocchioModel":
+        """A model Pinocchio has loaded (a URDF of other origin), seen through ``joints`` (revolute, prismatic;
+        continuous as cos/sin)."""
+        self = cls.__new__(cls)
+        self._attach(model, list(joints))
+        self.frames = {}
+        return self
+
+    def _attach(self, model: pin.Model, joints: list[str]) -> None:
+        self.model, self.joints = model, joints
+        self.data = model.createData()
+        self.model_no_gravity = model.copy()
         self.model_no_gravity.gravity.linear = np.zeros(3)
         self.data_no_gravity = self.model_no_gravity.createData()
-        if self.model.nq != self.model.nv:
-            raise EngineError(f"{tree.system}: Pinocchio model has nq != nv (continuous joints?)")
-        self.index = []
-        for j in tree.joints:
-            if not self.model.existJointName(j.name):
-                raise EngineError(f"{tree.system}: joint {j.name} missing in the Pinocchio model")
-            self.index.append(self.model.joints[self.model.getJointId(j.name)].idx_v)
-        self.frames = {p.name: self.model.getFrameId(p.name) for p in tree.points}
+        self.jids = []
+        for name in joints:
+            if not model.existJointName(name):
+                raise EngineError(f"{self.label + ': ' if self.tree else ''}joint {name} missing in the Pinocchio "
+                                  "model")
+            self.jids.append(model.getJointId(name))
+        self.index = [model.joints[jid].idx_v for jid in self.jids]
+        self.v_index = dict(zip(joints, self.index))
+        self.continuous = any(model.joints[jid].nq == 2 for jid in self.jids)
 
+    # ----- coordinates
     def to_pin(self, theta):
         v = np.zeros(self.model.nv)
         v[self.index] = theta
         return v
+
+    def to_q(self, theta):
+        """The configuration of ``θ``: :meth:`to_pin`, a continuous joint as ``(cos θ, sin θ)``."""
+        if not self.continuous:
+            return self.to_pin(theta)
+        q = pin.neutral(self.model)
+        for jid, th in zip(self.jids, theta):
+            jm = self.model.joints[jid]
+            if jm.nq == 2:
+                q[jm.idx_q:jm.idx_q + 2] = np.cos(th), np.sin(th)
+            else:
+                q[jm.idx_q] = th
+        return q
 
     def from_pin(self, v):
         return np.asarray(v)[self.index]
@@ -54,46 +165,25 @@ class PinocchioModel:
         """``6 x nv`` frame Jacobian (LOCAL_WORLD_ALIGNED); eigenpy hands a ``6 x 1`` matrix back as a 1-D array."""
         return np.asarray(pin.getFrameJacobian(self.model, self.data, frame, LWA)).reshape(6, self.model.nv)
 
+    # ----- forces from Pinocchio's frames and Jacobians
     def point_forces(self, q, v):
         """Generalized forces of tendons (springs/dampers between points) and joint springs/dampers,
         from Pinocchio's frame placements and frame Jacobians: ``Σ J_bᵀ f − J_aᵀ f``."""
         model, data = self.model, self.data
         pin.computeJointJacobians(model, data, q)
         pin.framesForwardKinematics(model, data, q)
-        f_spring = np.zeros(model.nv)
-        f_damper = np.zeros(model.nv)
-        for name, a, b, stiffness, rest, damping in self.tree.tendons:
-            fa, fb = self.frames[a], self.frames[b]
-            r = data.oMf[fb].translation - data.oMf[fa].translation
-            length = np.linalg.norm(r)
-            e = r / length
-            J = self.frame_jacobian(fb)[:3] - self.frame_jacobian(fa)[:3]
-            length_rate = e @ (J @ v)
-            f_spring += J.T @ (-stiffness * (length - rest) * e)
-            f_damper += J.T @ (-damping * length_rate * e)
-        for joint, (stiffness, rest) in self.tree.joint_stiffness.items():
-            k = self.index[[j.name for j in self.tree.joints].index(joint)]
-            f_spring[k] += -stiffness * (q[k] - rest)
-        for joint, damping in self.tree.joint_damping.items():
-            k = self.index[[j.name for j in self.tree.joints].index(joint)]
-            f_damper[k] += -damping * v[k]
-        return f_spring, f_damper
+        return spring_damper_forces(self.tree, model.nv, q, v,
+                                    lambda p: data.oMf[self.frames[p]].translation,
+                                    lambda p: self.frame_jacobian(self.frames[p])[:3], self.v_index, self.v_index)
 
     def input_forces(self, q, u: dict, loads=()):
         """Inputs on joints, and external forces/torques by (5.73) with Pinocchio's frame Jacobians
         (call after :meth:`point_forces`, which computes the kinematics at ``q``)."""
         model, data = self.model, self.data
-        tau = np.zeros(model.nv)
-        names = [j.name for j in self.tree.joints]
-        for input_name, joint in self.tree.actuators:
-            tau[self.index[names.index(joint)]] += u[input_name]
-        for load in loads:
-            R = np.eye(3) if load.frame == WORLD else data.oMf[model.getFrameId(load.frame)].rotation
-            vector = R @ load.vector
-            fid = self.frames[load.where] if load.kind == "force" else model.getFrameId(load.where)
-            J = self.frame_jacobian(fid)
-            tau += (J[:3] if load.kind == "force" else J[3:]).T @ vector
-        return tau
+        return input_forces(self.tree, model.nv, u, loads, self.v_index,
+                            lambda link: data.oMf[model.getFrameId(link)].rotation,
+                            lambda p: self.frame_jacobian(self.frames[p])[:3],
+                            lambda link: self.frame_jacobian(model.getFrameId(link))[3:])
 
     def _aba(self, q, v, u: dict, loads=()) -> tuple:
         """``(θ̈, f_spring, f_damper, τ_input)`` in Pinocchio's order: ``pin.aba`` with ``τ`` = inputs + springs +
@@ -107,13 +197,17 @@ class PinocchioModel:
         """``θ̈`` alone, the call a simulation makes (:meth:`_aba`)."""
         return self.from_pin(self._aba(self.to_pin(theta), self.to_pin(theta_dot), u, loads)[0])
 
+    def _crba(self, q) -> np.ndarray:
+        """``pin.crba`` fills the upper triangle: the symmetric ``M`` in Pinocchio's order."""
+        M = pin.crba(self.model, self.data, q)
+        return np.triu(M) + np.triu(M, 1).T
+
     def quantities(self, theta, theta_dot, u: dict, loads=(), christoffel: bool = True) -> TreeQuantities:
         """Everything in tree coordinates; ``christoffel=False`` skips the two Coriolis matrices (for
         simulation, where only the forward dynamics is needed)."""
         model, data = self.model, self.data
         q, v = self.to_pin(theta), self.to_pin(theta_dot)
-        M = pin.crba(model, data, q)
-        M = np.triu(M) + np.triu(M, 1).T
+        M = self._crba(q)
         g_gravity = pin.computeGeneralizedGravity(model, data, q).copy()
         Cqd = pin.nonLinearEffects(model, data, q, v) - g_gravity
         extra, C_christoffel = {}, None
@@ -134,10 +228,174 @@ class PinocchioModel:
                    "C_coriolis_matrix": "pin.computeCoriolisMatrix",
                    "qdd": "pin.aba(tau = inputs + springs + dampers)"})
 
+    def evaluate(self, state: State):
+        t = self.quantities(state.theta, state.theta_dot, state.u, state.loads)
+        evaluation = to_lecture(self.name, state, t)
+        evaluation.extra["C_coriolis_matrix"] = coriolis_to_lecture(state, t.M, t.extra["C_coriolis_matrix"])
+        return evaluation
 
-def evaluate(state: State, model: PinocchioModel | None = None):
-    model = model or PinocchioModel(state.tree)
-    t = model.quantities(state.theta, state.theta_dot, state.u, state.loads)
-    evaluation = to_lecture("pinocchio", state, t)
-    evaluation.extra["C_coriolis_matrix"] = coriolis_to_lecture(state, t.M, t.extra["C_coriolis_matrix"])
-    return evaluation
+    # ----- a tree of other origin (harness.files.importer): M, bias, what each joint moves
+    def mass_and_bias(self, theta, theta_dot) -> tuple[np.ndarray, np.ndarray]:
+        """``M`` (``pin.crba``) and the bias ``C θ̇ + g`` (``pin.nonLinearEffects``) at ``θ`` (other joints at
+        their neutral position), in the order of ``joints``."""
+        q, v = self.to_q(theta), self.to_pin(theta_dot)
+        return self.from_pin_matrix(self._crba(q)), self.from_pin(pin.nonLinearEffects(self.model, self.data, q, v))
+
+    def subtree_parts(self, theta) -> dict[str, list]:
+        """Per joint, the ``(mass, centre of mass, inertia tensor about it)`` of every body it moves, world axes
+        (``pin.forwardKinematics``, ``model.subtrees``)."""
+        pin.forwardKinematics(self.model, self.data, self.to_q(theta))
+        out = {}
+        for name, jid in zip(self.joints, self.jids):
+            parts = []
+            for k in self.model.subtrees[jid]:
+                world = self.data.oMi[k].act(self.model.inertias[k])
+                R = self.data.oMi[k].rotation
+                parts.append((float(world.mass), np.array(world.lever), R @ np.array(self.model.inertias[k].inertia)
+                              @ R.T))
+            out[name] = parts
+        return out
+
+    def body_names(self) -> list[str]:
+        return [f.name for f in self.model.frames if f.type == pin.FrameType.BODY]
+
+    @property
+    def prismatic(self) -> set[str]:
+        """The names of the prismatic joints among :attr:`joints` (their positions are lengths, not angles)."""
+        return {name for name, jid in zip(self.joints, self.jids)
+                if self.model.joints[jid].shortname().startswith("JointModelP")}
+
+    def facts(self) -> dict:
+        """What Pinocchio loaded: joints, degrees of freedom and the moving mass."""
+        m = self.model
+        return {"joints": m.njoints - 1, "dof": m.nv,
+                "moving mass": f"{sum(m.inertias[i].mass for i in range(1, m.njoints)):.6g} kg"}
+
+    @property
+    def gravity(self) -> np.ndarray:
+        return np.asarray(self.model.gravity.linear)
+
+    # ----- the export round trip (harness.compare.roundtrip): the URDF as loaded
+    @property
+    def dofs(self) -> int:
+        return self.model.nv
+
+    def _joint_name(self, jid: int) -> str | None:
+        return None if jid == 0 else self.model.names[jid]
+
+    def _body_frame(self, name):
+        m = self.model
+        return m.frames[m.getFrameId(name, pin.FrameType.BODY)] if m.existFrame(name, pin.FrameType.BODY) else None
+
+    def link_as_loaded(self, name: str) -> dict | None:
+        """A link's moving joint (None: the world), its frame relative to the joint frame (3 x 4), mass, centre
+        of mass and inertia tensor about it in the link frame: ``model.inertias`` of the joint, which in our trees
+        carries exactly that one link."""
+        frame = self._body_frame(name)
+        if frame is None:
+            return None
+        inertia = self.model.inertias[frame.parentJoint]
+        return {"joint": self._joint_name(frame.parentJoint), "frame": frame.placement.homogeneous[:3],
+                "mass": inertia.mass, "inertia": inertia.inertia, "com": inertia.lever}
+
+    def joint_as_loaded(self, name: str) -> dict | None:
+        """A joint's parent joint, type, axis (joint frame), placement in the parent joint's frame."""
+        m = self.model
+        if not m.existJointName(name):
+            return None
+        jid = m.getJointId(name)
+        kind, axis = _joint_axis(m.joints[jid])
+        placement = m.jointPlacements[jid]
+        return {"parent": self._joint_name(m.parents[jid]), "type": kind, "axis": axis,
+                "origin": placement.translation, "rotation": placement.rotation}
+
+    def point_as_loaded(self, name: str) -> dict | None:
+        """A point's moving joint and its position in that joint's (= its link's) frame."""
+        frame = self._body_frame(name)
+        if frame is None:
+            return None
+        return {"joint": self._joint_name(frame.parentJoint), "position": frame.placement.translation}
+
+    # ----- what a benchmark times: the raw calls at one state
+    def kernels(self, theta, theta_dot) -> dict:
+        """Zero-argument calls at ``(θ, θ̇)``: ``crba`` (M), ``nonLinearEffects`` (C θ̇ + g),
+        ``computeGeneralizedGravity`` (g), ``aba`` (θ̈ with τ = 0); each returns the engine's own array."""
+        model, data = self.model, self.data
+        q, v, tau = self.to_pin(theta), self.to_pin(theta_dot), np.zeros(self.model.nv)
+        return {"M": lambda: pin.crba(model, data, q), "nle": lambda: pin.nonLinearEffects(model, data, q, v),
+                "g": lambda: pin.computeGeneralizedGravity(model, data, q),
+                "qdd": lambda: pin.aba(model, data, q, v, tau)}
+
+    # ----- closed chains and couplings (harness.scenes.constraints)
+    def constraints(self, couplings, closures) -> "Constraints":
+        return Constraints(self, couplings, closures)
+
+
+_PIN_ALIGNED = re.compile(r"JointModel([RP])([XYZ])")
+_PIN_UNALIGNED = {"JointModelRevoluteUnaligned": "revolute", "JointModelPrismaticUnaligned": "prismatic"}
+
+
+def _joint_axis(joint) -> tuple[str, list]:
+    """(type, axis) of a Pinocchio joint: axis-aligned joints (``JointModelRZ``, ``JointModelPX``) carry the
+    axis in their type, unaligned ones (URDF axes that are not +x/+y/+z, e.g. -z) in ``.axis``. Any other
+    joint model (e.g. ``JointModelRUBZ`` for a continuous joint) is reported by its name, without axis."""
+    name = joint.shortname()
+    if match := _PIN_ALIGNED.fullmatch(name):
+        return ("revolute" if match[1] == "R" else "prismatic"), np.eye(3)["XYZ".index(match[2])].tolist()
+    if name in _PIN_UNALIGNED:
+        return _PIN_UNALIGNED[name], np.asarray(joint.extract().axis, dtype=float).tolist()
+    return name, []
+
+
+class Constraints:
+    """Couplings ``θ_d = offset + ratio θ_i`` (``(dependent, independent, offset, ratio)``) and closures (a point
+    held on a plane, ``(point, normal, value)``: ``nᵀ p = value``) as rows of the constraint Jacobian of
+    Pinocchio's KKT forward dynamics ``pin.forwardDynamics(model, data, q, v, τ, J, γ)``
+    (``M a + b = τ + Jᵀλ``, ``J a + γ = 0``). A closure's row is ``nᵀ J_point`` of the point's frame Jacobian, its
+    drift ``nᵀ a_point(q, v, 0)`` from ``pin.getFrameClassicalAcceleration``: Pinocchio's own kinematics."""
+
+    def __init__(self, pm: PinocchioModel, couplings, closures):
+        self.pm = pm
+        model = pm.model
+        self.rows = []
+        for dependent, independent, offset, ratio in couplings:
+            row = np.zeros(model.nv)
+            row[pm.v_index[dependent]], row[pm.v_index[independent]] = 1.0, -ratio
+            self.rows.append((row, offset))
+        self.closures = [(model.getFrameId(point), np.array(normal, dtype=float), value)
+                         for point, normal, value in closures]
+
+    def residual(self, q, v):
+        """``c``, ``J`` and ``J̇ v`` at the Pinocchio state (kinematics computed here), in Pinocchio's order."""
+        pm = self.pm
+        model, data = pm.model, pm.data
+        c, J, drift = [], [], []
+        for row, offset in self.rows:
+            c.append(row @ q - offset)
+            J.append(row)
+            drift.append(0.0)
+        if self.closures:
+            pin.forwardKinematics(model, data, q, v, np.zeros(model.nv))
+            pin.computeJointJacobians(model, data, q)
+            pin.updateFramePlacements(model, data)
+            for fid, n, value in self.closures:
+                c.append(n @ data.oMf[fid].translation - value)
+                J.append(n @ pm.frame_jacobian(fid)[:3])
+                drift.append(n @ pin.getFrameClassicalAcceleration(model, data, fid, LWA).linear)
+        return np.array(c), np.array(J).reshape(len(c), model.nv), np.array(drift)
+
+    def forward_dynamics(self, theta, theta_dot, u: dict, loads, omega: float) -> np.ndarray:
+        """``θ̈`` of the constrained tree with Baumgarte stabilization ``γ = J̇ v + 2 ω ċ + ω² c``."""
+        pm = self.pm
+        q, v = pm.to_pin(theta), pm.to_pin(theta_dot)
+        f_spring, f_damper = pm.point_forces(q, v)
+        tau = pm.input_forces(q, u, loads) + f_spring + f_damper
+        c, J, drift = self.residual(q, v)
+        gamma = drift + 2 * omega * (J @ v) + omega * omega * c
+        return pm.from_pin(pin.forwardDynamics(pm.model, pm.data, q, v, tau, J, gamma))
+
+    def violation(self, theta, theta_dot, theta_scale) -> tuple[np.ndarray, np.ndarray]:
+        """``|c|`` and the scale of the terms forming each constraint, ``Σ_j |∂c/∂θ_j| theta_scale_j``."""
+        pm = self.pm
+        c, J, _ = self.residual(pm.to_pin(theta), pm.to_pin(theta_dot))
+        return np.abs(c), np.abs(J) @ pm.to_pin(theta_scale)

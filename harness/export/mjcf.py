@@ -247,6 +247,8 @@ _FIELDS = {
 }
 _ID_TAGS = {_OBJ.mjOBJ_BODY: "body", _OBJ.mjOBJ_JOINT: "joint", _OBJ.mjOBJ_SITE: "site",
             _OBJ.mjOBJ_TENDON: "spatial", _OBJ.mjOBJ_ACTUATOR: "general", _OBJ.mjOBJ_GEOM: "geom"}
+_ACCESSORS = {_OBJ.mjOBJ_BODY: "body", _OBJ.mjOBJ_JOINT: "joint", _OBJ.mjOBJ_SITE: "site",  # MjModel's named views
+              _OBJ.mjOBJ_TENDON: "tendon", _OBJ.mjOBJ_ACTUATOR: "actuator", _OBJ.mjOBJ_GEOM: "geom"}
 _NAME_ATTRIBUTES = {"name", "model", "joint", "site"}
 
 
@@ -263,7 +265,7 @@ def _element_id(root, model: mujoco.MjModel, obj, element) -> int:
     world; a tendon's ``<site site=...>`` references are not sites, hence only ``<worldbody>`` is searched
     for bodies, joints and sites)."""
     if (name := element.get("name")) is not None:
-        return mujoco.mj_name2id(model, obj, name)
+        return getattr(model, _ACCESSORS[obj])(name).id
     scope = root.find("worldbody") if obj in (_OBJ.mjOBJ_BODY, _OBJ.mjOBJ_JOINT, _OBJ.mjOBJ_SITE) else root
     return list(scope.iter(_ID_TAGS[obj])).index(element) + (1 if obj == _OBJ.mjOBJ_BODY else 0)
 

@@ -84,22 +84,19 @@ JSON schema of ``importer.json`` (written by ``harness importer --out DIR``)
 
 from __future__ import annotations
 
-import contextlib
 import math
-import os
-import sys
-import tempfile
-import warnings
 from dataclasses import dataclass
 from functools import partial
 from pathlib import Path
 
-import mujoco
+from typing import TYPE_CHECKING
+
 import numpy as np
-import pinocchio as pin
 
 from harness.checks import Bound, Check, relative_error
 from harness.compare.conformance import FLOAT64_RTOL
+from harness.engines.mujoco_engine import VERSION as MUJOCO_VERSION, MujocoModel, compile_text
+from harness.engines.pinocchio_engine import VERSION as PINOCCHIO_VERSION, PinocchioModel, load_urdf, moving_joints
 from harness.errors import EngineError, ModelError
 from harness.export.numeric import lump
 
@@ -112,37 +109,13 @@ SEED = 0
 TOLERANCE = FLOAT64_RTOL
 TOLERANCE_REASON = ("float64 round-off of the same decimals (principal axes, quaternions: a few ulps); "
                     "harness.compare.conformance tolerance policy")
+if TYPE_CHECKING:
+    import mujoco
+
 SCHEMA = "importer/1"
 BOUND = Bound("importer round-off", TOLERANCE, TOLERANCE_REASON)
 _rel = partial(relative_error, symmetric=False)   # relative to each quantity's scale (≥ the reference's size)
 QUANTITIES = ("M", "bias", "mass", "first moment of mass", "inertia")
-
-
-# --------------------------------------------------------------------------------- engine output capture
-@contextlib.contextmanager
-def captured_output():
-    """Capture what C libraries print on file descriptors 1 and 2 (urdfdom's ``Error: …`` lines, MuJoCo's
-    compiler) while loading; yields a list that holds the text afterwards."""
-    sys.stdout.flush()
-    sys.stderr.flush()
-    text: list[str] = []
-    saved = [os.dup(1), os.dup(2)]
-    with tempfile.TemporaryFile(mode="w+b") as tmp:
-        try:
-            os.dup2(tmp.fileno(), 1)
-            os.dup2(tmp.fileno(), 2)
-            yield text
-        finally:
-            os.dup2(saved[0], 1)
-            os.dup2(saved[1], 2)
-            os.close(saved[0])
-            os.close(saved[1])
-            tmp.seek(0)
-            text.append(tmp.read().decode(errors="replace"))
-
-
-def one_line(message: str) -> str:
-    return "; ".join(line.strip() for line in str(message).splitlines() if line.strip())
 
 
 def without_geometry(urdf_text: str, source: str = "<urdf>") -> str:
@@ -168,42 +141,6 @@ def public_urdfs() -> list[Path]:
     return [share / rel for rel in PUBLIC if (share / rel).exists()]
 
 
-def load_pinocchio(urdf_text: str, source: str) -> pin.Model:
-    """The URDF in Pinocchio; a refusal is one :class:`ModelError` line holding Pinocchio's message and
-    what urdfdom printed (which names the link: "link 'arm' is not unique")."""
-    refused = None
-    with captured_output() as out:
-        try:
-            model = pin.buildModelFromXML(urdf_text)
-        except (ValueError, RuntimeError) as exc:
-            refused = one_line(exc)
-    if refused is not None:
-        said = one_line(out[0]) if out and out[0].strip() else ""
-        raise ModelError(f"{source}: Pinocchio refused the URDF: {refused}" + (f" (urdfdom: {said})" if said else ""))
-    if out and out[0].strip():  # urdfdom complains without failing (e.g. a dropped inertial)
-        raise ModelError(f"{source}: Pinocchio/urdfdom reported: {one_line(out[0])}")
-    return model
-
-
-def compile_mujoco(text: str | None, source: str, path: Path | None = None,
-                   bound: float | None = None) -> mujoco.MjModel:
-    """An MJCF or URDF compiled by MuJoCo (from ``path`` when the model refers to files, else from ``text``);
-    ``bound`` sets ``compiler.boundmass``/``boundinertia``."""
-    with captured_output(), warnings.catch_warnings(record=True) as warned:
-        warnings.simplefilter("always")
-        try:
-            spec = mujoco.MjSpec.from_file(str(path)) if path is not None else mujoco.MjSpec.from_string(text)
-            if bound is not None:
-                spec.compiler.boundmass = bound
-                spec.compiler.boundinertia = bound
-            model = spec.compile()
-        except (ValueError, RuntimeError) as exc:
-            raise ModelError(f"{source}: MuJoCo refused the model: {one_line(exc)}") from None
-    if warned:  # e.g. "Inertia matrix is too close to singular": a model MuJoCo only half accepts
-        raise ModelError(f"{source}: MuJoCo warned while compiling: {one_line(warned[0].message)}")
-    return model
-
-
 # --------------------------------------------------------------------------------- two views of a tree
 @dataclass
 class Rigid:
@@ -220,123 +157,9 @@ def _lump(parts) -> Rigid:
     return Rigid(*lump(parts))
 
 
-class MujocoTree:
-    """A compiled MuJoCo model seen through named 1-dof joints (hinge, slide)."""
-
-    def __init__(self, model: mujoco.MjModel, joints: list[str]):
-        self.model, self.data = model, mujoco.MjData(model)
-        self.joints = joints
-        ids = [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, j) for j in joints]
-        missing = [j for j, i in zip(joints, ids) if i < 0]
-        if missing:
-            raise EngineError(f"joints {missing} missing in the MuJoCo model")
-        self.jids = ids
-        self.qpos = [model.jnt_qposadr[i] for i in ids]
-        self.dof = [model.jnt_dofadr[i] for i in ids]
-
-    def body_names(self) -> list[str]:
-        return [self.model.body(i).name for i in range(self.model.nbody)]
-
-    @property
-    def gravity(self) -> np.ndarray:
-        return np.asarray(self.model.opt.gravity)
-
-    def set(self, theta, theta_dot):
-        d = self.data
-        d.qpos[:] = self.model.qpos0
-        d.qvel[:] = 0
-        d.qpos[self.qpos] = theta
-        d.qvel[self.dof] = theta_dot
-        mujoco.mj_forward(self.model, d)
-
-    def dynamics(self, theta, theta_dot):
-        self.set(theta, theta_dot)
-        M = np.zeros((self.model.nv, self.model.nv))
-        mujoco.mj_fullM(self.model, self.data, M)
-        return M[np.ix_(self.dof, self.dof)], self.data.qfrc_bias[self.dof].copy()
-
-    def rigid(self, theta) -> dict[str, Rigid]:
-        self.set(theta, np.zeros(len(theta)))
-        m, d = self.model, self.data
-        children: dict[int, list[int]] = {}
-        for c in range(1, m.nbody):  # once, not per joint: a chain of n links costs n², not n³
-            children.setdefault(int(m.body_parentid[c]), []).append(c)
-        world = {}
-        for b in range(m.nbody):
-            R = d.ximat[b].reshape(3, 3)
-            world[b] = (m.body_mass[b], d.xipos[b].copy(), R @ np.diag(m.body_inertia[b]) @ R.T)
-        out = {}
-        for name, jid in zip(self.joints, self.jids):
-            subtree, stack = [], [int(m.jnt_bodyid[jid])]
-            while stack:
-                b = stack.pop()
-                subtree.append(b)
-                stack += children.get(b, [])
-            out[name] = _lump([world[b] for b in subtree])
-        return out
-
-
-class PinocchioTree:
-    """A Pinocchio model seen through named 1-dof joints (revolute, prismatic; continuous as cos/sin)."""
-
-    def __init__(self, model: pin.Model, joints: list[str]):
-        self.model, self.data = model, model.createData()
-        self.joints = joints
-        self.jids = []
-        for j in joints:
-            if not model.existJointName(j):
-                raise EngineError(f"joint {j} missing in the Pinocchio model")
-            self.jids.append(model.getJointId(j))
-
-    def body_names(self) -> list[str]:
-        return [f.name for f in self.model.frames if f.type == pin.FrameType.BODY]
-
-    @property
-    def gravity(self) -> np.ndarray:
-        return np.asarray(self.model.gravity.linear)
-
-    def q_v(self, theta, theta_dot):
-        q, v = pin.neutral(self.model), np.zeros(self.model.nv)
-        for jid, th, thd in zip(self.jids, theta, theta_dot):
-            jm = self.model.joints[jid]
-            if jm.nq == 2:
-                q[jm.idx_q:jm.idx_q + 2] = np.cos(th), np.sin(th)
-            else:
-                q[jm.idx_q] = th
-            v[jm.idx_v] = thd
-        return q, v
-
-    def dynamics(self, theta, theta_dot):
-        q, v = self.q_v(theta, theta_dot)
-        M = pin.crba(self.model, self.data, q)
-        M = np.triu(M) + np.triu(M, 1).T
-        idx = [self.model.joints[j].idx_v for j in self.jids]
-        return M[np.ix_(idx, idx)], pin.nonLinearEffects(self.model, self.data, q, v)[idx]
-
-    def rigid(self, theta) -> dict[str, Rigid]:
-        q, _ = self.q_v(theta, np.zeros(len(theta)))
-        pin.forwardKinematics(self.model, self.data, q)
-        out = {}
-        for name, jid in zip(self.joints, self.jids):
-            parts = []
-            for k in self.model.subtrees[jid]:
-                world = self.data.oMi[k].act(self.model.inertias[k])
-                R = self.data.oMi[k].rotation
-                inertia = R @ np.array(self.model.inertias[k].inertia) @ R.T
-                parts.append((float(world.mass), np.array(world.lever), inertia))
-            out[name] = _lump(parts)
-        return out
-
-
-def moving_joints(model: pin.Model) -> list[str]:
-    """Names of the 1-dof joints (revolute, continuous, prismatic) of a Pinocchio model, in tree order."""
-    names = []
-    for jid in range(1, model.njoints):
-        if model.joints[jid].nv != 1:
-            raise ModelError(f"joint {model.names[jid]}: only 1-dof joints are compared "
-                             f"({model.joints[jid].shortname()})")
-        names.append(model.names[jid])
-    return names
+def rigid(view, theta) -> dict[str, Rigid]:
+    """What each joint of ``view`` (an engine adapter) moves, lumped into one body at ``θ``."""
+    return {name: _lump(parts) for name, parts in view.subtree_parts(theta).items()}
 
 
 # --------------------------------------------------------------------------------- comparison
@@ -402,9 +225,9 @@ def compare(imported, reference, joints: list[str], prismatic: set[str], states:
         theta = np.array([rng.uniform(-1, 1) if j in prismatic else rng.uniform(-np.pi, np.pi) for j in joints])
         theta_dot = rng.uniform(-2, 2, len(joints))
         state = {"theta": dict(zip(joints, theta.tolist())), "theta_dot": dict(zip(joints, theta_dot.tolist()))}
-        r_i, r_r = imported.rigid(theta), reference.rigid(theta)
-        M_i, b_i = imported.dynamics(theta, theta_dot)
-        M_r, b_r = reference.dynamics(theta, theta_dot)
+        r_i, r_r = rigid(imported, theta), rigid(reference, theta)
+        M_i, b_i = imported.mass_and_bias(theta, theta_dot)
+        M_r, b_r = reference.mass_and_bias(theta, theta_dot)
         for name, view, M, b, r in (("import", imported, M_i, b_i, r_i), ("reference", reference, M_r, b_r, r_r)):
             _finite(f"{type(view).__name__} ({name})", state, M=M, bias=b,
                     bodies=[[x.mass, *x.com, *x.inertia.ravel()] for x in r.values()])
@@ -438,18 +261,18 @@ BOUND_NOTE = (f"compiler boundmass = boundinertia = {IMPORT_BOUND:g} (MuJoCo ref
               "massless moving link as is)")
 
 
-def load_import(urdf_text: str, source: str) -> tuple[mujoco.MjModel, str | None, float]:
+def load_import(urdf_text: str, source: str) -> tuple["mujoco.MjModel", str | None, float]:
     """MuJoCo's import, as is or (refused as is: point masses, massless moving links) with the lower bound
     :data:`IMPORT_BOUND` on masses and inertias: the model, MuJoCo's refusal, the bound used."""
     try:
-        return compile_mujoco(urdf_text, source), None, 0.0
+        return compile_text(urdf_text, source), None, 0.0
     except ModelError as exc:
         refused = str(exc).split("MuJoCo refused the model: ", 1)[-1]
-        model = compile_mujoco(urdf_text, source, bound=IMPORT_BOUND)
+        model = compile_text(urdf_text, source, bound=IMPORT_BOUND)
         return model, refused, IMPORT_BOUND
 
 
-def _load_import(urdf_text: str, source: str, record: dict) -> tuple[mujoco.MjModel, float]:
+def _load_import(urdf_text: str, source: str, record: dict) -> tuple["mujoco.MjModel", float]:
     model, record["refused"], bound = load_import(urdf_text, source)
     if record["refused"]:
         record["adjustments"].append(BOUND_NOTE)
@@ -486,14 +309,14 @@ def compare_system(system, states: int = STATES, seed: int = SEED) -> dict:
     try:
         joints = [j.name for j in system.joints]
         prismatic = {j.name for j in system.joints if j.type == "prismatic"}
-        ours = compile_mujoco(mjcf_text, f"urdf/{system.name}.xml")
+        ours = compile_text(mjcf_text, f"urdf/{system.name}.xml")
         imported, bound = _load_import(urdf_text, record["urdf"], record)
-        imported.opt.gravity[:] = ours.opt.gravity
-        record["adjustments"].append(f"gravity {ours.opt.gravity.tolist()} (a URDF has none)")
-        ref, imp = MujocoTree(ours, joints), MujocoTree(imported, joints)
-        armature = ours.dof_armature[ref.dof]
+        ref, imp = MujocoModel.loaded(ours, joints), MujocoModel.loaded(imported, joints)
+        imp.set_gravity(ref.gravity)
+        record["adjustments"].append(f"gravity {ref.gravity.tolist()} (a URDF has none)")
+        armature = ref.armature
         if np.any(armature):
-            imported.dof_armature[imp.dof] = armature
+            imp.set_armature(armature)
             record["adjustments"].append(f"armature {armature.tolist()} (a URDF has no rotor inertia)")
         record["bodies"] = {"imported": imp.body_names(), "reference": ref.body_names()}
         return _finish(record, compare(imp, ref, joints, prismatic, states, seed, bound))
@@ -508,13 +331,12 @@ def compare_urdf(path: Path, text: str, kind: str = "fixture", states: int = STA
     instead, for the controls)."""
     record = _record(path.stem, kind, path, "Pinocchio (same URDF)")
     try:
-        pmodel = load_pinocchio(text, str(path))
-        joints = moving_joints(pmodel)
-        prismatic = {pmodel.names[i] for i in range(1, pmodel.njoints)
-                     if pmodel.joints[i].shortname().startswith("JointModelP")}
+        pmodel = load_urdf(text, str(path))
+        ref = PinocchioModel.loaded(pmodel, moving_joints(pmodel))
+        joints, prismatic = ref.joints, ref.prismatic
         imported, bound = _load_import(without_geometry(import_text or text, str(path)), str(path), record)
-        imported.opt.gravity[:] = pmodel.gravity.linear
-        ref, imp = PinocchioTree(pmodel, joints), MujocoTree(imported, joints)
+        imp = MujocoModel.loaded(imported, joints)
+        imp.set_gravity(ref.gravity)
         record["bodies"] = {"imported": imp.body_names(), "reference": ref.body_names()}
         return _finish(record, compare(imp, ref, joints, prismatic, states, seed, bound))
     except (ModelError, EngineError) as exc:
@@ -599,7 +421,7 @@ def run(systems=(), fixtures=FIXTURES, states: int = STATES, seed: int = SEED) -
                "refused_as_is": sum(r["refused"] is not None for r in records),
                "not_loaded": sum(not r["loaded"] for r in records)}
     return {"schema": SCHEMA, "command": "harness importer --out reports",
-            "versions": {"mujoco": mujoco.__version__, "pinocchio": pin.__version__},
+            "versions": {"mujoco": MUJOCO_VERSION, "pinocchio": PINOCCHIO_VERSION},
             "seed": seed, "states": states, "tolerance": TOLERANCE, "tolerance_reason": TOLERANCE_REASON,
             "summary": summary, "models": records, "probes": probes(fixtures[0], states, seed),
             "controls": controls(fixtures, states, seed)}

@@ -33,16 +33,21 @@ import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import mujoco
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from harness.files import importer
 from harness.files import untrusted
-from harness.engines.mujoco_engine import check_warnings
 from harness import limits
+from harness.engines.mujoco_engine import MujocoModel, compile_text
+from harness.engines.pinocchio_engine import PinocchioModel, check_moves_mass, load_urdf, moving_joints
 from harness.errors import EngineError, HarnessError, InputError, ModelError
 from harness.export.numeric import check_inertia
 from harness.compare.roundtrip import rpy_matrix
+
+if TYPE_CHECKING:
+    import mujoco
 
 STEP_SECONDS = 1.0
 MAX_STEPS = limits.MJCF_STEPS
@@ -157,65 +162,14 @@ def check_urdf_tree(model: untrusted.ModelFile) -> None:
             link = parent_of[link][1]
 
 
-def check_regular_mass(pmodel, source: str, seed: int = importer.SEED, states: int = 3) -> None:
-    """Every moving joint moves mass: a joint whose whole subtree (the links it moves) has neither mass nor
-    inertia, or a mass matrix singular at random states (a massless link on a prismatic joint, a URDF without
-    any ``<inertial>``), makes the model invalid; the message names the link."""
-    import pinocchio as pin
-
-    from harness.derivation.compile import regular_spectrum
-
-    def child_link(jid):
-        for f in pmodel.frames:
-            if f.type == pin.FrameType.BODY and f.parentJoint == jid:
-                return f.name
-        return pmodel.names[jid]
-
-    for jid in range(1, pmodel.njoints):
-        if pmodel.joints[jid].nv == 0:
-            continue
-        subtree = pmodel.subtrees[jid]
-        mass = sum(pmodel.inertias[k].mass for k in subtree)
-        inertia = max(float(np.abs(np.array(pmodel.inertias[k].inertia)).max()) for k in subtree)
-        if mass == 0 and inertia == 0:
-            raise ModelError(f"{source}: link {child_link(jid)!r} (moved by joint {pmodel.names[jid]!r}) and "
-                             "everything it carries have no mass and no inertia: the mass matrix is singular "
-                             "(give the link an <inertial>)")
-    data = pmodel.createData()
-    rng = np.random.default_rng(seed)
-    singular = None
-    for _ in range(states):
-        q = pin.randomConfiguration(pmodel, -np.ones(pmodel.nq), np.ones(pmodel.nq)) if pmodel.nq else pin.neutral(pmodel)
-        q = np.where(np.isfinite(q), q, rng.uniform(-1, 1, pmodel.nq))
-        M = pin.crba(pmodel, data, q)
-        M = np.triu(M) + np.triu(M, 1).T
-        w, v = np.linalg.eigh(M)
-        if regular_spectrum(w):
-            return
-        singular = v[:, 0]
-    if singular is not None:
-        idx = int(np.argmax(np.abs(singular)))
-        jid = next(j for j in range(1, pmodel.njoints)
-                   if pmodel.joints[j].idx_v <= idx < pmodel.joints[j].idx_v + pmodel.joints[j].nv)
-        raise ModelError(f"{source}: the mass matrix is singular at {states} random states: a motion of joint "
-                         f"{pmodel.names[jid]!r} (link {child_link(jid)!r}) moves no mass (give it an <inertial> "
-                         "with mass and inertia)")
-
-
-def _step(model: mujoco.MjModel, source: str) -> dict:
+def _loaded_and_stepped(model: "mujoco.MjModel", source: str) -> dict:
+    """What MuJoCo loaded, and :data:`STEP_SECONDS` of its own stepping with zero controls."""
     if not model.opt.timestep > 0:
         raise ModelError(f"{source}: <option timestep={model.opt.timestep:g}> must be positive")
-    data = mujoco.MjData(model)
+    mm = MujocoModel.loaded(model, [])
     steps = min(MAX_STEPS, int(round(STEP_SECONDS / model.opt.timestep)))
-    for _ in range(steps):
-        mujoco.mj_step(model, data)
-    check_warnings(model, data, f"{source}: {steps} x mj_step with zero controls")
-    return {"steps": f"{steps} x mj_step ({data.time:g} s), no warnings"}
-
-
-def _mujoco_facts(m: mujoco.MjModel) -> dict:
-    return {"bodies": m.nbody - 1, "dof": m.nv, "actuators": m.nu,
-            "moving mass": f"{float(m.body_mass[m.body_weldid != 0].sum()):.6g} kg"}
+    mm.rollout(steps, check=f"{source}: {steps} x mj_step with zero controls")
+    return {**mm.facts(), "steps": f"{steps} x mj_step ({mm.time:g} s), no warnings"}
 
 
 def validate(path: Path | str, root: Path | str | None = None, states: int = importer.STATES,
@@ -226,31 +180,29 @@ def validate(path: Path | str, root: Path | str | None = None, states: int = imp
     if model.kind == untrusted.URDF:
         check_urdf_tree(model)
         check_urdf_inertials(model)
-        pmodel = importer.load_pinocchio(model.text, str(path))
-        check_regular_mass(pmodel, str(path), seed)
-        result.engines["Pinocchio"] = {"joints": pmodel.njoints - 1, "dof": pmodel.nv, "moving mass":
-                                       f"{sum(pmodel.inertias[i].mass for i in range(1, pmodel.njoints)):.6g} kg"}
+        pmodel = load_urdf(model.text, str(path))
+        check_moves_mass(pmodel, str(path), seed)
+        result.engines["Pinocchio"] = PinocchioModel.loaded(pmodel, []).facts()
         mj, refused, bound = importer.load_import(importer.without_geometry(model.text, str(path)),
                                                   f"{path} (MuJoCo's URDF importer)")
         facts = {"refused as is": refused, "loaded with": importer.BOUND_NOTE} if refused else {}
-        result.engines["MuJoCo (URDF importer)"] = {**_mujoco_facts(mj), **_step(mj, str(path)), **facts}
+        result.engines["MuJoCo (URDF importer)"] = {**_loaded_and_stepped(mj, str(path)), **facts}
         try:
-            joints = importer.moving_joints(pmodel)
+            reference = PinocchioModel.loaded(pmodel, moving_joints(pmodel))
         except ModelError as exc:
             result.engines["comparison"] = {"skipped": str(exc)}
         else:
-            prismatic = {pmodel.names[i] for i in range(1, pmodel.njoints)
-                         if pmodel.joints[i].shortname().startswith("JointModelP")}
-            mj.opt.gravity[:] = pmodel.gravity.linear
-            checks = importer.compare(importer.MujocoTree(mj, joints), importer.PinocchioTree(pmodel, joints),
-                                      joints, prismatic, states, seed, bound)
+            joints, prismatic = reference.joints, reference.prismatic
+            imported = MujocoModel.loaded(mj, joints)
+            imported.set_gravity(reference.gravity)
+            checks = importer.compare(imported, reference, joints, prismatic, states, seed, bound)
             result.comparison = {"states": states, "seed": seed, "checks": checks}
             result.findings = [importer.finding(c) for c in checks if not c["passed"]]
     else:
         refers_to_files = bool(untrusted.check_uris(model, root)) or bool(model.includes)
         mj_path = path if refers_to_files else None  # MuJoCo resolves them from the model's own folder
-        mj = importer.compile_mujoco(model.text, str(path), mj_path)
-        result.engines["MuJoCo"] = {**_mujoco_facts(mj), **_step(mj, str(path))}
+        mj = compile_text(model.text, str(path), mj_path)
+        result.engines["MuJoCo"] = _loaded_and_stepped(mj, str(path))
     return result
 
 

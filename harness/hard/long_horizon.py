@@ -133,26 +133,17 @@ def mujoco_steps(system, scene, h, steps, integrator, sample_every):
     ``sample_every`` steps (not a divisor of the 64 steps of a period: the samples sweep the phase)."""
     import time
 
-    import mujoco
-
-    from harness.engines.mujoco_engine import check_warnings
+    from harness.engines.mujoco_engine import Options
     model = Dynamics(system, scene, "mujoco").model
-    m, d = model.model, model.data
-    m.opt.timestep = h
-    m.opt.integrator = getattr(mujoco.mjtIntegrator, f"mjINT_{integrator.upper()}")
-    mujoco.mj_resetData(m, d)
-    d.qpos[model.qpos_index] = scene.q0
-    d.qvel[model.dof_index] = scene.qd0
-    ks, qs, vs = [], [], []
+    model.configure(Options(timestep=h, integrator=integrator))
+    model.reset()
+    model.set_state(scene.q0, scene.qd0)
     start = time.perf_counter()
-    for k in range(steps + 1):
-        if k % sample_every == 0:
-            ks.append(k)
-            qs.append(float(d.qpos[model.qpos_index][0]))
-            vs.append(float(d.qvel[model.dof_index][0]))
-        mujoco.mj_step(m, d)
-    check_warnings(m, d, f"{system.name} {integrator}")
-    return np.array(ks), np.array(qs), np.array(vs), time.perf_counter() - start
+    out = model.rollout(steps, sample_every,
+                        lambda k: (k, float(model.theta()[0]), float(model.theta_dot()[0])),
+                        check=f"{system.name} {integrator}")
+    ks, qs, vs = (np.array(x) for x in zip(*out))
+    return ks, qs, vs, time.perf_counter() - start
 
 
 def _envelope(x, y, bins: int = 400):

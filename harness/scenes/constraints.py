@@ -42,17 +42,14 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 
-import mujoco
 import numpy as np
-import pinocchio as pin
 import sympy as sp
 
 from harness.scenes import simulate as sim
 from harness.checks import Bound
 from harness.engines.base import Load, load_functions
-from harness.engines.mujoco_engine import MujocoModel
+from harness.engines.mujoco_engine import ClosureGuide, JointCoupling, MujocoModel, Options
 from harness.errors import ModelError
-from harness.export.mjcf import mjcf_spec
 from harness.export.numeric import instantiate, point_name
 from harness.modeling.system import value_at
 
@@ -61,8 +58,6 @@ DRIFT = Bound("constraint drift", 1e-8, "max |c| of Pinocchio's constrained tree
               "forming each constraint: 100 × the integrator's rtol 1e-10")
 DRIFT_TOL = DRIFT.value
 GUIDE_MASS_RATIO = 1e-5
-_STIFF_SOLIMP = [0.9999, 0.9999, 0.001, 0.5, 2.0]
-LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 
 
 @dataclass(frozen=True)
@@ -159,60 +154,31 @@ def _start(system, scene, dyn):
 
 # --------------------------------------------------------------------------------------------- Pinocchio
 class PinocchioConstrained:
-    """The tree in Pinocchio with the couplings and closures as rows of the KKT constraint Jacobian."""
+    """The tree in Pinocchio with the couplings and closures as rows of the KKT constraint Jacobian
+    (:class:`harness.engines.pinocchio_engine.Constraints`)."""
 
     def __init__(self, system, scene):
         self.dyn = sim.Dynamics(system, scene, "pinocchio")
         self.pm = self.dyn.model
-        model = self.pm.model
-        index = {j.name: k for j, k in zip(self.dyn.system.joints, self.pm.index)}
         self.couplings = couplings(self.dyn.system, self.dyn)
-        self.rows = []
-        for cp in self.couplings:
-            row = np.zeros(model.nv)
-            row[index[cp.dependent]], row[index[cp.independent]] = 1.0, -cp.ratio
-            self.rows.append((row, cp.offset))
-        self.closures = [(model.getFrameId(point_name(cl.point)), np.array(cl.normal, dtype=float),
-                          value_at(cl.value, self.dyn.params)) for cl in self.dyn.system.closures]
+        self.constraints = self.pm.constraints(
+            [(cp.dependent, cp.independent, cp.offset, cp.ratio) for cp in self.couplings],
+            [(point_name(cl.point), cl.normal, value_at(cl.value, self.dyn.params)) for cl in self.dyn.system.closures])
         self.recover = _Recover(self.dyn, scene.q0)
         self.has_loads = bool(load_functions(self.dyn.system))
         self.evaluations = 0
-
-    def constraint(self, q, v):
-        """``c``, ``J`` and ``J̇ v`` at the Pinocchio state (kinematics computed here)."""
-        model, data = self.pm.model, self.pm.data
-        c, J, drift = [], [], []
-        for row, offset in self.rows:
-            c.append(row @ q - offset)
-            J.append(row)
-            drift.append(0.0)
-        if self.closures:
-            pin.forwardKinematics(model, data, q, v, np.zeros(model.nv))
-            pin.computeJointJacobians(model, data, q)
-            pin.updateFramePlacements(model, data)
-            for fid, n, value in self.closures:
-                c.append(n @ data.oMf[fid].translation - value)
-                J.append(n @ self.pm.frame_jacobian(fid)[:3])
-                drift.append(n @ pin.getFrameClassicalAcceleration(model, data, fid, LWA).linear)
-        return np.array(c), np.array(J).reshape(len(c), model.nv), np.array(drift)
 
     def __call__(self, t, y):
         self.evaluations += 1
         n = len(self.pm.index)
         theta, theta_dot = y[:n], y[n:]
-        q, v = self.pm.to_pin(theta), self.pm.to_pin(theta_dot)
         loads = ()
         if self.has_loads:
             lq, lqd = self.recover(theta, theta_dot)
             loads = _loads(self.dyn, t, lq, lqd)
         inputs = dict(zip((i.name for i in self.dyn.system.inputs), self.dyn.scene.u(t, self.dyn.system)))
-        f_spring, f_damper = self.pm.point_forces(q, v)
-        tau = self.pm.input_forces(q, inputs, loads) + f_spring + f_damper
-        c, J, drift = self.constraint(q, v)
-        w = BAUMGARTE_OMEGA
-        gamma = drift + 2 * w * (J @ v) + w * w * c
-        a = pin.forwardDynamics(self.pm.model, self.pm.data, q, v, tau, J, gamma)
-        return np.concatenate([theta_dot, self.pm.from_pin(a)])
+        return np.concatenate([theta_dot, self.constraints.forward_dynamics(theta, theta_dot, inputs, loads,
+                                                                             BAUMGARTE_OMEGA)])
 
 
 def pinocchio_constrained(system, scene, rtol=1e-10, atol=1e-10, horizon=None) -> sim.Trajectory:
@@ -226,15 +192,14 @@ def pinocchio_constrained(system, scene, rtol=1e-10, atol=1e-10, horizon=None) -
                                   sim.sample_times(scene), end=horizon)
     seconds = time.perf_counter() - start
     recover = _Recover(rhs.dyn, scene.q0)
+    theta_scale = np.maximum(1.0, np.max(np.abs(y[:n]), axis=1))
     q, qd, residuals = [], [], []
     for theta, theta_dot in zip(y[:n].T, y[n:].T):
         a, b = recover(theta, theta_dot)
         q.append(a)
         qd.append(b)
-        c, J, _ = rhs.constraint(rhs.pm.to_pin(theta), rhs.pm.to_pin(theta_dot))
-        residuals.append((np.abs(c), np.abs(J)))
-    theta_scale = rhs.pm.to_pin(np.maximum(1.0, np.max(np.abs(y[:n]), axis=1)))
-    drift = max((float(np.max(c / (J @ theta_scale))) for c, J in residuals if len(c)), default=0.0)
+        residuals.append(rhs.constraints.violation(theta, theta_dot, theta_scale))
+    drift = max((float(np.max(c / scale)) for c, scale in residuals if len(c)), default=0.0)
     q, qd = np.array(q), np.array(qd)
     energy = np.array([rhs.dyn.energy(a, b) for a, b in zip(q, qd)])
     tr = sim.Trajectory("pinocchio (constrained tree, pin.forwardDynamics KKT, DOP853 1e-10)", t, q, qd, seconds,
@@ -244,93 +209,57 @@ def pinocchio_constrained(system, scene, rtol=1e-10, atol=1e-10, horizon=None) -
 
 
 # --------------------------------------------------------------------------------------------- MuJoCo
-def mujoco_spec(system, scene, dt: float):
-    """The pruned system's MJCF with the couplings as joint equalities and the closures as guide bodies joined
-    by connect equalities (equality and constraint flags on, stiff impedance, implicitfast at ``dt``)."""
+def mujoco_transforms(system, scene, dt: float):
+    """The spec transforms of the pruned system's MJCF: the couplings as joint equalities and the closures as
+    guide bodies joined by connect equalities (equality and constraint flags on, stiff impedance, implicitfast at
+    ``dt``); with the tree and the symbolic dynamics of the pruned system."""
     dyn = sim.Dynamics(system, scene, "symbolic")
     s = dyn.system
     tree = instantiate(s, dyn.params)
-    spec = mjcf_spec(tree)
-    spec.option.disableflags &= ~int(mujoco.mjtDisableBit.mjDSBL_EQUALITY | mujoco.mjtDisableBit.mjDSBL_CONSTRAINT)
-    spec.option.timestep = dt
-    spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
-    solver = dict(solref=[2 * dt, 1.0], solimp=_STIFF_SOLIMP)
-    for cp in couplings(s, dyn):
-        spec.add_equality(type=mujoco.mjtEq.mjEQ_JOINT, name1=cp.dependent, name2=cp.independent,
-                          data=[cp.offset, cp.ratio, 0, 0, 0] + [0.0] * 7, **solver)
-    for cl in s.closures:
-        n = np.array(cl.normal, dtype=float)
-        n /= np.linalg.norm(n)
-        t1 = np.cross(n, [1.0, 0.0, 0.0] if abs(n[0]) < 0.9 else [0.0, 1.0, 0.0])
-        t1 /= np.linalg.norm(t1)
-        t2 = np.cross(n, t1)
-        guide = spec.worldbody.add_body(name=f"guide_{cl.name}", pos=value_at(cl.value, dyn.params) * n)
-        guide.explicitinertial = True
-        guide.mass = GUIDE_MASS_RATIO * sum(link.mass for link in tree.links)
-        guide.fullinertia = [guide.mass] * 3 + [0.0] * 3  # it only slides: its inertia never acts
-        guide.gravcomp = 1.0                                # its weight is compensated (it is massless in the model)
-        guide.add_joint(name=f"guide_{cl.name}_1", type=mujoco.mjtJoint.mjJNT_SLIDE, axis=t1)
-        guide.add_joint(name=f"guide_{cl.name}_2", type=mujoco.mjtJoint.mjJNT_SLIDE, axis=t2)
-        guide.add_site(name=f"guide_{cl.name}")
-        spec.add_equality(type=mujoco.mjtEq.mjEQ_CONNECT, objtype=mujoco.mjtObj.mjOBJ_SITE,
-                          name1=point_name(cl.point), name2=f"guide_{cl.name}", **solver)
-    return spec, tree, dyn
-
-
-def _guide_dofs(m, system) -> list[tuple[int, float]]:
-    """``(dof, mass)`` of the guides' slide joints."""
-    out = []
-    for cl in system.closures:
-        body = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, f"guide_{cl.name}")
-        for k in (1, 2):
-            jid = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, f"guide_{cl.name}_{k}")
-            out.append((int(m.jnt_dofadr[jid]), float(m.body_mass[body])))
-    return out
+    solref = (2 * dt, 1.0)
+    transforms = [Options(timestep=dt, integrator="implicitfast", enable=("equality", "constraint"))]
+    transforms += [JointCoupling(cp.dependent, cp.independent, cp.offset, cp.ratio, solref)
+                   for cp in couplings(s, dyn)]
+    transforms += [ClosureGuide(cl.name, point_name(cl.point), tuple(cl.normal), value_at(cl.value, dyn.params),
+                                GUIDE_MASS_RATIO * sum(link.mass for link in tree.links), solref)
+                   for cl in s.closures]
+    return transforms, tree, dyn
 
 
 def mujoco_constrained(system, scene, dt: float, horizon=None) -> sim.Trajectory:
     """MuJoCo's own stepping of the constrained tree (inputs as ``ctrl``, loads as ``qfrc_applied`` from
     ``mj_applyFT`` at the step's kinematics, between ``mj_step1`` and ``mj_step2``)."""
-    spec, tree, dyn = mujoco_spec(system, scene, dt)
-    mm = MujocoModel(tree, spec=spec)
-    m, d = mm.model, mm.data
+    transforms, tree, dyn = mujoco_transforms(system, scene, dt)
+    mm = MujocoModel(tree, transforms=transforms)
+    guides = [t for t in transforms if isinstance(t, ClosureGuide)]
     theta, theta_dot = _start(system, scene, dyn)
-    d.qpos[mm.qpos_index], d.qvel[mm.dof_index] = theta, theta_dot
-    for cl in dyn.system.closures:  # the guide starts where the point is
-        mujoco.mj_kinematics(m, d)
-        site = d.site_xpos[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, point_name(cl.point))]
-        body = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, f"guide_{cl.name}")
-        for k in (1, 2):
-            jid = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, f"guide_{cl.name}_{k}")
-            axis = m.jnt_axis[jid]
-            d.qpos[m.jnt_qposadr[jid]] = axis @ (site - m.body_pos[body])
+    mm.set_state(theta, theta_dot)
+    for guide in guides:  # the guide starts where the point is
+        guide.place(mm)
     recover = _Recover(dyn, scene.q0)
     has_loads = bool(load_functions(dyn.system))
-    guides = _guide_dofs(m, dyn.system)
-    mujoco.mj_forward(m, d)
+    compensations = [guide.compensation(mm) for guide in guides]
+    mm.forward()
     end = scene.horizon if horizon is None else horizon
     steps = int(round(end / dt))
     every = max(1, int(round(scene.horizon / dt / 200)))
-    out_t, out_q, out_qd = [], [], []
-    start = time.perf_counter()
-    for k in range(steps + 1):
-        if k % every == 0:
-            q, qd = recover(d.qpos[mm.qpos_index].copy(), d.qvel[mm.dof_index].copy())
-            out_t.append(d.time)
-            out_q.append(q)
-            out_qd.append(qd)
-        if k == steps:
-            break
-        sim.held_inputs(scene, mm.actuators, k, dt, d.ctrl)
-        mujoco.mj_step1(m, d)
+
+    def sample(k):
+        q, qd = recover(mm.theta(), mm.theta_dot())
+        return mm.time, q, qd
+
+    def between(k):
         if has_loads:
-            q, qd = recover(d.qpos[mm.qpos_index].copy(), d.qvel[mm.dof_index].copy())
-            d.qfrc_applied[:] = mm.applied(_loads(dyn, d.time, q, qd))
-        for dof, mass in guides:  # the guide's inertia cancelled with its last acceleration (lag dt)
-            d.qfrc_applied[dof] = mass * d.qacc[dof]
-        mujoco.mj_step2(m, d)
+            q, qd = recover(mm.theta(), mm.theta_dot())
+            mm.apply_loads(_loads(dyn, mm.time, q, qd))
+        for compensate in compensations:  # the guide's inertia cancelled with its last acceleration (lag dt)
+            compensate()
+
+    start = time.perf_counter()
+    out = mm.rollout(steps, every, sample, before=lambda k: mm.set_inputs(sim.held_inputs(scene, mm.actuators, k, dt)),
+                     between=between)
     seconds = time.perf_counter() - start
-    q, qd = np.array(out_q), np.array(out_qd)
+    q, qd = np.array([x[1] for x in out]), np.array([x[2] for x in out])
     energy = np.array([dyn.energy(a, b) for a, b in zip(q, qd)])
-    return sim.Trajectory(f"mujoco (equality constraints, implicitfast, dt={dt:g})", np.array(out_t), q, qd,
-                          seconds, steps, energy)
+    return sim.Trajectory(f"mujoco (equality constraints, implicitfast, dt={dt:g})", np.array([x[0] for x in out]),
+                          q, qd, seconds, steps, energy)

@@ -1,5 +1,6 @@
-"""Trajectories of a scene: our compiled symbolic right-hand side, and the forward dynamics of Pinocchio and
-MuJoCo, each integrated with scipy's ``solve_ivp``; MuJoCo also with its own integrator (``mj_step``).
+"""Trajectories of a scene: our compiled symbolic right-hand side, and the forward dynamics of an engine of the
+registry (:data:`harness.engines.ENGINES`), each integrated with scipy's ``solve_ivp``; MuJoCo also with its own
+integrator (``mj_step``, :meth:`harness.engines.mujoco_engine.MujocoModel.rollout`).
 
 Every source simulates the *pruned* system (only the scene's effects, :func:`harness.modeling.scenes.pruned`).
 The reference is the symbolic model with DOP853 at ``rtol = 1e-12``; every other run is compared with it at
@@ -12,14 +13,13 @@ import time
 import warnings
 from dataclasses import dataclass, field
 
-import mujoco
 import numpy as np
 from scipy.integrate import odeint, solve_ivp
 
 from harness.derivation.compile import compiled
+from harness.engines import SYMBOLIC, engine
 from harness.engines.base import Load, load_functions, to_lecture
-from harness.engines.mujoco_engine import MujocoModel, check_warnings
-from harness.engines.pinocchio_engine import PinocchioModel
+from harness.engines.mujoco_engine import Options
 from harness.export.numeric import instantiate
 from harness.modeling.system import System
 from harness.modeling.scenes import Scene, pruned
@@ -43,7 +43,8 @@ class Trajectory:
 
 
 class Dynamics:
-    """``q̈ = f(t, q, q̇)`` of one scene from one source, in lecture coordinates."""
+    """``q̈ = f(t, q, q̇)`` of one scene from one source (``"symbolic"`` or an engine of the registry), in lecture
+    coordinates. ``model`` is the engine's adapter (None for the symbolic model)."""
 
     def __init__(self, system: System, scene: Scene, source: str):
         self.system = pruned(system, scene.effects)
@@ -55,17 +56,15 @@ class Dynamics:
         self.input_names = [i.name for i in self.system.inputs]
         self.load_functions = load_functions(self.system)  # looked up once: hashing a System walks its expressions
         self.evaluations = 0
-        if source != "symbolic":
-            tree = instantiate(self.system, self.params)
-            self.model = PinocchioModel(tree) if source == "pinocchio" else MujocoModel(tree)
+        self.model = None if source == SYMBOLIC else engine(source)(instantiate(self.system, self.params))
 
     def __call__(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
         self.evaluations += 1
         u = self.scene.u(t, self.system)
-        if self.source == "symbolic":
+        if self.model is None:
             return self.c.forward_dynamics(q, qd, self.p, u)
-        if self.source == "pinocchio" and self.c.derivation.J_phi.is_square:
-            # only pin.aba: θ̈ of the tree, then q̈ = J⁻¹ (θ̈ − J̇ q̇) (5.58)
+        if self.c.derivation.J_phi.is_square:
+            # only the engine's forward dynamics: θ̈ of the tree, then q̈ = J⁻¹ (θ̈ − J̇ q̇) (5.58)
             theta, J, J_dot = self.c.map_at(q, qd, self.p, u)
             inputs = dict(zip(self.input_names, u))
             theta_dd = self.model.forward_dynamics(theta, J @ qd, inputs, self.loads(q, qd, u))
@@ -80,7 +79,7 @@ class Dynamics:
 
     def mass_matrix(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
         """``M(q)`` in lecture coordinates from this source (the symbolic one or the engine's, mapped)."""
-        if self.source == "symbolic":
+        if self.model is None:
             return self.c("M", q, qd, self.p, self.scene.u(t, self.system))
         return self.lecture(t, q, qd).M
 
@@ -194,13 +193,12 @@ def integrate(system: System, scene: Scene, source: str, method: str = "DOP853",
     return Trajectory(f"{source} ({method}, rtol={rtol:g})", t, q, qd, seconds, dyn.evaluations, energy)
 
 
-def held_inputs(scene: Scene, actuators: dict, k: int, timestep: float, ctrl) -> None:
-    """The ``ctrl`` MuJoCo holds over step ``k``: each input at the step's midpoint ``(k + ½) dt`` — on the
+def held_inputs(scene: Scene, names, k: int, timestep: float) -> dict:
+    """The inputs (by name) MuJoCo holds over step ``k``: each at the step's midpoint ``(k + ½) dt`` — on the
     right side of an input's jump that falls on the step grid (``MjData.time`` accumulates round-off and may
     sit just before it), and second-order accurate for a smooth input (the midpoint rule)."""
     t = (k + 0.5) * timestep
-    for name, aid in actuators.items():
-        ctrl[aid] = scene.inputs[name](t) if name in scene.inputs else 0.0
+    return {name: scene.inputs[name](t) if name in scene.inputs else 0.0 for name in names}
 
 
 def mujoco_native(system: System, scene: Scene, timestep: float, integrator: str = "RK4") -> Trajectory:
@@ -212,32 +210,21 @@ def mujoco_native(system: System, scene: Scene, timestep: float, integrator: str
     if J.shape != (len(s.q), len(s.q)) or not np.allclose(J, np.eye(len(s.q))) or load_functions(s):
         raise ValueError(f"{system.name}: MuJoCo's own integrator needs an identity map and no external loads")
     model = dyn.model
-    m, d = model.model, model.data
-    m.opt.timestep = timestep
-    m.opt.integrator = getattr(mujoco.mjtIntegrator, f"mjINT_{integrator.upper()}")
-    mujoco.mj_resetData(m, d)
-    d.qpos[model.qpos_index] = scene.q0
-    d.qvel[model.dof_index] = scene.qd0
+    model.configure(Options(timestep=timestep, integrator=integrator))
+    model.reset()
+    model.set_state(scene.q0, scene.qd0)
     t_eval = sample_times(scene)
     steps = int(round(scene.horizon / timestep))
     every = max(1, int(round(steps / (len(t_eval) - 1))))
-    out_q, out_qd, out_t = [], [], []
     start = time.perf_counter()
-    for k in range(steps + 1):
-        if k % every == 0:
-            out_t.append(d.time)
-            out_q.append(d.qpos[model.qpos_index].copy())
-            out_qd.append(d.qvel[model.dof_index].copy())
-        if k == steps:
-            break
-        held_inputs(scene, model.actuators, k, timestep, d.ctrl)
-        mujoco.mj_step(m, d)
-    check_warnings(m, d, f"{system.name} scene {scene.name}")  # an unstable run is a failure, not a trajectory
+    out = model.rollout(steps, every, lambda k: (model.time, model.theta(), model.theta_dot()),
+                        before=lambda k: model.set_inputs(held_inputs(scene, model.actuators, k, timestep)),
+                        check=f"{system.name} scene {scene.name}")  # an unstable run is a failure, not a trajectory
     seconds = time.perf_counter() - start
-    q, qd = np.array(out_q), np.array(out_qd)
+    q, qd = np.array([x[1] for x in out]), np.array([x[2] for x in out])
     energy = np.array([dyn.energy(a, b) for a, b in zip(q, qd)])
-    return Trajectory(f"mujoco (mj_step {integrator}, dt={timestep:g})", np.array(out_t), q, qd, seconds, steps,
-                      energy)
+    return Trajectory(f"mujoco (mj_step {integrator}, dt={timestep:g})", np.array([x[0] for x in out]), q, qd,
+                      seconds, steps, energy)
 
 
 def max_error(a: Trajectory, b: Trajectory) -> float:

@@ -40,16 +40,14 @@ import math
 import time
 from dataclasses import dataclass, field
 
-import mujoco
 import numpy as np
 import sympy as sp
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
 from harness.checks import Bound
-from harness.engines.warnings_log import compile_spec
+from harness.engines.mujoco_engine import ContactSphere, DryFriction, MujocoModel, Options
 from harness.errors import ModelError
-from harness.export.mjcf import mjcf_spec, rpy_quat
 from harness.export.numeric import instantiate
 from harness.modeling.system import value_at
 from harness.modeling.events import LiftOff, RollSlip, StickSlip
@@ -67,7 +65,6 @@ STEP_EVENT = Bound("MuJoCo step event", 3.0, "an event of MuJoCo's own dry frict
                    "trajectory's own error shifts them by ≤ 0.01 dt: δ ≤ 2 dt, and a third step of room",
                    derived=True)
 EVENT_TOL, THRESHOLD_TOL, ENGINE_EVENT_TOL = EVENT.value, THRESHOLD.value, ENGINE_EVENT.value
-_STIFF_SOLIMP = [0.9999, 0.9999, 0.001, 0.5, 2.0]   # MuJoCo's impedance at its hardest
 _TINY = 1e-300                                      # a velocity with a sign and no size
 
 
@@ -213,38 +210,25 @@ def mujoco_stick_slip(system, scene, event: StickSlip, dt: float) -> HybridTraje
     dyn = sim.Dynamics(system, scene, "symbolic")
     mu_H, mu_C, f_N = event.values(dyn.params)
     tree = instantiate(dyn.system, dyn.params)
-    spec = mjcf_spec(tree)
-    spec.option.disableflags &= ~int(mujoco.mjtDisableBit.mjDSBL_FRICTIONLOSS | mujoco.mjtDisableBit.mjDSBL_CONSTRAINT)
-    spec.option.timestep = dt
-    spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
-    spec.option.noslip_iterations = 10
-    joint = spec.joint(event.coordinate)
-    joint.solref_friction = [2 * dt, 1.0]
-    joint.solimp_friction = _STIFF_SOLIMP
-    joint.frictionloss = mu_H * f_N
-    m = compile_spec(spec, tree, "MjSpec.compile (dry friction scene)")
-    d = mujoco.MjData(m)
-    dof = m.jnt_dofadr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, event.coordinate)]
-    qpos = m.jnt_qposadr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, event.coordinate)]
-    d.qpos[qpos], d.qvel[dof] = scene.q0[0], scene.qd0[0]
-    actuators = {i.name: mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_ACTUATOR, i.name) for i in dyn.system.inputs}
+    mm = MujocoModel(tree, transforms=[
+        Options(timestep=dt, integrator="implicitfast", enable=("frictionloss", "constraint"), noslip_iterations=10),
+        DryFriction(event.coordinate, mu_H * f_N, (2 * dt, 1.0))], where="MjSpec.compile (dry friction scene)")
+    joint = mm.address(event.coordinate)
+    mm.set_joint(joint, scene.q0[0], scene.qd0[0])
     steps = int(round(scene.horizon / dt))
     every = max(1, steps // 200)
-    out, events, moving = [], [], abs(scene.qd0[0]) > 0
+    events, moving = [], [abs(scene.qd0[0]) > 0]
+
+    def switch(k):  # MuJoCo has one dry friction coefficient: mu_H f_N at rest, mu_C f_N sliding
+        now_moving = abs(mm.joint_state(joint)[1]) > 1e-10
+        if now_moving != moving[0]:
+            events.append(Event(mm.time, "slide" if moving[0] else "stick", "slide" if now_moving else "stick"))
+            moving[0] = now_moving
+        mm.set_frictionloss(joint, (mu_C if moving[0] else mu_H) * f_N)
+        mm.set_inputs(sim.held_inputs(scene, mm.actuators, k, dt))
+
     start = time.perf_counter()
-    for k in range(steps + 1):
-        if k % every == 0:
-            out.append((d.time, d.qpos[qpos], d.qvel[dof]))
-        if k == steps:
-            break
-        now_moving = abs(d.qvel[dof]) > 1e-10
-        if now_moving != moving:
-            events.append(Event(d.time, "slide" if moving else "stick", "slide" if now_moving else "stick"))
-            moving = now_moving
-        m.dof_frictionloss[dof] = (mu_C if moving else mu_H) * f_N
-        sim.held_inputs(scene, actuators, k, dt, d.ctrl)
-        mujoco.mj_step(m, d)
-    out = np.array(out)
+    out = np.array(mm.rollout(steps, every, lambda k: (mm.time, *mm.joint_state(joint)), before=switch))
     energy = np.array([dyn.energy(np.array([a]), np.array([b])) for a, b in out[:, 1:]])
     return HybridTrajectory(f"mujoco (frictionloss, implicitfast, dt={dt:g})", out[:, 0], out[:, 1:2], out[:, 2:3],
                             time.perf_counter() - start, steps, energy, events=events)
@@ -254,60 +238,37 @@ def mujoco_stick_slip(system, scene, event: StickSlip, dt: float) -> HybridTraje
 def _rolling_model(system, scene, event: RollSlip, mu: float, dt: float):
     dyn = sim.Dynamics(system, scene, "symbolic")
     params = dyn.params
-    R = params[event.radius]
-    rpy = [value_at(a, params) for a in event.plane_rpy]
+    rpy = tuple(value_at(a, params) for a in event.plane_rpy)
     tree = instantiate(dyn.system, params)
-    spec = mjcf_spec(tree)
-    spec.option.disableflags &= ~int(mujoco.mjtDisableBit.mjDSBL_CONTACT | mujoco.mjtDisableBit.mjDSBL_CONSTRAINT)
-    spec.option.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
-    spec.option.timestep = dt
-    spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
-    body = spec.body(event.link)
-    old = [(j.name, j.type, list(j.axis)) for j in body.joints]
-    for j in list(body.joints):
-        spec.delete(j)
-    body.add_joint(name="normal", type=mujoco.mjtJoint.mjJNT_SLIDE, axis=[0, 0, 1])  # free to leave the plane
-    for name, kind, axis in old:
-        body.add_joint(name=name, type=kind, axis=axis)
-    quat = rpy_quat(rpy)
-    normal = np.zeros(3)
-    mujoco.mju_rotVecQuat(normal, np.array([0.0, 0.0, 1.0]), quat)
-    contact = dict(friction=[mu, 0.0, 0.0], condim=3, solref=[2 * dt, 1.0], solimp=_STIFF_SOLIMP)
-    spec.worldbody.add_geom(name="plane", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 1], pos=-R * normal,
-                            quat=quat, **contact)
-    body.add_geom(name="ball", type=mujoco.mjtGeom.mjGEOM_SPHERE, size=[R, 0, 0], **contact)
-    m = compile_spec(spec, tree, "MjSpec.compile (contact scene)")
-    return m, dyn
+    mm = MujocoModel(tree, transforms=[
+        Options(timestep=dt, integrator="implicitfast", enable=("contact", "constraint"), elliptic=True),
+        ContactSphere(event.link, params[event.radius], rpy, mu, (2 * dt, 1.0))],
+        where="MjSpec.compile (contact scene)")
+    return mm, dyn
 
 
 def mujoco_rolling(system, scene, event: RollSlip, dt: float, mu: float | None = None) -> HybridTrajectory:
     """The sphere on the plane in MuJoCo's contact; ``q`` is the rolling angle; the slip velocity
     ``ẋ − R ω`` is in ``notes['slip']`` over time."""
     mu = event.mu if mu is None else mu
-    m, dyn = _rolling_model(system, scene, event, mu, dt)
-    d = mujoco.MjData(m)
-    jid = lambda name: mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, name)  # noqa: E731
-    slide, roll = m.jnt_dofadr[jid(event.slide_joint)], m.jnt_dofadr[jid(event.roll_joint)]
+    mm, dyn = _rolling_model(system, scene, event, mu, dt)
+    slide, roll = mm.address(event.slide_joint), mm.address(event.roll_joint)
     R = dyn.params[event.radius]
-    d.qpos[m.jnt_qposadr[jid(event.roll_joint)]] = scene.q0[0]
-    d.qpos[m.jnt_qposadr[jid(event.slide_joint)]] = R * scene.q0[0]
-    d.qvel[roll], d.qvel[slide] = scene.qd0[0], R * scene.qd0[0]
+    mm.set_joint(roll, scene.q0[0], scene.qd0[0])
+    mm.set_joint(slide, R * scene.q0[0], R * scene.qd0[0])
     steps = int(round(scene.horizon / dt))
     every = max(1, steps // 200)
-    out, slip = [], []
+
+    def sample(k):
+        (x, v), (_, slide_v) = mm.joint_state(roll), mm.joint_state(slide)
+        return mm.time, x, v, slide_v - R * v
+
     start = time.perf_counter()
-    for k in range(steps + 1):
-        if k % every == 0:
-            out.append((d.time, d.qpos[m.jnt_qposadr[jid(event.roll_joint)]], d.qvel[roll]))
-            slip.append(d.qvel[slide] - R * d.qvel[roll])
-        if k == steps:
-            break
-        mujoco.mj_step(m, d)
-    out = np.array(out)
-    energy = np.array([dyn.energy(np.array([a]), np.array([b])) for a, b in out[:, 1:]])
+    out = np.array(mm.rollout(steps, every, sample))
+    energy = np.array([dyn.energy(np.array([a]), np.array([b])) for a, b in out[:, 1:3]])
     tr = HybridTrajectory(f"mujoco (contact, mu={mu:.4g}, implicitfast, dt={dt:g})", out[:, 0], out[:, 1:2],
                           out[:, 2:3], time.perf_counter() - start, steps, energy)
-    tr.notes["slip"] = np.array(slip)
+    tr.notes["slip"] = out[:, 3]
     return tr
 
 

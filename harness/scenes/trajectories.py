@@ -51,6 +51,7 @@ import numpy as np
 
 from harness.checks import Bound, Check
 from harness.derivation.compile import compiled
+from harness.engines import ENGINES, simulating
 from harness.modeling.system import System
 from harness.modeling.scenes import Scene, pruned, with_idle_effects
 from harness.scenes import constraints
@@ -236,7 +237,7 @@ def _stick_slip(system: System, scene: Scene, event, engines, result: "SceneResu
     predicted = structural.predicted_breakaway(system, scene, event)
     result.add(structural.EVENT.check("breakaway where |f_e| = mu_H f_N (3.80), s", "symbolic",
                                       abs(ref.events[0].time - predicted)))
-    if "mujoco" in engines:
+    if simulating(engines, "dry friction"):
         dt = scene.horizon / sim.grid_steps(scene, 4000)
         bound = structural.frictionloss_bound(system, scene, event, ref)
         coarse, fine = (structural.mujoco_stick_slip(system, scene, event, h) for h in (dt, dt / 2))
@@ -257,14 +258,14 @@ def _constrained(system: System, scene: Scene, engines, result: "SceneResult", h
     ref = result.trajectories["reference"]
     if horizon is not None:
         result.notes["constrained tree simulated until"] = f"{horizon:.6f} s (the event that ends the constraint)"
-    if "pinocchio" in engines:
+    if simulating(engines, "kkt constraints"):
         tr = mapping(constraints.pinocchio_constrained(system, scene, horizon=horizon))
         result.trajectories["pinocchio constrained"] = tr
         result.add(ENGINE.check("constrained tree (pin.forwardDynamics KKT, DOP853 1e-10)", "pinocchio",
                                 sim.max_error(tr, ref)))
         result.add(constraints.DRIFT.check("constraint drift max |c_k| / sum_j |J_kj| max(1, |theta_j|)",
                                            "pinocchio", tr.notes["drift"]))
-    if "mujoco" in engines:
+    if simulating(engines, "soft constraints"):
         dt = scene.horizon / sim.grid_steps(scene, 4000)
 
         def run(h):
@@ -313,10 +314,10 @@ def run_scene(system: System, scene: Scene, engines=("pinocchio", "mujoco"), muj
     """Simulate ``scene`` with every source and check it; ``catalogue`` resolves the systems an event switches
     to (a lift-off's phase 2)."""
     result = SceneResult(system.name, scene.name)
-    engines = tuple(e for e in engines if not system.engine_note(e))
-    for engine in {"pinocchio", "mujoco"} - set(engines):
-        if system.engine_note(engine):
-            result.notes[engine] = system.engine_note(engine)
+    for engine in engines:
+        if ENGINES[engine].applies(system):
+            result.notes[engine] = ENGINES[engine].applies(system)
+    engines = tuple(e for e in engines if not ENGINES[e].applies(system))
     event = hybrid_event(scene)
     if event is not None:
         _hybrid(system, scene, event, engines, result, catalogue)
@@ -329,7 +330,7 @@ def run_scene(system: System, scene: Scene, engines=("pinocchio", "mujoco"), muj
     if constraints.constrained(system):
         _constrained(system, scene, engines, result)
     for event in scene.events:
-        if isinstance(event, structural.RollSlip) and "mujoco" in engines:
+        if isinstance(event, structural.RollSlip) and simulating(engines, "contact"):
             _roll_slip(system, scene, event, result)
     balance, _ = _energy_balance(system, scene)
     result.add(INVARIANT.check("energy constant" if scene.conservative else "power balance (3.101)", "symbolic",
@@ -348,7 +349,7 @@ def _smooth(system: System, scene: Scene, engines, mujoco_dt, result: SceneResul
         tr = sim.integrate(system, scene, engine, rtol=1e-10, atol=1e-10)
         result.trajectories[engine] = tr
         result.add(ENGINE.check("trajectory (DOP853 1e-10)", engine, sim.max_error(tr, ref)))
-    if "mujoco" in engines:
+    if simulating(engines, "stepping"):
         _mj_step(system, scene, mujoco_dt, ref, result)
 
 

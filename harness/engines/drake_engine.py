@@ -1,0 +1,235 @@
+"""Drake, loading our URDF into a continuous ``MultibodyPlant`` (``time_step = 0``: forward dynamics by the
+articulated-body algorithm, no joint limits). Every number comes from a named Drake call:
+
+* ``M = CalcMassMatrix`` (rotor inertia included: a URDF has none, so each joint with armature gets a
+  ``JointActuator`` with that rotor inertia and gear ratio 1, whose reflected inertia Drake adds to ``M``);
+* ``C θ̇ = CalcBiasTerm`` (Coriolis, centrifugal, gyroscopic: no gravity);
+* ``g = −CalcGravityGeneralizedForces`` (Drake returns the gravity force on the right-hand side);
+* the Christoffel ``C`` by polarization of ``CalcBiasTerm``, which is exactly quadratic in ``v``
+  (:func:`~harness.engines.base.polarization`);
+* springs, dampers, inputs and external loads from Drake's own kinematics like the Pinocchio adapter does
+  (:func:`~harness.engines.base.spring_damper_forces`, :func:`~harness.engines.base.input_forces`): point positions
+  ``CalcPointsPositions``, Jacobians ``CalcJacobianTranslationalVelocity`` / ``CalcJacobianAngularVelocity``, link
+  rotations ``CalcRelativeRotationMatrix``. The URDF's joint damping, which Drake would apply itself, is zeroed:
+  the dampers are formed from the engine's Jacobians like every other force;
+* ``θ̈`` from the generalized-acceleration output port with the applied generalized force (inputs + springs +
+  dampers) on its input port.
+
+Joints are mapped by name (``position_start``, ``velocity_start``): Drake orders the joints of a branched tree
+differently from Pinocchio. The parser is strict: a warning about our URDF is an error, never console output."""
+
+from __future__ import annotations
+
+import numpy as np
+from pydrake.multibody.parsing import Parser
+from pydrake.multibody.plant import MultibodyPlant
+from pydrake.multibody.tree import JacobianWrtVariable
+
+from harness.engines.base import TreeEngine, TreeQuantities, input_forces, polarization, spring_damper_forces
+from harness.errors import EngineError
+from harness.export.numeric import NumericTree
+from harness.export.urdf import urdf_string
+
+_V = JacobianWrtVariable.kV
+
+
+class DrakeModel(TreeEngine):
+    """A Drake ``MultibodyPlant`` of one :class:`NumericTree` with the index maps to our joint order."""
+
+    name, reads = "drake", "URDF"
+
+    def __init__(self, tree: NumericTree, urdf: str | None = None):
+        self.tree = tree
+        self.plant = plant = MultibodyPlant(time_step=0.0)
+        parser = Parser(plant)
+        parser.SetStrictParsing()
+        try:
+            parser.AddModelsFromString(urdf if urdf is not None else urdf_string(tree), "urdf")
+        except RuntimeError as exc:
+            raise EngineError(f"{tree.system}: Drake refused the URDF: {exc}") from None
+        plant.mutable_gravity_field().set_gravity_vector(np.asarray(tree.gravity, dtype=float))
+        self.joints = [j.name for j in tree.joints]
+        for j in tree.joints:
+            if not plant.HasJointNamed(j.name):
+                raise EngineError(f"{tree.system}: joint {j.name} missing in the Drake model")
+            joint = plant.GetMutableJointByName(j.name)
+            joint.set_default_damping(0.0)   # dampers come from Drake's Jacobians (tree.joint_damping)
+            if j.armature:                    # rotor inertia: a URDF has none
+                rotor = plant.AddJointActuator(f"{j.name}_rotor", joint)
+                rotor.set_default_rotor_inertia(j.armature)
+                rotor.set_default_gear_ratio(1.0)
+        plant.Finalize()
+        if plant.num_positions() != plant.num_velocities():
+            raise EngineError(f"{tree.system}: Drake model has nq != nv")
+        self.context = plant.CreateDefaultContext()
+        self.context_bias = plant.CreateDefaultContext()   # the polarization's states
+        joints = [plant.GetJointByName(name) for name in self.joints]
+        self.q_index = {j.name(): j.position_start() for j in joints}
+        self.v_index = {j.name(): j.velocity_start() for j in joints}
+        self.iq, self.iv = [self.q_index[n] for n in self.joints], [self.v_index[n] for n in self.joints]
+        self.world = plant.world_frame()
+        self.frames = {p.name: plant.GetBodyByName(p.name).body_frame() for p in tree.points}
+
+    # ----- coordinates
+    def to_q(self, theta):
+        q = np.zeros(self.plant.num_positions())
+        q[self.iq] = theta
+        return q
+
+    def to_v(self, theta_dot):
+        v = np.zeros(self.plant.num_velocities())
+        v[self.iv] = theta_dot
+        return v
+
+    def from_v(self, x):
+        return np.asarray(x)[self.iv]
+
+    def _set(self, context, theta, theta_dot):
+        q, v = self.to_q(theta), self.to_v(theta_dot)
+        self.plant.SetPositions(context, q)
+        self.plant.SetVelocities(context, v)
+        return q, v
+
+    # ----- Drake's kinematics
+    def _position(self, point: str) -> np.ndarray:
+        return self.plant.CalcPointsPositions(self.context, self.frames[point], np.zeros(3), self.world).ravel()
+
+    def _jacobian(self, frame) -> np.ndarray:
+        return self.plant.CalcJacobianTranslationalVelocity(self.context, _V, frame, np.zeros(3), self.world,
+                                                            self.world)
+
+    def _angular(self, link: str) -> np.ndarray:
+        frame = self.plant.GetBodyByName(link).body_frame()
+        return self.plant.CalcJacobianAngularVelocity(self.context, _V, frame, self.world, self.world)
+
+    def _rotation(self, link: str) -> np.ndarray:
+        frame = self.plant.GetBodyByName(link).body_frame()
+        return self.plant.CalcRelativeRotationMatrix(self.context, self.world, frame).matrix()
+
+    def _forces(self, q, v, u: dict, loads):
+        """``(f_spring, f_damper, τ_input)`` in Drake's order, at the state of ``self.context``."""
+        nv = self.plant.num_velocities()
+        f_spring, f_damper = spring_damper_forces(self.tree, nv, q, v, self._position,
+                                                  lambda p: self._jacobian(self.frames[p]), self.q_index,
+                                                  self.v_index)
+        tau_input = input_forces(self.tree, nv, u, loads, self.v_index, self._rotation,
+                                 lambda p: self._jacobian(self.frames[p]), self._angular)
+        return f_spring, f_damper, tau_input
+
+    def _acceleration(self, tau) -> np.ndarray:
+        """``θ̈`` (Drake's order) from the generalized-acceleration output port with ``τ`` applied."""
+        self.plant.get_applied_generalized_force_input_port().FixValue(self.context, tau)
+        return np.asarray(self.plant.get_generalized_acceleration_output_port().Eval(self.context)).copy()
+
+    def _bias(self, theta, theta_dot) -> np.ndarray:
+        self._set(self.context_bias, theta, theta_dot)
+        return self.from_v(self.plant.CalcBiasTerm(self.context_bias))
+
+    def forward_dynamics(self, theta, theta_dot, u: dict, loads=()) -> np.ndarray:
+        q, v = self._set(self.context, theta, theta_dot)
+        f_spring, f_damper, tau_input = self._forces(q, v, u, loads)
+        return self.from_v(self._acceleration(tau_input + f_spring + f_damper))
+
+    def quantities(self, theta, theta_dot, u: dict, loads=(), christoffel: bool = True) -> TreeQuantities:
+        plant, context = self.plant, self.context
+        q, v = self._set(context, theta, theta_dot)
+        M = plant.CalcMassMatrix(context)
+        Cqd = plant.CalcBiasTerm(context)
+        g_gravity = -plant.CalcGravityGeneralizedForces(context)
+        f_spring, f_damper, tau_input = self._forces(q, v, u, loads)
+        qdd = self._acceleration(tau_input + f_spring + f_damper)
+        C = polarization(lambda w: self._bias(theta, w), theta_dot) if christoffel else None
+        return TreeQuantities(
+            M=np.asarray(M)[np.ix_(self.iv, self.iv)], Cqd=self.from_v(Cqd), g_gravity=self.from_v(g_gravity),
+            g_spring=-self.from_v(f_spring), f_damper=self.from_v(f_damper), tau_input=self.from_v(tau_input),
+            qdd=self.from_v(qdd), C=C,
+            calls={"M": "CalcMassMatrix", "Cqd": "CalcBiasTerm",
+                   "g": "-CalcGravityGeneralizedForces + springs from CalcPointsPositions, "
+                        "CalcJacobianTranslationalVelocity",
+                   "C": "polarization of CalcBiasTerm(v ± s e_j) / 4s",
+                   "f_damper": "dampers from CalcJacobianTranslationalVelocity",
+                   "qdd": "generalized acceleration output port (applied generalized force = inputs + springs + "
+                          "dampers)"})
+
+    # ----- the benchmarks' symbolic peer (harness.bench.lightweight_robot)
+    def symbolic_terms(self) -> dict:
+        """Drake's own symbolic path: ``MultibodyPlant.ToSymbolic()`` at symbolic ``q``, ``v`` (``MakeVectorVariable``),
+        ``M = CalcMassMatrix``, ``C θ̇ = CalcBiasTerm``, ``τ_g = CalcGravityGeneralizedForces`` as Drake expressions in
+        our joint order, with ``at(θ, θ̇)`` evaluating them (``pydrake.symbolic.Evaluate``) to ``(M, C θ̇, g = −τ_g)``."""
+        from pydrake.symbolic import Evaluate, MakeVectorVariable
+
+        plant = self.plant.ToSymbolic()
+        context = plant.CreateDefaultContext()
+        n = plant.num_velocities()
+        qs, vs = MakeVectorVariable(n, "q"), MakeVectorVariable(n, "v")
+        plant.SetPositions(context, qs)
+        plant.SetVelocities(context, vs)
+        M = plant.CalcMassMatrix(context)[np.ix_(self.iv, self.iv)]
+        Cqd = plant.CalcBiasTerm(context)[self.iv]
+        tau_g = plant.CalcGravityGeneralizedForces(context)[self.iv]   # the gravity force: -g
+
+        def at(theta, theta_dot):
+            env = {qs[i]: x for i, x in zip(self.iq, theta)} | {vs[i]: x for i, x in zip(self.iv, theta_dot)}
+            return (Evaluate(M, env), Evaluate(Cqd.reshape(-1, 1), env).ravel(),
+                    -Evaluate(tau_g.reshape(-1, 1), env).ravel())
+
+        return {"M": M, "Cqd": Cqd, "tau_g": tau_g, "at": at}
+
+    # ----- the export round trip (harness.compare.roundtrip): the URDF as loaded
+    @property
+    def dofs(self) -> int:
+        return self.plant.num_velocities()
+
+    def _inboard(self, body):
+        """The joint whose child is ``body`` (None for the world body)."""
+        plant = self.plant
+        for index in plant.GetJointIndices():
+            joint = plant.get_joint(index)
+            if joint.child_body().index() == body.index():
+                return joint
+        return None
+
+    def _carrier(self, body) -> str | None:
+        """The moving joint that carries ``body`` (through welds; None: the world)."""
+        joint = self._inboard(body)
+        while joint is not None and joint.num_velocities() == 0:
+            joint = self._inboard(joint.parent_body())
+        return None if joint is None else joint.name()
+
+    def link_as_loaded(self, name: str) -> dict | None:
+        """A link's moving joint, its frame relative to the joint's frame on it (3 x 4), mass, centre of mass and
+        inertia tensor about it in the link frame (``default_spatial_inertia`` shifted to the centre of mass)."""
+        if not self.plant.HasBodyNamed(name):
+            return None
+        body = self.plant.GetBodyByName(name)
+        joint = self._inboard(body)
+        frame = np.eye(4)[:3] if joint is None else \
+            joint.frame_on_child().GetFixedPoseInBodyFrame().inverse().GetAsMatrix34()
+        com = body.default_com()
+        inertia = body.default_spatial_inertia().Shift(com).CalcRotationalInertia().CopyToFullMatrix3()
+        return {"joint": self._carrier(body), "frame": frame, "mass": body.default_mass(), "inertia": inertia,
+                "com": com}
+
+    def joint_as_loaded(self, name: str) -> dict | None:
+        """A joint's parent joint, type, axis, placement in the parent link (``frame_on_parent``)."""
+        if not self.plant.HasJointNamed(name):
+            return None
+        joint = self.plant.GetJointByName(name)
+        kind = joint.type_name()
+        axis = joint.revolute_axis() if kind == "revolute" else \
+            joint.translation_axis() if kind == "prismatic" else []
+        pose = joint.frame_on_parent().GetFixedPoseInBodyFrame()
+        return {"parent": self._carrier(joint.parent_body()), "type": kind, "axis": axis,
+                "origin": pose.translation(), "rotation": pose.rotation().matrix()}
+
+    def point_as_loaded(self, name: str) -> dict | None:
+        """A point (a body welded to its link): its moving joint and its position in the link frame."""
+        if not self.plant.HasBodyNamed(name):
+            return None
+        body = self.plant.GetBodyByName(name)
+        weld = self._inboard(body)
+        if weld is None:
+            return None
+        pose = weld.frame_on_parent().GetFixedPoseInBodyFrame().multiply(
+            weld.frame_on_child().GetFixedPoseInBodyFrame().inverse())
+        return {"joint": self._carrier(body), "position": pose.translation()}

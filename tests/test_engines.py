@@ -1,0 +1,203 @@
+"""The engine layer: the registry, every catalogue system loaded in every engine (as exported, joints mapped by
+name), one stepping loop for MuJoCo with its spec transforms, Pinocchio's KKT constraints, the adapters built from
+a model the engine already loaded (harness.files.importer)."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import models
+from harness.checks import relative_error
+from harness.compare import conformance, strategies
+from harness.compare.roundtrip import roundtrip
+from harness.engines import ENGINES, SOURCES, SYMBOLIC, engine, evaluate
+from harness.engines.base import State, TreeEngine
+from harness.errors import InputError
+from harness.export.numeric import instantiate
+
+SYSTEMS = list(models.catalogue())
+
+
+def test_registry_names_every_engine_and_loads_none_of_them():
+    assert list(ENGINES) == ["pinocchio", "mujoco", "drake"] and SOURCES == (SYMBOLIC, *ENGINES)
+    code = ("import sys; from harness.engines import ENGINES, SOURCES; list(ENGINES); "
+            "print(any(m in sys.modules for m in ('mujoco', 'pinocchio', 'pydrake')))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert out.stdout.strip() == "False", out.stderr
+    for name in ENGINES:
+        cls = ENGINES[name]
+        assert issubclass(cls, TreeEngine) and cls.name == name and cls.reads in ("URDF", "MJCF")
+    assert ENGINES["mujoco"].integrators and not ENGINES["pinocchio"].integrators
+    with pytest.raises(InputError, match="unknown engine 'bullet'; choose one of symbolic, pinocchio, mujoco, drake"):
+        engine("bullet")
+
+
+STATES = 3          # per system and engine; the conformance suite draws hundreds (harness check)
+
+
+def lecture_states(system, count: int = STATES, seed: int = 3) -> list[State]:
+    """``count`` states of ``system`` at default parameters, drawn like the hypothesis strategy draws them
+    (:mod:`harness.compare.strategies`: a coordinate's own range, else angles in [-π, π] and lengths within ±1 m;
+    rates within ±5 per second; inputs within ±10), from a fixed seed."""
+    rng = np.random.default_rng(seed)
+    out = []
+    for _ in range(count):
+        q = [rng.uniform(*c.range) if c.range else
+             rng.uniform(-strategies.ANGLE, strategies.ANGLE) if c.unit == "rad" else
+             rng.uniform(-strategies.LENGTH, strategies.LENGTH) for c in system.coordinates]
+        qd = rng.uniform(-strategies.RATE, strategies.RATE, len(system.coordinates))
+        u = {i.name: rng.uniform(-strategies.INPUT, strategies.INPUT) for i in system.inputs}
+        out.append(State.make(system, q, qd, u=u))
+    return out
+
+
+@pytest.mark.parametrize("system", SYSTEMS)
+def test_every_system_loads_in_every_engine(system):
+    """Each engine of the registry loads the exported file of each catalogue system it applies to (default
+    parameters): every joint found by name, the file as loaded is what we meant (round trip), and at a few states
+    every quantity (M, C q̇, Christoffel C, g, springs, dampers, q̈ with inputs) agrees with the symbolic model in
+    lecture coordinates within the conformance bounds (ROUND_OFF of harness.checks.BOUNDS). One test per system,
+    the engines in turn: the symbolic model is compiled once per system."""
+    s = models.get(system)
+    tree = instantiate(s, s.default_parameters())
+    states = lecture_states(s)
+    references = []
+    for state in states:
+        ref = evaluate(SYMBOLIC, state)
+        ref.extra["qd"] = state.qd
+        references.append(ref)
+    loaded = []
+    for name in ENGINES:
+        if ENGINES[name].applies(s):
+            continue
+        model = ENGINES[name](tree)
+        loaded.append(name)
+        assert model.joints == [j.name for j in tree.joints], name
+        assert [str(f) for f in roundtrip(tree, model)] == [], name
+        for state, ref in zip(states, references):
+            ev = model.evaluate(state)
+            assert set(ev.calls) >= {"M", "Cqd", "g", "qdd"}, name
+            for key in ("M", "Cqd", "g", "qdd", "C"):
+                assert np.all(np.isfinite(getattr(ev, key))), (name, key)
+            checks = conformance.compare(state, ref, ev)
+            assert {c.name for c in checks} >= {"M", "Cqd", "g", "g_spring", "f_damper", "qdd", "C (Christoffel)"}
+            assert all(c.basis == conformance.ROUND_OFF.name for c in checks)
+            failed = [f"{c.name}: {c.value:.3e} > {c.bound:.1e}" for c in checks if not c.passed]
+            assert not failed, f"{system} in {name} at q={state.q.tolist()}, qd={state.qd.tolist()}: {failed}"
+    assert loaded == [name for name in ENGINES if not ENGINES[name].applies(s)]
+
+
+def test_drake_maps_joints_by_name_on_a_branched_tree():
+    """The cable pulley's tree is branched: the adapters map joints by name, and Drake and Pinocchio agree in our
+    order (tree coordinates, within the round-off bound)."""
+    s = models.get("cable_pulley")
+    tree = instantiate(s, s.default_parameters())
+    pm, dm = ENGINES["pinocchio"](tree), ENGINES["drake"](tree)
+    n = len(tree.joints)
+    theta, theta_dot = np.linspace(0.1, 0.5, n), np.linspace(-1, 1, n)
+    a = pm.quantities(theta, theta_dot, {i.name: 0.0 for i in s.inputs})
+    b = dm.quantities(theta, theta_dot, {i.name: 0.0 for i in s.inputs})
+    for key in ("M", "Cqd", "g_gravity", "g_spring", "qdd", "C"):
+        x, y = getattr(a, key), getattr(b, key)
+        assert relative_error(x, y, 1.0) <= conformance.ROUND_OFF.value, key
+
+
+def test_drake_symbolic_terms_agree_with_its_numbers():
+    """The benchmarks' symbolic path (``ToSymbolic``) evaluated at a state is the numeric plant's M, C q̇, g."""
+    s = models.get("planar_robot")
+    tree = instantiate(s, s.default_parameters())
+    dm = ENGINES["drake"](tree)
+    theta, theta_dot = np.array([0.3, -0.7, 1.1]), np.array([0.5, -1.0, 2.0])
+    M, Cqd, g = dm.symbolic_terms()["at"](theta, theta_dot)
+    t = dm.quantities(theta, theta_dot, {i.name: 0.0 for i in s.inputs}, christoffel=False)
+    for x, y in ((M, t.M), (Cqd, t.Cqd), (g, t.g_gravity)):
+        assert relative_error(x, y, 1.0) <= conformance.ROUND_OFF.value
+
+
+def test_mujoco_rollout_samples_and_hooks():
+    """One stepping loop: samples at k = 0, every, …, steps; ``before`` ahead of every step, ``between`` inside
+    ``mj_step1``/``mj_step2`` (which integrate by Euler); a run without it equals MuJoCo's own ``mj_step`` loop."""
+    from harness.engines.mujoco_engine import MujocoModel, Options
+
+    s = models.get("pendulum")
+    tree = instantiate(s, s.default_parameters())
+    runs = []
+    for split in (False, True):
+        mm = MujocoModel(tree)
+        mm.configure(Options(timestep=1e-3, integrator="RK4"))
+        mm.set_state([0.5], [0.0])
+        seen = []
+        out = mm.rollout(10, 4, lambda k: (k, float(mm.theta()[0])), before=seen.append,
+                         between=(lambda k: None) if split else None)
+        assert [k for k, _ in out] == [0, 4, 8] and seen == list(range(10))
+        assert mm.time == pytest.approx(10e-3)
+        runs.append([x for _, x in out])
+    import mujoco
+
+    mm = MujocoModel(tree)
+    mm.configure(Options(timestep=1e-3, integrator="RK4"))
+    mm.set_state([0.5], [0.0])
+    for _ in range(8):
+        mujoco.mj_step(mm.model, mm.data)
+    assert runs[0][2] == float(mm.theta()[0])
+
+
+def test_mujoco_spec_transforms_switch_effects_on():
+    """Options clears the disable flags of the effects it names; DryFriction sets frictionloss; the transforms'
+    compile is recorded under the scene's label."""
+    import mujoco
+
+    from harness.engines import warnings_log
+    from harness.engines.mujoco_engine import DryFriction, MujocoModel, Options
+
+    s = models.get("stick_slip")
+    tree = instantiate(s, s.default_parameters())
+    plain = MujocoModel(tree)
+    joint = tree.joints[0].name
+    mm = MujocoModel(tree, transforms=[Options(timestep=2e-3, integrator="implicitfast",
+                                               enable=("frictionloss", "constraint")),
+                                       DryFriction(joint, 0.7, (4e-3, 1.0))], where="MjSpec.compile (test)")
+    off = mujoco.mjtDisableBit
+    assert plain.model.opt.disableflags & off.mjDSBL_FRICTIONLOSS
+    assert not mm.model.opt.disableflags & (off.mjDSBL_FRICTIONLOSS | off.mjDSBL_CONSTRAINT)
+    assert mm.model.opt.timestep == 2e-3 and mm.model.opt.integrator == mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+    assert mm.model.dof_frictionloss[mm.address(joint)[1]] == 0.7
+    warnings_log.drain(tree.system)
+
+
+def test_pinocchio_kkt_constraints_hold_a_coupling():
+    """A coupling row θ_d = offset + ratio θ_i: the constrained acceleration satisfies J a + γ = 0."""
+    s = models.get("pulley")
+    tree = instantiate(s, s.default_parameters())
+    pm = ENGINES["pinocchio"](tree)
+    a, b = (j.name for j in tree.joints)
+    constraints = pm.constraints([(b, a, 0.1, -0.5)], [])
+    theta = np.array([0.3, 0.1 - 0.5 * 0.3])
+    theta_dot = np.array([1.0, -0.5])
+    acc = constraints.forward_dynamics(theta, theta_dot, {i.name: 0.0 for i in s.inputs}, (), omega=20.0)
+    assert acc[1] == pytest.approx(-0.5 * acc[0], abs=1e-12)
+    c, scale = constraints.violation(theta, theta_dot, np.ones(2))
+    assert c[0] <= 1e-15 and scale[0] == pytest.approx(1.5)
+
+
+def test_adapters_from_a_loaded_model_read_other_files():
+    """harness.files.importer's view: a model the engine loaded, joints by name, continuous joints as cos/sin."""
+    from harness.engines.mujoco_engine import MujocoModel, compile_text
+    from harness.engines.pinocchio_engine import PinocchioModel, load_urdf
+    from harness.files.importer import FIXTURES, without_geometry
+
+    text = FIXTURES[0].read_text().replace('<joint name="j1" type="revolute">', '<joint name="j1" type="continuous">')
+    pmodel = load_urdf(text, "fixture")
+    joints = [pmodel.names[i] for i in range(1, pmodel.njoints)]
+    pin_view = PinocchioModel.loaded(pmodel, joints)
+    mj_view = MujocoModel.loaded(compile_text(without_geometry(text), "fixture"), joints)
+    mj_view.set_gravity(pin_view.gravity)
+    theta, theta_dot = np.linspace(0.2, 0.7, len(joints)), np.linspace(-1, 1, len(joints))
+    (M_p, b_p), (M_m, b_m) = pin_view.mass_and_bias(theta, theta_dot), mj_view.mass_and_bias(theta, theta_dot)
+    assert relative_error(M_p, M_m) <= conformance.ROUND_OFF.value
+    assert relative_error(b_p, b_m, 1.0) <= conformance.ROUND_OFF.value
+    assert set(pin_view.subtree_parts(theta)) == set(joints) == set(mj_view.subtree_parts(theta))
