@@ -294,10 +294,12 @@ def test_invalid_urdf_names_the_link(capfd, tmp_path, text, message):
 
 
 def test_urdfdom_message_is_kept_when_pinocchio_refuses():
+    from harness.engines.pinocchio_engine import load_urdf
+
     text = _robot(BASE, '<link name="arm"/>', '<link name="arm"/>',
                   JOINT.format(name="phi", type="revolute", parent="base", child="arm"))
     with pytest.raises(ModelError, match="urdfdom: Error: +link 'arm' is not unique"):
-        importer.load_pinocchio(text, "dup.urdf")
+        load_urdf(text, "dup.urdf")
 
 
 def test_a_valid_model_still_validates_in_the_child(capfd, tmp_path):
