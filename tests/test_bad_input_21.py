@@ -16,7 +16,6 @@ import pytest
 
 from harness import cli, limits
 from harness.errors import InputError, ModelError
-from harness.files import importer
 from harness.modeling.scenes import Scene
 from tests.test_bad_input import INERTIA, fails, mjcf, urdf, validate_fails
 
