@@ -8,7 +8,6 @@ import re
 import sys
 from pathlib import Path
 
-import pytest
 
 import models
 from harness import cli

@@ -194,7 +194,7 @@ def _renamed(system, claim, engines, examples, claims, printed, missing):
 
 
 # ----------------------------------------------------------------------------- symbolic decision
-class _OutOfTime(Exception):
+class _OutOfTime(BaseException):  # not an Exception: library code that catches those must not swallow it
     pass
 
 
@@ -206,14 +206,22 @@ def _budget(seconds: float):
         yield False
         return
 
+    active = [True]
+
     def stop(signum, frame):
-        raise _OutOfTime
+        if active[0]:
+            raise _OutOfTime
 
     previous = signal.signal(signal.SIGALRM, stop)
     signal.setitimer(signal.ITIMER_REAL, seconds, 0.05)  # repeats: an interrupt swallowed elsewhere comes again
     try:
         yield True
     finally:
+        while active[0]:  # an interrupt arriving here is retried until the handler is disarmed
+            try:
+                active[0] = False
+            except _OutOfTime:
+                pass
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, previous)
 

@@ -96,7 +96,7 @@ def _tidy(e, reduce):
 def finding(system, verdict, claims) -> dict:
     """The errata-sheet fields of a classified claim that does not simply hold."""
     from harness.compare import claims as claims_module
-    from harness.compare.errata import ingredients_of, substitution
+    from harness.compare.errata import ingredients_of
 
     claim = verdict.claim
     out: dict = {"printed_mathml": mathml(_shown(claim.printed, claim), label=claim.equation)}

@@ -201,7 +201,9 @@ def tolerance_policy() -> str:
 
 def bounds_used(records: list[dict]) -> dict:
     """The bounds (:class:`harness.checks.Bound`) the records' checks refer to, each stated once with its reason."""
-    import harness.scenes.trajectories  # noqa: F401 - declares the bounds of the scenes (and of structural, constraints)
+    import importlib
+
+    importlib.import_module("harness.scenes.trajectories")  # declares the bounds of the scenes (and structural, constraints)
     from harness.checks import BOUNDS
 
     used = {c.get("basis") for r in records for c in r.get("checks", [])}
