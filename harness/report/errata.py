@@ -135,7 +135,7 @@ def finding(system, verdict, claims) -> dict:
     out["corrected_mathml"] = mathml(_shown(corrected, claim), label=claim.equation)
     delta = lecture_form(derived - printed_model.reshape(*derived.shape), keep, relations)
     out["difference"] = str(delta if delta.shape != (1, 1) else delta[0])
-    out["difference_mathml"] = mathml(_shown(delta, claim))
+    out["difference_mathml"] = mathml(delta[0] if delta.shape == (1, 1) else delta)
     out["sentence"] = sentence(claim, printed_shown, corrected, verdict)
     out["counterexample_reduced"] = reduced_counterexample(system, claim, verdict, delta, relations)
     return out
