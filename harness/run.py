@@ -424,11 +424,12 @@ def classify_system(job: tuple) -> dict:
         for claim in printed:
             print(f"classifying {name} {claim.equation} …", file=sys.stderr, flush=True)
             try:
-                v = claims.classify(system, claim, examples=examples)
+                v = claims.classify(system, claim, examples=examples, claims=printed)
+                extra = claims.record_fields(system, v, printed)
             except Exception as exc:  # noqa: BLE001 - one claim that cannot be evaluated does not lose the others
                 failures.append(f"{name} {claim.equation}: cannot be evaluated: {type(exc).__name__}: {exc}")
                 continue
-            out.append(claim_record(v))
+            out.append({**claim_record(v), **extra})
     failures += [f"{name}: unexplained {w['engine']} warning in {w['where']} ({w['count']}x): {w['message']}"
                  for w in warnings_log.drain(name) if not w["explained"]]
     return {"system": name, "failure": "; ".join(failures) or None, "records": out}

@@ -44,15 +44,18 @@ def apply_seed(seed: int | None) -> None:
         hypothesis.core.global_force_seed = seed
 
 
-def property_test(strategy, check, examples: int | None = None):
+def property_test(strategy, check, examples: int | None = None, shrink: bool = True):
     """``check(example)`` as a hypothesis test over ``strategy`` with :data:`OVERRIDES` (``examples``: the
-    number of examples instead of the profile's). Calling the result runs it; a failing check is shrunk and
-    its exception raised. With a derandomized profile the seed derives from ``check``'s source."""
-    from hypothesis import given
+    number of examples instead of the profile's). Calling the result runs it; a failing check is shrunk (unless
+    ``shrink`` is false: a yes/no question needs no minimal example) and its exception raised. With a
+    derandomized profile the seed derives from ``check``'s source."""
+    from hypothesis import Phase, given
 
     overrides = dict(OVERRIDES)
     if examples is not None:
         overrides["max_examples"] = examples
+    if not shrink:
+        overrides["phases"] = [Phase.explicit, Phase.reuse, Phase.generate]
     return settings(**overrides)(given(strategy)(check))
 
 

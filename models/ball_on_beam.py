@@ -26,7 +26,7 @@ J = dphi/dq, whose entry -1/r_K enters C_q = J^T C_theta J twice (error ~ 1/r_K^
 
 from sympy import Matrix, cos, sin
 
-from harness.modeling import (WORLD, Claim, Coordinate, Gravity, Inertia, Input, Joint, JointInput, Link, Parameter,
+from harness.modeling import (Printed, WORLD, Claim, Coordinate, Gravity, Inertia, Input, Joint, JointInput, Link, Parameter,
                               Scene, Step, System, standard_gravity)
 
 m_K = Parameter("m_K", 2.0, "kg", "mass of the ball")
@@ -67,10 +67,11 @@ SYSTEM = System(
 
 # ----------------------------------------------------------------------------- the lecture's printed equations
 w_1, v = phi_1.rate, r.rate
+I_zz_sB = Printed("I_zz^sB", "kg m^2", "printed I_zz^{sB} in (5.87), (5.91b); the text introduces I_zz^B")
 I_K = I_zz_sK
 T_printed = (m_K * (r**2 * w_1**2 + (v - r_K * w_1)**2) / 2      # (5.83)
              + I_K * (w_1 - v / r_K)**2 / 2                      # (5.86)
-             + I_zzB * w_1**2 / 2)                               # (5.87)
+             + I_zz_sB * w_1**2 / 2)                             # (5.87)
 V_printed = m_K * g * (r * sin(phi_1) + r_K * cos(phi_1)) - m_K * g * r_K  # (5.88)
 _I_K_note = "I_zz^{sK} = 2/5 m_K r_K^2 (5.84)"
 CLAIMS = [
@@ -84,9 +85,9 @@ CLAIMS = [
                "by m_K g r_K); the printed V is compared through its gradient g = dV/dq"),
     Claim("(5.91a)", "eom", (m_K + I_K / r_K**2) * r.accel - (I_K / r_K + m_K * r_K) * phi_1.accel
           - m_K * r * w_1**2 + m_K * g * sin(phi_1), "equation of r", index=(1,), note=_I_K_note),
-    Claim("(5.91b)", "eom", -(m_K * r_K + I_K / r_K) * r.accel + (I_K + I_zzB + m_K * (r**2 + r_K**2)) * phi_1.accel
+    Claim("(5.91b)", "eom", -(m_K * r_K + I_K / r_K) * r.accel + (I_K + I_zz_sB + m_K * (r**2 + r_K**2)) * phi_1.accel
           + 2 * m_K * r * v * w_1 + m_K * g * (r * cos(phi_1) - r_K * sin(phi_1)) - tau_e,
-          "equation of phi_1", index=(0,), note="printed I_zz^{sB} read as the beam's I_zz^B (I_zzB)"),
+          "equation of phi_1", index=(0,), note="I_zz^{sB} as printed"),
 ]
 
 SCENES = [

@@ -11,7 +11,7 @@ Its mass is ``m_S = rho_S l_S b_S h_S`` and its inertia about the centre of mass
 
 from sympy import cos, sin
 
-from harness.modeling import (WORLD, Claim, Coordinate, Gravity, Inertia, Input, Joint, JointDamper, JointInput,
+from harness.modeling import (Printed, WORLD, Claim, Coordinate, Gravity, Inertia, Input, Joint, JointDamper, JointInput,
                               JointSpring, Link, Parameter, Scene, Sine, System, standard_gravity)
 
 m_W = Parameter("m_W", 5.0, "kg", "mass of the cart")
@@ -55,17 +55,21 @@ SYSTEM = System(
 )
 
 # ----------------------------------------------------------------------------- the lecture's printed equations
-I_zz_printed = m_S * (l_S**2 + b_S**2) / 12
+# the solution names the mass m_S and the inertia I_zz^S and prints their values; (5.92) is written in them
+m_S_p = Printed("m_S", "kg", "mass of the pendulum rod, as the solution prints it")
+I_zz_S_p = Printed("I_zz^S", "kg m^2", "moment of inertia of the rod about its centre of gravity S")
 CLAIMS = [
     Claim("Solution of Exc. 5.2 (m_S)", "parameter", rho_S * l_S * b_S * g * h_S,
-          "mass of the rod m_S = rho_S l_S b_S g h_S", reference=m_S),
-    Claim("Solution of Exc. 5.2 (I_zz^S)", "parameter", I_zz_printed, "I_zz^S = m_S (l_S² + b_S²)/12",
-          reference=SYSTEM.links[1].inertia.matrix[2, 2]),
-    Claim("(5.92a)", "eom", (m_W + m_S) * s.accel + m_S * l_S * cos(phi) * phi.accel / 2
-          - m_S * l_S * sin(phi) * phi.rate**2 / 2 + c_W * (s - s_W0) - (f_e - d_R * s.rate), "cart equation",
-          index=(0,)),
-    Claim("(5.92b)", "eom", m_S * l_S * cos(phi) * phi.accel / 2 + (I_zz_printed + m_S * l_S**2 / 4) * phi.accel
-          + m_S * g * l_S * sin(phi) / 2, "pendulum equation", index=(1,)),
+          "mass of the rod m_S = rho_S l_S b_S g h_S", reference=m_S, defines=m_S_p),
+    Claim("Solution of Exc. 5.2 (I_zz^S)", "parameter", m_S_p * (l_S**2 + b_S**2) / 12,
+          "I_zz^S = m_S (l_S² + b_S²)/12", reference=SYSTEM.links[1].inertia.matrix[2, 2], defines=I_zz_S_p,
+          ingredients=("Solution of Exc. 5.2 (m_S)",)),
+    Claim("(5.92a)", "eom", (m_W + m_S_p) * s.accel + m_S_p * l_S * cos(phi) * phi.accel / 2
+          - m_S_p * l_S * sin(phi) * phi.rate**2 / 2 + c_W * (s - s_W0) - (f_e - d_R * s.rate), "cart equation",
+          index=(0,), ingredients=("Solution of Exc. 5.2 (m_S)",)),
+    Claim("(5.92b)", "eom", m_S_p * l_S * cos(phi) * phi.accel / 2 + (I_zz_S_p + m_S_p * l_S**2 / 4) * phi.accel
+          + m_S_p * g * l_S * sin(phi) / 2, "pendulum equation", index=(1,),
+          ingredients=("Solution of Exc. 5.2 (m_S)", "Solution of Exc. 5.2 (I_zz^S)")),
 ]
 
 SCENES = [

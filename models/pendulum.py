@@ -29,6 +29,9 @@ CLAIMS = [
     Claim("(3.109)", "position:bob", Matrix([0, l * sin(phi), -l * cos(phi)]),
           "position of the mass: y = l sin(phi), z = -l cos(phi)"),
     Claim("(3.111)", "eom", m * l**2 * phi.accel + m * g * l * sin(phi), "m l² phi'' = -m g l sin(phi)"),
+    Claim("(3.114)", "eom", m * l**2 * phi.accel - (-m * g * l * sin(phi)),
+          "d/dt l_x^(0) = m l² phi'' = tau_x^(0) = -m g l sin(phi), angular momentum about 0"),
+    Claim("(3.115)", "M", m * l**2, "I_xx^(0) = m l², the mass matrix of the pendulum"),
 ]
 
 SCENES = [

@@ -14,9 +14,9 @@ models the axial element and reports (5.109)/(5.110) against it. Viscous frictio
 motor torques ``tau_1``, ``tau_2`` in joints 1 and 2 (5.111).
 """
 
-from sympy import Matrix, cos, sin
+from sympy import Matrix, cos, sin, sqrt
 
-from harness.modeling import (WORLD, Claim, Constant, Coordinate, Damper, Gravity, Inertia, Input, Joint, JointDamper,
+from harness.modeling import (WORLD, Claim, Printed, Constant, Coordinate, Damper, Gravity, Inertia, Input, Joint, JointDamper,
                               JointInput, Link, Parameter, Point, Scene, Spring, Step, System, standard_gravity)
 
 m_1 = Parameter("m_1", 2.0, "kg", "mass of link 1")
@@ -74,14 +74,22 @@ SYSTEM = System(
 # ----------------------------------------------------------------------------- the lecture's printed equations
 w_1, w_2 = phi_1.rate, phi_2.rate
 c_2, s_2 = cos(phi_2), sin(phi_2)
+l_e2 = Printed("l_e2", "m", "printed in (4.35c)")
+c_2p = Printed("c_2", "N/m", "printed spring stiffness in (5.30)")
+r_e = Matrix([l_0A - l_1 * cos(phi_1) - l_2 * cos(phi_1 + phi_2), h_0A - l_1 * sin(phi_1) - l_2 * sin(phi_1 + phi_2), 0])
+s_e = sqrt((r_e.T * r_e)[0])                                                        # (5.29), s_e = sqrt(r_e^T r_e)
 CLAIMS = [
     Claim("(4.35a)", "position:link_1", Matrix([l_s1 * cos(phi_1), l_s1 * sin(phi_1), 0]), "centre of mass of link 1"),
     Claim("(4.35b)", "position:link_2", Matrix([l_1 * cos(phi_1) + l_s2 * cos(phi_1 + phi_2),
                                                 l_1 * sin(phi_1) + l_s2 * sin(phi_1 + phi_2), 0]),
           "centre of mass of link 2"),
-    Claim("(4.35c)", "position:e2", Matrix([l_1 * cos(phi_1) + l_2 * cos(phi_1 + phi_2),
-                                            l_1 * sin(phi_1) + l_2 * sin(phi_1 + phi_2), 0]),
-          "end effector", note="printed with l_e2; (4.34) defines the end effector at l_2: read as l_2"),
+    Claim("(4.35c)", "position:e2", Matrix([l_1 * cos(phi_1) + l_e2 * cos(phi_1 + phi_2),
+                                            l_1 * sin(phi_1) + l_e2 * sin(phi_1 + phi_2), 0]),
+          "end effector", note="l_e2 as printed; the example defines no l_e2"),
+    Claim("(5.28a)+(5.28b)+(5.30)", "V", m_1 * g * l_s1 * sin(phi_1)
+          + m_2 * g * (l_1 * sin(phi_1) + l_s2 * sin(phi_1 + phi_2)) + c_2p * (s_e - s_0e)**2 / 2,
+          "potential energy V^s1 + V^s2 + V_e, s_e = |r_e| with r_e of (5.29)",
+          note="c_2 as printed in (5.30); the example names the spring stiffness c_e"),
     Claim("(5.27)", "M", Matrix([
         [m_1 * l_s1**2 + m_2 * (l_1**2 + 2 * l_1 * l_s2 * c_2 + l_s2**2) + I_zz1 + I_zz2,
          m_2 * l_s2 * (l_s2 + l_1 * c_2) + I_zz2],

@@ -25,7 +25,7 @@ import math
 
 from sympy import Matrix, cos, sin
 
-from harness.modeling import (WORLD, Claim, Coordinate, Gravity, Inertia, Input, Joint, Link, Parameter, Point,
+from harness.modeling import (printed_matrix, WORLD, Claim, Coordinate, Gravity, Inertia, Input, Joint, Link, Parameter, Point,
                               PointForce, Scene, Step, System, standard_gravity)
 
 m_1 = Parameter("m_1", 3.0, "kg", "mass of segment 1")
@@ -102,6 +102,8 @@ g_printed = Matrix([
     -l_3 / 2 * m_3 * g * cos(q_3)])                                                          # (A.123c)
 f_q_printed = Matrix([2 * l_1 / 3 * sin(q_1), l_2 * sin(q_2), 0]) * f_ex                   # (A.120)
 qd = Matrix([qd_1, qd_2, qd_3])
+M_sym, C_sym = printed_matrix("M", 3, 3, "kg m^2"), printed_matrix("C", 3, 3, "kg m^2/s")  # (A.122) is printed
+g_sym, f_sym = printed_matrix("g", 3, 1, "N m"), printed_matrix("f_q", 3, 1, "N m")      # in M, C, g, f_q
 qdd = Matrix([phi_1.accel, phi_2.accel, phi_3.accel])
 
 CLAIMS = [
@@ -120,14 +122,14 @@ CLAIMS = [
     Claim("(A.117)", "V",
           m_1 * g * (h + l_1 / 6 * sin(q_1)) + m_2 * g * (h + 2 * l_1 / 3 * sin(q_1) + l_2 / 2 * sin(q_2))
           + m_3 * g * (h - l_1 / 3 * sin(q_1) - l_3 / 2 * sin(q_3)), "potential energy, reference y = 0"),
-    Claim("(A.120)", "f_np", f_q_printed, "generalized forces of f_e (A.118)"),
-    Claim("(A.123a)", "M", M_printed, "mass matrix"),
-    Claim("(A.123b)", "C", C_printed, "Coriolis matrix",
+    Claim("(A.120)", "f_np", f_q_printed, "generalized forces of f_e (A.118)", defines=f_sym),
+    Claim("(A.123a)", "M", M_printed, "mass matrix", defines=M_sym),
+    Claim("(A.123b)", "C", C_printed, "Coriolis matrix", defines=C_sym,
           note="its C·q' is also claimed on its own (next claim): C is not unique, C·q' is"),
-    Claim("(A.122), (A.123b)", "Cqd", C_printed * qd, "C(q, q')q' with the printed C"),
-    Claim("(A.123c)", "g", g_printed, "potential forces"),
-    Claim("(A.122)", "eom", M_printed * qdd + C_printed * qd + g_printed - f_q_printed,
-          "M q'' + C q' + g = f_q with the printed (A.120), (A.123)"),
+    Claim("(A.122), (A.123b)", "Cqd", C_sym * qd, "C(q, q')q' with the printed C", ingredients=("(A.123b)",)),
+    Claim("(A.123c)", "g", g_printed, "potential forces", defines=g_sym),
+    Claim("(A.122)", "eom", M_sym * qdd + C_sym * qd + g_sym - f_sym,
+          ingredients=("(A.120)", "(A.123a)", "(A.123b)", "(A.123c)"), description="M q'' + C q' + g = f_q with the printed (A.120), (A.123)"),
 ]
 
 # every segment hanging down (segment 3 points along -[cos(phi_3), sin(phi_3)])

@@ -28,7 +28,7 @@ reaches zero length: that would need ``l_f^0 = 2 (d + l_1)``, far outside the dr
 
 from sympy import Matrix, cos, integrate, sin, sqrt, symbols
 
-from harness.modeling import (WORLD, Claim, Coordinate, Gravity, Inertia, Joint, Link, Parameter, Point, Scene, Spring,
+from harness.modeling import (printed_matrix, WORLD, Claim, Coordinate, Gravity, Inertia, Joint, Link, Parameter, Point, Scene, Spring,
                               System, standard_gravity, steiner)
 
 rho = Parameter("rho", 2700.0, "kg/m^3", "density of the frame")
@@ -107,7 +107,8 @@ rfc_p = _rot(rfc0_p)                                                            
 rfcfp_p = Matrix([-l_2, d + l_1 - l_f_0, 0])                                    # (A.25)
 lf_p = sqrt(((rfc_p - rfcfp_p).T * (rfc_p - rfcfp_p))[0])                       # (A.26)
 fc_vec_p = c * (lf_p - l_f0) * (rfc_p - rfcfp_p) / lf_p                         # (A.27)
-tau_fc_p = rfc_p[0] * fc_vec_p[1] - rfc_p[1] * fc_vec_p[0]                      # (r_fc x f_c)_z
+f_c_sym = printed_matrix("f_c", 3, 1, "N", "spring force vector of (A.27)")
+tau_fc_p = rfc_p[0] * f_c_sym[1] - rfc_p[1] * f_c_sym[0]                        # (r_fc x f_c)_z with (A.27)
 
 CLAIMS = [
     Claim("(A.10)", "parameter", m1_p, "mass of sub-body 1", reference=integrate(rho, *bounds_1)),
@@ -133,8 +134,10 @@ CLAIMS = [
           reference=rho * integrate(x**2 + y**2, (x, -l_2 / 2, l_2 / 2), (y, -d / 2, d / 2), (z, -b / 2, b / 2))),
     Claim("(A.21)", "parameter", I1S_p + m1_p * (r1_p[0]**2 + r1_p[1]**2), "I_zz,m1^(A) of sub-body 1",
           reference=(I_1 + steiner(m_1, r_1))[2, 2]),
-    Claim("(A.28)", "eom", I_A_p * phi.accel - (tau_gravity_p + tau_fc_p),
-          "I_zz^(A) phi'' = tau_z^(A), all torques about A",
+    Claim("(A.27)", "force:spring", fc_vec_p, "spring force f_c on the body at r_fc, with l_f of (A.26)",
+          defines=f_c_sym),
+    Claim("(A.28)", "eom", I_A_p * phi.accel - (tau_gravity_p + tau_fc_p), ingredients=("(A.27)",),
+          description="I_zz^(A) phi'' = tau_z^(A), all torques about A",
           note="I_zz^(A) and tau_z^(A) assembled as the text says: the sub-bodies 2, 3 and the point mass "
                "'in an analogous manner' to (A.20), (A.21), (A.23); the spring torque r_fc x f_c with f_c from "
                "(A.24)-(A.27). (A.27) at phi = 0 is c (l_f^0 - l_f0) e_y, the negative of the force (A.19) "

@@ -30,7 +30,7 @@ planar motion, ``I_xx1``, ``I_yy1``, ``I_xx2``, ``I_yy2`` complete physical tens
 
 from sympy import Matrix, asin, cos, diff, sin
 
-from harness.modeling import (WORLD, Claim, Closure, Coordinate, Gravity, Inertia, Input, Joint, Link, Parameter, Point,
+from harness.modeling import (Printed, WORLD, Claim, Closure, Coordinate, Gravity, Inertia, Input, Joint, Link, Parameter, Point,
                               PointForce, Scene, Spring, System, standard_gravity)
 
 m_1 = Parameter("m_1", 2.0, "kg", "mass of leg 1")
@@ -93,6 +93,7 @@ T = (m_1 * L_1**2 * qd**2 / 8
 V_g = m_1 * g * L_1 / 2 * sin(q) + m_2 * g * (L_1 * sin(q) - L_2 / 2 * sin(phi_2))
 V_F = c_F * (L_1 * cos(q) + L_2 * cos(phi_2) - s_F0)**2 / 2
 f_q_f = -f * L_1 * cos(q)
+F_printed = Printed("F", "N", "printed in the force vector of (A.107a)")
 f_q_fL = f_L * (L_1 * sin(q) + L_2 * sin(phi_2) * dphi2)
 L = T - V_g - V_F
 dL_dqd = diff(L, qd)
@@ -109,7 +110,12 @@ CLAIMS = [
     Claim("(A.105), (A.106)", "V", V_g + V_F, "potential energy V_g + V_F of the weights and the return spring",
           note="the constant V_g,0 read as 0 (reference level y = 0 through the pivot, as the harness uses)"),
     Claim("(A.107a), (A.107b)", "f_np", f_q_f + f_q_fL, "generalized force of the knee force f and the load f_L",
-          note="(A.107a) writes the force vector as [0, -F, 0] and the result with f: F read as f"),
+          note="the right-hand sides of (A.107a), (A.107b)"),
+    Claim("(A.107a), (A.107b) middle", "f_np",
+          (Matrix([[0, -F_printed, 0]]) * Matrix([L_1 * cos(q), L_1 * sin(q), 0]).diff(q))[0]
+          + (Matrix([[-f_L, 0, 0]]) * p_e.diff(q))[0],
+          "generalized forces as force vector times the Jacobian of the point of application",
+          note="the force vector of (A.107a) with F as printed"),
     Claim("(A.104)-(A.107), Euler-Lagrange", "eom", euler_lagrange,
           "d/dt ∂L/∂q̇ - ∂L/∂q = f_q,f + f_q,f_L with L = T - V_g - V_F",
           note="the lecture states the equation of motion only in words after (A.107); the residual is that "

@@ -36,7 +36,7 @@ checks draw ``s_5`` in ``[0.3, 3] m`` (at least 0.3 m of rope) and ``phi_4`` in 
 from sympy import Matrix, cos, diag, pi, sin, zeros
 
 from harness.derivation.kinematics import link_poses
-from harness.modeling import (WORLD, Claim, Constant, Coordinate, Gravity, Inertia, Input, Joint, JointDamper,
+from harness.modeling import (Printed, WORLD, Claim, Constant, Coordinate, Gravity, Inertia, Input, Joint, JointDamper,
                               JointInput, Link, Parameter, Scene, Step, System, standard_gravity, steiner)
 
 h_1 = Parameter("h_1", 3.0, "m", "height of the tower (cylinder); height of the trolley's rail")
@@ -151,18 +151,20 @@ T_sL = (w.T * M_sL * w)[0] / 2                                                  
 V_sL = m_L * g * (h_1 - s_5 * cos(phi_3) * cos(phi_4))                             # (5.42)
 _tower_com_note = ("l_xsT is the x_1 coordinate of the tower's common centre of mass p_1^{sT} (Example 5.2: "
                    "cylinder and jib); ")
-_c_phi2_note = "printed c_phi2 in row 2, column 1; the crane has no coordinate phi_2: read as c_phi1"
+phi_2p = Printed("phi_2", "rad", "printed in c_phi2 = cos(phi_2), row 2, column 1 of (4.71), (4.72)")
+c2p = cos(phi_2p)
+_c_phi2_note = "c_phi2 in row 2, column 1 as printed"
 CLAIMS = [
     Claim("(4.41)", "position:load", Matrix([
         s_2 * c1 + s_5 * (-s1 * s4 - c1 * s3 * c4),
         s_2 * s1 + s_5 * (c1 * s4 - s1 * s3 * c4),
         h_1 - s_5 * c3 * c4]), "position of the load p_0^L"),
-    Claim("(4.71) J_v", "parameter", Matrix([[-s1 * l_xsT, 0, 0, 0, 0], [c1 * l_xsT, 0, 0, 0, 0], [0] * 5]),
+    Claim("(4.71) J_v", "parameter", Matrix([[-s1 * l_xsT, 0, 0, 0, 0], [c2p * l_xsT, 0, 0, 0, 0], [0] * 5]),
           "translational manipulator Jacobian (J_v)_0^{sT} of the tower's centre of mass",
           reference=_J_v("tower", p_sT), note=_tower_com_note + _c_phi2_note),
     Claim("(4.71) J_omega", "parameter", Matrix([[0] * 5, [0] * 5, [1, 0, 0, 0, 0]]),
           "rotational manipulator Jacobian (J_omega)_0^{sT} of the tower", reference=_J_omega("tower")),
-    Claim("(4.72) J_v", "parameter", Matrix([[-s1 * s_2, c1, 0, 0, 0], [c1 * s_2, s1, 0, 0, 0], [0] * 5]),
+    Claim("(4.72) J_v", "parameter", Matrix([[-s1 * s_2, c1, 0, 0, 0], [c2p * s_2, s1, 0, 0, 0], [0] * 5]),
           "translational manipulator Jacobian (J_v)_0^{sK} of the trolley",
           reference=_J_v("trolley", (0, 0, 0)), note=_c_phi2_note),
     Claim("(4.72) J_omega", "parameter", Matrix([[0] * 5, [0] * 5, [1, 0, 0, 0, 0]]),

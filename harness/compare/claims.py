@@ -64,6 +64,11 @@ class Classification:
     corrected: str | None = None
     convention: str | None = None
     examples: int = 0
+    renaming: dict | None = None        # printed symbol -> model symbol under which a notation typo holds
+    blame: list | None = None           # ingredient equations a "follows from erratum" claim fails through
+    decided_by: str | None = None       # "symbolic" or "numeric only"
+    state: object = None                # the counterexample as a State
+    substitution: dict | None = None    # what the verdict was reached with (ingredients, renaming)
 
     @property
     def errors(self) -> dict[str, float]:
@@ -95,6 +100,10 @@ def _derive_claimed(system: System, claim: Claim):
     elif kind == "position":
         name = claim.quantity.split(":", 1)[1]
         expr = _point(system, name)
+    elif kind == "force":
+        from harness.compare.errata import element_force
+
+        expr = element_force(system, claim.quantity.split(":", 1)[1])
     elif kind == "parameter":
         expr = sp.sympify(claim.reference)
     elif kind == "Cqd":
@@ -226,39 +235,53 @@ def evaluate_claim(system: System, claim: Claim, state: State, engines=CLAIM_ENG
     return out
 
 
-def classify(system: System, claim: Claim, engines=CLAIM_ENGINES, examples: int | None = None) -> Classification:
-    """Classify a claim on hypothesis states; a failing claim is shrunk to a minimal counterexample."""
-    engines = tuple(e for e in engines if not ENGINES[e].applies(system))
+def classify(system: System, claim: Claim, engines=CLAIM_ENGINES, examples: int | None = None,
+             claims=None) -> Classification:
+    """Classify a claim on hypothesis states; a failing claim is shrunk to a minimal counterexample. ``claims``
+    (the system's printed equations) resolves the claim's ingredients: a claim that fails only through a wrong
+    ingredient follows from that erratum; a printed symbol the model lacks is searched for a renaming
+    (:mod:`harness.compare.errata`)."""
+    from harness.compare import errata
+
+    return errata.classify(system, claim, tuple(e for e in engines if not ENGINES[e].applies(system)), examples,
+                           claims)
+
+
+def classify_as_printed(system: System, claim: Claim, engines, examples, base: dict | None = None) -> Classification:
+    """The classification of one claim with ``base`` substituted into the printed expression (its ingredients,
+    a renaming): confirmed, C differs but C·q̇ agrees, convention-dependent, erratum or engines disagree."""
+    base = _kept(base or None)
     worst: dict[str, float] = {}
     count = [0]
 
     def check(state: State):
-        errors = evaluate_claim(system, claim, state, engines)
+        errors = evaluate_claim(system, claim, state, engines, base)
         count[0] += 1
         for k, v in errors.items():
             worst[k] = max(worst.get(k, 0.0), v)
         if any(v > 1 for k, v in errors.items() if not k.startswith("Cqd (from")):
-            raise _Disagrees(_state_text(state))
+            raise _Disagrees(_state_text(state), state)
 
     failure = _run(system, check, examples)
     verdict = Classification(claim, system.name, "confirmed",
                              [CLAIM_TOLERANCE.check(claim.equation, source, v) for source, v in worst.items()],
-                             examples=count[0])
+                             examples=count[0], substitution=base)
     if failure is None:
         return verdict
-    verdict.counterexample = failure
+    verdict.counterexample, verdict.state = failure
     verdict.corrected = str(_derived(system, claim))
     if claim.quantity == "C":  # C is not unique: search separately for a state where C·q̇ differs
         def cqd_check(state: State):
-            if evaluate_claim(system, claim, state, engines).get("Cqd (from printed C)", 0.0) > 1:
-                raise _Disagrees(_state_text(state))
+            if evaluate_claim(system, claim, state, engines, base).get("Cqd (from printed C)", 0.0) > 1:
+                raise _Disagrees(_state_text(state), state)
 
         cqd_failure = _run(system, cqd_check, examples)
         if cqd_failure is None:
             verdict.classification = "C differs, C·q̇ agrees"
             return verdict
-        verdict.counterexample = cqd_failure
+        verdict.counterexample, verdict.state = cqd_failure
     for name, substitution in claim.conventions.items():
+        substitution = _kept({**(base or {}), **substitution})
         ok = _run(system, _holds_with(system, claim, engines, substitution), examples)
         if ok is None:
             verdict.classification, verdict.convention = "convention-dependent", name
@@ -271,21 +294,51 @@ def classify(system: System, claim: Claim, engines=CLAIM_ENGINES, examples: int 
     return verdict
 
 
+_KEPT: dict = {}
+
+
+def _kept(substitution: dict | None) -> dict | None:
+    """One dict object per distinct substitution, kept alive: the compiled functions are cached by its id."""
+    if not substitution:
+        return None
+    key = tuple(sorted((str(k), sp.srepr(v)) for k, v in substitution.items()))
+    return _KEPT.setdefault(key, substitution)
+
+
 def _holds_with(system, claim, engines, substitution):
     def check(state: State):
         errors = evaluate_claim(system, claim, state, engines, substitution)
         if any(v > 1 for k, v in errors.items() if not k.startswith("Cqd (from")):
-            raise _Disagrees(_state_text(state))
+            raise _Disagrees(_state_text(state), state)
     return check
 
 
-def _run(system: System, check, examples):
-    test = property_test(states(system), check, examples)
+def holds(system: System, claim: Claim, engines, examples, substitution: dict | None = None,
+          shrink: bool = True) -> bool:
+    """Whether the claim (with ``substitution``) agrees with every source on the drawn states."""
+    return _run(system, _holds_with(system, claim, engines, _kept(substitution)), examples, shrink) is None
+
+
+def _run(system: System, check, examples, shrink: bool = True):
+    """None when ``check`` passes on every drawn state, else (counterexample text, State)."""
+    test = property_test(states(system), check, examples, shrink=shrink)
     try:
         test()
     except _Disagrees as failure:
-        return str(failure)
+        return str(failure.args[0]), (failure.args[1] if len(failure.args) > 1 else None)
     return None
+
+
+def record_fields(system: System, verdict: Classification, claims) -> dict:
+    """What a verdict adds to its JSON record: how it was decided, the renaming or blame, and for a finding the
+    errata-sheet fields (:mod:`harness.report.errata`)."""
+    from harness.report.errata import finding
+
+    out = {"decided_by": verdict.decided_by, "renaming": verdict.renaming, "blame": verdict.blame,
+           "ingredients": list(verdict.claim.ingredients)}
+    if verdict.classification not in ("confirmed", "C differs, C·q̇ agrees"):
+        out.update(finding(system, verdict, claims))
+    return out
 
 
 def _state_text(state: State) -> str:

@@ -10,7 +10,7 @@ depends on SymPy and NumPy only: loading the catalogue loads no engine.
 * :mod:`harness.modeling.events` — structural changes: stick-slip, rolling or slipping, lift-off.
 """
 
-from harness.modeling.claims import Claim
+from harness.modeling.claims import Claim, Printed, printed_matrix
 from harness.modeling.events import LiftOff, RollSlip, StickSlip
 from harness.modeling.scenes import Bump, Constant, Scene, Sine, Step
 from harness.modeling.system import (WORLD, BodyTorque, Closure, Coordinate, Damper, Gravity, Inertia, Input, Joint,
@@ -19,5 +19,5 @@ from harness.modeling.system import (WORLD, BodyTorque, Closure, Coordinate, Dam
 
 __all__ = ["WORLD", "BodyTorque", "Bump", "Claim", "Closure", "Constant", "Coordinate", "Damper", "Gravity",
            "Inertia", "Input", "Joint", "JointDamper", "JointInput", "JointSpring", "LiftOff", "Link", "Parameter",
-           "Point", "PointForce", "RollSlip", "Scene", "Sine", "Spring", "Step", "StickSlip", "System",
+           "Point", "PointForce", "Printed", "printed_matrix", "RollSlip", "Scene", "Sine", "Spring", "Step", "StickSlip", "System",
            "standard_gravity", "steiner"]

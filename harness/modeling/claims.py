@@ -8,10 +8,31 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from harness.modeling.system import System, plain
+from harness.modeling.system import Declared, System, plain
 
 ENGINE_QUANTITIES = {"M", "C", "Cqd", "g"}
 QUANTITIES = ENGINE_QUANTITIES | {"f_np", "T", "V", "eom", "parameter", "equilibrium"}
+# kinds with an argument: "position:<point>", "force:<spring>" (the force vector the element exerts on its point b)
+KINDS_WITH_ARGUMENT = {"position", "force"}
+
+
+class Printed(Declared):
+    """A symbol the lecture prints that the model does not declare: a quantity another claim defines (``m_S``
+    defined by the printed mass, the matrix entries of a printed ``C`` that an equation of motion uses), or a
+    printed symbol that exists nowhere in the example (``l_e2``). Its unit says which of the model's own symbols
+    it could be a misprint of: a claim with an undefined printed symbol is checked under every renaming to a
+    model symbol of the same unit (:mod:`harness.compare.errata`)."""
+
+    _meta = ("name", "unit", "description")
+
+    def __new__(cls, name: str, unit: str, description: str = ""):
+        return cls._declare(name, "real", unit=unit, description=description)
+
+
+def printed_matrix(name: str, rows: int, cols: int, unit: str, description: str = "") -> sp.Matrix:
+    """A matrix of :class:`Printed` symbols ``<name>_<i><j>`` (1-based), e.g. the printed ``C`` that (A.122)
+    uses, defined by the claim of (A.123b)."""
+    return sp.Matrix(rows, cols, lambda i, j: Printed(f"{name}_{i + 1}{j + 1}", unit, description))
 
 
 @dataclass(frozen=True)
@@ -26,14 +47,29 @@ class Claim:
     index: tuple | None = None          # only this element/row of the quantity, e.g. (1, 0) or (0,)
     reference: object = None            # derived expression for "parameter" claims
     conventions: dict = field(default_factory=dict)  # name -> substitution dict (alternative conventions)
-    note: str = ""                      # transcription remarks (e.g. "printed l_e2 read as l_2")
+    note: str = ""                      # transcription remarks (notation mappings, never corrections)
+    defines: object = None              # Printed symbol(s) whose printed value this claim states (e.g. m_S)
+    ingredients: tuple = ()             # equations of the claims whose defined symbols this claim uses
+    printed_only: tuple = ()            # (name, unit) of every Printed symbol used; filled in, not given
 
     def __post_init__(self):
         kind = self.quantity.split(":")[0]
-        if kind not in QUANTITIES | {"position"}:
+        if kind not in QUANTITIES | KINDS_WITH_ARGUMENT:
             raise ValueError(f"claim {self.equation}: unknown quantity {self.quantity!r}")
+        if isinstance(self.ingredients, str):
+            object.__setattr__(self, "ingredients", (self.ingredients,))
+        found: list = []
         for name in ("printed", "reference", "conventions"):
-            object.__setattr__(self, name, plain(getattr(self, name)))
+            object.__setattr__(self, name, plain(getattr(self, name), found))
+        object.__setattr__(self, "defines", plain(self.defines))
+        if not self.printed_only:
+            units = {s.name: s.unit for s in found if isinstance(s, Printed)}
+            object.__setattr__(self, "printed_only", tuple(sorted(units.items())))
+
+    @property
+    def defined(self) -> list:
+        """The symbols this claim defines, in the order of its printed matrix."""
+        return [] if self.defines is None else list(as_matrix(self.defines))
 
 
 def symbols(system: System):
@@ -54,9 +90,24 @@ def validate_claims(system: System, claims) -> None:
 
     declared = {s for group in symbols(system) for s in group}
     by_name = {s.name: s for s in declared}
+    claims = list(claims)
     for claim in claims:
         if not isinstance(claim, Claim):
             raise ModelError(f"CLAIMS holds {type(claim).__name__}, not Claim")
+    by_equation = {c.equation: c for c in claims}
+    for claim in claims:
+        printed_only = {sp.Symbol(name, real=True) for name, _ in claim.printed_only}
+        for name, _ in claim.printed_only:
+            if name in by_name:
+                raise ModelError(f"claim {claim.equation}: the printed symbol {name!r} is a symbol of {system.name}: "
+                                 f"use the model's own")
+        if claim.defines is not None and as_matrix(claim.defines).shape != as_matrix(claim.printed).shape:
+            raise ModelError(f"claim {claim.equation}: defines has another shape than the printed expression")
+        for equation in claim.ingredients:
+            if equation not in by_equation or by_equation[equation].defines is None:
+                raise ModelError(f"claim {claim.equation}: ingredient {equation!r} is not a claim of {system.name} "
+                                 f"that defines printed symbols (Claim(..., defines=...))")
+        declared_here = declared | printed_only
         parts = [("printed", claim.printed), ("reference", claim.reference)]
         parts += [(f"convention {name!r}", sp.Matrix([*sub.keys(), *sub.values()]) if sub else None)
                   for name, sub in claim.conventions.items()]
@@ -67,7 +118,7 @@ def validate_claims(system: System, claims) -> None:
                 used = as_matrix(expr).free_symbols
             except (TypeError, ValueError, sp.SympifyError) as exc:
                 raise ModelError(f"claim {claim.equation}: {what} is not a sympy expression ({exc})") from None
-            for symbol in sorted(used - declared, key=lambda s: s.name):
+            for symbol in sorted(used - declared_here, key=lambda s: s.name):
                 if symbol.name in by_name:
                     fix = (f"use the model's own Parameter, Coordinate (.rate, .accel) or Input; it has other "
                            f"assumptions than sp.Symbol({symbol.name!r})")

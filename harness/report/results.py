@@ -15,7 +15,7 @@ from pathlib import Path
 
 from harness.checks import json_clean
 from harness.io import atomic_write_text, writable_folder
-from harness.report.markdown import errata_markdown, summary_markdown
+from harness.report.markdown import summary_markdown
 
 TIMINGS = "timings"
 """The field of a system or scene record that holds its clock values (never written to results.json)."""
@@ -94,8 +94,12 @@ def read_claims(out: Path | str) -> list[dict]:
 
 
 def write_claims(records: list[dict], out: Path | str) -> list[Path]:
-    """``claims.json`` (the records, non-finite numbers as strings) and ``errata.md``, atomically."""
+    """``claims.json`` (the records, non-finite numbers as strings) and the errata sheet ``errata.md`` and
+    ``errata.html`` (:mod:`harness.report.errata`), atomically."""
+    from harness.report import errata
+
     out = Path(out)
     atomic_write_text(out / "claims.json", json.dumps(json_clean(records), indent=1) + "\n")
-    atomic_write_text(out / "errata.md", errata_markdown(records))
-    return [out / "claims.json", out / "errata.md"]
+    atomic_write_text(out / "errata.md", errata.markdown(records))
+    atomic_write_text(out / "errata.html", errata.html(records))
+    return [out / "claims.json", out / "errata.md", out / "errata.html"]

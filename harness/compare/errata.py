@@ -1,0 +1,302 @@
+"""From a printed equation that disagrees to a finding a lecturer can act on.
+
+* **Ingredients and blame.** A claim may be built from other claims (``Claim(..., ingredients=("(A.27)",))``):
+  it uses the :class:`~harness.modeling.claims.Printed` symbols those claims define (``defines=``), and is
+  checked with their printed values. When it fails, it is checked again with their derived values; if it holds
+  then, it *follows from* the ingredient's erratum and is not an erratum of its own. If it still fails, its own
+  mistake is reported judged with the corrected ingredients.
+* **Notation typos.** A printed symbol that the model does not have and no ingredient defines (``l_e2``) is
+  itself the finding. Every renaming of it to one of the model's own symbols of the same unit (parameters,
+  coordinates, inputs) is tried; a renaming under which the claim holds makes it a *notation typo*
+  ("holds after renaming l_e2 → l_2"), found here, never typed into the model.
+* **Decided.** Besides the hypothesis states, ``printed − derived`` is reduced symbolically by a cascade of cheap
+  steps (expand, trigonometric expansion, trigsimp, simplify) of bounded size under a time budget: a claim
+  the cascade reduces to zero is ``decided_by: "symbolic"``, else ``"numeric only"``.
+
+Classifications: ``confirmed``, ``C differs, C·q̇ agrees``, ``convention-dependent``, ``notation typo``,
+``follows from erratum``, ``erratum`` (substantive), ``engines disagree``.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import difflib
+import itertools
+import signal
+import threading
+import time
+
+import sympy as sp
+
+from harness.modeling.claims import Claim, as_matrix
+from harness.modeling.system import Point, Spring, System
+
+HOLDS = ("confirmed", "C differs, C·q̇ agrees")
+SYMBOLIC_BUDGET = 2.0      # seconds of symbolic reduction per claim
+SYMBOLIC_SIZE = 3000       # count_ops above which only expansion is tried
+RENAMINGS = 60             # at most this many renamings are tried per claim
+SCREEN_EXAMPLES = 12       # states a renaming is screened on (derivation only) before the full check
+
+_VERDICTS: dict = {}
+
+
+# ----------------------------------------------------------------------------- derived quantities
+def element_force(system: System, name: str) -> sp.Matrix:
+    """The force vector the spring ``name`` exerts on its point ``b``: ``−c (l − l_0) r/l`` with
+    ``r = p_b − p_a``, ``l = |r|`` (3.84), in the inertial frame and lecture coordinates."""
+    from harness.compare.claims import _position
+
+    for f in system.forces:
+        if isinstance(f, Spring) and f.name == name:
+            r = _position(system, f.b) - _position(system, f.a)
+            length = sp.sqrt((r.T * r)[0])
+            return -f.stiffness * (length - f.rest_length) * r / length
+    raise ValueError(f"{system.name}: no spring named {name!r} for a force claim")
+
+
+def _point_or_none(value):
+    return value if isinstance(value, Point) else None
+
+
+# ----------------------------------------------------------------------------- ingredients
+def _by_equation(claims) -> dict:
+    return {c.equation: c for c in claims}
+
+
+def ingredients_of(claim: Claim, claims) -> list[Claim]:
+    """The claim's ingredients, transitively, innermost first."""
+    table, out = _by_equation(claims), []
+
+    def visit(c):
+        for equation in c.ingredients:
+            ingredient = table[equation]
+            visit(ingredient)
+            if ingredient not in out:
+                out.append(ingredient)
+    visit(claim)
+    return out
+
+
+def substitution(system: System, claim: Claim, claims, which: str) -> dict:
+    """The defined symbols of the claim's ingredients → their ``printed`` (resolved in turn) or ``derived``
+    values."""
+    from harness.compare.claims import _derived
+
+    out: dict = {}
+    for ingredient in ingredients_of(claim, claims):
+        if which == "printed":
+            values = as_matrix(ingredient.printed).xreplace(out)
+        else:
+            values = as_matrix(_derived(system, ingredient))
+        out.update(zip(ingredient.defined, list(values)))
+    return out
+
+
+def undefined(claim: Claim, claims) -> list[tuple[sp.Symbol, str]]:
+    """Printed symbols that neither the model nor an ingredient defines: (symbol, unit)."""
+    defined = {s for c in ingredients_of(claim, claims) for s in c.defined}
+    return [(sp.Symbol(n, real=True), unit) for n, unit in claim.printed_only
+            if sp.Symbol(n, real=True) not in defined]
+
+
+def candidates(system: System, unit: str) -> list[sp.Symbol]:
+    """The model's own symbols of ``unit``: parameters, coordinates, inputs."""
+    out = [p.symbol for p in system.parameters if p.unit == unit]
+    out += [c.symbol for c in system.coordinates if c.unit == unit]
+    out += [i.symbol for i in system.inputs if i.unit == unit]
+    return out
+
+
+# ----------------------------------------------------------------------------- classification
+def classify(system: System, claim: Claim, engines, examples, claims=None):
+    claims = list(claims) if claims else [claim]
+    key = (id(system), id(claim), tuple(engines), examples)
+    if key not in _VERDICTS:
+        _VERDICTS[key] = _classify(system, claim, engines, examples, claims)
+    return _VERDICTS[key]
+
+
+def _classify(system, claim, engines, examples, claims):
+    from harness.compare.claims import classify_as_printed
+
+    printed = substitution(system, claim, claims, "printed")
+    missing = undefined(claim, claims)
+    if missing:
+        return _renamed(system, claim, engines, examples, claims, printed, missing)
+    verdict = classify_as_printed(system, claim, engines, examples, printed)
+    if verdict.classification not in HOLDS and claim.ingredients:
+        wrong = []
+        for c in ingredients_of(claim, claims):
+            v = classify(system, c, engines, examples, claims)
+            if v.classification == "follows from erratum":
+                wrong += [e for e in v.blame if e not in wrong]
+            elif v.classification not in HOLDS and c.equation not in wrong:
+                wrong.append(c.equation)
+        if wrong:
+            derived = substitution(system, claim, claims, "derived")
+            again = classify_as_printed(system, claim, engines, examples, derived)
+            if again.classification in HOLDS:
+                verdict.classification, verdict.blame = "follows from erratum", wrong
+                verdict.decided_by = decide(system, claim, derived)
+                return verdict
+            verdict = again  # its own mistake, judged with the corrected ingredients
+            verdict.blame = wrong
+    verdict.decided_by = _decided(system, claim, verdict, verdict.substitution or printed)
+    return verdict
+
+
+def _decided(system, claim, verdict, subst) -> str:
+    """How the classification was reached: a holding claim by the symbolic cascade or numerically only; a
+    failing one by its counterexample."""
+    if verdict.classification in HOLDS or verdict.classification in ("notation typo", "follows from erratum"):
+        return decide(system, claim, subst)
+    return "counterexample"
+
+
+def _renamed(system, claim, engines, examples, claims, printed, missing):
+    """A claim with printed symbols the model lacks: search the renamings over the model's own symbols."""
+    from harness.compare.claims import Classification, classify_as_printed, holds
+
+    options = [[(symbol, y) for y in candidates(system, unit)] for symbol, unit in missing]
+    tried = []
+    for combination in itertools.islice(itertools.product(*options), RENAMINGS):
+        renaming = dict(combination)
+        full = {**{k: v.xreplace(renaming) for k, v in printed.items()}, **renaming}
+        tried.append(renaming)
+        if not holds(system, claim, (), SCREEN_EXAMPLES, full, shrink=False):
+            continue
+        verdict = classify_as_printed(system, claim, engines, examples, full)
+        if verdict.classification in HOLDS:
+            verdict.classification, verdict.renaming = "notation typo", {str(k): str(v) for k, v in renaming.items()}
+            verdict.decided_by = _decided(system, claim, verdict, full)
+            return verdict
+    # no renaming makes it hold: judged under the renaming closest by name, reported as an erratum
+    names = [str(s) for s, _ in missing]
+    if not tried:
+        verdict = Classification(claim, system.name, "erratum", [], corrected=None)
+        verdict.renaming = {}
+        verdict.decided_by = "counterexample"
+        return verdict
+
+    def closeness(renaming):
+        return -sum(difflib.SequenceMatcher(None, str(k), str(v)).ratio() for k, v in renaming.items())
+    best = min(tried, key=closeness)
+    full = {**{k: v.xreplace(best) for k, v in printed.items()}, **best}
+    verdict = classify_as_printed(system, claim, engines, examples, full)
+    verdict.classification = "erratum"
+    verdict.renaming = {}
+    verdict.convention = None
+    verdict.decided_by = "counterexample"
+    verdict.counterexample = (verdict.counterexample or "") + (
+        f" (printed symbol(s) {', '.join(names)} not in the model; no renaming to a model symbol of the same unit "
+        f"makes the equation hold; shown with {', '.join(f'{k} → {v}' for k, v in best.items())})")
+    return verdict
+
+
+# ----------------------------------------------------------------------------- symbolic decision
+class _OutOfTime(BaseException):  # not an Exception: library code that catches those must not swallow it
+    pass
+
+
+@contextlib.contextmanager
+def _budget(seconds: float):
+    """Raises :class:`_OutOfTime` inside the block after ``seconds`` (main thread only; elsewhere the cascade
+    runs its bounded steps without the expensive ones)."""
+    if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "setitimer"):
+        yield False
+        return
+
+    active = [True]
+
+    def stop(signum, frame):
+        if active[0]:
+            raise _OutOfTime
+
+    previous = signal.signal(signal.SIGALRM, stop)
+    signal.setitimer(signal.ITIMER_REAL, seconds, 0.05)  # repeats: an interrupt swallowed elsewhere comes again
+    try:
+        yield True
+    finally:
+        while active[0]:  # an interrupt arriving here is retried until the handler is disarmed
+            try:
+                active[0] = False
+            except _OutOfTime:
+                pass
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+
+
+def reduce(expr, seconds: float = SYMBOLIC_BUDGET):
+    """``expr`` reduced by the cascade; returns (reduced expression or None when out of budget, reached zero)."""
+    expr = sp.sympify(expr)
+    if expr == 0:
+        return expr, True
+    deadline = time.monotonic() + seconds
+    best = expr
+    try:
+        with _budget(seconds) as timed:
+            steps = [sp.expand, lambda e: sp.expand(sp.expand_trig(e)), sp.cancel]
+            if timed:
+                steps += [sp.trigsimp, sp.simplify]
+            for step in steps:
+                if time.monotonic() > deadline or sp.count_ops(best) > SYMBOLIC_SIZE:
+                    break
+                candidate = step(best)
+                if candidate == 0:
+                    return candidate, True
+                if sp.count_ops(candidate) <= sp.count_ops(best):
+                    best = candidate
+    except (_OutOfTime, RecursionError):
+        pass
+    return best, False
+
+
+def is_zero(matrix, seconds: float = SYMBOLIC_BUDGET) -> bool:
+    matrix = as_matrix(matrix)
+    share = seconds / max(1, len(matrix))
+    return all(reduce(e, share)[1] for e in matrix)
+
+
+def difference(system: System, claim: Claim, subst: dict | None):
+    """``printed − derived`` in the model's symbols (None for kinds compared only numerically), as the kind
+    defines equality: V up to a constant (its gradient), C·q̇ for Cqd, eom rows up to a factor."""
+    from harness.compare.claims import _derived
+
+    printed = as_matrix(claim.printed).xreplace(subst or {})
+    kind = claim.quantity.split(":")[0]
+    if kind == "equilibrium":
+        d = _derived(system, claim)
+        return d.xreplace(dict(zip(system.q, list(printed))))
+    derived = as_matrix(_derived(system, claim))
+    if printed.shape != derived.shape:
+        if len(printed) != len(derived):
+            return None
+        printed = printed.reshape(*derived.shape)
+    if kind == "V":
+        return (printed - derived).jacobian(system.q)
+    if kind == "eom":
+        return sp.Matrix([r - row_factor(system, r, e) * e for r, e in zip(printed, derived)])
+    return printed - derived
+
+
+def row_factor(system: System, printed_row, derived_row):
+    """The factor a printed equation-of-motion row may carry against the derived row (divided through by a
+    mass, or written with the other sign): the ratio of their q̈ coefficients when it is free of the state,
+    else 1."""
+    state = set(system.q) | set(system.qd) | {c.accel for c in system.coordinates} | set(system.u)
+    for c in system.coordinates:
+        de, dr = sp.diff(derived_row, c.accel), sp.diff(printed_row, c.accel)
+        if de != 0 and dr != 0:
+            factor = sp.cancel(dr / de)
+            return factor if not (factor.free_symbols & state) else 1
+    return 1
+
+
+def decide(system: System, claim: Claim, subst: dict | None) -> str:
+    try:
+        diff = difference(system, claim, subst)
+    except Exception:  # noqa: BLE001 - a form the symbolic comparison does not cover stays numeric
+        return "numeric only"
+    if diff is None:
+        return "numeric only"
+    return "symbolic" if is_zero(diff) else "numeric only"

@@ -1,0 +1,380 @@
+"""The errata sheet: each finding about a printed equation in the lecture's notation — the printed and the
+corrected equation as MathML, the differing terms, one sentence a lecturer can act on, and the counterexample
+reduced to what matters with the printed and derived values there — as ``errata.md`` and ``errata.html``, with a
+summary table and the numbered equations that have no claim, with the reason.
+
+:func:`finding` runs where the claim was classified (it needs the SymPy expressions); :func:`markdown` and
+:func:`html` work from the JSON records alone."""
+
+from __future__ import annotations
+
+import json
+from html import escape
+from pathlib import Path
+
+import numpy as np
+import sympy as sp
+
+from harness.modeling.claims import as_matrix
+from harness.report.mathml import mathml
+
+KIND = {"erratum": "substantive", "notation typo": "notation", "convention-dependent": "convention",
+        "follows from erratum": "follows", "engines disagree": "engines"}
+UNCLAIMED = Path(__file__).resolve().parents[2] / "models" / "unclaimed.json"
+_SIMPLIFY_SECONDS = 1.0
+
+
+# ----------------------------------------------------------------------------- the lecture's symbols
+def definitions(claims) -> list[tuple[sp.Symbol, sp.Expr]]:
+    """Printed symbols with the model's value: the parameter relations the claims declare (``m_S`` ↔
+    ``rho_S l_S b_S h_S``)."""
+    out = []
+    for c in claims:
+        if c.defines is None or c.quantity != "parameter" or c.reference is None:
+            continue
+        out += [(s, v) for s, v in zip(c.defined, as_matrix(c.reference)) if isinstance(s, sp.Symbol)]
+    return out
+
+
+def lecture_form(expr, keep: set, relations) -> sp.Matrix:
+    """``expr`` with the model's symbols that the printed equation does not use eliminated through the declared
+    relations (``rho_S → m_S/(l_S b_S h_S)``, then ``b_S² → 12 I_zz^S/m_S − l_S²``), simplified within a budget.
+    Which symbol each relation eliminates is searched: the choice that leaves fewest foreign symbols wins."""
+    from harness.compare.errata import reduce
+
+    expr = as_matrix(expr).applyfunc(sp.expand)
+    relations = [(s, sp.sympify(v)) for s, v in relations if s in keep]
+    best = _eliminate(expr, keep, relations)
+    return best.applyfunc(lambda e: _tidy(e, reduce))
+
+
+def _foreign(expr, keep) -> int:
+    return len(expr.free_symbols - keep)
+
+
+def _eliminate(expr, keep, relations, depth: int = 0):
+    if not relations or depth > 4:
+        return expr
+    (symbol, value), rest = relations[0], relations[1:]
+    options = [_eliminate(expr, keep, rest, depth + 1)]
+    for x in sorted(value.free_symbols - keep, key=str):
+        solved = _solve_power(value, symbol, x)
+        if solved is None:
+            continue
+        power, solution = solved
+        trial = expr.applyfunc(lambda e: sp.expand(e.subs(x**power, solution)))
+        if any(x in e.free_symbols for e in trial):
+            continue
+        later = [(s, sp.expand(v.subs(x**power, solution))) for s, v in rest]
+        options.append(_eliminate(trial, keep, later, depth + 1))
+    return min(options, key=lambda m: (_foreign(m, keep), sum(sp.count_ops(e) for e in m)))
+
+
+def _solve_power(value, symbol, x):
+    y = sp.Dummy("y")
+    for power in (1, 2):
+        replaced = value.subs(x**power, y) if power > 1 else value.xreplace({x: y})
+        if x in replaced.free_symbols or not replaced.has(y):
+            continue
+        solutions = sp.solve(sp.Eq(replaced, symbol), y)
+        if len(solutions) == 1:
+            return power, solutions[0]
+    return None
+
+
+def _tidy(e, reduce):
+    reduced, _ = reduce(e, _SIMPLIFY_SECONDS)
+    candidates = [e, reduced]
+    try:
+        candidates.append(sp.factor_terms(sp.expand(e)))
+    except Exception:  # noqa: BLE001 - tidying is cosmetic
+        pass
+    return min(candidates, key=sp.count_ops)
+
+
+# ----------------------------------------------------------------------------- one finding
+def finding(system, verdict, claims) -> dict:
+    """The errata-sheet fields of a classified claim that does not simply hold."""
+    from harness.compare import claims as claims_module
+    from harness.compare.errata import ingredients_of
+
+    claim = verdict.claim
+    out: dict = {"printed_mathml": mathml(_shown(claim.printed, claim), label=claim.equation)}
+    kind = claim.quantity.split(":")[0]
+    if verdict.classification == "notation typo":
+        renaming = {sp.Symbol(k, real=True): sp.Symbol(v, real=True) for k, v in verdict.renaming.items()}
+        corrected = as_matrix(claim.printed).xreplace(renaming)
+        out["corrected_mathml"] = mathml(_shown(corrected, claim))
+        pairs = ", ".join(f"{k} → {v}" for k, v in verdict.renaming.items())
+        out["sentence"] = (f"{claim.equation}: {', '.join(verdict.renaming)} is not a symbol of this example; "
+                           f"the equation holds after renaming {pairs}.")
+        return out
+    if verdict.classification == "follows from erratum":
+        out["sentence"] = (f"{claim.equation} is right as written in its symbols; it fails only through the printed "
+                           f"{', '.join(verdict.blame)}: with that corrected, {claim.equation} holds.")
+        return out
+    if verdict.classification != "erratum" or verdict.state is None:
+        return out
+    subst = verdict.substitution or {}
+    relations = definitions(claims)
+    printed_model = as_matrix(claim.printed).xreplace(subst)
+    derived = as_matrix(claims_module._derived(system, claim))
+    if kind == "equilibrium":
+        return out
+    if kind == "eom":
+        derived = _scaled_like(printed_model, derived, system)
+    ingredient_symbols = {s for c in ingredients_of(claim, claims) for s in c.defined}
+    keep = set(as_matrix(claim.printed).free_symbols) | {s for s, _ in relations if s in ingredient_symbols}
+    printed_shown = as_matrix(claim.printed)
+    if ingredient_symbols:  # with the corrected ingredients: show them by name, as printed
+        printed_shown = printed_shown.xreplace({k: v for k, v in subst.items() if k not in ingredient_symbols})
+    keep |= set(printed_shown.free_symbols)
+    corrected = lecture_form(derived, keep, relations)
+    if printed_shown.shape != corrected.shape and len(printed_shown) == len(corrected):
+        printed_shown = printed_shown.reshape(*corrected.shape)
+    out["corrected_mathml"] = mathml(_shown(corrected, claim), label=claim.equation)
+    delta = lecture_form(derived - printed_model.reshape(*derived.shape), keep, relations)
+    out["difference"] = str(delta if delta.shape != (1, 1) else delta[0])
+    out["difference_mathml"] = mathml(delta[0] if delta.shape == (1, 1) else delta)
+    out["sentence"] = sentence(claim, printed_shown, corrected, verdict)
+    out["counterexample_reduced"] = reduced_counterexample(system, claim, verdict, delta, relations)
+    return out
+
+
+def _shown(expr, claim):
+    """Residual claims (eom, equilibrium) as ``… = 0``, others as the printed quantity."""
+    m = as_matrix(expr)
+    value = m[0] if m.shape == (1, 1) else m
+    if claim.quantity == "eom":
+        return sp.Eq(value, sp.zeros(*m.shape) if m.shape != (1, 1) else 0, evaluate=False)
+    return value
+
+
+def _scaled_like(printed, derived, system):
+    """A derived residual row scaled to the printed row's q̈ coefficients (a printed equation may be divided
+    through)."""
+    from harness.compare.errata import row_factor
+
+    rows = [e * row_factor(system, r, e) for r, e in zip(printed, derived)]
+    return sp.Matrix(rows).reshape(*derived.shape)
+
+
+def sentence(claim, printed, corrected, verdict) -> str:
+    """One sentence: a wrong sign, the entries that differ, or the terms that should read otherwise."""
+    where = claim.equation
+    if sp.expand(printed + corrected).is_zero_matrix if hasattr(printed, "is_zero_matrix") else False:
+        return f"{where}: the sign is wrong: the printed expression is the negative of the derived one."
+    if printed.shape != (1, 1) and printed.shape == corrected.shape:
+        wrong = [(i, j) for i in range(printed.rows) for j in range(printed.cols)
+                 if sp.expand(printed[i, j] - corrected[i, j]) != 0]
+        if 0 < len(wrong) <= 2:
+            parts = []
+            for i, j in wrong:
+                at = f"({i + 1}, {j + 1})" if printed.cols > 1 else f"{i + 1}"
+                if sp.expand(printed[i, j] + corrected[i, j]) == 0:
+                    parts.append(f"entry {at} has the wrong sign (it is {corrected[i, j]})")
+                else:
+                    parts.append(f"entry {at} should read {corrected[i, j]}, not {printed[i, j]}")
+            return f"{where}: " + "; ".join(parts) + "."
+    if printed.shape == (1, 1) == corrected.shape:
+        ratio = sp.cancel(printed[0] / corrected[0]) if corrected[0] != 0 else None
+        if ratio is not None and (ratio.is_Symbol or (1 / ratio).is_Symbol):
+            return (f"{where}: the factor {ratio} does not belong." if ratio.is_Symbol
+                    else f"{where}: a factor {1 / ratio} is missing.")
+        have = set(sp.Add.make_args(sp.expand(printed[0])))
+        want = set(sp.Add.make_args(sp.expand(corrected[0])))
+        extra, lacking = have - want, want - have
+        if 0 < len(extra) <= 2 and 0 < len(lacking) <= 2:
+            return (f"{where}: the term {' + '.join(map(str, extra))} should read "
+                    f"{' + '.join(map(str, lacking))}.")
+        if not extra and 0 < len(lacking) <= 2:
+            return f"{where}: the term {' + '.join(map(str, lacking))} is missing."
+        if not lacking and 0 < len(extra) <= 2:
+            return f"{where}: the term {' + '.join(map(str, extra))} does not belong."
+    return f"{where}: the printed expression differs from the derived one by {_short(corrected - printed)}."
+
+
+def _short(m):
+    text = str(m[0] if m.shape == (1, 1) else m)
+    return text if len(text) < 200 else text[:200] + " …"
+
+
+def _g(x: float) -> str:
+    return f"{x:.4g}"
+
+
+def reduced_counterexample(system, claim, verdict, delta, relations) -> dict:
+    """The counterexample state restricted to what the difference depends on, with the printed and the derived
+    value of the claimed quantity there."""
+    from harness.compare.claims import _derived, _lambdify
+    from harness.engines import symbolic
+    from harness.modeling.claims import symbols
+
+    state = verdict.state
+    used = {str(s) for s in as_matrix(delta).free_symbols}
+    used |= {str(s) for _, v in relations for s in sp.sympify(v).free_symbols} if used & {
+        str(s) for s, _ in relations} else set()
+    out = {"coordinates": {}, "parameters": {}, "inputs": {}}
+    for c, q, qd in zip(system.coordinates, state.q, state.qd):
+        if c.name in used or not used:
+            out["coordinates"][c.name] = _g(q)
+        if c.rate.name in used:
+            out["coordinates"][c.rate.name] = _g(qd)
+    out["parameters"] = {k: _g(v) for k, v in state.params.items() if k in used}
+    out["inputs"] = {k: _g(v) for k, v in state.u.items() if k in used}
+    try:
+        ref = symbolic.evaluate(state)
+        args = (state.q, state.qd, ref.qdd, state.p, state.u_vec)
+        if claim.quantity == "eom":
+            out["accelerations (derived)"] = {c.accel.name: _g(a) for c, a in zip(system.coordinates, ref.qdd)}
+        printed = sp.lambdify(symbols(system), as_matrix(claim.printed).xreplace(verdict.substitution or {}))
+        derived = _lambdify(system, _derived(system, claim))
+        out["printed value"] = [_g(float(x)) for x in np.asarray(printed(*args), float).ravel()]
+        out["derived value"] = [_g(float(x)) for x in np.asarray(derived(*args), float).ravel()]
+    except Exception:  # noqa: BLE001 - the values are an aid; the counterexample itself stands
+        pass
+    return out
+
+
+# ----------------------------------------------------------------------------- the sheet
+def unclaimed(records) -> list[dict]:
+    """Numbered equations of chapters 3–5 and appendix A without a claim, with the reason."""
+    try:
+        table = json.loads(UNCLAIMED.read_text())
+    except (OSError, ValueError):
+        return []
+    labels = " ".join(r["equation"] for r in records)
+    return [e for e in table if f"({e['eq']})" not in labels and not _in_range(e["eq"], labels)]
+
+
+def _in_range(eq: str, labels: str) -> bool:
+    """Whether a claim label such as ``(A.162)-(A.165)`` covers ``eq``."""
+    import re
+
+    for a, b in re.findall(r"\(([0-9A]+\.\d+)[a-z]?\)-\(([0-9A]+\.\d+)[a-z]?\)", labels):
+        pa, na = a.rsplit(".", 1)
+        pb, nb = b.rsplit(".", 1)
+        pe, ne = re.match(r"([0-9A]+)\.(\d+)", eq).groups()
+        if pa == pb == pe and int(na) <= int(ne) <= int(nb):
+            return True
+    return False
+
+
+FINDINGS = ("erratum", "notation typo", "convention-dependent", "follows from erratum", "engines disagree")
+
+
+def _counts(records) -> dict:
+    out: dict = {}
+    for r in records:
+        out[r["classification"]] = out.get(r["classification"], 0) + 1
+    return out
+
+
+def _correction(r) -> str:
+    if r["classification"] == "notation typo":
+        return ", ".join(f"{k} → {v}" for k, v in (r.get("renaming") or {}).items())
+    if r["classification"] == "follows from erratum":
+        return "follows from " + ", ".join(r.get("blame") or [])
+    if r["classification"] == "convention-dependent":
+        return f"holds with: {r.get('convention')}"
+    return r.get("sentence") or ""
+
+
+def markdown(records) -> str:
+    counts = _counts(records)
+    symbolic = sum(1 for r in records if r.get("decided_by") == "symbolic")
+    lines = ["# Printed equations of the lecture, checked", "",
+             "Each printed equation is evaluated on hypothesis states (random states and parameters) against our "
+             "derivation and, where an engine gives the quantity, Pinocchio and MuJoCo; `printed − derived` is also "
+             "reduced symbolically under a time budget (*decided by*). Generated by `harness claims --out reports`.",
+             "", f"{len(records)} printed equations: " + ", ".join(f"{v} {k}" for k, v in sorted(counts.items()))
+             + f"; {symbolic} decided symbolically.", "",
+             "## Findings", "", "| equation | system | kind | correction |", "|---|---|---|---|"]
+    findings = [r for r in records if r["classification"] in FINDINGS]
+    lines += [f"| {r['equation']} | {r['system']} | {KIND.get(r['classification'], r['classification'])} | "
+              f"{_correction(r)} |" for r in findings]
+    lines += ["", "## All printed equations", "", "| system | equation | quantity | classification | decided by |",
+              "|---|---|---|---|---|"]
+    lines += [f"| {r['system']} | {r['equation']} | {r['quantity']} | {r['classification']} | "
+              f"{r.get('decided_by') or ''} |" for r in records]
+    if findings:
+        lines += ["", "## Details", ""]
+    for r in findings:
+        lines += [f"### {r['system']} {r['equation']}: {r['classification']}", ""]
+        if r.get("sentence"):
+            lines += [r["sentence"], ""]
+        lines += [f"- printed: `{r['printed']}`"]
+        if r.get("renaming"):
+            lines.append(f"- holds after renaming {_correction(r)}")
+        if r.get("difference"):
+            lines.append(f"- derived − printed: `{r['difference']}`")
+        if r["classification"] not in ("notation typo", "follows from erratum"):
+            lines.append(f"- derived: `{r['corrected']}`")
+        if r["convention"]:
+            lines.append(f"- holds with the convention: {r['convention']}")
+        if r.get("blame"):
+            lines.append(f"- ingredients printed wrong: {', '.join(r['blame'])}")
+        reduced = r.get("counterexample_reduced")
+        if reduced:
+            lines.append(f"- counterexample: {_reduced_text(reduced)}")
+        elif r.get("counterexample"):
+            lines.append(f"- minimal counterexample: {r['counterexample']}")
+        if r["note"]:
+            lines.append(f"- transcription note: {r['note']}")
+        lines.append("")
+    missing = unclaimed(records)
+    if missing:
+        lines += ["## Numbered equations without a claim", "", "| equation | reason |", "|---|---|"]
+        lines += [f"| ({e['eq']}) | {e['reason']} |" for e in missing]
+    return "\n".join(lines) + "\n"
+
+
+def _reduced_text(reduced: dict) -> str:
+    parts = []
+    for key in ("coordinates", "inputs", "parameters", "accelerations (derived)"):
+        values = reduced.get(key) or {}
+        if values:
+            parts.append(", ".join(f"{k} = {v}" for k, v in values.items()))
+    text = "; ".join(parts) or "any state"
+    if "printed value" in reduced:
+        text += f"; printed {reduced['printed value']} vs derived {reduced['derived value']}"
+    return text
+
+
+def html(records) -> str:
+    counts = _counts(records)
+    findings = [r for r in records if r["classification"] in FINDINGS]
+    body = ["<h1>Errata of the lecture <i>Mathematical Modeling</i></h1>",
+            f"<p>{len(records)} printed equations checked: "
+            + ", ".join(f"{v} {escape(k)}" for k, v in sorted(counts.items())) + ".</p>",
+            "<h2>Summary</h2><table><tr><th>equation</th><th>system</th><th>kind</th><th>correction</th></tr>"]
+    body += [f"<tr><td>{escape(r['equation'])}</td><td>{escape(r['system'])}</td>"
+             f"<td>{escape(KIND.get(r['classification'], r['classification']))}</td>"
+             f"<td>{escape(_correction(r))}</td></tr>" for r in findings]
+    body.append("</table><h2>Findings</h2>")
+    for r in findings:
+        body.append(f"<section><h3>{escape(r['equation'])} ({escape(r['system'])}): "
+                    f"{escape(r['classification'])}</h3>")
+        if r.get("sentence"):
+            body.append(f"<p class='act'>{escape(r['sentence'])}</p>")
+        if r.get("printed_mathml"):
+            body.append(f"<p>printed:</p>{r['printed_mathml']}")
+        if r.get("corrected_mathml"):
+            body.append(f"<p>corrected:</p>{r['corrected_mathml']}")
+        if r.get("difference_mathml"):
+            body.append(f"<p class='diff'>derived − printed:</p><div class='diff'>{r['difference_mathml']}</div>")
+        if r.get("counterexample_reduced"):
+            body.append(f"<p>counterexample: {escape(_reduced_text(r['counterexample_reduced']))}</p>")
+        if r["note"]:
+            body.append(f"<p class='note'>transcription note: {escape(r['note'])}</p>")
+        body.append("</section>")
+    missing = unclaimed(records)
+    if missing:
+        body.append("<h2>Numbered equations without a claim</h2><table><tr><th>equation</th><th>reason</th></tr>")
+        body += [f"<tr><td>({escape(e['eq'])})</td><td>{escape(e['reason'])}</td></tr>" for e in missing]
+        body.append("</table>")
+    style = ("body{font-family:sans-serif;max-width:60em;margin:auto}table{border-collapse:collapse}"
+             "td,th{border:1px solid #ccc;padding:2px 6px;text-align:left}.diff math{background:#fde2e2}"
+             ".act{font-weight:bold}.note{color:#555;font-size:90%}")
+    return ("<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>Errata</title>"
+            f"<style>{style}</style></head><body>" + "\n".join(body) + "</body></html>\n")
