@@ -218,6 +218,19 @@ def cmd_importer(args) -> int:
     return 0 if doc["summary"]["differ"] == 0 and all(c["detected"] for c in doc["controls"]) else 1
 
 
+def cmd_robots(args) -> int:
+    """Every robot of example-robot-data in every engine (harness/files/robots.py): robots.json, robots.md."""
+    doc, written = run.robots(args.robots, out=args.out, states=args.states, seed=args.seed, jobs=args.jobs,
+                              echo=lambda line: print(line, flush=True),
+                              command="harness robots " + " ".join(sys.argv[2:]))
+    for path in written:
+        print(f"wrote {path}", file=sys.stderr)
+    for pair, counts in doc["summary"].items():
+        print(f"{pair}: " + ", ".join(f"{n} {verdict}" for verdict, n in counts.items()))
+    print(f"{len(doc['robots'])} robots in {doc['seconds']} s")
+    return 0 if all(c["disagree"] == 0 for c in doc["summary"].values()) else 1
+
+
 def cmd_bench(args) -> int:
     """The performance studies (harness/bench/); writes bench.json, bench.md and the figures."""
     if args.render:
@@ -333,6 +346,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_importer)
 
+    p = sub.add_parser("robots", help="every robot of example-robot-data: Pinocchio vs MuJoCo's URDF importer")
+    p.add_argument("robots", nargs="*", help="robot names (URDF file stems; default: every robot)")
+    p.add_argument("--out", default=None, help="folder for robots.json and robots.md")
+    p.add_argument("--states", type=STATES, default=None, help="random states per robot (default 10)")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--jobs", type=JOBS, default=1, help="robots compared in parallel processes")
+    p.set_defaults(func=cmd_robots)
+
     p = sub.add_parser("hard", help="hard cases: singularities, stiffness, chaos, long horizons (harness/hard/)")
     p.add_argument("cases", nargs="*", help="default: the whole catalogue")
     p.add_argument("--out", default="reports", help="folder for hard.json and hard/*.svg")
@@ -341,7 +362,7 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-NO_DERIVATION = frozenset({"list", "new", "validate"})
+NO_DERIVATION = frozenset({"list", "new", "validate", "robots"})
 """Commands that never read or write the derivation cache."""
 
 

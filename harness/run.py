@@ -585,3 +585,32 @@ def importer(catalogue: Catalogue, names=None, states: int = 20, seed: int = 0, 
     systems = [catalogue.get(n) for n in names] if names else list(catalogue.systems().values())
     doc = study.run(systems, states=states, seed=seed)
     return doc, (study.write(doc, Path(out)) if out else [])
+
+
+def robots(names=None, out=None, states: int | None = None, seed: int = 0, jobs: int = 1, echo=None,
+           command: str = "harness robots") -> tuple[dict, list]:
+    """Every robot of the pinned example-robot-data package (or ``names``) in every engine
+    (:mod:`harness.files.robots`): the document and, with ``out``, robots.json and robots.md written there. One
+    line per robot goes to ``echo`` as it finishes; ``jobs`` robots run at a time in spawned processes."""
+    from harness.files import robots as sweep
+
+    if out:
+        check_folder(out)
+    selected = sweep.select(names)
+    states = sweep.STATES if states is None else states
+    todo = [(name, str(path), states, seed) for name, path in selected.items()]
+    finished: dict[str, dict] = {}
+    start = time.perf_counter()
+
+    def done(record):
+        finished[record["robot"]] = record
+        if echo:
+            echo(f"[{len(finished)}/{len(todo)}] {sweep.line(record)}")
+
+    interrupted = parallel(sweep.sweep_robot, todo, jobs, done, sweep.lost)
+    records = [finished[name] for name in selected if name in finished]
+    doc = sweep.document(records, states, seed, time.perf_counter() - start, jobs, command)
+    written = sweep.write(doc, Path(out)) if out else []
+    if interrupted:
+        raise Interrupted(records, len(todo))
+    return doc, written

@@ -339,3 +339,41 @@ def captured_output():
 
 def one_line(message: str) -> str:
     return "; ".join(line.strip() for line in str(message).splitlines() if line.strip())
+
+
+# --------------------------------------------------------------------------------------------- floating bases
+FREE_JOINT = "root_joint"
+"""Name of the free-flyer joint of a floating base loaded from a URDF of other origin: Pinocchio's default name for
+a root joint, given to MuJoCo's free joint too, so that the base is matched by name like every other joint."""
+
+
+def quat_matrix(quat_xyzw) -> np.ndarray:
+    """Rotation matrix of a unit quaternion given as (x, y, z, w) (Pinocchio's order)."""
+    x, y, z, w = np.asarray(quat_xyzw, dtype=float)
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+
+
+@dataclass(frozen=True)
+class Base:
+    """State of a floating base in Pinocchio's free-flyer convention, the one every adapter reports in:
+    position of the root link's frame in the world, its orientation as a unit quaternion (x, y, z, w) and its
+    spatial velocity in the local frame (linear velocity of the frame's origin, then angular velocity, both in
+    the root link's axes)."""
+
+    position: np.ndarray
+    quat_xyzw: np.ndarray
+    velocity: np.ndarray
+
+    @staticmethod
+    def rest() -> "Base":
+        return Base(np.zeros(3), np.array([0.0, 0.0, 0.0, 1.0]), np.zeros(6))
+
+    def at_rest(self) -> "Base":
+        """The same placement, velocity zero."""
+        return Base(self.position, self.quat_xyzw, np.zeros(6))
+
+    def record(self) -> dict:
+        return {"position": self.position.tolist(), "quat_xyzw": self.quat_xyzw.tolist(),
+                "velocity_local": self.velocity.tolist()}

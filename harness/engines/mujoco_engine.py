@@ -23,7 +23,8 @@ import mujoco
 import numpy as np
 
 from harness.engines import warnings_log
-from harness.engines.base import TreeEngine, TreeQuantities, captured_output, one_line, polarization
+from harness.engines.base import (FREE_JOINT, Base, TreeEngine, TreeQuantities, captured_output, one_line,
+                                  polarization, quat_matrix)
 from harness.errors import EngineError, ModelError
 from harness.export.mjcf import mjcf_spec, mjcf_string, rpy_quat
 from harness.modeling.system import WORLD
@@ -70,10 +71,11 @@ def check_state(model: mujoco.MjModel, data: mujoco.MjData, what: str) -> None:
 
 
 def compile_text(text: str | None, source: str, path: Path | None = None,
-                 bound: float | None = None) -> mujoco.MjModel:
+                 bound: float | None = None, edit=None) -> mujoco.MjModel:
     """An MJCF or URDF of other origin compiled by MuJoCo (from ``path`` when the model refers to files, else
-    from ``text``); ``bound`` sets ``compiler.boundmass``/``boundinertia``. A refusal or a compiler warning is a
-    :class:`ModelError` (what MuJoCo prints is captured)."""
+    from ``text``); ``bound`` sets ``compiler.boundmass``/``boundinertia``; ``edit(spec)`` changes the spec before
+    compiling (e.g. :func:`add_free_joint`). A refusal or a compiler warning is a :class:`ModelError` (what
+    MuJoCo prints is captured)."""
     with captured_output(), warnings.catch_warnings(record=True) as warned:
         warnings.simplefilter("always")
         try:
@@ -81,12 +83,33 @@ def compile_text(text: str | None, source: str, path: Path | None = None,
             if bound is not None:
                 spec.compiler.boundmass = bound
                 spec.compiler.boundinertia = bound
+            if edit is not None:
+                edit(spec)
             model = spec.compile()
         except (ValueError, RuntimeError) as exc:
             raise ModelError(f"{source}: MuJoCo refused the model: {one_line(exc)}") from None
     if warned:  # e.g. "Inertia matrix is too close to singular": a model MuJoCo only half accepts
         raise ModelError(f"{source}: MuJoCo warned while compiling: {one_line(warned[0].message)}")
     return model
+
+
+def add_free_joint(spec) -> None:
+    """Edit of an imported URDF (:func:`compile_text`): the root link on a free joint named
+    :data:`~harness.engines.base.FREE_JOINT` (MuJoCo's URDF importer welds the root link to the world)."""
+    roots = list(spec.worldbody.bodies)
+    if len(roots) != 1:
+        raise ModelError(f"a floating base needs one root body under the world, the import has {len(roots)}")
+    roots[0].add_freejoint(name=FREE_JOINT)
+
+
+def balanced(edit=None):
+    """An edit (:func:`compile_text`) switching on ``compiler.balanceinertia`` (MuJoCo's own fix of inertias
+    violating A + B >= C), then applying ``edit``."""
+    def apply(spec) -> None:
+        spec.compiler.balanceinertia = True
+        if edit is not None:
+            edit(spec)
+    return apply
 
 
 class MujocoModel(TreeEngine):
@@ -97,6 +120,8 @@ class MujocoModel(TreeEngine):
     name, reads = "mujoco", "MJCF"
     integrators = ("Euler", "RK4", "implicit", "implicitfast")
     natively = frozenset({"stepping", "dry friction", "contact", "soft constraints"})
+    free: str | None = None
+    """The free joint of a floating base (:meth:`loaded` with ``free``), else None."""
 
     def __init__(self, tree: NumericTree, xml: str | None = None, transforms=(),
                  where: str = "MjSpec.compile (scene)"):
@@ -115,11 +140,20 @@ class MujocoModel(TreeEngine):
                           for name, _ in tree.actuators}
 
     @classmethod
-    def loaded(cls, model: mujoco.MjModel, joints: list[str]) -> "MujocoModel":
-        """A model MuJoCo has compiled (a file of other origin), seen through ``joints`` (hinge, slide)."""
+    def loaded(cls, model: mujoco.MjModel, joints: list[str], free: str | None = None) -> "MujocoModel":
+        """A model MuJoCo has compiled (a file of other origin), seen through ``joints`` (hinge, slide) and, with
+        ``free``, a free joint of that name, reported in Pinocchio's free-flyer convention
+        (:class:`~harness.engines.base.Base`; see :meth:`terms`)."""
         self = cls.__new__(cls)
         self._attach(model, list(joints))
         self.actuators = {}
+        self._base = Base.rest()
+        if free is not None:
+            fid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, free)
+            if fid < 0 or model.jnt_type[fid] != mujoco.mjtJoint.mjJNT_FREE:
+                raise EngineError(f"free joint {free!r} missing in the MuJoCo model")
+            self.free, self.free_id = free, fid
+            self.free_qpos, self.free_dof = int(model.jnt_qposadr[fid]), int(model.jnt_dofadr[fid])
         return self
 
     def _attach(self, model: mujoco.MjModel, joints: list[str]) -> None:
@@ -285,25 +319,79 @@ class MujocoModel(TreeEngine):
         return out
 
     # ----- a tree of other origin (harness.files.importer): M, bias, what each joint moves
-    def _set(self, theta, theta_dot) -> None:
+    # MuJoCo's free joint: ``qpos = [x, y, z, qw, qx, qy, qz]`` (quaternion scalar first), ``qvel`` = linear
+    # velocity of the body's origin **in world axes**, then angular velocity **in the body's axes** (MuJoCo
+    # issue #691; the agreement of ``M`` with Pinocchio checks it). With ``R`` the base orientation and
+    # ``T = diag(R, I)`` (``qvel_base = T v``, ``v`` Pinocchio's local velocity), the quantities are brought to
+    # Pinocchio's coordinates by the virtual-work map of DESIGN.md: ``M_v = Tᵀ M T``,
+    # ``(C v)_v = Tᵀ (M Ṫ v + C qvel)`` with ``Ṫ v = (R (ω × v_lin), 0)``, ``g_v = Tᵀ g``, and the
+    # acceleration ``v̇ = T⁻¹ (qacc − Ṫ v)``.
+    def _set(self, theta, theta_dot, base: Base | None = None) -> None:
         d = self.data
         d.qpos[:] = self.model.qpos0
         d.qvel[:] = 0
         d.qpos[self.qpos_index] = theta
         d.qvel[self.dof_index] = theta_dot
+        if self.free:
+            self._base = base = base or Base.rest()
+            a, b = self.free_qpos, self.free_dof
+            d.qpos[a:a + 3] = base.position
+            d.qpos[a + 3:a + 7] = np.roll(base.quat_xyzw, 1)  # (x, y, z, w) -> MuJoCo's (w, x, y, z)
+            d.qvel[b:b + 3] = quat_matrix(base.quat_xyzw) @ base.velocity[:3]
+            d.qvel[b + 3:b + 6] = base.velocity[3:]
         mujoco.mj_forward(self.model, d)
 
-    def mass_and_bias(self, theta, theta_dot) -> tuple[np.ndarray, np.ndarray]:
-        """``M`` (``mj_fullM``) and the bias ``C θ̇ + g`` (``qfrc_bias``) at ``θ`` (other joints at ``qpos0``)."""
-        self._set(theta, theta_dot)
-        M = np.zeros((self.model.nv, self.model.nv))
-        mujoco.mj_fullM(self.model, self.data, M)
-        return M[np.ix_(self.dof_index, self.dof_index)], self.data.qfrc_bias[self.dof_index].copy()
+    @property
+    def view_dofs(self) -> list[int]:
+        """MuJoCo's dof indices in the order of the views' vectors: the free joint's six, then ``joints``."""
+        return (list(range(self.free_dof, self.free_dof + 6)) if self.free else []) + list(self.dof_index)
 
-    def subtree_parts(self, theta) -> dict[str, list]:
-        """Per joint, the ``(mass, centre of mass, inertia tensor about it)`` of every body it moves, world axes
-        (``xipos``, ``ximat``, ``body_inertia``)."""
-        self._set(theta, np.zeros(len(theta)))
+    def _map(self):
+        """``T`` (the rotation ``R`` of the base in its linear block) and ``Ṫ v`` of the free joint at the
+        current state (identity and zero without one), over :attr:`view_dofs`."""
+        n = len(self.view_dofs)
+        T, Tdot_v = np.eye(n), np.zeros(n)
+        if self.free:
+            R = quat_matrix(self._base.quat_xyzw)
+            T[:3, :3] = R
+            Tdot_v[:3] = R @ np.cross(self._base.velocity[3:], self._base.velocity[:3])
+        return T, Tdot_v
+
+    def terms(self, theta, theta_dot, base: Base | None = None, forward: bool = True) -> dict:
+        """``M`` (``mj_fullM``) and the bias ``C v + g`` (``qfrc_bias``); with ``forward`` also ``Cqd``, ``g``
+        and the forward dynamics ``qdd`` with zero inputs (``qacc_smooth``: no constraint, no passive force), in
+        the views' coordinates (a free joint mapped to Pinocchio's free flyer: see above)."""
+        self._set(theta, theta_dot, base)
+        m, d, idx = self.model, self.data, self.view_dofs
+        M = np.zeros((m.nv, m.nv))
+        mujoco.mj_fullM(m, d, M)
+        M = M[np.ix_(idx, idx)]
+        if not self.free:  # exactly MuJoCo's numbers
+            out = {"M": M, "bias": d.qfrc_bias[idx].copy()}
+        else:
+            T, Tdot_v = self._map()
+            out = {"M": T.T @ M @ T, "bias": T.T @ (d.qfrc_bias[idx] + M @ Tdot_v)}
+        if not forward:
+            return out
+        if np.any(d.qfrc_passive[idx]):
+            raise EngineError("MuJoCo's passive forces are not zero (damping, springs): qacc_smooth is not the "
+                              "forward dynamics with zero inputs")
+        T, Tdot_v = self._map()
+        out["qdd"] = np.linalg.solve(T, d.qacc_smooth[idx] - Tdot_v)
+        self._set(theta, np.zeros(len(theta)), self._base.at_rest() if self.free else None)
+        out["g"] = T.T @ d.qfrc_bias[idx]
+        out["Cqd"] = out["bias"] - out["g"]
+        return out
+
+    def mass_and_bias(self, theta, theta_dot, base: Base | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """``M`` (``mj_fullM``) and the bias ``C θ̇ + g`` (``qfrc_bias``) at ``θ`` (other joints at ``qpos0``)."""
+        t = self.terms(theta, theta_dot, base, forward=False)
+        return t["M"], t["bias"]
+
+    def subtree_parts(self, theta, base: Base | None = None) -> dict[str, list]:
+        """Per joint (and the free joint), the ``(mass, centre of mass, inertia tensor about it)`` of every body
+        it moves, world axes (``xipos``, ``ximat``, ``body_inertia``)."""
+        self._set(theta, np.zeros(len(theta)), base)
         m, d = self.model, self.data
         children: dict[int, list[int]] = {}
         for c in range(1, m.nbody):  # once, not per joint: a chain of n links costs n², not n³
@@ -313,7 +401,8 @@ class MujocoModel(TreeEngine):
             R = d.ximat[b].reshape(3, 3)
             world[b] = (m.body_mass[b], d.xipos[b].copy(), R @ np.diag(m.body_inertia[b]) @ R.T)
         out = {}
-        for name, jid in zip(self.joints, self.jids):
+        named = list(zip(self.joints, self.jids)) + ([(self.free, self.free_id)] if self.free else [])
+        for name, jid in named:
             subtree, stack = [], [int(m.jnt_bodyid[jid])]
             while stack:
                 b = stack.pop()
@@ -321,6 +410,67 @@ class MujocoModel(TreeEngine):
                 stack += children.get(b, [])
             out[name] = [world[b] for b in subtree]
         return out
+
+    # ----- what the robots sweep (harness.files.robots) reads of an import
+    def loaded_facts(self) -> dict:
+        """What MuJoCo built from a file of other origin: bodies, nq, nv, equality constraints, total mass."""
+        m = self.model
+        return {"bodies": m.nbody - 1, "nq": m.nq, "nv": m.nv, "equalities": m.neq,
+                "mass": round(float(m.body_mass.sum()), 9)}
+
+    def damped_joints(self) -> list[str]:
+        """The joints with damping or friction loss (``dof_damping``, ``dof_frictionloss``)."""
+        m = self.model
+        return [m.joint(j).name for j in range(m.njnt)
+                if m.dof_damping[m.jnt_dofadr[j]] or m.dof_frictionloss[m.jnt_dofadr[j]]]
+
+    def passive_off(self) -> None:
+        """``dof_damping``, ``jnt_stiffness``, ``dof_armature`` set to 0 (forward dynamics without passive
+        forces, as Pinocchio's ``aba``)."""
+        self.model.dof_damping[:] = 0
+        self.model.jnt_stiffness[:] = 0
+        self.model.dof_armature[:] = 0
+
+    def joint_equalities(self) -> list[tuple[str, str]]:
+        """The joint pairs coupled by a joint equality constraint (``mjEQ_JOINT``), e.g. an imported mimic."""
+        m = self.model
+        return [(m.joint(int(m.eq_obj1id[e])).name, m.joint(int(m.eq_obj2id[e])).name)
+                for e in range(m.neq) if m.eq_type[e] == mujoco.mjtEq.mjEQ_JOINT]
+
+    def joint_limited(self, name: str) -> bool | None:
+        """Whether joint ``name`` has a range (None: no such joint)."""
+        jid = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_JOINT, name)
+        return None if jid < 0 else bool(self.model.jnt_limited[jid])
+
+    @property
+    def bodies(self) -> int:
+        """Bodies besides the world."""
+        return self.model.nbody - 1
+
+    def noisy_steps(self, seconds: float, noise: float, seed: int) -> dict:
+        """``mj_step`` on a copy of the state for ``seconds`` with seeded noise torques on the joints (not a free
+        joint): standard deviation ``noise`` times each joint's gravity torque at ``qpos0`` plus 0.1 N·m. The
+        steps, the time, every warning (MuJoCo's warning counters and its warning handler's texts)."""
+        model = self.model
+        data = mujoco.MjData(model)
+        mujoco.mj_forward(model, data)
+        joints = [d for d in range(model.nv) if model.jnt_type[model.dof_jntid[d]] != mujoco.mjtJoint.mjJNT_FREE]
+        sigma = noise * (np.abs(data.qfrc_bias[joints]) + 0.1)
+        rng = np.random.default_rng(seed)
+        steps = int(round(seconds / model.opt.timestep))
+        start, found = warnings_log.mark(), []
+        for _ in range(steps):
+            data.qfrc_applied[joints] = rng.normal(0.0, sigma)
+            mujoco.mj_step(model, data)
+        try:
+            check_warnings(model, data, f"{steps} x mj_step with noise torques")
+        except EngineError as exc:
+            found.append(str(exc))
+        found += [t.strip() for t in warnings_log.texts_since(start)]
+        if not (np.all(np.isfinite(data.qpos)) and np.all(np.isfinite(data.qvel))):
+            found.append("state not finite after stepping")
+        return {"steps": steps, "time": round(float(data.time), 6), "timestep": float(model.opt.timestep),
+                "warnings": found}
 
     def body_names(self) -> list[str]:
         return [self.model.body(i).name for i in range(self.model.nbody)]

@@ -10,8 +10,8 @@ import re
 import numpy as np
 import pinocchio as pin
 
-from harness.engines.base import (State, TreeEngine, TreeQuantities, captured_output, coriolis_to_lecture,
-                                  input_forces, one_line, spring_damper_forces, to_lecture)
+from harness.engines.base import (FREE_JOINT, Base, State, TreeEngine, TreeQuantities, captured_output,
+                                  coriolis_to_lecture, input_forces, one_line, spring_damper_forces, to_lecture)
 from harness.errors import EngineError, ModelError
 from harness.export.numeric import NumericTree
 from harness.export.urdf import urdf_string
@@ -20,21 +20,28 @@ LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 VERSION = pin.__version__
 
 
-def load_urdf(urdf_text: str, source: str) -> pin.Model:
-    """A URDF of other origin in Pinocchio; a refusal is one :class:`ModelError` line holding Pinocchio's message
-    and what urdfdom printed (which names the link: "link 'arm' is not unique"); what urdfdom prints without
-    failing (a dropped inertial) is a :class:`ModelError` too."""
+def load_urdf(urdf_text: str, source: str, floating: bool = False, said: list | None = None) -> pin.Model:
+    """A URDF of other origin in Pinocchio (``floating``: on a free-flyer joint named
+    :data:`~harness.engines.base.FREE_JOINT`); a refusal is one :class:`ModelError` line holding Pinocchio's
+    message and what urdfdom printed (which names the link: "link 'arm' is not unique"); what urdfdom prints
+    without failing (a dropped inertial) is a :class:`ModelError` too, unless ``said`` is given: then it is
+    appended there."""
     refused = None
     with captured_output() as out:
         try:
-            model = pin.buildModelFromXML(urdf_text)
+            model = (pin.buildModelFromXML(urdf_text, pin.JointModelFreeFlyer()) if floating
+                     else pin.buildModelFromXML(urdf_text))
         except (ValueError, RuntimeError) as exc:
             refused = one_line(exc)
     if refused is not None:
-        said = one_line(out[0]) if out and out[0].strip() else ""
-        raise ModelError(f"{source}: Pinocchio refused the URDF: {refused}" + (f" (urdfdom: {said})" if said else ""))
+        text = one_line(out[0]) if out and out[0].strip() else ""
+        raise ModelError(f"{source}: Pinocchio refused the URDF: {refused}" + (f" (urdfdom: {text})" if text else ""))
     if out and out[0].strip():  # urdfdom complains without failing (e.g. a dropped inertial)
-        raise ModelError(f"{source}: Pinocchio/urdfdom reported: {one_line(out[0])}")
+        if said is None:
+            raise ModelError(f"{source}: Pinocchio/urdfdom reported: {one_line(out[0])}")
+        said.append(one_line(out[0]))
+    if floating and model.names[1] != FREE_JOINT:
+        raise EngineError(f"{source}: Pinocchio named the free flyer {model.names[1]!r}, not {FREE_JOINT!r}")
     return model
 
 
@@ -81,11 +88,14 @@ def check_moves_mass(pmodel: pin.Model, source: str, seed: int, states: int = 3)
                          "with mass and inertia)")
 
 
-def moving_joints(model: pin.Model) -> list[str]:
-    """Names of the 1-dof joints (revolute, continuous, prismatic) of a Pinocchio model, in tree order
-    (a :class:`ModelError` for any other joint: only 1-dof joints are compared)."""
+def moving_joints(model: pin.Model, free: str | None = None) -> list[str]:
+    """Names of the 1-dof joints (revolute, continuous, prismatic) of a Pinocchio model, in tree order, the
+    free-flyer joint ``free`` left out (a :class:`ModelError` for any other joint: only 1-dof joints are
+    compared)."""
     names = []
     for jid in range(1, model.njoints):
+        if free is not None and model.names[jid] == free:
+            continue
         if model.joints[jid].nv != 1:
             raise ModelError(f"joint {model.names[jid]}: only 1-dof joints are compared "
                              f"({model.joints[jid].shortname()})")
@@ -98,6 +108,8 @@ class PinocchioModel(TreeEngine):
 
     name, reads = "pinocchio", "URDF"
     natively = frozenset({"kkt constraints"})
+    free: str | None = None
+    """The free-flyer joint of a floating base (:meth:`loaded` with ``free``), else None."""
 
     def __init__(self, tree: NumericTree, urdf: str | None = None):
         self.tree = tree
@@ -112,12 +124,21 @@ class PinocchioModel(TreeEngine):
         self.frames = {p.name: model.getFrameId(p.name) for p in tree.points}
 
     @classmethod
-    def loaded(cls, model: pin.Model, joints: list[str]) -> "PinocchioModel":
+    def loaded(cls, model: pin.Model, joints: list[str], free: str | None = None) -> "PinocchioModel":
         """A model Pinocchio has loaded (a URDF of other origin), seen through ``joints`` (revolute, prismatic;
-        continuous as cos/sin)."""
+        continuous as cos/sin) and, with ``free``, its free-flyer joint of that name: the views' vectors are
+        then the free flyer's six velocities (Pinocchio's own convention, a :class:`~harness.engines.base.Base`)
+        followed by ``joints``."""
         self = cls.__new__(cls)
         self._attach(model, list(joints))
         self.frames = {}
+        if free is not None:
+            if not model.existJointName(free):
+                raise EngineError(f"joint {free} missing in the Pinocchio model")
+            self.free_id = model.getJointId(free)
+            if model.joints[self.free_id].shortname() != "JointModelFreeFlyer":
+                raise EngineError(f"joint {free!r} of the Pinocchio model is not a free flyer")
+            self.free = free
         return self
 
     def _attach(self, model: pin.Model, joints: list[str]) -> None:
@@ -235,18 +256,62 @@ class PinocchioModel(TreeEngine):
         return evaluation
 
     # ----- a tree of other origin (harness.files.importer): M, bias, what each joint moves
-    def mass_and_bias(self, theta, theta_dot) -> tuple[np.ndarray, np.ndarray]:
-        """``M`` (``pin.crba``) and the bias ``C θ̇ + g`` (``pin.nonLinearEffects``) at ``θ`` (other joints at
-        their neutral position), in the order of ``joints``."""
-        q, v = self.to_q(theta), self.to_pin(theta_dot)
-        return self.from_pin_matrix(self._crba(q)), self.from_pin(pin.nonLinearEffects(self.model, self.data, q, v))
+    @property
+    def view_index(self) -> list[int]:
+        """Pinocchio's velocity indices in the order of the views' vectors: the free flyer's six, then joints."""
+        head = []
+        if self.free:
+            iv = self.model.joints[self.free_id].idx_v
+            head = list(range(iv, iv + 6))
+        return head + list(self.index)
 
-    def subtree_parts(self, theta) -> dict[str, list]:
-        """Per joint, the ``(mass, centre of mass, inertia tensor about it)`` of every body it moves, world axes
-        (``pin.forwardKinematics``, ``model.subtrees``)."""
-        pin.forwardKinematics(self.model, self.data, self.to_q(theta))
+    def _q_v(self, theta, theta_dot, base: Base | None = None):
+        """Pinocchio's ``(q, v)`` at ``θ``, ``θ̇`` (other joints at their neutral position) and, with a free
+        flyer, the base state ``base`` (at rest at the origin when None)."""
+        if not self.free:
+            return self.to_q(theta), self.to_pin(theta_dot)
+        q, v = pin.neutral(self.model), np.zeros(self.model.nv)
+        for jid, th, thd in zip(self.jids, theta, theta_dot):
+            jm = self.model.joints[jid]
+            if jm.nq == 2:
+                q[jm.idx_q:jm.idx_q + 2] = np.cos(th), np.sin(th)
+            else:
+                q[jm.idx_q] = th
+            v[jm.idx_v] = thd
+        base = base or Base.rest()
+        jm = self.model.joints[self.free_id]
+        q[jm.idx_q:jm.idx_q + 7] = np.concatenate([base.position, base.quat_xyzw])
+        v[jm.idx_v:jm.idx_v + 6] = base.velocity
+        return q, v
+
+    def terms(self, theta, theta_dot, base: Base | None = None, forward: bool = True) -> dict:
+        """``M`` (``pin.crba``), the bias ``C θ̇ + g`` (``pin.nonLinearEffects``); with ``forward`` also ``g``
+        (``pin.computeGeneralizedGravity``), ``Cqd`` = bias − g and ``qdd`` (``pin.aba`` with zero torque), in
+        the views' order (:attr:`view_index`)."""
+        model, data = self.model, self.data
+        q, v = self._q_v(theta, theta_dot, base)
+        idx = self.view_index
+        out = {"M": self._crba(q)[np.ix_(idx, idx)], "bias": np.asarray(pin.nonLinearEffects(model, data, q, v))[idx]}
+        if forward:
+            out["g"] = np.asarray(pin.computeGeneralizedGravity(model, data, q))[idx]
+            out["Cqd"] = out["bias"] - out["g"]
+            out["qdd"] = np.asarray(pin.aba(model, data, q, v, np.zeros(model.nv)))[idx]
+        return out
+
+    def mass_and_bias(self, theta, theta_dot, base: Base | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """``M`` (``pin.crba``) and the bias ``C θ̇ + g`` (``pin.nonLinearEffects``) at ``θ`` (other joints at
+        their neutral position), in the order of ``joints`` (after the free flyer's six, with one)."""
+        t = self.terms(theta, theta_dot, base, forward=False)
+        return t["M"], t["bias"]
+
+    def subtree_parts(self, theta, base: Base | None = None) -> dict[str, list]:
+        """Per joint (and the free flyer), the ``(mass, centre of mass, inertia tensor about it)`` of every body
+        it moves, world axes (``pin.forwardKinematics``, ``model.subtrees``)."""
+        q, _ = self._q_v(theta, np.zeros(len(theta)), base)
+        pin.forwardKinematics(self.model, self.data, q)
         out = {}
-        for name, jid in zip(self.joints, self.jids):
+        named = list(zip(self.joints, self.jids)) + ([(self.free, self.free_id)] if self.free else [])
+        for name, jid in named:
             parts = []
             for k in self.model.subtrees[jid]:
                 world = self.data.oMi[k].act(self.model.inertias[k])
@@ -255,6 +320,13 @@ class PinocchioModel(TreeEngine):
                               @ R.T))
             out[name] = parts
         return out
+
+    def loaded_facts(self) -> dict:
+        """What Pinocchio built from a URDF of other origin: joints, nq, nv, body frames, total mass."""
+        m = self.model
+        return {"joints": m.njoints - 1, "nq": m.nq, "nv": m.nv,
+                "bodies (frames)": sum(f.type == pin.FrameType.BODY for f in m.frames),
+                "mass": round(sum(m.inertias[i].mass for i in range(m.njoints)), 9)}
 
     def body_names(self) -> list[str]:
         return [f.name for f in self.model.frames if f.type == pin.FrameType.BODY]

@@ -95,6 +95,7 @@ import numpy as np
 
 from harness.checks import Bound, Check, relative_error
 from harness.compare.conformance import FLOAT64_RTOL
+from harness.engines.base import Base
 from harness.engines.mujoco_engine import VERSION as MUJOCO_VERSION, MujocoModel, compile_text
 from harness.engines.pinocchio_engine import VERSION as PINOCCHIO_VERSION, PinocchioModel, load_urdf, moving_joints
 from harness.errors import EngineError, ModelError
@@ -157,9 +158,11 @@ def _lump(parts) -> Rigid:
     return Rigid(*lump(parts))
 
 
-def rigid(view, theta) -> dict[str, Rigid]:
-    """What each joint of ``view`` (an engine adapter) moves, lumped into one body at ``θ``."""
-    return {name: _lump(parts) for name, parts in view.subtree_parts(theta).items()}
+def rigid(view, theta, base: Base | None = None) -> dict[str, Rigid]:
+    """What each joint of ``view`` (an engine adapter) moves, lumped into one body at ``θ`` (and, with a free
+    joint, the base state ``base``; the free joint moves the whole robot)."""
+    parts = view.subtree_parts(theta, base) if base is not None else view.subtree_parts(theta)
+    return {name: _lump(p) for name, p in parts.items()}
 
 
 # --------------------------------------------------------------------------------- comparison
@@ -177,27 +180,33 @@ class _Worst:
     imported: list | None = None
     reference: list | None = None
     excess: float = -math.inf
+    amplification: float = 1.0
 
-    def update(self, error, scale, state, imported, reference, allowance=0.0):
-        """Keep the state where the error exceeds what is allowed there by the most."""
-        excess = error - self._allowed(scale, allowance)
+    def update(self, error, scale, state, imported, reference, allowance=0.0, amplification=1.0):
+        """Keep the state where the error exceeds what is allowed there by the most (``amplification``: of the
+        tolerance at that state, κ(M) for forward dynamics as in the conformance policy)."""
+        excess = error - self._allowed(scale, allowance, amplification)
         if excess > self.excess:
             self.max_error, self.scale, self.allowance, self.worst = float(error), float(scale), allowance, state
             self.imported, self.reference = np.asarray(imported).tolist(), np.asarray(reference).tolist()
-            self.excess = excess
+            self.excess, self.amplification = excess, float(amplification)
 
     @staticmethod
-    def _allowed(scale, allowance) -> float:
-        return allowance / scale if scale > 0 else allowance
+    def _allowed(scale, allowance, amplification=1.0) -> float:
+        return TOLERANCE * amplification + (allowance / scale if scale > 0 else allowance)
 
     def check(self) -> Check:
-        bound = TOLERANCE + self._allowed(self.scale, self.allowance)
+        bound = self._allowed(self.scale, self.allowance, self.amplification)
         return Check(self.quantity, "mujoco import", self.max_error, bound, BOUND.name, self.item)
 
     def record(self) -> dict:
-        return {"quantity": self.quantity, "item": self.item, "max_error": self.max_error, "scale": self.scale,
-                "tolerance": TOLERANCE, "allowance": self.allowance, "passed": self.check().passed,
-                "worst_state": self.worst, "imported": self.imported, "reference": self.reference}
+        out = {"quantity": self.quantity, "item": self.item, "max_error": self.max_error, "scale": self.scale,
+               "tolerance": TOLERANCE * self.amplification, "allowance": self.allowance,
+               "passed": self.check().passed, "ratio": self.check().ratio,
+               "worst_state": self.worst, "imported": self.imported, "reference": self.reference}
+        if self.amplification != 1.0:
+            out["amplification"] = self.amplification
+        return out
 
 
 def _finite(what: str, state: dict, **values) -> None:
@@ -206,15 +215,31 @@ def _finite(what: str, state: dict, **values) -> None:
         raise EngineError(f"{what}: {', '.join(bad)} not finite at θ = {list(state['theta'].values())}")
 
 
+def random_base(rng) -> Base:
+    """A floating base state: position in (−1, 1) m, orientation uniform on SO(3), local velocity in (−2, 2)."""
+    quat = rng.normal(size=4)
+    return Base(rng.uniform(-1, 1, 3), quat / np.linalg.norm(quat), rng.uniform(-2, 2, 6))
+
+
 def compare(imported, reference, joints: list[str], prismatic: set[str], states: int = STATES,
-            seed: int = SEED, bound: float = 0.0) -> list[dict]:
+            seed: int = SEED, bound: float = 0.0, forward: bool = False, notes: list | None = None) -> list[dict]:
     """Worst relative differences of ``imported`` against ``reference`` (both tree views) over random
     states: θ uniform in (−π, π) for rotations, (−1, 1) m for slides; θ̇ uniform in (−2, 2). ``bound``: the
     lower bound MuJoCo put on each body's mass and principal inertias of the import (0 when loaded as is);
     each body of either model may then carry that much extra mass (and inertia) at up to ``L`` from the
     origin: an absolute ``allowance`` of ``n·bound`` on mass, ``n·bound·L`` on the first moment of mass,
-    ``n·bound·max(1, L²)`` on inertia (``n`` bodies of both models). Non-finite numbers: EngineError."""
+    ``n·bound·max(1, L²)`` on inertia (``n`` bodies of both models). Non-finite numbers: EngineError.
+
+    Views with a free joint (``reference.free``) are compared at a random :class:`Base` per state too
+    (:func:`random_base`), in Pinocchio's free-flyer coordinates; the whole robot (what the free joint moves)
+    is one more item of the mass checks. ``forward``: also ``Cqd`` (bias without gravity) and ``g`` at the
+    scale of the bias, and the forward dynamics ``qdd`` at the scale of the accelerations the terms cause
+    (``max|M⁻¹|`` times the bias scale, at least ``v²``) with the tolerance times κ(M), the conformance policy
+    (:mod:`harness.compare.conformance`). Where the reference's ``M`` is singular (a joint that moves no mass:
+    its ``q̈`` is not finite) ``q̈`` is not compared at that state; ``notes`` receives how often."""
     rng = np.random.default_rng(seed)
+    undefined = 0
+    free = reference.free
     checks: dict[tuple, _Worst] = {}
     n_bound = (len(imported.body_names()) + len(reference.body_names())) * bound
 
@@ -225,21 +250,45 @@ def compare(imported, reference, joints: list[str], prismatic: set[str], states:
         theta = np.array([rng.uniform(-1, 1) if j in prismatic else rng.uniform(-np.pi, np.pi) for j in joints])
         theta_dot = rng.uniform(-2, 2, len(joints))
         state = {"theta": dict(zip(joints, theta.tolist())), "theta_dot": dict(zip(joints, theta_dot.tolist()))}
-        r_i, r_r = rigid(imported, theta), rigid(reference, theta)
-        M_i, b_i = imported.mass_and_bias(theta, theta_dot)
-        M_r, b_r = reference.mass_and_bias(theta, theta_dot)
-        for name, view, M, b, r in (("import", imported, M_i, b_i, r_i), ("reference", reference, M_r, b_r, r_r)):
-            _finite(f"{type(view).__name__} ({name})", state, M=M, bias=b,
+        kw = {}
+        if free:
+            kw["base"] = random_base(rng)
+            state["base"] = kw["base"].record()
+        r_i, r_r = rigid(imported, theta, **kw), rigid(reference, theta, **kw)
+        t_i = imported.terms(theta, theta_dot, forward=True, **kw) if forward else None
+        t_r = reference.terms(theta, theta_dot, forward=True, **kw) if forward else None
+        if forward and not np.all(np.isfinite(t_r["qdd"])):  # M singular: no forward dynamics to compare
+            undefined += 1
+            del t_r["qdd"], t_i["qdd"]
+        M_i, b_i = (t_i["M"], t_i["bias"]) if forward else imported.mass_and_bias(theta, theta_dot, **kw)
+        M_r, b_r = (t_r["M"], t_r["bias"]) if forward else reference.mass_and_bias(theta, theta_dot, **kw)
+        for name, view, M, b, r, t in (("import", imported, M_i, b_i, r_i, t_i),
+                                       ("reference", reference, M_r, b_r, r_r, t_r)):
+            _finite(f"{type(view).__name__} ({name})", state, **{"M": M, "bias": b, **(t or {})},
                     bodies=[[x.mass, *x.com, *x.inertia.ravel()] for x in r.values()])
         length = max(1e-300, max(float(np.max(np.abs(r.com))) for r in r_r.values()))
         mass = max(r.mass for r in r_r.values())
         i_scale = max(mass * length**2, max(float(np.max(np.abs(r.inertia))) for r in r_r.values()))
         m_scale = max(float(np.max(np.abs(M_r))), i_scale)
         check("M", "M").update(_rel(M_i, M_r, m_scale), m_scale, state, M_i, M_r)
-        b_scale = max(float(np.max(np.abs(b_r))), m_scale * max(1.0, float(np.max(np.abs(theta_dot)))) ** 2,
+        speed = max([1.0, float(np.max(np.abs(theta_dot), initial=0.0))]
+                    + ([float(np.max(np.abs(kw["base"].velocity)))] if free else []))
+        b_scale = max(float(np.max(np.abs(b_r))), m_scale * speed ** 2,
                       mass * float(np.linalg.norm(reference.gravity)) * length)
         check("bias", "bias").update(_rel(b_i, b_r, b_scale), b_scale, state, b_i, b_r)
-        for j in joints:
+        if forward and "qdd" in t_r:
+            for q in ("Cqd", "g"):
+                check(q, q).update(_rel(t_i[q], t_r[q], b_scale), b_scale, state, t_i[q], t_r[q])
+            inverse = np.linalg.inv(M_r)
+            a_scale = max(float(np.max(np.abs(inverse))) * b_scale, speed ** 2)
+            kappa = float(np.linalg.cond(M_r))
+            allowance = float(np.max(np.abs(inverse))) * n_bound * max(1.0, length**2) * float(np.max(np.abs(t_r["qdd"])))
+            check("qdd", "qdd").update(_rel(t_i["qdd"], t_r["qdd"], a_scale), a_scale, state, t_i["qdd"],
+                                       t_r["qdd"], allowance, kappa)
+        elif forward:
+            for q in ("Cqd", "g"):
+                check(q, q).update(_rel(t_i[q], t_r[q], b_scale), b_scale, state, t_i[q], t_r[q])
+        for j in r_r:
             a, b = r_i[j], r_r[j]
             check("mass", j).update(_rel(a.mass, b.mass, mass), mass, state, [a.mass], [b.mass], n_bound)
             moment = mass * length
@@ -247,11 +296,15 @@ def compare(imported, reference, joints: list[str], prismatic: set[str], states:
                                                     a.mass * a.com, b.mass * b.com, n_bound * length)
             check("inertia", j).update(_rel(a.inertia, b.inertia, i_scale), i_scale, state, a.inertia, b.inertia,
                                        n_bound * max(1.0, length**2))
+    if undefined and notes is not None:
+        notes.append(f"q̈ not compared at {undefined} of {states} states: the reference's M is singular there "
+                     "(a joint moves no mass; Pinocchio's aba returns non-finite values)")
     return [c.record() for c in checks.values()]
 
 
 def finding(c: dict) -> str:
-    what = c["quantity"] if c["item"] in ("M", "bias") else f"{c['quantity']} of what {c['item']} moves"
+    what = (c["quantity"] if c["item"] in ("M", "bias", "Cqd", "g", "qdd")
+            else f"{c['quantity']} of what {c['item']} moves")
     return f"{what}: relative error {c['max_error']:.3g} (tolerance {c['tolerance']:.0e})"
 
 
@@ -261,14 +314,15 @@ BOUND_NOTE = (f"compiler boundmass = boundinertia = {IMPORT_BOUND:g} (MuJoCo ref
               "massless moving link as is)")
 
 
-def load_import(urdf_text: str, source: str) -> tuple["mujoco.MjModel", str | None, float]:
+def load_import(urdf_text: str, source: str, edit=None) -> tuple["mujoco.MjModel", str | None, float]:
     """MuJoCo's import, as is or (refused as is: point masses, massless moving links) with the lower bound
-    :data:`IMPORT_BOUND` on masses and inertias: the model, MuJoCo's refusal, the bound used."""
+    :data:`IMPORT_BOUND` on masses and inertias: the model, MuJoCo's refusal, the bound used. ``edit``: see
+    :func:`~harness.engines.mujoco_engine.compile_text` (e.g. ``add_free_joint``)."""
     try:
-        return compile_text(urdf_text, source), None, 0.0
+        return compile_text(urdf_text, source, edit=edit), None, 0.0
     except ModelError as exc:
         refused = str(exc).split("MuJoCo refused the model: ", 1)[-1]
-        model = compile_text(urdf_text, source, bound=IMPORT_BOUND)
+        model = compile_text(urdf_text, source, bound=IMPORT_BOUND, edit=edit)
         return model, refused, IMPORT_BOUND
 
 

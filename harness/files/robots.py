@@ -1,0 +1,553 @@
+"""``harness robots``: every URDF of the pinned example-robot-data package, loaded in every engine and compared.
+
+For each robot (a URDF of the package, named by its file stem; the two ``anymal.urdf`` by package too):
+
+1. **Reference**: Pinocchio reads the URDF (:func:`harness.engines.pinocchio_engine.load_urdf`), on a free-flyer
+   joint for a floating-base robot (:data:`FLOATING`: the legged, humanoid and flying robots, as the package's
+   own loaders build them). What urdfdom prints while reading is a finding, not a refusal.
+2. **Every other engine of** :data:`ENGINES` (data: an engine is added by name and loader) loads the same
+   file; MuJoCo through its own URDF importer, without ``<visual>``/``<collision>`` (it cannot resolve the
+   ``package://`` mesh URIs, and reads no ``.dae``; the dynamics do not depend on geometry), the root link on a
+   free joint named like Pinocchio's (:func:`harness.engines.mujoco_engine.add_free_joint`) for a floating base.
+3. **Comparison** (:func:`harness.files.importer.compare`, the one comparison of an import with a reference):
+   ``M``, the bias, ``C q̇`` (bias without gravity), ``g`` and the forward dynamics ``q̈`` (zero inputs) at
+   ``states`` random states (seeded), joints matched **by name**, a floating base in Pinocchio's free-flyer
+   coordinates (MuJoCo's free joint mapped explicitly: :meth:`harness.engines.mujoco_engine.MujocoModel.terms`), plus mass,
+   first moment and inertia of what each joint moves. Tolerance: the importer's round-off bound (1e-12 of
+   each quantity's scale; ``q̈`` times κ(M)), the conformance policy. What a URDF says and one engine applies
+   in forward dynamics while the other does not (``<dynamics damping>``: MuJoCo's joint damping; Pinocchio
+   stores it but ``aba`` ignores it) is switched off for the comparison and listed as a finding.
+4. **Stepping** (Menagerie's rule): MuJoCo steps the model as imported (damping kept, gravity on, no contact:
+   no geometry) for :data:`STEP_SECONDS` with small seeded noise as joint torques; every MuJoCo warning is
+   recorded.
+5. **Findings** from the file and from what each engine built: mimic joints, continuous joints, fixed links
+   merged, links without an inertial (with or without meshes), zero-mass links, inertias that are not
+   physical, joint damping/friction, geometry removed.
+
+``robots.json`` (schema ``robots/1``) and ``robots.md`` (one table over all robots) are written by
+``harness robots --out DIR``.
+"""
+
+from __future__ import annotations
+
+import re
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from harness.engines.base import FREE_JOINT
+from harness.engines.mujoco_engine import VERSION as MUJOCO_VERSION, MujocoModel, add_free_joint, balanced, compile_text
+from harness.engines.pinocchio_engine import (VERSION as PINOCCHIO_VERSION, PinocchioModel, load_urdf,
+                                              moving_joints)
+from harness.errors import EngineError, InputError, ModelError
+from harness.files import importer
+
+SCHEMA = "robots/1"
+STATES = 10
+SEED = 0
+STEP_SECONDS = 1.0
+NOISE = 0.05
+"""Standard deviation of the noise torques while stepping, as a fraction of each joint's gravity torque at the
+reference configuration plus 0.1 N·m (small controls)."""
+
+FLOATING = frozenset({
+    "a1", "alex_nub_hands", "alex_psyonic_hands", "alex_sake_hands", "alexander_v1.lowerBodyOnly",
+    "anymal_b_simple_anymal", "anymal-kinova", "anymal_c_simple_anymal", "b1", "b1-z1", "bolt",
+    "borinot_flying_arm_2", "centauro", "g1_29dof_rev_1_0", "g1_29dof_with_hand_rev_1_0", "go1", "go2",
+    "quadrotor_base", "hextilt_flying_arm_5", "human", "hyq_no_sensors", "icub", "icub_reduced", "iris",
+    "iris_simple", "laikago", "quadruped", "romeo", "romeo_laas_small", "romeo_small", "simple_humanoid",
+    "simple_humanoid_classical", "solo", "solo12", "talos_full_v2", "talos_full_v2_box", "talos_reduced",
+    "talos_reduced_box", "talos_reduced_corrected"})
+"""Robots with a floating base: legged, humanoid and flying robots (the package's loaders put these on a
+free-flyer joint; ``talos_left_arm`` is the arm alone, fixed). Every other URDF is a fixed-base robot."""
+
+
+def package_dir() -> Path | None:
+    """The ``robots`` folder of the installed example-robot-data package (None when it is not installed)."""
+    urdfs = importer.public_urdfs()
+    if urdfs:
+        return urdfs[0].parents[2]
+    return None
+
+
+def available() -> dict[str, Path]:
+    """Every URDF of the package by robot name (file stem; a stem shared by two packages is prefixed by the
+    package: ``anymal_b_simple_anymal``)."""
+    root = package_dir()
+    if root is None:
+        return {}
+    paths = sorted(root.glob("*/*/*.urdf"))
+    stems: dict[str, int] = {}
+    for p in paths:
+        stems[p.stem] = stems.get(p.stem, 0) + 1
+    out = {}
+    for p in paths:
+        name = p.stem if stems[p.stem] == 1 else f"{p.parts[-3].removesuffix('_description')}_{p.stem}"
+        out[name] = p
+    return out
+
+
+def select(names=None) -> dict[str, Path]:
+    """The robots named (every one by default); an unknown name is one InputError line listing the known."""
+    robots = available()
+    if not robots:
+        raise InputError("the pinned example-robot-data package is not installed (pip install -e .)")
+    if not names:
+        return robots
+    unknown = [n for n in names if n not in robots]
+    if unknown:
+        raise InputError(f"unknown robot(s) {', '.join(unknown)}; known: {', '.join(robots)}")
+    return {n: robots[n] for n in names}
+
+
+# ------------------------------------------------------------------------------------------------ the robot
+@dataclass(frozen=True)
+class Robot:
+    name: str
+    path: Path
+    text: str
+    floating: bool
+
+    @property
+    def urdf(self) -> str:
+        parts = self.path.parts
+        return str(Path(*parts[parts.index("example-robot-data"):])) if "example-robot-data" in parts \
+            else str(self.path)
+
+
+def load_robot(name: str, path: Path) -> Robot:
+    return Robot(name, Path(path), Path(path).read_text(), name in FLOATING)
+
+
+# ------------------------------------------------------------------------------------------------ engines
+@dataclass(frozen=True)
+class Engine:
+    """One engine of the sweep: its name, its label in reports, and how it loads a robot as an engine adapter
+    seen through the reference's joints (``loaded``: ``terms``, ``subtree_parts``, ``mass_and_bias``,
+    ``body_names``, ``gravity``), matched by joint name. ``load(robot, reference, facts, findings)`` returns
+    ``(view, bound)``: ``bound`` is a lower bound the engine put on masses and inertias (0 if none).
+    ``importer``: the engine reads the URDF with its own importer, whose treatment of the file the findings
+    describe (:func:`file_findings`)."""
+
+    name: str
+    label: str
+    load: Callable
+    importer: bool = False
+
+
+@dataclass
+class Reference:
+    """The reference engine's load of a robot: its view, the joints by name, the prismatic ones, the model."""
+
+    view: object
+    joints: list[str]
+    prismatic: set[str]
+    model: object
+
+
+def load_pinocchio(robot: Robot, facts: dict, findings: list[dict]) -> Reference:
+    said: list[str] = []
+    model = load_urdf(robot.text, robot.urdf, robot.floating, said)
+    for text in said:
+        findings.append(_finding("urdfdom message", "", f"urdfdom printed while Pinocchio read the file: {text}"))
+    free = FREE_JOINT if robot.floating else None
+    joints = moving_joints(model, free)
+    view = PinocchioModel.loaded(model, joints, free)
+    facts.update(view.loaded_facts())
+    return Reference(view, joints, view.prismatic, model)
+
+
+MUJOCO_PASSIVE_OFF = "dof_damping, jnt_stiffness, dof_armature set to 0 for the comparison"
+
+
+def load_mujoco(robot: Robot, reference: Reference, facts: dict, findings: list[dict]):
+    """MuJoCo's own URDF importer, geometry removed (see the module docstring); stepped as imported
+    (:meth:`~harness.engines.mujoco_engine.MujocoModel.noisy_steps`), then passive forces off for the comparison."""
+    text, source = importer.without_geometry(robot.text, robot.urdf), f"{robot.urdf} (MuJoCo's URDF importer)"
+    edit = add_free_joint if robot.floating else None
+    try:
+        model, refused, bound = importer.load_import(text, source, edit)
+    except ModelError as exc:
+        if not any(k in str(exc) for k in BALANCE_ERRORS):
+            raise
+        refused = str(exc).split("MuJoCo refused the model: ", 1)[-1]
+        model = compile_text(text, source, bound=importer.IMPORT_BOUND, edit=balanced(edit))
+        bound = importer.IMPORT_BOUND
+        facts["adjusted"] = BALANCE_NOTE
+        findings.append(_finding("refused as is", "", f"MuJoCo refused the import ({refused}); loaded with "
+                                 f"{BALANCE_NOTE}: it changes those inertias, so the engines must differ"))
+    else:
+        if refused:
+            findings.append(_finding("refused as is", "", f"MuJoCo refused the import as is ({refused}); loaded "
+                                     f"with {importer.BOUND_NOTE}"))
+    free = FREE_JOINT if robot.floating else None
+    view = MujocoModel.loaded(model, reference.joints, free)
+    view.set_gravity(reference.view.gravity)
+    facts.update({**view.loaded_facts(), "refused as is": bool(refused)})
+    facts["step"] = view.noisy_steps(STEP_SECONDS, NOISE, SEED)
+    damped = view.damped_joints()
+    if damped:
+        findings.append(_finding(
+            "joint damping/friction", ", ".join(damped[:6]) + (" …" if len(damped) > 6 else ""),
+            f"{len(damped)} joint(s) with URDF <dynamics damping/friction>: MuJoCo imports them as joint damping "
+            "and frictionloss (they act in its forward dynamics); Pinocchio stores them (model.damping, "
+            "model.friction) but aba ignores them; damping off in MuJoCo for the comparison"))
+    view.passive_off()
+    if view.dofs != reference.view.dofs:
+        findings.append(_finding("dof count", "", f"MuJoCo has {view.dofs} dofs, Pinocchio {reference.view.dofs}"))
+    return view, bound
+
+
+BALANCE_ERRORS = ("balanceinertia", "inertia must have positive eigenvalues")
+BALANCE_NOTE = (f"compiler balanceinertia (MuJoCo's own fix of inertias violating A + B >= C) and boundmass = "
+                f"boundinertia = {importer.IMPORT_BOUND:g}")
+
+
+ENGINES: dict[str, Engine] = {
+    MujocoModel.name: Engine(MujocoModel.name, "MuJoCo (URDF importer)", load_mujoco, importer=True),
+}
+"""The engines compared with the reference, by name (Drake is added here by name and loader)."""
+REFERENCE = Engine(PinocchioModel.name, "Pinocchio", load_pinocchio)
+
+
+# ------------------------------------------------------------------------------------------------ findings
+def _finding(kind: str, where: str, text: str) -> dict:
+    return {"kind": kind, "where": where, "text": text}
+
+
+def file_findings(robot: Robot, reference: Reference | None, imported) -> list[dict]:
+    """What the file holds that engines may treat differently, and what each did (when loaded; ``imported``:
+    MuJoCo's import, a :class:`~harness.engines.mujoco_engine.MujocoModel`, or None)."""
+    from harness.export.numeric import check_inertia
+    from harness.compare.roundtrip import rpy_matrix
+    from harness.files.untrusted import parse_xml
+
+    root = parse_xml(robot.text, robot.urdf)
+    out = []
+    links = root.findall("link")
+    joints = root.findall("joint")
+    mj = imported
+
+    mimic = [(j.get("name"), j.find("mimic")) for j in joints if j.find("mimic") is not None]
+    if mimic:
+        eq = []
+        if mj is not None:
+            eq = mj.joint_equalities()
+        coupled = [n for n, _ in mimic if any(n in pair for pair in eq)]
+        names = ", ".join(f"{n} = {m.get('multiplier', '1')}·{m.get('joint')} + {m.get('offset', '0')}"
+                          for n, m in mimic)
+        out.append(_finding("mimic joints", names, (
+            f"{len(mimic)} mimic joint(s): Pinocchio (buildModel, mimic=False, its default) makes each an "
+            f"independent joint; MuJoCo's importer "
+            + (f"adds a joint equality constraint for {len(coupled)} of them (forward dynamics with constraints "
+               "would couple them; M, bias and the unconstrained q̈ compared here are those of independent joints)"
+               if coupled else "makes each an independent hinge too (no equality constraint)"))))
+    continuous = [j.get("name") for j in joints if j.get("type") == "continuous"]
+    if continuous:
+        limited = [n for n in continuous if mj is not None and mj.joint_limited(n)]
+        out.append(_finding("continuous joints", ", ".join(continuous[:6]) + (" …" if len(continuous) > 6 else ""), (
+            f"{len(continuous)} continuous joint(s): Pinocchio gives each two coordinates (cos θ, sin θ; nq = 2, "
+            "nv = 1), MuJoCo a hinge " + (f"with a range on {len(limited)}" if limited else "without range")
+            + "; compared through θ")))
+    fixed = [j for j in joints if j.get("type") == "fixed"]
+    if fixed:
+        text = (f"{len(fixed)} fixed joint(s) of {len(joints)}: {len(links)} links. Pinocchio keeps each fixed link "
+                "as a frame and adds its inertia to the body of the moving joint it hangs on")
+        if mj is not None:
+            text += (f"; MuJoCo fuses them (compiler fusestatic): {mj.bodies} bodies"
+                     + (" (the root link welded to the world and fused into it)" if not robot.floating else ""))
+        out.append(_finding("fixed links merged", "", text + "; the subtree checks show whether mass and inertia "
+                            "survived the merge"))
+    no_inertial, mesh_only, zero_mass, zero_mass_inertia, non_physical = [], [], [], [], []
+    for link in links:
+        name = link.get("name")
+        inertial = link.find("inertial")
+        if inertial is None:
+            (mesh_only if link.find("visual/geometry/mesh") is not None
+             or link.find("collision/geometry/mesh") is not None else no_inertial).append(name)
+            continue
+        mass_el, inertia_el = inertial.find("mass"), inertial.find("inertia")
+        if mass_el is None or inertia_el is None:
+            non_physical.append(f"{name}: <inertial> without <mass> or <inertia> (urdfdom drops it)")
+            continue
+        mass = float(mass_el.get("value"))
+        if mass == 0:
+            values = [float(inertia_el.get(k, "0")) for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")]
+            (zero_mass_inertia if any(values) else zero_mass).append(name)
+            continue
+        v = {k: float(inertia_el.get(k, "0")) for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")}
+        tensor = np.array([[v["ixx"], v["ixy"], v["ixz"]], [v["ixy"], v["iyy"], v["iyz"]],
+                           [v["ixz"], v["iyz"], v["izz"]]])
+        origin = inertial.find("origin")
+        rpy = [float(t) for t in origin.get("rpy", "0 0 0").split()] if origin is not None else [0, 0, 0]
+        R = rpy_matrix(np.array(rpy))
+        try:
+            check_inertia(name, mass, R @ tensor @ R.T)
+        except ModelError as exc:
+            non_physical.append(str(exc))
+    engines_did = ("urdfdom gives it zero mass and inertia (Pinocchio: a massless body); MuJoCo, geometry "
+                   "removed, the same (a massless moving body MuJoCo refuses as is: see 'refused as is')")
+    if mesh_only:
+        out.append(_finding("meshes without inertials", ", ".join(mesh_only[:8]) + (" …" if len(mesh_only) > 8 else ""),
+                            f"{len(mesh_only)} link(s) with a mesh but no <inertial>: {engines_did}. With its "
+                            "geometry MuJoCo's default (compiler inertiafromgeom='auto') would give such a link the "
+                            "mass of its geoms at density 1000: a different robot"))
+    if no_inertial:
+        out.append(_finding("links without inertials", ", ".join(no_inertial[:8]) + (" …" if len(no_inertial) > 8 else ""),
+                            f"{len(no_inertial)} link(s) without <inertial> (frames, sensors): {engines_did}"))
+    if zero_mass:
+        out.append(_finding("zero-mass links", ", ".join(zero_mass[:8]) + (" …" if len(zero_mass) > 8 else ""),
+                            f"{len(zero_mass)} link(s) with <mass value=0>: both engines read zero"))
+    if zero_mass_inertia:
+        out.append(_finding("zero mass with inertia", ", ".join(zero_mass_inertia[:8]), (
+            f"{len(zero_mass_inertia)} link(s) with mass 0 but a non-zero inertia tensor (not physical: a massless "
+            "body has no rotational inertia). Pinocchio adds the tensor to the body it is fixed to; MuJoCo drops a "
+            "fixed link lighter than mjMINVAL when fusing it, tensor and all (the importer probe 'fixed link "
+            "lighter than mjMINVAL'): the engines differ by that tensor")))
+    for text in non_physical:
+        out.append(_finding("non-physical inertia", text.split(":")[0], text + "; Pinocchio takes it as is"
+                            + ("; MuJoCo: see 'refused as is'" if mj is not None else "")))
+    geometry = root.xpath("//link/visual | //link/collision")
+    if geometry:
+        formats = sorted({Path(m.get("filename", "")).suffix.lower() or "?" for m in root.xpath("//geometry/mesh")})
+        out.append(_finding("geometry removed", "", (
+            f"{len(geometry)} <visual>/<collision> element(s) removed for MuJoCo's importer (package:// URIs it "
+            f"cannot resolve; mesh formats {', '.join(formats) or 'none'}): dynamics do not depend on geometry; "
+            "no contact while stepping")))
+    return out
+
+
+# ------------------------------------------------------------------------------------------------ one robot
+def _worst(checks: list[dict]) -> dict | None:
+    if not checks:
+        return None
+    c = max(checks, key=lambda c: c["ratio"])
+    return {"quantity": c["quantity"], "item": c["item"], "max_error": c["max_error"],
+            "bound": c["max_error"] / c["ratio"] if c["ratio"] not in (0, float("inf")) else c["tolerance"],
+            "ratio": c["ratio"]}
+
+
+def sweep_robot(job: tuple) -> dict:
+    """One robot: ``job = (name, path, states, seed[, mujoco_text])`` (``mujoco_text``: what the other engines
+    read instead of the file, for tests of the matching by name). The record of robots.json."""
+    from lxml import etree
+
+    from harness.files.untrusted import parse_xml
+
+    name, path, states, seed, *rest = job
+    start = time.perf_counter()
+    robot = load_robot(name, path)
+    record = {"robot": name, "urdf": robot.urdf, "floating": robot.floating,
+              "base": "floating" if robot.floating else "fixed", "dof": None, "engines": {}, "pairs": [],
+              "findings": [], "error": None, "seconds": None}
+    if rest and rest[0] is not None:
+        robot = Robot(robot.name, robot.path, rest[0], robot.floating)
+    root = parse_xml(robot.text, robot.urdf)
+    if root.tag == "robot" and root.get("name") is None and root.find("link") is not None:
+        root.set("name", name)
+        robot = Robot(robot.name, robot.path, etree.tostring(root, encoding="unicode"), robot.floating)
+        record["findings"].append(_finding("robot without name", "<robot>", (
+            "the <robot> element has no name: urdfdom (Pinocchio) refuses the file (\"No name given for the "
+            f"robot\"), MuJoCo's importer does not need it; both read it with name=\"{name}\"")))
+    facts: dict = {}
+    imported = None
+    try:
+        reference = REFERENCE.load(robot, facts, record["findings"])
+        record["dof"] = int(reference.model.nv)
+    except (ModelError, EngineError) as exc:
+        reference = None
+        record["error"] = f"{REFERENCE.label}: {exc}"
+        if root.find("link") is None:
+            record["error"] = f"the file holds no <link> (an empty <robot>): nothing to compare ({record['error']})"
+    record["engines"][REFERENCE.name] = facts
+    for engine in ENGINES.values():
+        facts = {}
+        record["engines"][engine.name] = facts
+        pair = {"pair": f"{REFERENCE.name}-{engine.name}", "verdict": "not compared", "worst": None,
+                "checks": [], "error": None}
+        record["pairs"].append(pair)
+        if reference is None:
+            pair["error"] = record["error"]
+            continue
+        try:
+            view, bound = engine.load(robot, reference, facts, record["findings"])
+            imported = view if engine.importer else imported
+            notes: list[str] = []
+            checks = importer.compare(view, reference.view, reference.joints, reference.prismatic, states, seed,
+                                      bound, forward=True, notes=notes)
+            record["findings"] += [_finding("singular mass matrix", "", n) for n in notes]
+        except (ModelError, EngineError) as exc:
+            pair["error"] = str(exc)
+            continue
+        pair["checks"] = checks
+        pair["worst"] = _worst(checks)
+        pair["verdict"] = "agree" if all(c["passed"] for c in checks) else "disagree"
+        if pair["verdict"] == "disagree":
+            pair["explanation"] = explain(record["findings"], facts)
+    try:
+        record["findings"] += file_findings(robot, reference, imported)
+    except ModelError as exc:
+        record["findings"].append(_finding("file", "", str(exc)))
+    for pair in record["pairs"]:
+        if pair["verdict"] == "disagree" and pair.get("explanation") == OPEN:
+            pair["explanation"] = explain(record["findings"], record["engines"].get(pair["pair"].split("-", 1)[1], {}))
+        elif pair["verdict"] == "not compared":
+            pair["explanation"] = not_compared(pair["error"] or "")
+    record["seconds"] = round(time.perf_counter() - start, 2)
+    return record
+
+
+OPEN = "open: no known cause"
+
+
+def explain(findings: list[dict], facts: dict) -> str:
+    """Why the engines disagree on a robot, when a known cause is among its findings (else :data:`OPEN`)."""
+    kinds = {f["kind"] for f in findings}
+    why = []
+    if facts.get("adjusted") == BALANCE_NOTE:
+        why.append("the file's inertias violate A + B >= C: MuJoCo refuses them and its balanceinertia changes "
+                   "them, Pinocchio takes them as written (the file is at fault; Pinocchio reproduces it)")
+    if "zero mass with inertia" in kinds:
+        why.append("links of mass 0 with a non-zero inertia tensor: MuJoCo drops the tensor when it fuses the fixed "
+                   "link, Pinocchio keeps it (the file is not physical; Pinocchio reproduces it)")
+    return "; ".join(why) or OPEN
+
+
+def not_compared(error: str) -> str:
+    if "positive eigenvalues" in error:
+        return ("a full inertia tensor of the file is not positive definite: MuJoCo refuses it (balanceinertia does "
+                "not apply to it), Pinocchio takes it as written; MuJoCo is right to refuse")
+    if "no <link>" in error:
+        return "the file is empty (an unexpanded xacro stub): no robot"
+    return OPEN
+
+
+def lost(job: tuple, reason: str) -> dict:
+    name, path = job[0], job[1]
+    return {"robot": name, "urdf": str(path), "floating": name in FLOATING, "base": "floating" if name in FLOATING
+            else "fixed", "dof": None, "engines": {}, "findings": [], "error": reason, "seconds": None,
+            "pairs": [{"pair": f"{REFERENCE.name}-{e}", "verdict": "not compared", "worst": None, "checks": [],
+                       "error": reason} for e in ENGINES]}
+
+
+# ------------------------------------------------------------------------------------------------ documents
+def document(records: list[dict], states: int, seed: int, seconds: float, jobs: int, command: str) -> dict:
+    pairs = [f"{REFERENCE.name}-{e}" for e in ENGINES]
+    summary = {p: {"agree": 0, "disagree": 0, "not compared": 0} for p in pairs}
+    for r in records:
+        for p in r["pairs"]:
+            summary[p["pair"]][p["verdict"]] += 1
+    return {"schema": SCHEMA, "command": command,
+            "versions": {"mujoco": MUJOCO_VERSION, "pinocchio": PINOCCHIO_VERSION,
+                         "example-robot-data": _package_version()},
+            "seed": seed, "states": states, "tolerance": importer.TOLERANCE,
+            "tolerance_reason": importer.TOLERANCE_REASON + "; qdd times kappa(M)",
+            "reference": REFERENCE.name, "engines": {e.name: e.label for e in [REFERENCE, *ENGINES.values()]},
+            "pairs": pairs, "summary": summary, "seconds": round(seconds, 1), "jobs": jobs,
+            "robots": records}
+
+
+def _package_version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("example-robot-data")
+    except PackageNotFoundError:
+        return "?"
+
+
+def verdict_cell(pair: dict) -> str:
+    if pair["verdict"] == "not compared":
+        return "not compared"
+    return pair["verdict"]
+
+
+def worst_cell(pair: dict) -> str:
+    w = pair.get("worst")
+    if not w:
+        return "–"
+    item = "" if w["item"] == w["quantity"] else f" ({w['item']})"
+    return f"{w['quantity']}{item} {w['max_error']:.1e} / {w['bound']:.0e} = {w['ratio']:.2g}"
+
+
+def warnings_cell(record: dict) -> str:
+    step = next((facts["step"] for facts in record["engines"].values() if facts.get("step")), None)
+    if not step:
+        return "–"
+    return "; ".join(step["warnings"]) if step["warnings"] else "none"
+
+
+def line(record: dict) -> str:
+    """One console line per robot."""
+    pairs = ", ".join(f"{p['pair']} {p['verdict']}"
+                      + (f" (worst {worst_cell(p)})" if p.get("worst") else "")
+                      + (f": {p['error']}" if p.get("error") and p["verdict"] == "not compared" else "")
+                      for p in record["pairs"])
+    kinds = sorted({f["kind"] for f in record["findings"]})
+    return (f"{record['robot']}: {record['dof'] if record['dof'] is not None else '?'} dof, {record['base']}; "
+            f"{pairs}; warnings: {warnings_cell(record)}; findings: {', '.join(kinds) or 'none'}; "
+            f"{record['seconds']} s")
+
+
+def _cell(text: str) -> str:
+    return re.sub(r"\s+", " ", str(text)).replace("|", "\\|")
+
+
+def markdown(doc: dict) -> str:
+    labels = doc["engines"]
+    out = [f"# Every robot of example-robot-data {doc['versions']['example-robot-data']}, across the engines", "",
+           f"MuJoCo {doc['versions']['mujoco']} (its own URDF importer, geometry removed) against Pinocchio "
+           f"{doc['versions']['pinocchio']} (reference) reading the same URDF: M, bias, C·q̇, g and forward "
+           f"dynamics q̈ at {doc['states']} random states (seed {doc['seed']}), joints matched by name, floating "
+           "bases in Pinocchio's free-flyer coordinates (MuJoCo's free joint: linear velocity in world axes, "
+           "mapped); mass, first moment and inertia of what each joint moves. Tolerance "
+           f"{doc['tolerance']:.0e} of each quantity's scale ({doc['tolerance_reason']}). Worst: the check with the "
+           "largest ratio error / bound. Warnings: MuJoCo stepping each robot 1 s with small noise torques. "
+           f"Generated by `{doc['command']}` in {doc['seconds']} s with {doc['jobs']} process(es).", ""]
+    for pair, s in doc["summary"].items():
+        ref, other = pair.split("-", 1)
+        out.append(f"- {labels[ref]} – {labels[other]}: {s['agree']} agree, {s['disagree']} disagree, "
+                   f"{s['not compared']} not compared")
+    header = ["robot", "DoF", "base"] + [f"{labels[p.split('-', 1)[0]]}–{labels[p.split('-', 1)[1]]}"
+                                         for p in doc["pairs"]] + ["worst (error / bound = ratio)", "why (when not agreeing)",
+                                                                   "time s", "MuJoCo warnings", "findings"]
+    out += ["", "| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    for r in doc["robots"]:
+        kinds = sorted({f["kind"] for f in r["findings"]})
+        cells = [r["robot"], r["dof"] if r["dof"] is not None else "?", r["base"]]
+        cells += [verdict_cell(p) for p in r["pairs"]]
+        cells += ["; ".join(worst_cell(p) for p in r["pairs"]),
+                  "; ".join(p["explanation"] for p in r["pairs"] if p.get("explanation")) or "–",
+                  r["seconds"], warnings_cell(r), ", ".join(kinds)]
+        out.append("| " + " | ".join(_cell(c) for c in cells) + " |")
+    out += ["", "## Per robot", ""]
+    for r in doc["robots"]:
+        out.append(f"### {r['robot']} ({r['urdf']})")
+        out.append("")
+        if r["error"]:
+            out.append(f"- not loaded: {_cell(r['error'])}")
+        for p in r["pairs"]:
+            out.append(f"- {p['pair']}: {p['verdict']}" + (f" — {_cell(p['error'])}" if p["error"] else "")
+                       + (f" (why: {p['explanation']})" if p.get("explanation") else ""))
+            for c in p["checks"]:
+                if not c["passed"]:
+                    out.append(f"  - {importer.finding(c)} at {_cell(c['worst_state'])}")
+        for f in r["findings"]:
+            out.append(f"- {f['kind']}" + (f" ({_cell(f['where'])})" if f["where"] else "") + f": {_cell(f['text'])}")
+        out.append("")
+    return "\n".join(out) + "\n"
+
+
+def write(doc: dict, out: Path) -> list[Path]:
+    import json
+
+    from harness.checks import json_clean
+    from harness.io import atomic_write_text
+
+    paths = [Path(out) / "robots.json", Path(out) / "robots.md"]
+    atomic_write_text(paths[0], json.dumps(json_clean(doc), indent=1) + "\n")
+    atomic_write_text(paths[1], markdown(doc))
+    return paths
