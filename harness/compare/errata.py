@@ -209,7 +209,8 @@ def _budget(seconds: float):
     active = [True]
 
     def stop(signum, frame):
-        if active[0]:
+        # not inside a garbage-collector callback (it cannot propagate from there); the timer repeats
+        if active[0] and (frame is None or frame.f_code.co_name != "gc_callback"):
             raise _OutOfTime
 
     previous = signal.signal(signal.SIGALRM, stop)
