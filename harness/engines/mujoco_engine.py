@@ -448,20 +448,22 @@ class MujocoModel(TreeEngine):
         return self.model.nbody - 1
 
     def noisy_steps(self, seconds: float, noise: float, seed: int) -> dict:
-        """``mj_step`` on a copy of the state for ``seconds`` with seeded noise torques on the joints (not a free
+        """``mj_step`` from ``qpos0`` at rest for ``seconds`` with seeded noise torques on the joints (not a free
         joint): standard deviation ``noise`` times each joint's gravity torque at ``qpos0`` plus 0.1 N·m. The
         steps, the time, every warning (MuJoCo's warning counters and its warning handler's texts)."""
-        model = self.model
-        data = mujoco.MjData(model)
+        model, data = self.model, self.data
+        mujoco.mj_resetData(model, data)  # from qpos0 at rest
         mujoco.mj_forward(model, data)
         joints = [d for d in range(model.nv) if model.jnt_type[model.dof_jntid[d]] != mujoco.mjtJoint.mjJNT_FREE]
         sigma = noise * (np.abs(data.qfrc_bias[joints]) + 0.1)
         rng = np.random.default_rng(seed)
         steps = int(round(seconds / model.opt.timestep))
         start, found = warnings_log.mark(), []
-        for _ in range(steps):
+
+        def torques(k):
             data.qfrc_applied[joints] = rng.normal(0.0, sigma)
-            mujoco.mj_step(model, data)
+
+        self.rollout(steps, before=torques)  # the one stepping loop
         try:
             check_warnings(model, data, f"{steps} x mj_step with noise torques")
         except EngineError as exc:
@@ -469,6 +471,7 @@ class MujocoModel(TreeEngine):
         found += [t.strip() for t in warnings_log.texts_since(start)]
         if not (np.all(np.isfinite(data.qpos)) and np.all(np.isfinite(data.qvel))):
             found.append("state not finite after stepping")
+        data.qfrc_applied[:] = 0  # the adapter's other calls see no leftover torques
         return {"steps": steps, "time": round(float(data.time), 6), "timestep": float(model.opt.timestep),
                 "warnings": found}
 
