@@ -341,7 +341,21 @@ def _reduced_text(reduced: dict) -> str:
     return text
 
 
+STYLE = ("table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:2px 6px;text-align:left}"
+         ".diff math{background:#fde2e2}.act{font-weight:bold}.note{color:#555;font-size:90%}")
+"""The errata sheet's own style (standalone in ``errata.html`` of ``harness claims``, and inside the report site)."""
+
+
 def html(records) -> str:
+    """``errata.html`` of ``harness claims``: the sheet (:func:`sheet`) as a standalone page."""
+    return ("<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>Errata</title>"
+            f"<style>body{{font-family:sans-serif;max-width:60em;margin:auto}}{STYLE}</style></head><body>"
+            + sheet(records) + "</body></html>\n")
+
+
+def sheet(records) -> str:
+    """The errata sheet: summary table, each finding with printed and corrected equation as MathML, the
+    numbered equations without a claim."""
     counts = _counts(records)
     findings = [r for r in records if r["classification"] in FINDINGS]
     body = ["<h1>Errata of the lecture <i>Mathematical Modeling</i></h1>",
@@ -373,8 +387,4 @@ def html(records) -> str:
         body.append("<h2>Numbered equations without a claim</h2><table><tr><th>equation</th><th>reason</th></tr>")
         body += [f"<tr><td>({escape(e['eq'])})</td><td>{escape(e['reason'])}</td></tr>" for e in missing]
         body.append("</table>")
-    style = ("body{font-family:sans-serif;max-width:60em;margin:auto}table{border-collapse:collapse}"
-             "td,th{border:1px solid #ccc;padding:2px 6px;text-align:left}.diff math{background:#fde2e2}"
-             ".act{font-weight:bold}.note{color:#555;font-size:90%}")
-    return ("<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>Errata</title>"
-            f"<style>{style}</style></head><body>" + "\n".join(body) + "</body></html>\n")
+    return "\n".join(body)

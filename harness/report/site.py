@@ -275,10 +275,10 @@ def build_site(out: Path | str, catalogue=None, progress=None) -> dict:
     atomic_write_text(out / "index.html", index)
     written.append("index.html")
     if claims:
-        counts = sorted(Counter(c["classification"] for c in claims).items())
+        from harness.report import errata
+
         atomic_write_text(out / "errata.html", env.get_template("errata").render(
-            records=claims, counts=counts, not_confirmed=[c for c in claims if c["classification"] != "confirmed"],
-            root="", **common))
+            records=claims, sheet=errata.sheet(claims), style=errata.STYLE, root="", **common))
         written.append("errata.html")
     for file, title, source, md, folder in OPTIONAL_PAGES:
         data = _read_json(out / source)

@@ -191,21 +191,13 @@ number follows (compared in <a href="#claims">Printed equations</a>).</p>
 """
 
 ERRATA = """{% extends "base" %}
-{% block title %}Printed equations of the lecture, checked{% endblock %}
+{% block title %}Errata of the lecture{% endblock %}
 {% block body %}
-<h1>Printed equations of the lecture, checked</h1>
-<p>{{ records|length }} printed equations: {% for k, n in counts %}{{ n }} {{ k }}{{ ", " if not loop.last }}{% endfor %}.
-Each is evaluated on hypothesis states against the derivation and, where an engine gives the quantity, Pinocchio and MuJoCo.</p>
-<h2>Not confirmed</h2>
-{% for r in not_confirmed %}
-<h3><a href="systems/{{ r.system }}.html">{{ r.system }}</a> {{ r.equation }}: {{ r.classification }}</h3>
-<ul><li>{{ r.description }}</li><li>printed: <code>{{ r.printed }}</code></li><li>derived: <code>{{ r.corrected }}</code></li>
-{% if r.convention %}<li>holds with the convention: {{ r.convention }}</li>{% endif %}
-<li>minimal counterexample: {{ r.counterexample }}</li>{% if r.note %}<li>transcription note: {{ r.note }}</li>{% endif %}</ul>
-{% else %}<p>None.</p>{% endfor %}
-<h2>All</h2>
-<table><tr><th>system</th><th>equation</th><th>quantity</th><th>classification</th></tr>
-{% for r in records %}<tr class="{{ 'ok' if r.classification == 'confirmed' else 'erratum' }}"><td><a href="systems/{{ r.system }}.html">{{ r.system }}</a></td><td>{{ r.equation }}</td><td>{{ r.quantity }}</td><td>{{ r.classification }}</td></tr>{% endfor %}</table>
+<style>{{ style }}</style>
+{{ sheet|safe }}
+<h2>All printed equations</h2>
+<table><tr><th>system</th><th>equation</th><th>quantity</th><th>classification</th><th>decided by</th></tr>
+{% for r in records %}<tr class="{{ 'ok' if r.classification == 'confirmed' else 'erratum' }}"><td><a href="systems/{{ r.system }}.html">{{ r.system }}</a></td><td>{{ r.equation }}</td><td>{{ r.quantity }}</td><td>{{ r.classification }}</td><td>{{ r.get("decided_by") or "" }}</td></tr>{% endfor %}</table>
 {% endblock %}
 """
 
