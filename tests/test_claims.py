@@ -39,7 +39,14 @@ def test_convention_dependent_claim():
     assert verdict.classification == "convention-dependent" and verdict.convention == "phi_2 counted clockwise"
 
 
-@pytest.mark.parametrize("name", list(models.catalogue()))
+# The four systems whose claims take longest (renaming searches, ingredients; 20-57 s each on 2 cores) run with
+# `pytest -m slow`: the main job (`make check`, run first by CI) classifies every printed equation of every system
+# and fails on "engines disagree"; tests/test_errata.py covers the mechanisms on small cases.
+HEAVY_CLAIMS = {"planar_robot", "cart_pendulum", "planar_manipulator", "rotating_body"}
+
+
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n in HEAVY_CLAIMS else n
+                                  for n in models.catalogue()])
 def test_every_printed_equation_is_classified(name):
     system = models.get(name)
     printed = models.claims(name)
