@@ -347,14 +347,6 @@ FREE_JOINT = "root_joint"
 a root joint, given to MuJoCo's free joint too, so that the base is matched by name like every other joint."""
 
 
-def quat_matrix(quat_xyzw) -> np.ndarray:
-    """Rotation matrix of a unit quaternion given as (x, y, z, w) (Pinocchio's order)."""
-    x, y, z, w = np.asarray(quat_xyzw, dtype=float)
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
-
-
 @dataclass(frozen=True)
 class Base:
     """State of a floating base in Pinocchio's free-flyer convention, the one every adapter reports in:

@@ -24,7 +24,7 @@ import numpy as np
 
 from harness.engines import warnings_log
 from harness.engines.base import (FREE_JOINT, Base, TreeEngine, TreeQuantities, captured_output, one_line,
-                                  polarization, quat_matrix)
+                                  polarization)
 from harness.errors import EngineError, ModelError
 from harness.export.mjcf import mjcf_spec, mjcf_string, rpy_quat
 from harness.modeling.system import WORLD
@@ -337,7 +337,7 @@ class MujocoModel(TreeEngine):
             a, b = self.free_qpos, self.free_dof
             d.qpos[a:a + 3] = base.position
             d.qpos[a + 3:a + 7] = np.roll(base.quat_xyzw, 1)  # (x, y, z, w) -> MuJoCo's (w, x, y, z)
-            d.qvel[b:b + 3] = quat_matrix(base.quat_xyzw) @ base.velocity[:3]
+            d.qvel[b:b + 3] = _quat_matrix(np.roll(base.quat_xyzw, 1)) @ base.velocity[:3]
             d.qvel[b + 3:b + 6] = base.velocity[3:]
         mujoco.mj_forward(self.model, d)
 
@@ -352,7 +352,7 @@ class MujocoModel(TreeEngine):
         n = len(self.view_dofs)
         T, Tdot_v = np.eye(n), np.zeros(n)
         if self.free:
-            R = quat_matrix(self._base.quat_xyzw)
+            R = _quat_matrix(np.roll(self._base.quat_xyzw, 1))
             T[:3, :3] = R
             Tdot_v[:3] = R @ np.cross(self._base.velocity[3:], self._base.velocity[:3])
         return T, Tdot_v
@@ -562,6 +562,8 @@ _MJ_TYPE = {mujoco.mjtJoint.mjJNT_HINGE: "revolute", mujoco.mjtJoint.mjJNT_SLIDE
 
 
 def _quat_matrix(quat) -> np.ndarray:
+    """Rotation matrix of a unit quaternion in MuJoCo's order (w, x, y, z) (``mju_quat2Mat``; Pinocchio's
+    (x, y, z, w) reordered by ``np.roll(q, 1)``)."""
     mat = np.zeros(9)
     mujoco.mju_quat2Mat(mat, np.asarray(quat, dtype=float))
     return mat.reshape(3, 3)
