@@ -1,11 +1,11 @@
-"""Closed chains and couplings with their constraints inside the engines (harness/scenes/constraints.py)."""
+"""Closed chains and couplings with their constraints inside the engines (harness/scenes/phenomena/closures.py)."""
 
 import numpy as np
 import pytest
 import sympy as sp
 
 import models
-from harness.scenes import constraints
+from harness.scenes.phenomena import closures as constraints
 from harness.scenes import simulate as sim
 from harness.derivation.kinematics import link_poses, point_position
 from harness.modeling.scenes import Scene, effects_of

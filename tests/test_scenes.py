@@ -1,6 +1,6 @@
 """Scenes: trajectories of Pinocchio and MuJoCo (scipy-integrated forward dynamics, MuJoCo's own integrator, its
 dry friction and contact) against the confirmed symbolic reference, events, invariants and pruning
-(harness/scenes/trajectories.py and harness/scenes/structural.py state the tolerances and their reasons).
+(harness/scenes/base.py and the plug-ins of harness/scenes/phenomena/ state the tolerances and their reasons).
 
 The default run checks one scene per mechanism of the machinery (conservative swing with MuJoCo's RK4, input
 breakpoints, a nonlinear closed-chain map, stick-slip events with MuJoCo's frictionloss, rolling contact and
@@ -48,23 +48,62 @@ def test_default_scenes_exist():
 
 def test_stick_slip_switches_at_the_predicted_threshold():
     """(3.80): breakaway exactly where |f_e| = mu_H m g, then stick and slip alternate in both directions."""
-    from harness.scenes import structural
+    from harness.scenes.phenomena import stick_slip
 
     system, scene = models.get("stick_slip"), models.scenes("stick_slip")[0]
     event = scene.events[0]
-    ref = structural.stick_slip(system, scene, event, "symbolic")
-    assert abs(ref.events[0].time - structural.predicted_breakaway(system, scene, event)) < structural.EVENT_TOL
+    ref = stick_slip.stick_slip(system, scene, event, "symbolic")
+    assert abs(ref.events[0].time - stick_slip.predicted_breakaway(system, scene, event)) < stick_slip.EVENT.value
     assert [e.after for e in ref.events[:4]] == ["slide +", "stick", "slide -", "stick"]
 
 
 def test_rolling_sphere_rolls_above_and_slips_below_the_threshold():
     """Exercise 3.17: MuJoCo's contact rolls at 1.01 x 2/7 tan(alpha) and slips at 0.99 x."""
-    from harness.scenes import structural
+    from harness.scenes.phenomena import rolling
 
     system, scene = models.get("rolling_sphere"), models.scenes("rolling_sphere")[0]
     event = scene.events[0]
     mu = event.predicted(system.default_parameters())
-    above = structural.mujoco_rolling(system, scene, event, 1e-3, 1.01 * mu)
-    below = structural.mujoco_rolling(system, scene, event, 1e-3, 0.99 * mu)
+    above = rolling.mujoco_rolling(system, scene, event, 1e-3, 1.01 * mu)
+    below = rolling.mujoco_rolling(system, scene, event, 1e-3, 0.99 * mu)
     scale = float(above.qd.max()) * system.default_parameters()["R"]
-    assert structural.rolls(above, scale) and not structural.rolls(below, scale)
+    assert rolling.rolls(above, scale) and not rolling.rolls(below, scale)
+
+
+def test_every_kind_of_event_has_its_plug_in():
+    """A scene's event is simulated by the plug-in whose ``event`` it is (harness/scenes/phenomena/__init__.py)."""
+    import inspect
+
+    from harness.modeling import events
+    from harness.scenes.phenomena import BY_EVENT
+
+    kinds = {c for _, c in inspect.getmembers(events, inspect.isclass) if c.__module__ == events.__name__
+             and not c.__name__.startswith("_")}
+    assert kinds and kinds == set(BY_EVENT)
+
+
+def test_a_new_phenomenon_plugs_in_without_touching_the_loop(monkeypatch):
+    """The loop asks every plug-in of CHECKS after the motion, in order: a plug-in added there records its check
+    after the motion's, and one that does not apply is never asked to check."""
+    from harness.checks import Bound
+    from harness.scenes import phenomena, trajectories
+    from harness.scenes.base import Phenomenon
+
+    asked = []
+
+    class Probe(Phenomenon):
+        def __init__(self, applies):
+            self._applies = applies
+
+        def applies(self, run):
+            return self._applies
+
+        def check(self, run):
+            asked.append(self._applies)
+            assert "reference" in run.result.trajectories  # the motion ran first
+            run.result.add(Bound("probe", 1.0, "a test plug-in").check("probe", "symbolic", 0.5))
+
+    monkeypatch.setattr(trajectories, "CHECKS", (Probe(False), Probe(True)))
+    result = run_scene(models.get("pendulum"), models.scenes("pendulum")[0], engines=("pinocchio",))
+    assert asked == [True] and result.checks[-1].name == "probe"
+    assert phenomena.CHECKS != trajectories.CHECKS

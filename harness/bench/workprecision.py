@@ -1,8 +1,8 @@
 """Work-precision of the scenes: error against a reference versus wall time and right-hand-side evaluations.
 
 * **reference** (per scene): our symbolic model, DOP853 at ``rtol = atol = 1e-12``, confirmed by Radau at the
-  same tolerance (:data:`harness.scenes.simulate.REFERENCE`, the check of :mod:`harness.scenes.trajectories`): both must
-  agree to :data:`harness.scenes.trajectories.REFERENCE_TOL`. A stiff variant (:data:`STIFF`) takes Radau at 1e-12,
+  same tolerance (:data:`harness.scenes.simulate.REFERENCE`, the check of :mod:`harness.scenes.phenomena.smooth`): both must
+  agree to :data:`harness.scenes.base.REFERENCE_TOL`. A stiff variant (:data:`STIFF`) takes Radau at 1e-12,
   confirmed by LSODA (BDF) at 1e-12: there an explicit method's global error grows with its many
   stability-limited steps (measured on the quarter car's: DOP853 at 1e-12 is 1.4e-8 off after 51 807
   evaluations, Radau at 1e-12 and 1e-13 agree to 4.8e-13, LSODA to 1.6e-10).
@@ -20,8 +20,8 @@
 * **cost**: the median wall time of repeated runs (the model is built before the clock starts) and the number of
   right-hand-side evaluations (``q̈`` calls; a MuJoCo step counts its integrator's stages: 4 for RK4, 1 otherwise).
 * **stiff variants**: :data:`STIFF` scales a stiffness of a scene by a factor via the scene's parameters.
-* **scenes with events** (:mod:`harness.scenes.structural`): stick-slip (3.80) and the lift-off are simulated with their
-  events located (:data:`harness.scenes.trajectories.HYBRID`) by ``solve_ivp``'s methods, with our and Pinocchio's q̈;
+* **scenes with events** (:mod:`harness.scenes.phenomena`): stick-slip (3.80) and the lift-off are simulated with their
+  events located (their motion's ``simulate``, :func:`harness.scenes.phenomena.motion_of`) by ``solve_ivp``'s methods, with our and Pinocchio's q̈;
   MuJoCo runs them with its own dry friction (stick-slip) at its ``implicitfast`` integrator over time steps. The
   rolling sphere is smooth in our model; MuJoCo's sphere rolls in its contact (``implicitfast``). Whatever cannot
   locate an event (``odeint``, fixed steps) or has no event of its own is skipped with its reason
@@ -39,9 +39,10 @@ import numpy as np
 
 from harness.engines import ENGINES
 from harness.scenes import simulate as sim
-from harness.scenes import structural
+from harness.modeling.events import RollSlip
 from harness.modeling.scenes import Scene, with_idle_effects
-from harness.scenes.trajectories import HYBRID, REFERENCE_TOL, hybrid_event, symbolic_run
+from harness.scenes.base import REFERENCE_TOL
+from harness.scenes.phenomena import motion_of, mujoco_own, symbolic_run
 
 SCIPY_METHODS = ("RK45", "DOP853", "Radau", "LSODA")
 ADAPTIVE = (*SCIPY_METHODS, sim.ODEINT)
@@ -188,32 +189,28 @@ def _slips(s, sc: Scene) -> bool:
 
 
 def _roll(sc: Scene):
-    return next((e for e in sc.events if isinstance(e, structural.RollSlip)), None)
+    return next((e for e in sc.events if type(e) is RollSlip), None)
 
 
 def _simulate(s, sc: Scene, source: str, method: str, rtol: float, catalogue=None) -> sim.Trajectory:
-    """``source``'s q̈ integrated by ``solve_ivp``'s ``method``, events located where the scene has them (a
-    lift-off's phase 2 from ``catalogue``)."""
-    event = hybrid_event(sc)
-    if event is not None:
-        return HYBRID[type(event)](s, sc, event, source, method=method, rtol=rtol, atol=rtol, catalogue=catalogue)
-    return sim.integrate(s, sc, source, method=method, rtol=rtol, atol=rtol)
+    """``source``'s q̈ integrated by ``solve_ivp``'s ``method`` by the scene's motion (events located where it
+    switches; a lift-off's phase 2 from ``catalogue``)."""
+    motion, event = motion_of(sc)
+    return motion.simulate(s, sc, event, source, method=method, rtol=rtol, atol=rtol, catalogue=catalogue)
 
 
 def event_note(sc: Scene, engine: str, method: str) -> str | None:
     """Why a configuration does not apply to a scene with events (None: it applies)."""
-    event, roll = hybrid_event(sc), _roll(sc)
+    motion, _ = motion_of(sc)
     if steps_itself(engine):
-        if isinstance(event, structural.LiftOff):
-            return ("MuJoCo has no lift-off of its own here (its phase 1, a point held on the ground by an equality, "
-                    "is checked by harness check)")
-        if (isinstance(event, structural.StickSlip) or roll) and method != "implicitfast":
-            return "MuJoCo's dry friction and contact runs use implicitfast (harness.scenes.structural)"
-        return None
-    if event is None:
+        if mujoco_own(sc) is not None:
+            return None if method == "implicitfast" else ("MuJoCo's dry friction and contact runs use implicitfast "
+                                                          "(harness.scenes.phenomena)")
+        return motion.mujoco_note
+    if not motion.switches:
         return None
     if engine == "symbolic-numba":
-        return "the event simulations (harness.scenes.structural) call the Python q̈"
+        return "the event simulations (harness.scenes.phenomena) call the Python q̈"
     if method not in SCIPY_METHODS:
         return f"{method} does not locate events"
     return None
@@ -234,7 +231,7 @@ def run_task(catalogue, system: str, scene: str, engine: str, method: str, setti
         steps = int(setting) * (len(reference["t"]) - 1) * _STAGES[method]
         if steps > budget:
             return {**out, "skipped": f"over the budget of {budget} evaluations ({steps})"}
-    if hybrid_event(sc) is not None and not steps_itself(engine):
+    if motion_of(sc)[0].switches and not steps_itself(engine):
         _simulate(s, sc, engine, method, 1e-3, catalogue)  # warm-up: the compiled functions are built lazily, not timed
     times, first = [], None
     for _ in range(max(1, repeats)):
@@ -259,12 +256,11 @@ def run_task(catalogue, system: str, scene: str, engine: str, method: str, setti
 
 def _one_run(s, sc: Scene, engine, method, setting, dt, budget, t_eval, catalogue=None) -> sim.Trajectory:
     t_eval = np.asarray(t_eval)
-    event, roll = hybrid_event(sc), _roll(sc)
-    if steps_itself(engine) and (event or roll):  # MuJoCo's dry friction / contact (implicitfast, event_note)
+    own, motion = mujoco_own(sc), motion_of(sc)[0]
+    if steps_itself(engine) and own:  # MuJoCo's dry friction / contact (implicitfast, event_note)
         with np.errstate(all="ignore"):
-            return (structural.mujoco_stick_slip(s, sc, event, dt) if event else
-                    structural.mujoco_rolling(s, sc, roll, dt))
-    if event is not None:  # solve_ivp with the events located (event_note)
+            return own[0].mujoco_run(s, sc, own[1], dt)
+    if motion.switches:  # solve_ivp with the events located (event_note)
         return _simulate(s, sc, engine, method, setting, catalogue)
     if steps_itself(engine):
         with np.errstate(all="ignore"):

@@ -292,6 +292,13 @@ class MujocoModel(TreeEngine):
     def forward(self) -> None:
         mujoco.mj_forward(self.model, self.data)
 
+    def pose(self, theta) -> None:
+        """The tree at ``theta``, positions only (``mj_kinematics``, ``mj_comPos``, ``mj_tendon``): for pictures."""
+        self.data.qpos[self.qpos_index] = theta
+        mujoco.mj_kinematics(self.model, self.data)
+        mujoco.mj_comPos(self.model, self.data)
+        mujoco.mj_tendon(self.model, self.data)
+
     def rollout(self, steps: int, every: int = 1, sample=None, before=None, between=None,
                 check: str | None = None) -> list:
         """MuJoCo's own stepping from the current state, the one loop: ``steps`` calls of ``mj_step`` (split into

@@ -398,7 +398,7 @@ class PinocchioModel(TreeEngine):
                 "g": lambda: pin.computeGeneralizedGravity(model, data, q),
                 "qdd": lambda: pin.aba(model, data, q, v, tau)}
 
-    # ----- closed chains and couplings (harness.scenes.constraints)
+    # ----- closed chains and couplings (harness.scenes.phenomena.closures)
     def constraints(self, couplings, closures) -> "Constraints":
         return Constraints(self, couplings, closures)
 

@@ -1,6 +1,7 @@
 """Structural changes, by reference to the lecture's own scenes: stick-slip (3.80) (``models/stick_slip.py``)
 and the trebuchet's lift-off (Exercise A.15, ``models/trebuchet.py``). Their event location lives in
-:mod:`harness.scenes.structural` and is checked by :func:`harness.scenes.trajectories.run_scene`; here the same checks are
+their plug-ins (:mod:`harness.scenes.phenomena.stick_slip`, ``lift_off``) and is checked by
+:func:`harness.scenes.trajectories.run_scene`; here the same checks are
 collected into the catalogue, next to the naive run: the model's smooth branch integrated across the switch
 without locating it."""
 
@@ -11,23 +12,14 @@ import dataclasses
 import numpy as np
 
 from harness.scenes import simulate as sim
+from harness.scenes.base import ENGINE_EVENT_TOL, ENGINE_TOL, EVENT_TOL, REFERENCE_TOL, event_error
 from harness.hard.common import ENGINES, CaseResult
 
-ENGINE_TOL = 1e-6      # as harness/scenes/trajectories.py
-REFERENCE_TOL = 1e-8
 NAIVE_BUDGET = 200_000  # right-hand side evaluations the naive run may spend
 
 
 class _OverBudget(Exception):
     pass
-
-
-def _event_error(a, b) -> float:
-    """Largest difference of corresponding event times (inf when the sequences differ)."""
-    ea, eb = getattr(a, "events", []), getattr(b, "events", [])
-    if len(ea) != len(eb) or any((x.before, x.after) != (y.before, y.after) for x, y in zip(ea, eb)):
-        return float("inf")
-    return max((abs(x.time - y.time) for x, y in zip(ea, eb)), default=0.0)
 
 
 def _scene(catalogue, system_name: str, kind: str):
@@ -45,26 +37,26 @@ def _by_reference(catalogue, case_id, title, system_name, kind, problem, remedy,
         r = CaseResult(case_id, title, [system_name], "pending", problem, remedy)
         r.notes.append(f"no scene of {system_name} with a {kind} event in the scenes of {system_name} yet")
         return r
-    from harness.scenes import structural
+    from harness.scenes.phenomena import BY_EVENT
     r = CaseResult(case_id, f"{title} (scene {system_name}/{scene.name})", [system_name], "event location",
                    problem, remedy)
     event = next(e for e in scene.events if type(e).__name__ == kind)
-    simulate = structural.stick_slip if kind == "StickSlip" else structural.lift_off
+    motion = BY_EVENT[type(event)]
 
     def hybrid(*args, **kw):
-        return simulate(*args, catalogue=catalogue, **kw)
+        return motion.simulate(*args, catalogue=catalogue, **kw)
     ref = hybrid(system, scene, event, "symbolic")                       # DOP853 1e-12, events located
     second = hybrid(system, scene, event, "symbolic", method="LSODA")
     r.check("reference confirmed (LSODA vs DOP853)", "symbolic", sim.max_error(second, ref), REFERENCE_TOL,
-            "harness/scenes/trajectories.py")
-    r.check("events confirmed (LSODA vs DOP853), s", "symbolic", _event_error(second, ref), structural.EVENT_TOL,
-            "harness/scenes/structural.py")
+            "harness/scenes/base.py")
+    r.check("events confirmed (LSODA vs DOP853), s", "symbolic", event_error(second, ref), EVENT_TOL,
+            "harness/scenes/base.py")
     for source in ENGINES:
         tr = hybrid(system, scene, event, source, rtol=1e-10, atol=1e-10)
         r.check("trajectory (DOP853 1e-10, events)", source, sim.max_error(tr, ref), ENGINE_TOL,
-                "harness/scenes/trajectories.py")
-        r.check("event times, s", source, _event_error(tr, ref), structural.ENGINE_EVENT_TOL,
-                "harness/scenes/structural.py")
+                "harness/scenes/base.py")
+        r.check("event times, s", source, event_error(tr, ref), ENGINE_EVENT_TOL,
+                "harness/scenes/base.py")
     r.numbers["events (reference)"] = [(round(e.time, 9), e.before, e.after) for e in getattr(ref, "events", [])]
     r.notes.append(f"the scene's full checks (MuJoCo's own frictionloss / equality constraints, pruning) run in "
                    f"tests/test_scenes.py ({system_name}-{scene.name})")
@@ -124,7 +116,7 @@ def stick_slip(catalogue, quick: bool = False) -> CaseResult:
         "side the mass never sticks (the sign flips every step around rest) and the breakaway at "
         "|f_e| = mu_H f_N is missed.",
         "Both events located (breakaway |f_required| = mu_H f_N, sticking x_dot = 0) with the branch switched at "
-        "each, in every source (harness/scenes/structural.py); MuJoCo's own frictionloss checked for first-order "
+        "each, in every source (harness/scenes/phenomena/stick_slip.py); MuJoCo's own frictionloss checked for first-order "
         "convergence.", quick)
 
 
@@ -134,4 +126,4 @@ def trebuchet_lift_off(catalogue, quick: bool = False) -> CaseResult:
         "Phase 1 keeps the projectile on the ground through the map (A.178); continued past the instant its normal "
         "force vanishes, the ground pulls the projectile down: a wrong motion without any numerical symptom.",
         "The normal force is computed from each source's dynamics and its zero located as an event; the "
-        "integration continues in phase 2 (trebuchet_free) from the mapped state (harness/scenes/structural.py).", quick)
+        "integration continues in phase 2 (trebuchet_free) from the mapped state (harness/scenes/phenomena/lift_off.py).", quick)

@@ -1,5 +1,5 @@
 """Structural changes a scene declares (``Scene.events``): value objects naming what switches and by which
-parameters. How each is simulated with every source is :mod:`harness.scenes.structural`."""
+parameters. How each is simulated with every source: its plug-in in :mod:`harness.scenes.phenomena`."""
 
 from __future__ import annotations
 

@@ -7,7 +7,7 @@ terms and the exported MJCF has the other effects switched off by its flags.
 Effects: ``gravity``; ``springs`` (Spring, JointSpring); ``dampers`` (Damper, JointDamper); ``inputs``
 (JointInput); ``external`` (PointForce, BodyTorque: follower forces, drag, thrust, dry sliding friction);
 ``friction`` (dry friction with sticking, switched on in MuJoCo as ``frictionloss``) and ``contact`` (MuJoCo
-contact with friction) come with a scene's structural change (``Scene.events``, :mod:`harness.scenes.structural`).
+contact with friction) come with a scene's structural change (``Scene.events``, :mod:`harness.scenes.phenomena`).
 """
 
 from __future__ import annotations
@@ -104,7 +104,7 @@ class Scene:
     effects: frozenset
     inputs: dict = field(default_factory=dict)      # input name -> signal
     params: dict = field(default_factory=dict)      # parameter overrides
-    events: tuple = ()                              # structural changes (harness/scenes/structural.py)
+    events: tuple = ()                              # structural changes (harness/scenes/phenomena/)
 
     def __post_init__(self):
         object.__setattr__(self, "effects", frozenset(self.effects))

@@ -343,7 +343,7 @@ class Point:
 class Closure:
     """A point held on a line or plane by a massless guide — the closed chain a nonlinear map θ = φ(q) solves
     (the toggle press's slide (A.99), the trebuchet's ground (A.177)): ``normalᵀ p_0(point) = value``.
-    The engines impose it themselves in constrained simulations (:mod:`harness.scenes.constraints`)."""
+    The engines impose it themselves in constrained simulations (:mod:`harness.scenes.phenomena.closures`)."""
 
     name: str
     point: Point

@@ -58,12 +58,14 @@ class Scene3D:
         import mujoco
 
         from harness.derivation.compile import compiled
+        from harness.engines.mujoco_engine import MujocoModel
+        from harness.export.numeric import instantiate
 
         self.mujoco, self.system = mujoco, system
-        self.model = mujoco.MjModel.from_xml_string(xml)
-        self.data = mujoco.MjData(self.model)
-        self.compiled = compiled(system)
         self.params = system.default_parameters()
+        self.engine = MujocoModel(instantiate(system, self.params), xml=xml)   # the kinematics: the adapter's
+        self.model, self.data = self.engine.model, self.engine.data
+        self.compiled = compiled(system)
         self.p = [self.params[s.name] for s in system.p]
         self.width, self.height = width, height
         self.renderer = mujoco.Renderer(self.model, height, width)
@@ -80,13 +82,7 @@ class Scene3D:
         """Pose the tree at the lecture coordinates ``q`` (θ = φ(q))."""
         theta = np.ravel(self.compiled.map_at(np.asarray(q, float), np.zeros(len(q)), self.p,
                                               np.zeros(len(self.system.u)))[0])
-        for joint, value in zip(self.system.joints, theta):
-            jid = self.mujoco.mj_name2id(self.model, self.mujoco.mjtObj.mjOBJ_JOINT, joint.name)
-            if jid >= 0:
-                self.data.qpos[self.model.jnt_qposadr[jid]] = value
-        self.mujoco.mj_kinematics(self.model, self.data)
-        self.mujoco.mj_comPos(self.model, self.data)
-        self.mujoco.mj_tendon(self.model, self.data)
+        self.engine.pose(theta)
 
     def points(self) -> np.ndarray:
         """World positions that outline the mechanism: body origins, centres of mass, geoms, sites."""
@@ -155,13 +151,10 @@ class Scene3D:
         import sympy as sp
 
         marks = []
-        for joint, expr in zip(self.system.joints, self.system.phi):
+        for jid, expr in zip(self.engine.jids, self.system.phi):
             names = {s.name for s in sp.sympify(expr).free_symbols}
             used = [c.name for c in self.system.coordinates if c.name in names]
             if not used:
-                continue
-            jid = self.mujoco.mj_name2id(self.model, self.mujoco.mjtObj.mjOBJ_JOINT, joint.name)
-            if jid < 0:
                 continue
             marks.append((np.array(self.data.xanchor[jid]), ", ".join(_greek(u) for u in used)))
         return marks

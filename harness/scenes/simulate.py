@@ -42,6 +42,22 @@ class Trajectory:
     notes: dict = field(default_factory=dict)
 
 
+@dataclass(frozen=True)
+class Event:
+    """A switching of a hybrid motion: at ``time`` the branch ``before`` ends and ``after`` begins."""
+
+    time: float
+    before: str
+    after: str
+
+
+@dataclass
+class HybridTrajectory(Trajectory):
+    """A trajectory whose branches switch at ``events`` (:mod:`harness.scenes.phenomena`)."""
+
+    events: list = field(default_factory=list)
+
+
 class Dynamics:
     """``q̈ = f(t, q, q̇)`` of one scene from one source (``"symbolic"`` or an engine of the registry), in lecture
     coordinates. ``model`` is the engine's adapter (None for the symbolic model)."""

@@ -33,7 +33,8 @@ so an absolute 1e-8 would ask the integrator for 2.4e-10 of the state, below its
 critically damped error dynamics forget what lies more than a few ``1/ω`` back, so the drift stays within a few
 steps' errors: ``DRIFT = 100 rtol`` relative.
 MuJoCo steps its soft equality constraints (``solref = 2 dt``, the stiffest ``solimp``, implicitfast): its error
-is first order in ``dt`` and is checked like its dry friction and contact (:mod:`harness.scenes.trajectories`).
+is first order in ``dt`` and is checked like its dry friction and contact
+(:func:`harness.scenes.base.soft_convergence`).
 Lecture coordinates are recovered from ``θ`` by Gauss-Newton on ``φ(q) = θ``.
 """
 
@@ -45,13 +46,15 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from harness.scenes import simulate as sim
 from harness.checks import Bound
+from harness.engines import simulating
 from harness.engines.base import Load, load_functions
 from harness.engines.mujoco_engine import ClosureGuide, JointCoupling, MujocoModel, Options
 from harness.errors import ModelError
 from harness.export.numeric import instantiate, point_name
 from harness.modeling.system import value_at
+from harness.scenes import simulate as sim
+from harness.scenes.base import ENGINE, Phenomenon, SceneRun, soft_convergence
 
 BAUMGARTE_OMEGA = 20.0     # rad/s: constraint errors decay over ~0.1 s, far below the integrator's drift
 DRIFT = Bound("constraint drift", 1e-8, "max |c| of Pinocchio's constrained tree relative to the scale of the terms "
@@ -263,3 +266,37 @@ def mujoco_constrained(system, scene, dt: float, horizon=None) -> sim.Trajectory
     energy = np.array([dyn.energy(a, b) for a, b in zip(q, qd)])
     return sim.Trajectory(f"mujoco (equality constraints, implicitfast, dt={dt:g})", np.array([x[0] for x in out]),
                           q, qd, seconds, steps, energy)
+
+
+class Closures(Phenomenon):
+    """The tree with the map's constraints imposed by the engines themselves, where the motion simulates it (up to
+    a lift-off, which ends the constraint), compared in the reference's coordinates."""
+
+    name = "closed chains and couplings in the engines"
+
+    def applies(self, run: SceneRun) -> bool:
+        return constrained(run.system) and run.motion.tree_view(run) is not None
+
+    def check(self, run: SceneRun) -> None:
+        system, scene, result, ref = run.system, run.scene, run.result, run.reference
+        horizon, mapping = run.motion.tree_view(run)
+        if horizon is not None:
+            result.notes["constrained tree simulated until"] = f"{horizon:.6f} s (the event that ends the constraint)"
+        if simulating(run.engines, "kkt constraints"):
+            tr = mapping(pinocchio_constrained(system, scene, horizon=horizon))
+            result.trajectories["pinocchio constrained"] = tr
+            result.add(ENGINE.check("constrained tree (pin.forwardDynamics KKT, DOP853 1e-10)", "pinocchio",
+                                    sim.max_error(tr, ref)))
+            result.add(DRIFT.check("constraint drift max |c_k| / sum_j |J_kj| max(1, |theta_j|)", "pinocchio",
+                                   tr.notes["drift"]))
+        if simulating(run.engines, "soft constraints"):
+            dt = scene.horizon / sim.grid_steps(scene, 4000)
+
+            def simulate(h):
+                return mapping(mujoco_constrained(system, scene, h, horizon=horizon))
+
+            fine, _ = soft_convergence(result, "MuJoCo equality constraints", simulate, ref, dt)
+            result.trajectories["mujoco constrained"] = fine
+
+
+PLUGIN = Closures()
