@@ -6,9 +6,10 @@ For each robot (a URDF of the package, named by its file stem; the two ``anymal.
    joint for a floating-base robot (:data:`FLOATING`: the legged, humanoid and flying robots, as the package's
    own loaders build them). What urdfdom prints while reading is a finding, not a refusal.
 2. **Every other engine of** :data:`ENGINES` (data: an engine is added by name and loader) loads the same
-   file; MuJoCo through its own URDF importer, without ``<visual>``/``<collision>`` (it cannot resolve the
-   ``package://`` mesh URIs, and reads no ``.dae``; the dynamics do not depend on geometry), the root link on a
-   free joint named like Pinocchio's (:func:`harness.engines.mujoco_engine.add_free_joint`) for a floating base.
+   file, without ``<visual>``/``<collision>`` (``package://`` mesh URIs, ``.dae``; the dynamics do not depend on
+   geometry): MuJoCo through its own URDF importer, the root link on a free joint named like Pinocchio's
+   (:func:`harness.engines.mujoco_engine.add_free_joint`) for a floating base; Drake through its URDF parser
+   (:func:`harness.engines.drake_engine.load_urdf_plant`, a ``QuaternionFloatingJoint`` of that name).
 3. **Comparison** (:func:`harness.files.importer.compare`, the one comparison of an import with a reference):
    ``M``, the bias, ``C q̇`` (bias without gravity), ``g`` and the forward dynamics ``q̈`` (zero inputs) at
    ``states`` random states (seeded), joints matched **by name**, a floating base in Pinocchio's free-flyer
@@ -23,6 +24,11 @@ For each robot (a URDF of the package, named by its file stem; the two ``anymal.
 5. **Findings** from the file and from what each engine built: mimic joints, continuous joints, fixed links
    merged, links without an inertial (with or without meshes), zero-mass links, inertias that are not
    physical, joint damping/friction, geometry removed.
+
+6. **Causes** (:func:`explain`, :func:`explain_refusal`): a pair that disagrees, is refused, or agrees above
+   :data:`MARGIN` of the bound gets its cause from the file (:class:`LinkInertia`: each link's stated inertia) and
+   from what the engine reported, reproduced (:attr:`Engine.treatment`, :attr:`Engine.repair`) and proven: the
+   reference given the engine's changes must agree with it within :data:`MARGIN`. No robot name decides a verdict.
 
 ``robots.json`` (schema ``robots/1``) and ``robots.md`` (one table over all robots) are written by
 ``harness robots --out DIR``.
