@@ -24,7 +24,7 @@ def test_sweep_records_and_files(tmp_path, capsys):
     assert f"{ARM}: 6 dof, fixed; pinocchio-mujoco agree" in out
     assert f"{FLOATING}: 18 dof, floating; pinocchio-mujoco agree" in out
     doc = json.loads((tmp_path / "robots.json").read_text())
-    assert doc["schema"] == robots.SCHEMA and doc["pairs"] == ["pinocchio-mujoco"]
+    assert doc["schema"] == robots.SCHEMA and doc["pairs"] == ["pinocchio-mujoco", "pinocchio-drake"]
     by_name = {r["robot"]: r for r in doc["robots"]}
     for name, dof, base in ((ARM, 6, "fixed"), (FLOATING, 18, "floating")):
         r = by_name[name]
@@ -32,12 +32,16 @@ def test_sweep_records_and_files(tmp_path, capsys):
         pair = r["pairs"][0]
         assert pair["verdict"] == "agree" and pair["worst"]["ratio"] <= 1
         assert {c["quantity"] for c in pair["checks"]} >= {"M", "Cqd", "g", "qdd", "mass", "inertia"}
+        drake = r["pairs"][1]
+        assert drake["pair"] == "pinocchio-drake" and drake["verdict"] == "agree" and drake["worst"]["ratio"] <= 0.1
+        assert {c["quantity"] for c in drake["checks"]} >= {"M", "Cqd", "g", "qdd", "mass", "inertia"}
         assert r["engines"]["mujoco"]["step"]["steps"] == 500
         assert r["engines"]["mujoco"]["step"]["warnings"] == []
         assert r["seconds"] is not None
         assert any(f["kind"] == "geometry removed" for f in r["findings"])
+    assert doc["open"] == []
     md = (tmp_path / "robots.md").read_text()
-    assert f"| {ARM} | 6 | fixed | agree |" in md and f"| {FLOATING} | 18 | floating | agree |" in md
+    assert f"| {ARM} | 6 | fixed | agree | agree |" in md and f"| {FLOATING} | 18 | floating | agree | agree |" in md
 
 
 def test_unknown_robot_is_one_line(capsys):
@@ -107,3 +111,25 @@ def test_sweep_in_parallel_keeps_the_order():
     doc, written = run.robots([FLOATING, ARM], states=2, jobs=2)
     assert [r["robot"] for r in doc["robots"]] == [FLOATING, ARM] and written == []
     assert doc["summary"]["pinocchio-mujoco"]["agree"] == 2
+
+
+def test_drake_floating_joint_convention_is_mapped():
+    """Drake's QuaternionFloatingJoint (angular then linear velocity, world axes) mapped to Pinocchio's free flyer
+    agrees; taken as Pinocchio's own coordinates (no map) it is seen."""
+    from harness.engines.drake_engine import DrakeImport, load_urdf_plant
+
+    text = robots.available()[FLOATING].read_text()
+    pmodel = load_urdf(text, FLOATING, floating=True)
+    joints = moving_joints(pmodel, FREE_JOINT)
+    ref = PinocchioModel.loaded(pmodel, joints, FREE_JOINT)
+    plant, _ = load_urdf_plant(importer.without_geometry(text), FLOATING, FREE_JOINT, ref.gravity)
+    checks = importer.compare(DrakeImport(plant, joints, FREE_JOINT), ref, joints, set(), 3, forward=True)
+    assert all(c["passed"] for c in checks)
+
+    class Unmapped(DrakeImport):
+        def _map(self):
+            n = len(self.view_dofs)
+            return np.eye(n), np.zeros(n)
+
+    wrong = importer.compare(Unmapped(plant, joints, FREE_JOINT), ref, joints, set(), 3, forward=True)
+    assert {"M", "qdd"} <= {c["quantity"] for c in wrong if not c["passed"]}

@@ -25,7 +25,7 @@ from pydrake.multibody.parsing import Parser
 from pydrake.multibody.plant import MultibodyPlant
 from pydrake.multibody.tree import JacobianWrtVariable
 
-from harness.engines.base import TreeEngine, TreeQuantities, input_forces, polarization, spring_damper_forces
+from harness.engines.base import Base, TreeEngine, TreeQuantities, input_forces, polarization, spring_damper_forces
 from harness.errors import EngineError
 from harness.export.numeric import NumericTree
 from harness.export.urdf import urdf_string
@@ -233,3 +233,223 @@ class DrakeModel(TreeEngine):
         pose = weld.frame_on_parent().GetFixedPoseInBodyFrame().multiply(
             weld.frame_on_child().GetFixedPoseInBodyFrame().inverse())
         return {"joint": self._carrier(body), "position": pose.translation()}
+
+
+# ------------------------------------------------------------------------------ a URDF of other origin
+DUMMY_DENSITY = 1000.0
+"""Drake's parser (``multibody/parsing/detail_common.cc``, ``ParseSpatialInertia``) replaces an inertia that fails
+``CouldBePhysicallyValid()`` (a negative principal moment, moments violating A + B >= C) or that it cannot
+re-express about the centre of mass (mass 0 with a non-zero tensor) by a solid sphere of this density (water)
+about the inertial's origin, of the link's mass (1 kg when that is not positive), with a warning."""
+
+
+def drake_dummy_inertia(mass: float) -> tuple[float, np.ndarray]:
+    """The ``(mass, tensor about the centre of mass)`` Drake's parser substitutes (:data:`DUMMY_DENSITY`)."""
+    m = mass if np.isfinite(mass) and mass > 0 else 1.0
+    radius = np.cbrt(3.0 / (4.0 * np.pi) * m / DUMMY_DENSITY)
+    return m, np.eye(3) * 0.4 * m * radius**2
+
+
+class _Collect:
+    """A ``logging.Handler`` stand-in collecting what pydrake's ``drake`` logger receives (parser warnings)."""
+
+    def __init__(self):
+        import logging
+
+        self.records: list[str] = []
+        self.handler = logging.Handler()
+        self.handler.emit = lambda record: self.records.append(record.getMessage())
+
+    def __enter__(self):
+        import logging
+
+        self.logger = logging.getLogger("drake")
+        self.propagate = self.logger.propagate
+        self.logger.addHandler(self.handler)
+        self.logger.propagate = False
+        return self.records
+
+    def __exit__(self, *exc):
+        self.logger.removeHandler(self.handler)
+        self.logger.propagate = self.propagate
+        return False
+
+
+def load_urdf_plant(urdf_text: str, source: str, free: str | None = None,
+                    gravity=None) -> tuple[MultibodyPlant, list[str]]:
+    """A continuous ``MultibodyPlant`` of a URDF of other origin (lenient parsing: what the parser warns is
+    returned, never printed), its root link welded to the world or, with ``free``, on a
+    ``QuaternionFloatingJoint`` of that name, ``gravity`` as the reference's; joint damping set to 0 (Pinocchio's ``aba`` has none). A refusal
+    is one :class:`EngineError` line."""
+    from pydrake.multibody.tree import QuaternionFloatingJoint
+
+    plant = MultibodyPlant(time_step=0.0)
+    with _Collect() as said:
+        try:
+            instance = Parser(plant).AddModelsFromString(urdf_text, "urdf")[0]
+            children = {plant.get_joint(j).child_body().index() for j in plant.GetJointIndices()}
+            roots = [plant.get_body(b) for b in plant.GetBodyIndices(instance) if b not in children]
+            if len(roots) > 1 or (free is not None and not roots):
+                raise EngineError(f"{source}: Drake: {len(roots)} root links, one expected")
+            if free is not None:
+                plant.AddJoint(QuaternionFloatingJoint(free, plant.world_frame(), roots[0].body_frame()))
+            elif roots:  # else the file's link "world" is Drake's world, its joint to the root already there
+                plant.WeldFrames(plant.world_frame(), roots[0].body_frame())
+            for j in plant.GetJointIndices():
+                joint = plant.get_mutable_joint(j)
+                if joint.num_velocities() == 1:
+                    joint.set_default_damping(0.0)
+            couplers = plant.GetConstraintIds()
+            for cid in couplers:  # a <mimic>: a coupler constraint, which a continuous plant cannot hold
+                plant.RemoveConstraint(cid)
+            if couplers:
+                said.append(f"{len(couplers)} coupler constraint(s) of <mimic> joints removed (a continuous "
+                            "MultibodyPlant holds no constraints; Pinocchio's buildModel ignores <mimic> too)")
+            if gravity is not None:
+                plant.mutable_gravity_field().set_gravity_vector(np.asarray(gravity, dtype=float))
+            plant.Finalize()
+        except RuntimeError as exc:
+            raise EngineError(f"{source}: Drake refused the URDF: {' '.join(str(exc).split())}") from None
+    return plant, said
+
+
+class DrakeImport:
+    """A Drake plant of a URDF of other origin seen through the reference's joints (by name) and, with ``free``,
+    its floating joint reported in Pinocchio's free-flyer convention (:class:`~harness.engines.base.Base`):
+    Drake's ``QuaternionFloatingJoint`` has ``q = (w, x, y, z, p)`` and ``v = (ω, v)`` of the body origin in
+    world axes, so ``v_drake = T v`` with ``T = [[0, R], [R, 0]]``; the quantities are mapped by virtual work
+    like MuJoCo's free joint: ``M_v = Tᵀ M T``, ``bias_v = Tᵀ (bias + M Ṫ v)`` with ``Ṫ v = (0, R (ω × v))``,
+    ``v̇ = T⁻¹ (v̇_drake − Ṫ v)``. Every number from a named Drake call: ``CalcMassMatrix``, ``CalcBiasTerm``,
+    ``CalcGravityGeneralizedForces``, the generalized-acceleration output port (zero applied force)."""
+
+    name = "drake"
+
+    def __init__(self, plant: MultibodyPlant, joints: list[str], free: str | None = None):
+        self.plant, self.joints, self.free = plant, list(joints), free
+        self.context = plant.CreateDefaultContext()
+        self.refusals: set[str] = set()
+        """Drake's refusals of forward dynamics (a non-positive-definite articulated inertia), by message."""
+        missing = [j for j in joints if not plant.HasJointNamed(j)]
+        if missing:
+            raise EngineError(f"joint(s) {', '.join(missing)} missing in the Drake model")
+        self.jobs = [plant.GetJointByName(j) for j in joints]
+        self.iq = [j.position_start() for j in self.jobs]
+        self.iv = [j.velocity_start() for j in self.jobs]
+        self.base = Base.rest()
+        if free is not None:
+            fj = plant.GetJointByName(free)
+            self.fq, self.fv = fj.position_start(), fj.velocity_start()
+            self.free_joint = fj
+
+    @property
+    def view_dofs(self) -> list[int]:
+        return (list(range(self.fv, self.fv + 6)) if self.free else []) + self.iv
+
+    def _set(self, theta, theta_dot, base: Base | None = None) -> None:
+        plant = self.plant
+        q = plant.GetDefaultPositions().copy()
+        v = np.zeros(plant.num_velocities())
+        q[self.iq], v[self.iv] = theta, theta_dot
+        if self.free:
+            self.base = base = base or Base.rest()
+            R = self._R()
+            q[self.fq:self.fq + 4] = np.roll(base.quat_xyzw, 1)
+            q[self.fq + 4:self.fq + 7] = base.position
+            v[self.fv:self.fv + 3] = R @ base.velocity[3:]
+            v[self.fv + 3:self.fv + 6] = R @ base.velocity[:3]
+        plant.SetPositions(self.context, q)
+        plant.SetVelocities(self.context, v)
+
+    def _R(self) -> np.ndarray:
+        from pydrake.common.eigen_geometry import Quaternion
+
+        x, y, z, w = self.base.quat_xyzw
+        return Quaternion(w, x, y, z).rotation()
+
+    def _map(self):
+        n = len(self.view_dofs)
+        T, Tdot_v = np.eye(n), np.zeros(n)
+        if self.free:
+            R = self._R()
+            T[:6, :6] = 0
+            T[:3, 3:6] = R
+            T[3:6, :3] = R
+            Tdot_v[3:6] = R @ np.cross(self.base.velocity[3:], self.base.velocity[:3])
+        return T, Tdot_v
+
+    def terms(self, theta, theta_dot, base: Base | None = None, forward: bool = True) -> dict:
+        try:
+            return self._terms(theta, theta_dot, base, forward)
+        except RuntimeError as exc:
+            raise EngineError(f"Drake: {' '.join(str(exc).split())}") from None
+
+    def _terms(self, theta, theta_dot, base: Base | None = None, forward: bool = True) -> dict:
+        plant, context, idx = self.plant, self.context, self.view_dofs
+        self._set(theta, theta_dot, base)
+        M = np.asarray(plant.CalcMassMatrix(context))[np.ix_(idx, idx)]
+        gravity = -np.asarray(plant.CalcGravityGeneralizedForces(context))[idx]
+        bias = np.asarray(plant.CalcBiasTerm(context))[idx] + gravity
+        T, Tdot_v = self._map()
+        out = {"M": T.T @ M @ T, "bias": T.T @ (bias + M @ Tdot_v)}
+        if not forward:
+            return out
+        plant.get_applied_generalized_force_input_port().FixValue(context, np.zeros(plant.num_velocities()))
+        try:
+            vdot = np.asarray(plant.get_generalized_acceleration_output_port().Eval(context))[idx]
+        except RuntimeError as exc:  # a joint that moves no mass: Drake's ABA refuses, Pinocchio's is not finite
+            if "is not positive-definite" not in str(exc):
+                raise
+            self.refusals.add(" ".join(str(exc).split()))
+            vdot = np.full(len(idx), np.nan)
+        out["qdd"] = np.linalg.solve(T, vdot - Tdot_v)
+        out["g"] = T.T @ gravity
+        out["Cqd"] = out["bias"] - out["g"]
+        return out
+
+    def mass_and_bias(self, theta, theta_dot, base: Base | None = None):
+        t = self.terms(theta, theta_dot, base, forward=False)
+        return t["M"], t["bias"]
+
+    def subtree_parts(self, theta, base: Base | None = None) -> dict[str, list]:
+        """Per joint (and the floating joint), ``(mass, centre of mass, inertia tensor about it)`` of every body
+        it moves, world axes (``GetBodiesKinematicallyAffectedBy``, ``EvalBodyPoseInWorld``,
+        ``default_spatial_inertia``)."""
+        plant, context = self.plant, self.context
+        self._set(theta, np.zeros(len(theta)), base)
+        world, out = {}, {}
+        named = list(zip(self.joints, self.jobs)) + ([(self.free, self.free_joint)] if self.free else [])
+        for name, joint in named:
+            parts = []
+            for b in plant.GetBodiesKinematicallyAffectedBy([joint.index()]):
+                if b not in world:
+                    body = plant.get_body(b)
+                    X = plant.EvalBodyPoseInWorld(context, body)
+                    M = body.default_spatial_inertia()
+                    com = M.get_com()
+                    I = M.Shift(com).CalcRotationalInertia().CopyToFullMatrix3()
+                    R = X.rotation().matrix()
+                    world[b] = (float(M.get_mass()), X.multiply(com), R @ I @ R.T)
+                parts.append(world[b])
+            out[name] = parts
+        return out
+
+    def body_names(self) -> list[str]:
+        from pydrake.multibody.tree import BodyIndex
+
+        return [self.plant.get_body(BodyIndex(i)).name() for i in range(1, self.plant.num_bodies())]
+
+    @property
+    def gravity(self) -> np.ndarray:
+        return np.asarray(self.plant.gravity_field().gravity_vector())
+
+    @property
+    def dofs(self) -> int:
+        return self.plant.num_velocities()
+
+    def loaded_facts(self) -> dict:
+        plant = self.plant
+        from pydrake.multibody.tree import BodyIndex
+
+        return {"bodies": plant.num_bodies() - 1, "nq": plant.num_positions(), "nv": plant.num_velocities(),
+                "mass": round(sum(plant.get_body(BodyIndex(i)).default_mass() for i in range(1, plant.num_bodies())),
+                              9)}

@@ -6,9 +6,10 @@ For each robot (a URDF of the package, named by its file stem; the two ``anymal.
    joint for a floating-base robot (:data:`FLOATING`: the legged, humanoid and flying robots, as the package's
    own loaders build them). What urdfdom prints while reading is a finding, not a refusal.
 2. **Every other engine of** :data:`ENGINES` (data: an engine is added by name and loader) loads the same
-   file; MuJoCo through its own URDF importer, without ``<visual>``/``<collision>`` (it cannot resolve the
-   ``package://`` mesh URIs, and reads no ``.dae``; the dynamics do not depend on geometry), the root link on a
-   free joint named like Pinocchio's (:func:`harness.engines.mujoco_engine.add_free_joint`) for a floating base.
+   file, without ``<visual>``/``<collision>`` (``package://`` mesh URIs, ``.dae``; the dynamics do not depend on
+   geometry): MuJoCo through its own URDF importer, the root link on a free joint named like Pinocchio's
+   (:func:`harness.engines.mujoco_engine.add_free_joint`) for a floating base; Drake through its URDF parser
+   (:func:`harness.engines.drake_engine.load_urdf_plant`, a ``QuaternionFloatingJoint`` of that name).
 3. **Comparison** (:func:`harness.files.importer.compare`, the one comparison of an import with a reference):
    ``M``, the bias, ``C q̇`` (bias without gravity), ``g`` and the forward dynamics ``q̈`` (zero inputs) at
    ``states`` random states (seeded), joints matched **by name**, a floating base in Pinocchio's free-flyer
@@ -23,6 +24,11 @@ For each robot (a URDF of the package, named by its file stem; the two ``anymal.
 5. **Findings** from the file and from what each engine built: mimic joints, continuous joints, fixed links
    merged, links without an inertial (with or without meshes), zero-mass links, inertias that are not
    physical, joint damping/friction, geometry removed.
+
+6. **Causes** (:func:`explain`, :func:`explain_refusal`): a pair that disagrees, is refused, or agrees above
+   :data:`MARGIN` of the bound gets its cause from the file (:class:`LinkInertia`: each link's stated inertia) and
+   from what the engine reported, reproduced (:attr:`Engine.treatment`, :attr:`Engine.repair`) and proven: the
+   reference given the engine's changes must agree with it within :data:`MARGIN`. No robot name decides a verdict.
 
 ``robots.json`` (schema ``robots/1``) and ``robots.md`` (one table over all robots) are written by
 ``harness robots --out DIR``.
@@ -136,6 +142,13 @@ class Engine:
     label: str
     load: Callable
     importer: bool = False
+    treatment: Callable | None = None
+    """``treatment(robot, view, facts, bound)``: what the engine did to the file's inertias, derived from the file
+    and what the engine reported while loading it: ``{link: (mass, tensor, what it did)}``
+    (:func:`explain` loads the reference with those inertias to prove a disagreement's cause)."""
+    repair: Callable | None = None
+    """``repair(robot, error)``: for a file the engine refuses, the cause found in the file and the file with it
+    repaired for both engines, ``(cause, text, who is right)``, or None."""
 
 
 @dataclass
@@ -206,10 +219,262 @@ BALANCE_NOTE = (f"compiler balanceinertia (MuJoCo's own fix of inertias violatin
                 f"boundinertia = {importer.IMPORT_BOUND:g}")
 
 
-ENGINES: dict[str, Engine] = {
-    MujocoModel.name: Engine(MujocoModel.name, "MuJoCo (URDF importer)", load_mujoco, importer=True),
+
+
+# ------------------------------------------------------------------------------------------------ inertias
+MJMINVAL = 1e-15
+"""MuJoCo's mjMINVAL: FuseStatic adds a fixed link's mass and inertia to its parent only when its mass is at least
+this (``body->mass >= mjMINVAL``); a lighter one is dropped, inertia tensor and all."""
+MARGIN = 0.1
+"""A check on a round-off bound must stay at or below this fraction of it (the margin policy of the README): an
+agreement closer to the bound than this is explained like a disagreement."""
+
+
+@dataclass(frozen=True)
+class LinkInertia:
+    """One link's ``<inertial>`` as the file states it: mass, the tensor about the centre of mass in the link's
+    axes (the inertial's rpy applied), its principal moments (ascending) and whether the link hangs on a fixed
+    joint (engines merge such a link into its parent)."""
+
+    link: str
+    mass: float
+    xyz: tuple
+    tensor: np.ndarray
+    moments: np.ndarray
+    fixed: bool
+
+    def issues(self) -> list[str]:
+        """What is not physical about it (to the round-off of the eigenvalues)."""
+        a, b, c = self.moments
+        tol = 1e-12 * max(abs(self.moments).max(), 1e-300)   # eigvalsh's round-off
+        out = []
+        if self.mass <= 0 and np.any(self.tensor):
+            out.append("mass 0 with a non-zero inertia tensor")
+        if a < -tol:
+            out.append("not positive semi-definite")
+        elif a <= tol and np.any(self.tensor):
+            out.append("singular: a principal moment 0" + (" (rank 1)" if b <= tol else ""))
+        if a >= -tol and max(a, 0) + max(b, 0) < c - tol:
+            out.append("principal moments violate A + B >= C")
+        return out
+
+    def describe(self) -> str:
+        return (f"{self.link} (mass {self.mass:g} kg, principal moments "
+                + ", ".join(f"{m:.3g}" for m in self.moments) + " kg m²): " + "; ".join(self.issues()))
+
+
+def link_inertias(text: str, source: str = "URDF") -> list[LinkInertia]:
+    """Every link with a complete ``<inertial>`` (mass and inertia), as the file states it."""
+    from harness.compare.roundtrip import rpy_matrix
+    from harness.files.untrusted import parse_xml
+
+    root = parse_xml(text, source)
+    fixed = {j.find("child").get("link") for j in root.findall("joint")
+             if j.get("type") == "fixed" and j.find("child") is not None}
+    out = []
+    for link in root.findall("link"):
+        inertial = link.find("inertial")
+        if inertial is None or inertial.find("mass") is None or inertial.find("inertia") is None:
+            continue
+        v = {k: float(inertial.find("inertia").get(k, "0")) for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")}
+        tensor = np.array([[v["ixx"], v["ixy"], v["ixz"]], [v["ixy"], v["iyy"], v["iyz"]],
+                           [v["ixz"], v["iyz"], v["izz"]]])
+        origin = inertial.find("origin")
+        rpy = [float(t) for t in origin.get("rpy", "0 0 0").split()] if origin is not None else [0, 0, 0]
+        xyz = tuple(float(t) for t in origin.get("xyz", "0 0 0").split()) if origin is not None else (0, 0, 0)
+        R = rpy_matrix(np.array(rpy))
+        tensor = R @ tensor @ R.T
+        out.append(LinkInertia(link.get("name"), float(inertial.find("mass").get("value")), xyz, tensor,
+                               np.linalg.eigvalsh(tensor), link.get("name") in fixed))
+    return out
+
+
+def with_inertias(text: str, source: str, new: dict[str, tuple[float, np.ndarray]]) -> str:
+    """The file with the ``<inertial>`` of each link of ``new`` replaced by ``(mass, tensor in link axes)``
+    (centre of mass kept, rpy 0)."""
+    from lxml import etree
+
+    from harness.files.untrusted import parse_xml
+
+    root = parse_xml(text, source)
+    for link in root.findall("link"):
+        if link.get("name") not in new:
+            continue
+        mass, tensor = new[link.get("name")]
+        inertial = link.find("inertial")
+        origin = inertial.find("origin")
+        if origin is not None:
+            origin.set("rpy", "0 0 0")
+        inertial.find("mass").set("value", repr(float(mass)))
+        el = inertial.find("inertia")
+        for k, (i, j) in {"ixx": (0, 0), "ixy": (0, 1), "ixz": (0, 2), "iyy": (1, 1), "iyz": (1, 2),
+                          "izz": (2, 2)}.items():
+            el.set(k, repr(float(tensor[i, j])))
+    return etree.tostring(root, encoding="unicode")
+
+
+def mujoco_inertias(inertias: list[LinkInertia], bound: float, balance: bool, fused: set[str]) -> dict:
+    """What MuJoCo's compiler makes of each link's inertia (``user_objects.cc``, ``mjCBody::Compile`` then
+    ``mjCModel::FuseStatic``), for the links it changes: mass and principal moments raised to ``bound``
+    (``boundmass``, ``boundinertia``); with ``balance`` (``balanceinertia``) principal moments violating
+    A + B >= C replaced by their mean; a link of ``fused`` (a fixed link MuJoCo merged into its parent) lighter
+    than :data:`MJMINVAL` dropped, tensor and all. ``{link: (mass, tensor, what MuJoCo did)}``."""
+    out = {}
+    for li in inertias:
+        mass = max(li.mass, bound)
+        moments, axes = np.linalg.eigh(li.tensor)
+        did = []
+        if np.any(moments < bound):
+            moments = np.maximum(moments, bound)
+            did.append(f"principal moments raised to boundinertia {bound:g}")
+        if mass != li.mass:
+            did.append(f"mass raised to boundmass {bound:g}")
+        a, b, c = np.sort(moments)
+        if balance and a + b < c:
+            moments = np.full(3, moments.sum() / 3)
+            did.append(f"balanceinertia: the three principal moments replaced by their mean {moments[0]:.3g}")
+        tensor = axes @ np.diag(moments) @ axes.T
+        if li.link in fused and mass < MJMINVAL:
+            tensor, did = np.zeros((3, 3)), [f"dropped when fused into its parent (mass {mass:g} < mjMINVAL), "
+                                             "inertia tensor and all"] if np.any(li.tensor) else []
+        if did:
+            out[li.link] = (mass, tensor, "; ".join(did))
+    return out
+
+
+def mujoco_treatment(robot: Robot, view, facts: dict, bound: float) -> dict:
+    """MuJoCo's compiler on the file's inertias (:func:`mujoco_inertias`): the bound it loaded with, balanceinertia
+    when it was switched on, the fixed links it fused (those that are no MuJoCo body)."""
+    inertias = link_inertias(robot.text, robot.urdf)
+    bodies = set(view.body_names())
+    fused = {li.link for li in inertias if li.fixed and li.link not in bodies}
+    return mujoco_inertias(inertias, bound, facts.get("adjusted") == BALANCE_NOTE, fused)
+
+
+def mujoco_repair(robot: Robot, error: str):
+    """MuJoCo refuses a tensor that is not positive semi-definite ("inertia must have positive eigenvalues";
+    balanceinertia does not apply to it): those links' tensors with their negative principal moments set to 0
+    (MuJoCo's bound and balance then apply as to any other link)."""
+    if "positive eigenvalues" not in error:
+        return None
+    bad = [li for li in link_inertias(robot.text, robot.urdf) if "not positive semi-definite" in li.issues()]
+    if not bad:
+        return None
+    new = {}
+    for li in bad:
+        moments, axes = np.linalg.eigh(li.tensor)
+        new[li.link] = (li.mass, axes @ np.diag(np.maximum(moments, 0)) @ axes.T)
+    cause = ("inertia tensor not positive semi-definite: " + "; ".join(li.describe() for li in bad)
+             + ". MuJoCo refuses it (its compiler requires positive principal moments), Pinocchio computes with "
+             "it as written")
+    right = ("MuJoCo is right to refuse: no rigid body has a negative principal moment (M may even be indefinite "
+             "in Pinocchio); the file is at fault")
+    return cause, with_inertias(robot.text, robot.urdf, new), right, [li.link for li in bad]
+
+
+def drake_treatment(robot: Robot, view, facts: dict, bound: float) -> dict:
+    """Drake's parser on the file's inertias: each link it warned about (``facts['substituted']``, from the line
+    of its warning) replaced by :func:`~harness.engines.drake_engine.drake_dummy_inertia`."""
+    from harness.engines.drake_engine import drake_dummy_inertia
+
+    out = {}
+    by_link = {li.link: li for li in link_inertias(robot.text, robot.urdf)}
+    for link in facts.get("substituted", []):
+        if link in by_link:
+            mass, tensor = drake_dummy_inertia(by_link[link].mass)
+            out[link] = (mass, tensor, f"replaced by a solid sphere of density 1000 kg/m³ and mass {mass:g} kg")
+    return out
+
+
+def drake_repair(robot: Robot, error: str):
+    """Drake's parser refuses references Pinocchio never reads (it ignores ``<mimic>``, buildModel's default, and
+    ``<transmission>``): a ``<mimic>`` on a joint without degrees of freedom ("which has 0 DOF cannot mimic"), a
+    ``<mimic>`` or ``<transmission>`` naming a joint the file does not hold ("which does not exist"). The file
+    without those elements: Pinocchio's model is unchanged by it."""
+    from lxml import etree
+
+    from harness.files.untrusted import parse_xml
+
+    root = parse_xml(robot.text, robot.urdf)
+    joints = {j.get("name") for j in root.findall("joint")}
+    removed, why = [], ""
+    if "cannot mimic" in error:
+        why = "a <mimic> on a fixed joint (a joint without degrees of freedom cannot follow another)"
+        for j in root.findall("joint"):
+            if j.get("type") == "fixed" and j.find("mimic") is not None:
+                j.remove(j.find("mimic"))
+                removed.append(f"<mimic> of {j.get('name')}")
+    elif "mimic element specifies joint" in error and "does not exist" in error:
+        why = "a <mimic> naming a joint the file does not hold"
+        for j in root.findall("joint"):
+            m = j.find("mimic")
+            if m is not None and m.get("joint") not in joints:
+                j.remove(m)
+                removed.append(f"<mimic> of {j.get('name')} (joint {m.get('joint')!r})")
+    elif "Transmission specifies joint" in error and "does not exist" in error:
+        why = "a <transmission> naming a joint the file does not hold"
+        for t in root.findall("transmission"):
+            named = {j.get("name") for j in t.findall("joint")}
+            if named - joints:
+                root.remove(t)
+                removed.append(f"<transmission> {t.get('name')} (joint {', '.join(sorted(named - joints))})")
+    if not removed:
+        return None
+    cause = (f"{why}: {len(removed)} element(s), {', '.join(removed[:3])}{' …' if len(removed) > 3 else ''}. "
+             "Drake's parser refuses the file; Pinocchio ignores these elements")
+    right = ("Drake is right to refuse: the file is inconsistent there; Pinocchio's model is that of the file "
+             "without these elements")
+    return cause, etree.tostring(root, encoding="unicode"), right, removed
+
+
+DRAKE_KINDS = {
+    "inertia substituted": re.compile(r"While (parsing inertia matrix|re-expressing as central inertia)"),
+    "mimic ignored": re.compile(r"mimic|coupler", re.I),
+    "joint friction unsupported": re.compile(r"'friction' attribute"),
+    "transmission ignored": re.compile(r"transmission|mechanicalReduction", re.I),
+    "tag ignored": re.compile(r"unsupported and will be ignored"),
 }
-"""The engines compared with the reference, by name (Drake is added here by name and loader)."""
+
+
+def load_drake(robot: Robot, reference: Reference, facts: dict, findings: list[dict]):
+    """Drake's own URDF parser (:func:`harness.engines.drake_engine.load_urdf_plant`), geometry removed like for
+    MuJoCo, the root on a floating joint named like Pinocchio's for a floating base; what the parser warns is
+    recorded: an inertia it replaced (:func:`drake_treatment`) by the link its warning's line lies in."""
+    from harness.engines.drake_engine import DrakeImport, load_urdf_plant
+    from harness.files.untrusted import parse_xml
+
+    text = importer.without_geometry(robot.text, robot.urdf)
+    free = FREE_JOINT if robot.floating else None
+    plant, said = load_urdf_plant(text, f"{robot.urdf} (Drake's URDF parser)", free, reference.view.gravity)
+    view = DrakeImport(plant, reference.joints, free)
+    facts.update(view.loaded_facts())
+    links = sorted((el.sourceline, el.get("name")) for el in parse_xml(text, robot.urdf).findall("link"))
+    substituted, kinds = [], {}
+    for message in said:
+        kind = next((k for k, rx in DRAKE_KINDS.items() if rx.search(message)), "other")
+        kinds.setdefault(kind, []).append(" ".join(message.split()))
+        line = re.search(r"\.urdf:(\d+):", message)
+        if kind == "inertia substituted" and line:
+            inside = [name for start, name in links if start <= int(line.group(1))]
+            if inside:
+                substituted.append(inside[-1])
+    facts["substituted"] = substituted
+    facts["warnings"] = {k: len(v) for k, v in kinds.items()}
+    for kind, messages in kinds.items():
+        where = ", ".join(substituted[:6]) if kind == "inertia substituted" else ""
+        findings.append(_finding(f"Drake: {kind}", where, f"{len(messages)} parser warning(s), e.g. "
+                                 f"{messages[0][:300]}"))
+    if view.dofs != reference.view.dofs:
+        findings.append(_finding("dof count", "", f"Drake has {view.dofs} dofs, Pinocchio {reference.view.dofs}"))
+    return view, 0.0
+
+
+ENGINES: dict[str, Engine] = {
+    MujocoModel.name: Engine(MujocoModel.name, "MuJoCo (URDF importer)", load_mujoco, importer=True,
+                             treatment=mujoco_treatment, repair=mujoco_repair),
+    "drake": Engine("drake", "Drake (URDF parser)", load_drake, treatment=drake_treatment, repair=drake_repair),
+}
+"""The engines compared with the reference, by name."""
 REFERENCE = Engine(PinocchioModel.name, "Pinocchio", load_pinocchio)
 
 
@@ -366,11 +631,13 @@ def sweep_robot(job: tuple) -> dict:
     for engine in ENGINES.values():
         facts = {}
         record["engines"][engine.name] = facts
-        pair = {"pair": f"{REFERENCE.name}-{engine.name}", "verdict": "not compared", "worst": None,
-                "checks": [], "error": None}
+        pair = {"pair": f"{REFERENCE.name}-{engine.name}", "verdict": NOT_COMPARED, "worst": None,
+                "checks": [], "error": None, "cause": None}
         record["pairs"].append(pair)
         if reference is None:
             pair["error"] = record["error"]
+            pair["cause"] = no_robot(root, record["error"])
+            pair["verdict"] = NOT_COMPARED if pair["cause"] else NOT_COMPARED_OPEN
             continue
         try:
             view, bound = engine.load(robot, reference, facts, record["findings"])
@@ -378,75 +645,163 @@ def sweep_robot(job: tuple) -> dict:
             notes: list[str] = []
             checks = importer.compare(view, reference.view, reference.joints, reference.prismatic, states, seed,
                                       bound, forward=True, notes=notes)
-            record["findings"] += [_finding("singular mass matrix", "", n) for n in notes]
+            record["findings"] += [_finding("singular mass matrix", engine.name, n) for n in notes]
+            record["findings"] += [_finding(f"{engine.label}: forward dynamics refused", "", (
+                f"{m} (at the states where the reference's M is singular too: q̈ not compared there)"))
+                for m in sorted(getattr(view, "refusals", ()))[:3]]
         except (ModelError, EngineError) as exc:
             pair["error"] = str(exc)
+            pair["cause"] = explain_refusal(engine, robot, str(exc), states, seed)
+            pair["verdict"] = (DISAGREE_EXPLAINED if pair["cause"] and pair["cause"]["proven"]
+                               else NOT_COMPARED_OPEN)
             continue
         pair["checks"] = checks
         pair["worst"] = _worst(checks)
-        pair["verdict"] = "agree" if all(c["passed"] for c in checks) else "disagree"
-        if pair["verdict"] == "disagree":
-            pair["explanation"] = explain(record["findings"], facts)
+        passed = all(c["passed"] for c in checks)
+        if passed and pair["worst"]["ratio"] <= MARGIN:
+            pair["verdict"] = AGREE
+            continue
+        pair["cause"] = explain(engine, robot, reference, view, bound, facts, states, seed)
+        proven = bool(pair["cause"] and pair["cause"]["proven"])
+        pair["verdict"] = (AGREE if passed and proven else AGREE_NEAR_BOUND_OPEN if passed
+                           else DISAGREE_EXPLAINED if proven else DISAGREE_OPEN)
     try:
         record["findings"] += file_findings(robot, reference, imported)
     except ModelError as exc:
         record["findings"].append(_finding("file", "", str(exc)))
-    for pair in record["pairs"]:
-        if pair["verdict"] == "disagree" and pair.get("explanation") == OPEN:
-            pair["explanation"] = explain(record["findings"], record["engines"].get(pair["pair"].split("-", 1)[1], {}))
-        elif pair["verdict"] == "not compared":
-            pair["explanation"] = not_compared(pair["error"] or "")
     record["seconds"] = round(time.perf_counter() - start, 2)
     return record
 
 
-OPEN = "open: no known cause"
+AGREE, DISAGREE_EXPLAINED, DISAGREE_OPEN = "agree", "disagree-explained", "disagree-open"
+NOT_COMPARED, NOT_COMPARED_OPEN = "not compared", "not compared-open"
+AGREE_NEAR_BOUND_OPEN = "agree-near-bound-open"
+VERDICTS = (AGREE, DISAGREE_EXPLAINED, DISAGREE_OPEN, NOT_COMPARED, NOT_COMPARED_OPEN, AGREE_NEAR_BOUND_OPEN)
+OPEN_VERDICTS = frozenset({DISAGREE_OPEN, NOT_COMPARED_OPEN, AGREE_NEAR_BOUND_OPEN})
+"""A pair is open when the engines disagree (or one refuses the file, or they agree closer to the bound than
+:data:`MARGIN`) and no cause was proven: ``harness robots`` then exits 1."""
 
 
-def explain(findings: list[dict], facts: dict) -> str:
-    """Why the engines disagree on a robot, when a known cause is among its findings (else :data:`OPEN`)."""
-    kinds = {f["kind"] for f in findings}
-    why = []
-    if facts.get("adjusted") == BALANCE_NOTE:
-        why.append("the file's inertias violate A + B >= C: MuJoCo refuses them and its balanceinertia changes "
-                   "them, Pinocchio takes them as written (the file is at fault; Pinocchio reproduces it)")
-    if "zero mass with inertia" in kinds:
-        why.append("links of mass 0 with a non-zero inertia tensor: MuJoCo drops the tensor when it fuses the fixed "
-                   "link, Pinocchio keeps it (the file is not physical; Pinocchio reproduces it)")
-    return "; ".join(why) or OPEN
+def _ratio(checks: list[dict]) -> float:
+    return max((c["ratio"] for c in checks), default=0.0)
 
 
-def not_compared(error: str) -> str:
-    if "positive eigenvalues" in error:
-        return ("a full inertia tensor of the file is not positive definite: MuJoCo refuses it (balanceinertia does "
-                "not apply to it), Pinocchio takes it as written; MuJoCo is right to refuse")
-    if "no <link>" in error:
-        return "the file is empty (an unexpanded xacro stub): no robot"
-    return OPEN
+def explain(engine: Engine, robot: Robot, reference: Reference, view, bound: float, facts: dict, states: int,
+            seed: int) -> dict | None:
+    """Why the engine does not agree with the reference on ``robot`` (or agrees closer to the bound than
+    :data:`MARGIN`): the inertias the engine changed (:attr:`Engine.treatment`, derived from the file and what the
+    engine reported), given to the reference too; the cause is **proven** when the reference then agrees with the
+    engine within :data:`MARGIN` of the bound, at the same states. None when the engine changed nothing."""
+    changed = engine.treatment(robot, view, facts, bound) if engine.treatment else {}
+    if not changed:
+        return None
+    by_link = {li.link: li for li in link_inertias(robot.text, robot.urdf)}
+    text = with_inertias(robot.text, robot.urdf, {k: v[:2] for k, v in changed.items()})
+    try:
+        ref = REFERENCE.load(Robot(robot.name, robot.path, text, robot.floating), {}, [])
+        checks = importer.compare(view, ref.view, reference.joints, reference.prismatic, states, seed, bound,
+                                  forward=True)
+    except (ModelError, EngineError) as exc:
+        return {"cause": f"not proven: the reference refused the emulated file ({exc})", "right": "", "links": [],
+                "proven": False, "after": None}
+    links = sorted(({"link": k, "issues": by_link[k].issues() if k in by_link else [], "did": v[2]}
+                    for k, v in changed.items()), key=lambda x: not x["issues"])   # the non-physical first
+    unphysical = [x for x in links if x["issues"]]
+    after = _ratio(checks)
+    proven = all(c["passed"] for c in checks) and after <= MARGIN
+    what = "; ".join(f"{x['link']}: {', '.join(x['issues']) or 'physical'} → {x['did']}" for x in links[:6])
+    what += f" (and {len(links) - 6} more)" if len(links) > 6 else ""
+    cause = (f"{engine.label} changes the inertia of {len(links)} link(s) the file states "
+             f"({len(unphysical)} of them not physical): {what}. With the same changes Pinocchio agrees with it: "
+             f"worst ratio {after:.2g} ≤ {MARGIN:g}" if proven else
+             f"{engine.label} changes the inertia of {len(links)} link(s) ({what}), but with the same changes the "
+             f"engines still differ (worst ratio {after:.2g}): the cause is elsewhere")
+    substituted = [x for x in links if not x["did"].startswith(("principal moments raised", "mass raised"))]
+    right = "" if not proven else (
+        "the file is at fault (no rigid body has these inertias): Pinocchio computes the file as written, "
+        f"{engine.label} a physical body in its place (its documented treatment); neither engine errs"
+        if substituted else
+        f"both, to the bound: Pinocchio computes the file as written, {engine.label} raised the principal moments "
+        f"below its lower bound {bound:g} kg m² to it (a documented treatment; a principal moment 0 is the limit "
+        "of an infinitely thin body, which MuJoCo does not accept as is)")
+    return {"cause": cause, "right": right, "links": links, "proven": proven, "after": after}
+
+
+REPAIRS = 4
+"""Refusals repaired one after the other at most (:func:`explain_refusal`)."""
+
+
+def explain_refusal(engine: Engine, robot: Robot, error: str, states: int, seed: int) -> dict | None:
+    """Why the engine refuses a file Pinocchio reads: the cause found in the file (:attr:`Engine.repair`), proven
+    when, with that cause repaired for both engines, they agree (the engine's own treatment of the rest explained
+    by :func:`explain`)."""
+    found = engine.repair(Robot(robot.name, robot.path, robot.text, robot.floating), error) if engine.repair else None
+    if not found:
+        return None
+    cause, text, right, links = found
+    for _ in range(REPAIRS):  # one refusal at a time: a repaired file may show the engine's next one
+        repaired = Robot(robot.name, robot.path, text, robot.floating)
+        try:
+            ref = REFERENCE.load(repaired, {}, [])
+            facts: dict = {}
+            view, bound = engine.load(repaired, ref, facts, [])
+            checks = importer.compare(view, ref.view, ref.joints, ref.prismatic, states, seed, bound, forward=True)
+            break
+        except (ModelError, EngineError) as exc:
+            more = engine.repair(repaired, str(exc))
+            if not more:
+                return {"cause": cause + f"; not proven: the repaired file fails too ({exc})", "right": right,
+                        "links": links, "proven": False, "after": None}
+            cause, text, links = f"{cause}; then {more[0]}", more[1], links + more[3]
+            right = right if more[2] in right else f"{right}; {more[2]}"
+    else:
+        return {"cause": cause + "; not proven: still refused", "right": right, "links": links, "proven": False,
+                "after": None}
+    after = _ratio(checks)
+    proven = all(c["passed"] for c in checks) and after <= MARGIN
+    rest = None
+    if not proven:
+        rest = explain(engine, repaired, ref, view, bound, facts, states, seed)
+        proven = bool(rest and rest["proven"])
+        after = rest["after"] if rest else after
+    cause += (f". With it repaired in the file both engines read, they agree (worst ratio {after:.2g}"
+              + (f", after: {rest['cause']}" if rest else "") + ")") if proven else \
+        f". With it repaired they still differ (worst ratio {after:.2g}): the cause is elsewhere"
+    return {"cause": cause, "right": right, "links": links, "proven": proven, "after": after}
+
+
+def no_robot(root, error: str) -> dict | None:
+    """The reference cannot load the file: explained when the file holds no link (no robot to compare)."""
+    if root.find("link") is None:
+        return {"cause": "the file holds no <link> (an unexpanded xacro stub): no robot; no engine can load it",
+                "right": "every engine: there is nothing to compare", "links": [], "proven": True, "after": None}
+    return None
 
 
 def lost(job: tuple, reason: str) -> dict:
     name, path = job[0], job[1]
     return {"robot": name, "urdf": str(path), "floating": name in FLOATING, "base": "floating" if name in FLOATING
             else "fixed", "dof": None, "engines": {}, "findings": [], "error": reason, "seconds": None,
-            "pairs": [{"pair": f"{REFERENCE.name}-{e}", "verdict": "not compared", "worst": None, "checks": [],
-                       "error": reason} for e in ENGINES]}
+            "pairs": [{"pair": f"{REFERENCE.name}-{e}", "verdict": NOT_COMPARED_OPEN, "worst": None, "checks": [],
+                       "error": reason, "cause": None} for e in ENGINES]}
 
 
 # ------------------------------------------------------------------------------------------------ documents
 def document(records: list[dict], states: int, seed: int, seconds: float, jobs: int, command: str) -> dict:
     pairs = [f"{REFERENCE.name}-{e}" for e in ENGINES]
-    summary = {p: {"agree": 0, "disagree": 0, "not compared": 0} for p in pairs}
+    summary = {p: dict.fromkeys(VERDICTS, 0) for p in pairs}
     for r in records:
         for p in r["pairs"]:
             summary[p["pair"]][p["verdict"]] += 1
+    open_pairs = [f"{r['robot']} {p['pair']}" for r in records for p in r["pairs"] if p["verdict"] in OPEN_VERDICTS]
     return {"schema": SCHEMA, "command": command,
-            "versions": {"mujoco": MUJOCO_VERSION, "pinocchio": PINOCCHIO_VERSION,
+            "versions": {"mujoco": MUJOCO_VERSION, "pinocchio": PINOCCHIO_VERSION, "drake": _drake_version(),
                          "example-robot-data": _package_version()},
             "seed": seed, "states": states, "tolerance": importer.TOLERANCE,
             "tolerance_reason": importer.TOLERANCE_REASON + "; qdd times kappa(M)",
             "reference": REFERENCE.name, "engines": {e.name: e.label for e in [REFERENCE, *ENGINES.values()]},
-            "pairs": pairs, "summary": summary, "seconds": round(seconds, 1), "jobs": jobs,
+            "pairs": pairs, "summary": summary, "open": open_pairs, "margin": MARGIN,
+            "seconds": round(seconds, 1), "jobs": jobs,
             "robots": records}
 
 
@@ -459,10 +814,25 @@ def _package_version() -> str:
         return "?"
 
 
+def _drake_version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("drake")
+    except PackageNotFoundError:
+        return "?"
+
+
 def verdict_cell(pair: dict) -> str:
-    if pair["verdict"] == "not compared":
-        return "not compared"
     return pair["verdict"]
+
+
+def cause_cell(pair: dict) -> str:
+    """Why a pair does not simply agree: the cause and who is right (empty when it agrees within the margin)."""
+    c = pair.get("cause")
+    if not c:
+        return f"{pair['error']}" if pair.get("error") else ""
+    return c["cause"] + (f" Right: {c['right']}." if c.get("right") else "")
 
 
 def worst_cell(pair: dict) -> str:
@@ -484,7 +854,7 @@ def line(record: dict) -> str:
     """One console line per robot."""
     pairs = ", ".join(f"{p['pair']} {p['verdict']}"
                       + (f" (worst {worst_cell(p)})" if p.get("worst") else "")
-                      + (f": {p['error']}" if p.get("error") and p["verdict"] == "not compared" else "")
+                      + (f": {p['error']}" if p.get("error") and p["verdict"] in OPEN_VERDICTS else "")
                       for p in record["pairs"])
     kinds = sorted({f["kind"] for f in record["findings"]})
     return (f"{record['robot']}: {record['dof'] if record['dof'] is not None else '?'} dof, {record['base']}; "
@@ -499,28 +869,34 @@ def _cell(text: str) -> str:
 def markdown(doc: dict) -> str:
     labels = doc["engines"]
     out = [f"# Every robot of example-robot-data {doc['versions']['example-robot-data']}, across the engines", "",
-           f"MuJoCo {doc['versions']['mujoco']} (its own URDF importer, geometry removed) against Pinocchio "
+           f"MuJoCo {doc['versions']['mujoco']} (its own URDF importer) and Drake {doc['versions'].get('drake', '?')} "
+           "(its URDF parser, a continuous MultibodyPlant), geometry removed, each against Pinocchio "
            f"{doc['versions']['pinocchio']} (reference) reading the same URDF: M, bias, C·q̇, g and forward "
            f"dynamics q̈ at {doc['states']} random states (seed {doc['seed']}), joints matched by name, floating "
-           "bases in Pinocchio's free-flyer coordinates (MuJoCo's free joint: linear velocity in world axes, "
-           "mapped); mass, first moment and inertia of what each joint moves. Tolerance "
+           "bases in Pinocchio's free-flyer coordinates (MuJoCo's free joint and Drake's QuaternionFloatingJoint: "
+           "velocities in world axes, mapped); mass, first moment and inertia of what each joint moves. Tolerance "
            f"{doc['tolerance']:.0e} of each quantity's scale ({doc['tolerance_reason']}). Worst: the check with the "
-           "largest ratio error / bound. Warnings: MuJoCo stepping each robot 1 s with small noise torques. "
+           "largest ratio error / bound. Verdicts: agree (within the bound and within "
+           f"{doc.get('margin', MARGIN):g} of it); disagree-explained (the cause detected in the file and proven: "
+           "the reference given the engine's changes agrees with it); disagree-open, not compared-open, "
+           "agree-near-bound-open (no cause proven: the command fails). Warnings: MuJoCo stepping each robot 1 s "
+           "with small noise torques. "
            f"Generated by `{doc['command']}` in {doc['seconds']} s with {doc['jobs']} process(es).", ""]
     for pair, s in doc["summary"].items():
         ref, other = pair.split("-", 1)
-        out.append(f"- {labels[ref]} – {labels[other]}: {s['agree']} agree, {s['disagree']} disagree, "
-                   f"{s['not compared']} not compared")
+        out.append(f"- {labels[ref]} – {labels[other]}: " + ", ".join(f"{n} {v}" for v, n in s.items() if n))
+    out.append(f"- open: {', '.join(doc.get('open', [])) or 'none'}")
     header = ["robot", "DoF", "base"] + [f"{labels[p.split('-', 1)[0]]}–{labels[p.split('-', 1)[1]]}"
-                                         for p in doc["pairs"]] + ["worst (error / bound = ratio)", "why (when not agreeing)",
-                                                                   "time s", "MuJoCo warnings", "findings"]
+                                         for p in doc["pairs"]] + ["worst (error / bound = ratio)",
+                                                                   "why (cause; who is right)", "time s",
+                                                                   "MuJoCo warnings", "findings"]
     out += ["", "| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     for r in doc["robots"]:
         kinds = sorted({f["kind"] for f in r["findings"]})
         cells = [r["robot"], r["dof"] if r["dof"] is not None else "?", r["base"]]
         cells += [verdict_cell(p) for p in r["pairs"]]
         cells += ["; ".join(worst_cell(p) for p in r["pairs"]),
-                  "; ".join(p["explanation"] for p in r["pairs"] if p.get("explanation")) or "–",
+                  " ".join(f"{p['pair']}: {cause_cell(p)}" for p in r["pairs"] if cause_cell(p)) or "–",
                   r["seconds"], warnings_cell(r), ", ".join(kinds)]
         out.append("| " + " | ".join(_cell(c) for c in cells) + " |")
     out += ["", "## Per robot", ""]
@@ -531,7 +907,7 @@ def markdown(doc: dict) -> str:
             out.append(f"- not loaded: {_cell(r['error'])}")
         for p in r["pairs"]:
             out.append(f"- {p['pair']}: {p['verdict']}" + (f" — {_cell(p['error'])}" if p["error"] else "")
-                       + (f" (why: {p['explanation']})" if p.get("explanation") else ""))
+                       + (f" (why: {_cell(cause_cell(p))})" if p.get("cause") else ""))
             for c in p["checks"]:
                 if not c["passed"]:
                     out.append(f"  - {importer.finding(c)} at {_cell(c['worst_state'])}")

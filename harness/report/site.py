@@ -24,6 +24,7 @@ OPTIONAL_PAGES = (
     ("hard.html", "Hard cases", "hard.json", "hard.md", "hard"),
     ("bench.html", "Benchmarks", "bench.json", "bench.md", "bench"),
     ("importer.html", "Importer findings", "importer.json", "importer.md", None),
+    ("robots.html", "Robots", "robots.json", "robots.md", None),  # harness robots: one table over all robots
     ("changes.html", "Changes", "changes.json", "changes.md", None),  # harness check --baseline
 )
 
@@ -190,7 +191,8 @@ def _stale(folder: Path, keep: set[str], pattern: str) -> None:
 
 
 def build_site(out: Path | str, catalogue=None, progress=None) -> dict:
-    """Render the site from ``out/results.json`` (+ claims.json, hard.json, bench.json, importer.json); the
+    """Render the site from ``out/results.json`` (+ claims.json, hard.json, bench.json, importer.json,
+    robots.json); the
     model pages from ``catalogue`` (:class:`harness.catalogue.Catalogue`; without one, the recorded results
     only). Returns {"pages": [...], "failed": {system: reason}}."""
     progress = sys.stderr if progress is None else progress
