@@ -8,15 +8,15 @@ inertia tensors about their centres of mass are diagonal in the body frames (5.2
 
 A linear spring (``c_e``, ``s_0e``) and a linear damper (``d_e``) connect the end effector with the fixed
 bearing ``A`` at ``p_0^A = [l_0A, h_0A, 0]`` (5.29). Both act along the line between the two points, as a
-spring/damper element does (the spring's potential uses the length ``|r_e|``). Note: (5.109) writes the
-damper force as ``d_e ṙ_e`` (the full relative velocity, not only its component along ``r_e``); the harness
-models the axial element and reports (5.109)/(5.110) against it. Viscous friction ``d_2`` acts in joint 2,
+spring/damper element does (the spring's potential uses the length ``|r_e|``, (5.30)). (5.109) prints the
+damper force as ``d_e ṙ_e`` (the full relative velocity, not only its component along ``r_e``); the claims of
+(5.109) and (5.110) are transcribed as printed and checked against the element. Viscous friction ``d_2`` acts in joint 2,
 motor torques ``tau_1``, ``tau_2`` in joints 1 and 2 (5.111).
 """
 
 from sympy import Matrix, cos, sin, sqrt
 
-from harness.modeling import (WORLD, Claim, Printed, Constant, Coordinate, Damper, Gravity, Inertia, Input, Joint, JointDamper,
+from harness.modeling import (WORLD, Claim, Printed, printed_matrix, Constant, Coordinate, Damper, Gravity, Inertia, Input, Joint, JointDamper,
                               JointInput, Link, Parameter, Point, Scene, Spring, Step, System, standard_gravity)
 
 m_1 = Parameter("m_1", 2.0, "kg", "mass of link 1")
@@ -97,6 +97,15 @@ CLAIMS = [
     Claim("(5.112)", "C", Matrix([
         [-m_2 * l_1 * l_s2 * s_2 * w_2, -m_2 * l_1 * l_s2 * s_2 * (w_1 + w_2)],
         [-m_2 * l_1 * l_s2 * s_2 * w_1, 0]]), "Coriolis matrix 'for checking'"),
+    Claim("(5.109)", "force:damper_e", d_e * Matrix([
+        l_2 * sin(phi_1 + phi_2) * (w_1 + w_2) + l_1 * sin(phi_1) * w_1,
+        -l_2 * cos(phi_1 + phi_2) * (w_1 + w_2) - l_1 * cos(phi_1) * w_1, 0]),
+          "force of the damper on the end effector, printed as d_e r_e' with r_e of (5.29)",
+          defines=printed_matrix("f_de", 3, 1, "N", "the damper force (5.109), used by (5.110)")),
+    Claim("(5.110)", "f_np:damper_e", d_e * Matrix([
+        -l_1**2 * w_1 - l_1 * l_2 * (2 * w_1 + w_2) * c_2 - l_2**2 * (w_1 + w_2),
+        -l_1 * l_2 * w_1 * c_2 - l_2**2 * (w_1 + w_2)]),
+          "generalized force of the damper, ((J_v)_0^e2)^T f_de", ingredients=("(5.109)",)),
 ]
 
 SCENES = [

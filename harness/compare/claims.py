@@ -104,6 +104,10 @@ def _derive_claimed(system: System, claim: Claim):
         from harness.compare.errata import element_force
 
         expr = element_force(system, claim.quantity.split(":", 1)[1])
+    elif kind == "f_np" and ":" in claim.quantity:
+        from harness.compare.errata import element_generalized_force
+
+        expr = element_generalized_force(system, claim.quantity.split(":", 1)[1])
     elif kind == "parameter":
         expr = sp.sympify(claim.reference)
     elif kind == "Cqd":

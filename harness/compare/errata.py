@@ -29,7 +29,7 @@ import time
 import sympy as sp
 
 from harness.modeling.claims import Claim, as_matrix
-from harness.modeling.system import Point, Spring, System
+from harness.modeling.system import Damper, Point, Spring, System
 
 HOLDS = ("confirmed", "C differs, C·q̇ agrees")
 SYMBOLIC_BUDGET = 2.0      # seconds of symbolic reduction per claim
@@ -42,16 +42,38 @@ _VERDICTS: dict = {}
 
 # ----------------------------------------------------------------------------- derived quantities
 def element_force(system: System, name: str) -> sp.Matrix:
-    """The force vector the spring ``name`` exerts on its point ``b``: ``−c (l − l_0) r/l`` with
-    ``r = p_b − p_a``, ``l = |r|`` (3.84), in the inertial frame and lecture coordinates."""
+    """The force vector the spring or damper ``name`` exerts on its point ``b``, in the inertial frame and lecture
+    coordinates, along ``r = p_b − p_a`` (``l = |r|``): a spring ``−c (l − l_0) r/l`` (3.84), a damper
+    ``−d l̇ r/l`` with ``l̇ = rᵀ ṙ / l`` (an element acts along its line)."""
+    element = _point_element(system, name)
+    r, length = _element_vector(system, element)
+    if isinstance(element, Spring):
+        return -element.stiffness * (length - element.rest_length) * r / length
+    r_dot = r.jacobian(system.q) * sp.Matrix(system.qd)
+    return -element.damping * (r.T * r_dot)[0] / length * r / length
+
+
+def element_generalized_force(system: System, name: str, force=None) -> sp.Matrix:
+    """The generalized force of the spring or damper ``name`` (5.58), (5.73): ``J_rᵀ f`` with ``J_r = ∂r/∂q`` and
+    ``f`` its force on ``b`` (:func:`element_force`; ``force``: another force vector, e.g. a printed one)."""
+    element = _point_element(system, name)
+    r, _ = _element_vector(system, element)
+    f = element_force(system, name) if force is None else as_matrix(force)
+    return r.jacobian(system.q).T * f
+
+
+def _point_element(system: System, name: str):
+    for f in system.forces:
+        if isinstance(f, (Spring, Damper)) and f.name == name:
+            return f
+    raise ValueError(f"{system.name}: no spring or damper named {name!r} for a force claim")
+
+
+def _element_vector(system: System, element) -> tuple[sp.Matrix, sp.Expr]:
     from harness.compare.claims import _position
 
-    for f in system.forces:
-        if isinstance(f, Spring) and f.name == name:
-            r = _position(system, f.b) - _position(system, f.a)
-            length = sp.sqrt((r.T * r)[0])
-            return -f.stiffness * (length - f.rest_length) * r / length
-    raise ValueError(f"{system.name}: no spring named {name!r} for a force claim")
+    r = _position(system, element.b) - _position(system, element.a)
+    return r, sp.sqrt((r.T * r)[0])
 
 
 def _point_or_none(value):
@@ -139,10 +161,29 @@ def _classify(system, claim, engines, examples, claims):
                 verdict.classification, verdict.blame = "follows from erratum", wrong
                 verdict.decided_by = decide(system, claim, derived)
                 return verdict
+            if _follows_from_printed(system, claim, claims, printed):
+                verdict.classification, verdict.blame = "follows from erratum", wrong
+                verdict.decided_by = "symbolic"
+                return verdict
             verdict = again  # its own mistake, judged with the corrected ingredients
             verdict.blame = wrong
     verdict.decided_by = _decided(system, claim, verdict, verdict.substitution or printed)
     return verdict
+
+
+def _follows_from_printed(system, claim, claims, printed) -> bool:
+    """Whether the claim is, exactly, what its printed ingredients give (symbolic cascade): an element's
+    generalized force ``J_rᵀ f`` (5.73) printed from the element's printed force ``f``, written out. Such a claim
+    repeats its ingredient's mistake and is not one of its own."""
+    kind, _, name = claim.quantity.partition(":")
+    if kind != "f_np" or not name:
+        return False
+    for ingredient in ingredients_of(claim, claims):
+        if ingredient.quantity == f"force:{name}":
+            force = as_matrix(ingredient.printed).xreplace(printed)
+            expected = element_generalized_force(system, name, force)
+            return is_zero(as_matrix(claim.printed).xreplace(printed) - expected)
+    return False
 
 
 def _decided(system, claim, verdict, subst) -> str:

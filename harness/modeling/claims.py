@@ -12,8 +12,9 @@ from harness.modeling.system import Declared, System, plain
 
 ENGINE_QUANTITIES = {"M", "C", "Cqd", "g"}
 QUANTITIES = ENGINE_QUANTITIES | {"f_np", "T", "V", "eom", "parameter", "equilibrium"}
-# kinds with an argument: "position:<point>", "force:<spring>" (the force vector the element exerts on its point b)
-KINDS_WITH_ARGUMENT = {"position", "force"}
+# kinds with an argument: "position:<point>", "force:<element>" (the force vector a spring or damper exerts on its
+# point b), "f_np:<element>" (that element's generalized force alone; plain "f_np" is the whole vector)
+KINDS_WITH_ARGUMENT = {"position", "force", "f_np"}
 
 
 class Printed(Declared):

@@ -136,7 +136,8 @@ def finding(system, verdict, claims) -> dict:
     delta = lecture_form(derived - printed_model.reshape(*derived.shape), keep, relations)
     out["difference"] = str(delta if delta.shape != (1, 1) else delta[0])
     out["difference_mathml"] = mathml(delta[0] if delta.shape == (1, 1) else delta)
-    out["sentence"] = sentence(claim, printed_shown, corrected, verdict)
+    out["sentence"] = (along_the_line(system, claim, printed_model, derived) or
+                       sentence(claim, printed_shown, corrected, verdict))
     out["counterexample_reduced"] = reduced_counterexample(system, claim, verdict, delta, relations)
     return out
 
@@ -159,6 +160,33 @@ def _scaled_like(printed, derived, system):
     return sp.Matrix(rows).reshape(*derived.shape)
 
 
+def along_the_line(system, claim, printed, derived) -> str | None:
+    """For the force of a spring or damper: the sentence when the derived force is the printed one's component
+    along the element's line ``r`` (``r rᵀ f / rᵀ r``), tested at random values of every symbol."""
+    import random
+
+    from harness.compare.errata import _element_vector, _point_element
+
+    kind, _, name = claim.quantity.partition(":")
+    if kind != "force":
+        return None
+    r, _ = _element_vector(system, _point_element(system, name))
+    projected = r * (r.T * printed)[0] / (r.T * r)[0]
+    symbols = sorted((projected - derived).free_symbols, key=str)
+    rng = random.Random(0)
+    for _ in range(3):
+        at = {x: rng.uniform(0.3, 1.7) for x in symbols}
+        if any(abs(complex(e.xreplace(at).evalf())) > 1e-9 * (1 + abs(complex(d.xreplace(at).evalf())))
+               for e, d in zip(projected - derived, derived)):
+            return None
+    return (f"{claim.equation}: a {type(_point_element(system, name)).__name__.lower()} acts along its line: only the "
+            f"component of the printed force along r (r rᵀ f / rᵀ r) is its force; the printed vector also has the "
+            f"component across the line.")
+
+
+SHORT = 160   # characters of an expression a sentence may quote
+
+
 def sentence(claim, printed, corrected, verdict) -> str:
     """One sentence: a wrong sign, the entries that differ, or the terms that should read otherwise."""
     where = claim.equation
@@ -173,6 +201,8 @@ def sentence(claim, printed, corrected, verdict) -> str:
                 at = f"({i + 1}, {j + 1})" if printed.cols > 1 else f"{i + 1}"
                 if sp.expand(printed[i, j] + corrected[i, j]) == 0:
                     parts.append(f"entry {at} has the wrong sign (it is {corrected[i, j]})")
+                elif len(str(corrected[i, j])) > SHORT:
+                    parts.append(f"entry {at} differs (the corrected expression is shown in full)")
                 else:
                     parts.append(f"entry {at} should read {corrected[i, j]}, not {printed[i, j]}")
             return f"{where}: " + "; ".join(parts) + "."
