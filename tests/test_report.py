@@ -100,3 +100,23 @@ def test_markdown_bold_and_italic_beside_links():
 
     html = markdown_html("| goal | met |\n|---|---|\n| a | **no** |\n\n*x* [l](bench.md)")
     assert "<b>no</b>" in html and "<i>x</i>" in html and '<a href="bench.md">l</a>' in html
+
+
+def test_a_scene_shows_the_work_precision_the_bench_measured(tmp_path):
+    """The system page's work-precision of a scene: the bench's diagram (inside the report folder only) and the
+    fastest configuration per source at the bench's accuracy; nothing where the bench has not run the scene."""
+    from harness.report.site import work_precision
+
+    (tmp_path / "bench").mkdir()
+    (tmp_path / "bench" / "pendulum-swing.svg").write_text("<svg xmlns='http://www.w3.org/2000/svg'/>")
+    row = {"configuration": "symbolic DOP853 rtol=1e-09", "seconds": 0.0123456, "error": 4.2e-07, "evaluations": 88}
+    bench = {"command": "harness bench --out reports", "generated": "2026-01-01", "machine": {"cpus": 2},
+             "workprecision": {"accuracy": 1e-06, "scenes": [
+                 {"system": "pendulum", "scene": "swing", "figure": "bench/pendulum-swing.svg",
+                  "summary": {"fastest_at_accuracy": {"symbolic": row, "mujoco": None}}},
+                 {"system": "pendulum", "scene": "outside", "figure": "../elsewhere.svg", "summary": {}}]}}
+    view = work_precision(bench, tmp_path, "pendulum", "swing")
+    assert view["figure"] == "bench/pendulum-swing.svg" and view["accuracy"] == 1e-06
+    assert [r["source"] for r in view["fastest"]] == ["symbolic"] and view["fastest"][0]["seconds"] == "0.01235"
+    assert work_precision(bench, tmp_path, "pendulum", "outside")["figure"] is None
+    assert work_precision(bench, tmp_path, "pendulum", "unknown") is None and work_precision(None, tmp_path, "p", "s") is None

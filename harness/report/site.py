@@ -67,8 +67,30 @@ def _check_view(c: dict) -> dict:
             "error": value, "tolerance": bound, "ratio": ratio, "basis": c.get("basis", "")}
 
 
-def system_view(record: dict, claims: list[dict], out: Path, figures: set) -> dict:
-    """What the index and the system page show of one record; figures are rendered into ``out/figures``."""
+def work_precision(bench: dict | None, out: Path, system: str, scene: str) -> dict | None:
+    """The work-precision of one scene as ``harness bench`` measured it (``out/bench.json``): its diagram and the
+    fastest configuration per source at the bench's accuracy; None where the bench has not run it."""
+    if not bench:
+        return None
+    study = bench.get("workprecision") or {}
+    found = next((sc for sc in study.get("scenes") or [] if sc.get("system") == system and sc.get("scene") == scene),
+                 None)
+    if found is None:
+        return None
+    figure = found.get("figure")
+    fastest = [{"source": source, "configuration": row["configuration"], "error": _scalar(row["error"]),
+                "seconds": _scalar(row["seconds"]), "evaluations": row.get("evaluations", "")}
+               for source, row in ((found.get("summary") or {}).get("fastest_at_accuracy") or {}).items() if row]
+    machine = bench.get("machine") or {}
+    return {"figure": figure if figure and _inside(out, figure) and (out / figure).is_file() else None,
+            "fastest": fastest, "accuracy": study.get("accuracy"), "command": bench.get("command", "harness bench"),
+            "generated": bench.get("generated", "?"),
+            "machine": f"{machine.get('cpus', '?')} CPUs, {machine.get('platform', '?')}"}
+
+
+def system_view(record: dict, claims: list[dict], out: Path, figures: set, bench: dict | None = None) -> dict:
+    """What the index and the system page show of one record; figures are rendered into ``out/figures``; the
+    scenes' work-precision comes from ``bench`` (``out/bench.json``) where it has them."""
     from harness.report.figures import render_scene_figure
 
     name = record["system"]
@@ -83,7 +105,8 @@ def system_view(record: dict, claims: list[dict], out: Path, figures: set) -> di
                 "passed": bool(sc.get("passed")), "notes": sc.get("notes") or {},
                 "checks": [_check_view(c) for c in sc.get("checks", [])], "figure": None,
                 "figure_note": "", "series": sc.get("series"), "strip": None, "strip_size": (0, 0),
-                "strip_sources": [], "strip_note": ""}
+                "strip_sources": [], "strip_note": "",
+                "work_precision": work_precision(bench, out, name, sc.get("scene", "?"))}
         series = sc.get("series")
         if series and (out / series).is_file():
             target = f"figures/{name}.{view['scene']}.svg"
@@ -201,6 +224,7 @@ def build_site(out: Path | str, catalogue=None, progress=None) -> dict:
     out = Path(out)
     doc = load_results(out) or {"systems": [], "versions": {}, "tolerance_policy": "", "passed": False}
     claims_doc = _read_json(out / "claims.json")
+    bench = _read_json(out / "bench.json")
     claims = claims_doc if isinstance(claims_doc, list) else []
     by_system: dict[str, list] = {}
     for c in claims:
@@ -237,7 +261,7 @@ def build_site(out: Path | str, catalogue=None, progress=None) -> dict:
         print(f"[{k}/{len(records)}] page {name}", file=progress, flush=True)
         model = None
         try:
-            view = system_view(record, by_system.get(name, []), out, figures)
+            view = system_view(record, by_system.get(name, []), out, figures, bench)
             if name in systems:
                 system = systems[name]
                 model = model_view(system)

@@ -174,6 +174,12 @@ number follows (compared in <a href="#claims">Printed equations</a>).</p>
 {% elif sc.strip_note %}<p><small>{{ sc.strip_note }}</small></p>{% endif %}
 {% if sc.figure %}<p><img class="figure" src="../{{ sc.figure }}" alt="trajectories, error and energy of {{ s.name }} {{ sc.scene }}"></p>
 {% elif sc.figure_note %}<p><small>{{ sc.figure_note }}</small></p>{% endif %}
+{% set wp = sc.work_precision %}{% if wp %}<h4>Accuracy costs time: work-precision of {{ sc.scene }}</h4>
+{% if wp.figure %}<p><img class="figure" src="../{{ wp.figure }}" alt="work-precision diagram of {{ s.name }} {{ sc.scene }}: error against wall time per configuration"></p>{% endif %}
+{% if wp.fastest %}<table><tr><th>source</th><th>fastest configuration with error ≤ {{ wp.accuracy }}</th><th>error</th><th>seconds</th><th>q̈ evaluations</th></tr>
+{% for row in wp.fastest %}<tr><td>{{ row.source }}</td><td>{{ row.configuration }}</td><td class="num">{{ row.error }}</td><td class="num">{{ row.seconds }}</td><td class="num">{{ row.evaluations }}</td></tr>{% endfor %}</table>{% endif %}
+<p><small>Measured by <code>{{ wp.command }}</code> on {{ wp.generated }} ({{ wp.machine }}); timings are of that machine, the errors of any (<a href="../bench.html">Benchmarks</a>).</small></p>
+{% endif %}
 {% else %}<p>No scene results in results.json{% if model and model.scene_names %} (declared scenes: {{ model.scene_names|join(", ") }}; they appear once <code>harness check</code> simulates them){% endif %}.</p>{% endfor %}
 <h2 id="claims">Printed equations of the lecture</h2>
 {% if model and model.claims %}<p>Each equation as the lecture prints it, and under it the derived quantity it is compared with
