@@ -126,12 +126,12 @@ def derived_equations(system, claims=(), budget: Budget | None = None) -> dict:
     equations of that quantity, from its claims), "note"}``."""
     from harness.derivation.derive import derive, is_per_body
 
-    budget = budget or Budget()
-    d = derive(system)
-    if is_per_body(system):
+    if is_per_body(system):  # decided before deriving: the page needs nothing of such a derivation
         return {"quantities": [], "eom": [], "notes": [
             "Derived per body as an expression graph (one shared subexpression per body pose): the entries of M, "
             "C, g are far too large to print; their values are what the checks compare."]}
+    budget = budget or Budget()
+    d = derive(system)
     q = sp.Matrix(system.q)
     qd = sp.Matrix(system.qd)
     qdd = sp.Matrix([c.accel for c in system.coordinates])
