@@ -86,6 +86,17 @@ CLAIMS = [
     Claim("(4.35c)", "position:e2", Matrix([l_1 * cos(phi_1) + l_e2 * cos(phi_1 + phi_2),
                                             l_1 * sin(phi_1) + l_e2 * sin(phi_1 + phi_2), 0]),
           "end effector", note="l_e2 as printed; the example defines no l_e2"),
+    Claim("(4.68)", "J_omega:link_1", Matrix([[0, 0], [0, 0], [1, 0]]), "(J_omega)_0^1"),
+    Claim("(4.68)", "J_omega:link_2", Matrix([[0, 0], [0, 0], [1, 1]]), "(J_omega)_0^2"),
+    Claim("(4.69)", "J_v:link_1", Matrix([[-sin(phi_1) * l_s1, 0], [cos(phi_1) * l_s1, 0], [0, 0]]), "(J_v)_0^s1"),
+    Claim("(4.69)", "J_v:link_2", Matrix([
+        [-sin(phi_1) * l_1 - sin(phi_1 + phi_2) * l_s2, -sin(phi_1 + phi_2) * l_s2],
+        [cos(phi_1) * l_s1 + cos(phi_1 + phi_2) * l_s2, cos(phi_1 + phi_2) * l_s2],
+        [0, 0]]), "(J_v)_0^s2"),
+    Claim("(4.70)", "J_v:e2", Matrix([
+        [-sin(phi_1) * l_1 - sin(phi_1 + phi_2) * l_2, -sin(phi_1 + phi_2) * l_2],
+        [cos(phi_1) * l_s1 + cos(phi_1 + phi_2) * l_2, cos(phi_1 + phi_2) * l_2],
+        [0, 0]]), "(J_v)_0^e2, the end effector"),
     Claim("(5.28a)+(5.28b)+(5.30)", "V", m_1 * g * l_s1 * sin(phi_1)
           + m_2 * g * (l_1 * sin(phi_1) + l_s2 * sin(phi_1 + phi_2)) + c_2p * (s_e - s_0e)**2 / 2,
           "potential energy V^s1 + V^s2 + V_e, s_e = |r_e| with r_e of (5.29)",

@@ -12,8 +12,11 @@ faithfully (typos included) in the model's symbols, and names the quantity it cl
   engine;
 * ``"equilibrium"`` – a printed equilibrium ``q*`` (all coordinates, in parameters): at ``(q*, q̇ = 0, u = 0)``
   the forward dynamics of the derivation and of each engine must give ``q̈ = 0``;
-* ``"position:<point>"`` / ``"parameter"`` – kinematics or a parameter relation, checked against our
-  kinematics (derivation only: ``reference`` gives the derived expression).
+* ``"position:<point>"``, ``"J_v:<point>"``, ``"J_omega:<link>"`` / ``"parameter"`` – kinematics (a position, the
+  Jacobians (4.64), (4.62) in the inertial frame) or a parameter relation, checked against our kinematics
+  (derivation only: ``reference`` gives the derived expression);
+* ``"force:<element>"``, ``"f_np:<element>"`` – the force vector of a spring or damper on its point ``b`` (along
+  its line) and that element's generalized force ``J_rᵀ f`` (5.73), derivation only.
 
 Classification (computed, never typed in):
 
@@ -108,6 +111,11 @@ def _derive_claimed(system: System, claim: Claim):
         from harness.compare.errata import element_generalized_force
 
         expr = element_generalized_force(system, claim.quantity.split(":", 1)[1])
+    elif kind == "J_v":  # (4.64): the point's translational Jacobian ∂p/∂q in the inertial frame
+        expr = _point(system, claim.quantity.split(":", 1)[1]).jacobian(system.q)
+    elif kind == "J_omega":  # (4.62): the link's rotational Jacobian in the inertial frame, in lecture coordinates
+        pose = link_poses(system)[claim.quantity.split(":", 1)[1]]
+        expr = pose.J_omega_theta.xreplace(dict(zip(system.theta, system.phi))) * system.phi.jacobian(system.q)
     elif kind == "parameter":
         expr = sp.sympify(claim.reference)
     elif kind == "Cqd":

@@ -12,9 +12,10 @@ from harness.modeling.system import Declared, System, plain
 
 ENGINE_QUANTITIES = {"M", "C", "Cqd", "g"}
 QUANTITIES = ENGINE_QUANTITIES | {"f_np", "T", "V", "eom", "parameter", "equilibrium"}
-# kinds with an argument: "position:<point>", "force:<element>" (the force vector a spring or damper exerts on its
+# kinds with an argument: "position:<point>", "J_v:<point>" (its translational Jacobian (4.64)), "J_omega:<link>"
+# (the link's rotational Jacobian (4.62)), "force:<element>" (the force vector a spring or damper exerts on its
 # point b), "f_np:<element>" (that element's generalized force alone; plain "f_np" is the whole vector)
-KINDS_WITH_ARGUMENT = {"position", "force", "f_np"}
+KINDS_WITH_ARGUMENT = {"position", "J_v", "J_omega", "force", "f_np"}
 
 
 class Printed(Declared):
