@@ -9,9 +9,11 @@ never enters) and turns by the *relative* angle ``theta_phi_2rel = phi_2 - phi_1
 the relative joint, ``c_1`` and ``d_1`` between body 1 and the inertial system on joint 1:
 ``V = c_1/2 phi_1² + c_12/2 (phi_2 - phi_1)²`` (5.104), relaxed at ``phi_1 = 0`` and ``phi_1 - phi_2 = 0``.
 
-External torques ``tau_1``, ``tau_2`` act on bodies 1 and 2 about ``x_0``. Figure 5.8 is not in the text; the
-solution (5.105) counts them *against* the positive sense of ``phi_1``, ``phi_2`` (``tau_e1 = -tau_1 - …``,
-``tau_e2 = -tau_2 + …``), and (5.107) agrees, so the model applies ``-tau_1``, ``-tau_2`` about ``x_0``.
+External torques ``tau_1``, ``tau_2`` act on bodies 1 and 2 about ``x_0``, counted in the positive sense of
+``phi_1``, ``phi_2`` as every other torque of the lecture (the text says only that "an external torque acts";
+Figure 5.8 is not in the text). The solution (5.105) counts them *against* it (``tau_e1 = -tau_1 - …``,
+``tau_e2 = -tau_2 + …``), and (5.107) agrees: those claims carry that reading as a declared convention, so the
+harness reports them as convention-dependent instead of the model being built to match them.
 No gravity is mentioned (and with the centres of mass on the axis it would not act). Only ``I_xx,1``,
 ``I_xx,2`` enter the motion; the masses and the inertias about ``y``, ``z`` (discs) are there because an
 engine needs a physical body.
@@ -38,8 +40,8 @@ d_12 = Parameter("d_12", 0.1, "N m s/rad", "rotary damper between body 1 and bod
 phi_1 = Coordinate("phi_1", "rad", "absolute angle of body 1 about x_0")
 phi_2 = Coordinate("phi_2", "rad", "absolute angle of body 2 about x_0")
 
-tau_1 = Input("tau_1", "N m", "external torque on body 1, counted against phi_1 (5.105a)")
-tau_2 = Input("tau_2", "N m", "external torque on body 2, counted against phi_2 (5.105b)")
+tau_1 = Input("tau_1", "N m", "external torque on body 1 about x_0, in the sense of phi_1")
+tau_2 = Input("tau_2", "N m", "external torque on body 2 about x_0, in the sense of phi_2")
 
 SYSTEM = System(
     name="two_mass_oscillator",
@@ -61,8 +63,8 @@ SYSTEM = System(
         JointSpring("spring_12", "phi_2rel", c_12),
         JointDamper("damper_1", "phi_1", d_1),
         JointDamper("damper_12", "phi_2rel", d_12),
-        BodyTorque("torque_1", "body_1", (-tau_1, 0, 0)),
-        BodyTorque("torque_2", "body_2", (-tau_2, 0, 0)),
+        BodyTorque("torque_1", "body_1", (tau_1, 0, 0)),
+        BodyTorque("torque_2", "body_2", (tau_2, 0, 0)),
     ),
     doc=__doc__,
 )
@@ -70,17 +72,19 @@ SYSTEM = System(
 # ----------------------------------------------------------------------------- the lecture's printed equations
 w_1, w_2 = phi_1.rate, phi_2.rate                     # omega_1, omega_2 of (5.103)
 _SUPERSCRIPT = "I_xx,1 (I_xx,1^s1 in (5.108)) read as I_xx1, I_xx,2 as I_xx2"
+_AGAINST = {"tau_1, tau_2 counted against phi_1, phi_2 (the sense Figure 5.8 may draw; not in the text)":
+            {tau_1: -tau_1, tau_2: -tau_2}}
 CLAIMS = [
     Claim("(5.103)", "T", I_xx1 * w_1**2 / 2 + I_xx2 * w_2**2 / 2, "T_1 + T_2, omega_i = phi_i'", note=_SUPERSCRIPT),
     Claim("(5.104)", "V", c_1 * phi_1**2 / 2 + c_12 * (phi_2 - phi_1)**2 / 2, "V_c1 + V_c12"),
     Claim("(5.105), (5.106)", "f_np", Matrix([-tau_1 - d_1 * w_1 - d_12 * (w_1 - w_2), -tau_2 + d_12 * (w_1 - w_2)]),
-          "f_q^np = [tau_e1, tau_e2]"),
+          "f_q^np = [tau_e1, tau_e2]", conventions=_AGAINST),
     Claim("(5.107b)", "eom", I_xx1 * phi_1.accel
           - (-c_1 * phi_1 - d_1 * w_1 + c_12 * (phi_2 - phi_1) + d_12 * (w_2 - w_1) - tau_1),
-          "d/dt omega_1 = (…)/I_xx,1", index=(0,),
+          "d/dt omega_1 = (…)/I_xx,1", index=(0,), conventions=_AGAINST,
           note="transcribed multiplied by I_xx,1 (residual in N m); " + _SUPERSCRIPT),
     Claim("(5.107d)", "eom", I_xx2 * phi_2.accel - (-c_12 * (phi_2 - phi_1) - d_12 * (w_2 - w_1) - tau_2),
-          "d/dt omega_2 = (…)/I_xx,2", index=(1,),
+          "d/dt omega_2 = (…)/I_xx,2", index=(1,), conventions=_AGAINST,
           note="transcribed multiplied by I_xx,2 (residual in N m); " + _SUPERSCRIPT),
     Claim("(5.108)", "M", Matrix([[I_xx1, 0], [0, I_xx2]]), "mass matrix", note=_SUPERSCRIPT),
     Claim("(5.108)", "C", zeros(2, 2), "Coriolis matrix C = 0"),
@@ -89,6 +93,6 @@ CLAIMS = [
 
 SCENES = [
     Scene("twisted", "Exercise 5.3, (5.107): body 1 released from rest at phi_1 = 0.3 rad (body 2 at 0), springs "
-          "and dampers; the torque tau_2 = 1 N m (against phi_2) steps on at 1 s", (0.3, 0.0), (0.0, 0.0), 2.0,
-          {"springs", "dampers", "external"}, inputs={tau_2: Step(1.0, 1.0)}),
+          "and dampers; the torque tau_2 = -1 N m (1 N m against phi_2) steps on at 1 s", (0.3, 0.0), (0.0, 0.0), 2.0,
+          {"springs", "dampers", "external"}, inputs={tau_2: Step(1.0, -1.0)}),
 ]
