@@ -578,22 +578,37 @@ def _quat_matrix(quat) -> np.ndarray:
 
 # --------------------------------------------------------------------------------------------- spec transforms
 _FLAGS = {"equality": mujoco.mjtDisableBit.mjDSBL_EQUALITY, "constraint": mujoco.mjtDisableBit.mjDSBL_CONSTRAINT,
-          "frictionloss": mujoco.mjtDisableBit.mjDSBL_FRICTIONLOSS, "contact": mujoco.mjtDisableBit.mjDSBL_CONTACT}
+          "frictionloss": mujoco.mjtDisableBit.mjDSBL_FRICTIONLOSS, "contact": mujoco.mjtDisableBit.mjDSBL_CONTACT,
+          "gravity": mujoco.mjtDisableBit.mjDSBL_GRAVITY, "spring": mujoco.mjtDisableBit.mjDSBL_SPRING,
+          "damper": mujoco.mjtDisableBit.mjDSBL_DAMPER, "actuation": mujoco.mjtDisableBit.mjDSBL_ACTUATION}
+EFFECT_FLAGS = {"gravity": ("gravity",), "springs": ("spring",), "dampers": ("damper",), "inputs": ("actuation",),
+                "friction": ("frictionloss",), "contact": ("contact",), "external": ()}
+"""The disable flags of each scene effect (:data:`harness.modeling.scenes.EFFECTS`): what switches it off in
+MuJoCo. External loads are ours (``qfrc_applied``): pruned, they are not evaluated at all."""
+
+
+def effect_flags(effects) -> tuple:
+    """The disable flags of ``effects`` (sorted, without repetition)."""
+    return tuple(sorted({flag for e in effects for flag in EFFECT_FLAGS[e]}))
+
+
 STIFF_SOLIMP = [0.9999, 0.9999, 0.001, 0.5, 2.0]   # MuJoCo's impedance at its hardest
 
 
 @dataclass(frozen=True)
 class Options:
     """``<option>``: the time step, the integrator (``Euler``, ``RK4``, ``implicit``, ``implicitfast``), the
-    effects switched on (their disable flags cleared: ``equality``, ``constraint``, ``frictionloss``,
-    ``contact``), an elliptic friction cone, noslip iterations. A spec transform, or set on a compiled model
-    (:meth:`MujocoModel.configure`)."""
+    effects switched on (``enable``: their disable flags cleared) and off (``disable``: set; a scene's pruned
+    effects, :func:`effect_flags`) — ``equality``, ``constraint``, ``frictionloss``, ``contact``, ``gravity``,
+    ``spring``, ``damper``, ``actuation`` —, an elliptic friction cone, noslip iterations. A spec
+    transform, or set on a compiled model (:meth:`MujocoModel.configure`)."""
 
     timestep: float | None = None
     integrator: str | None = None
     enable: tuple = ()
     elliptic: bool = False
     noslip_iterations: int | None = None
+    disable: tuple = ()
 
     def __call__(self, spec) -> None:
         self.set(spec.option)
@@ -604,6 +619,11 @@ class Options:
             for flag in self.enable:
                 bits |= _FLAGS[flag]
             option.disableflags &= ~int(bits)
+        if self.disable:
+            bits = 0
+            for flag in self.disable:
+                bits |= _FLAGS[flag]
+            option.disableflags |= int(bits)
         if self.elliptic:
             option.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
         if self.timestep is not None:

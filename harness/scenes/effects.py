@@ -119,6 +119,8 @@ def _is_zero(expr) -> bool:
 
 
 def _shown(expr, params: dict) -> str:
+    if isinstance(sp.sympify(expr), sp.Symbol):
+        return f"{expr} = 0"
     names = sorted(x.name for x in sp.sympify(expr).free_symbols if x.name in params)
     given = ", ".join(f"{n} = {params[n]:g}" for n in names)
     return f"{sp.sstr(expr)} = 0" + (f" at {given}" if given else "")
@@ -135,8 +137,8 @@ def _element_idle(f, params: dict, zero_inputs: set, scene: Scene) -> str | None
     parts = f.force if isinstance(f, PointForce) else f.torque
     if all(_is_zero(_substituted(c, params, zero_inputs)) for c in parts):
         zeros = sorted({x.name for c in parts for x in sp.sympify(c).free_symbols} & zero_inputs)
-        return "0" + (f" as {', '.join(zeros)} ≡ 0 over [0, {scene.horizon:g}] s" if zeros else "") + \
-            " at the scene's parameters"
+        return "0" + (f": {', '.join(zeros)} ≡ 0 over [0, {scene.horizon:g}] s" if zeros else
+                      " at the scene's parameters")
     return None
 
 
