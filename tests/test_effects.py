@@ -90,3 +90,41 @@ def test_catalogue_scenes():
     swing = infer(models.get("planar_manipulator"),
                   next(s for s in models.scenes("planar_manipulator") if s.name == "swing"))
     assert swing.undeclared_acting == {"springs", "dampers"}
+
+
+def test_mujoco_disable_flags_are_a_spec_transform():
+    """Options(disable=…) sets the pruned effects' flags on the exported spec; enable clears them."""
+    import mujoco
+
+    from harness.engines.mujoco_engine import MujocoModel, Options, effect_flags
+    from harness.export.numeric import instantiate
+
+    system = pendulum("x")
+    tree = instantiate(system, system.default_parameters())
+    assert effect_flags({"springs", "dampers", "inputs", "external"}) == ("actuation", "damper", "spring")
+    off = MujocoModel(tree, transforms=(Options(disable=effect_flags({"gravity", "springs"})),))
+    bits = mujoco.mjtDisableBit
+    assert off.model.opt.disableflags & bits.mjDSBL_GRAVITY and off.model.opt.disableflags & bits.mjDSBL_SPRING
+    assert not off.model.opt.disableflags & bits.mjDSBL_DAMPER
+    on = MujocoModel(tree, transforms=(Options(enable=("gravity",)),))
+    assert not on.model.opt.disableflags & bits.mjDSBL_GRAVITY
+
+
+def test_pruned_equals_idle_in_every_source_and_nothing_to_prune_has_no_ratio():
+    """The per-source measurement (harness/scenes/phenomena/pruning.py) on a small scene: a damper at 0 and an
+    input of 0 left out; the pruned trajectory equals the idle one in each source; a scene calling for every
+    effect reports no ratio."""
+    from harness.scenes.phenomena import motion_of
+    from harness.scenes.phenomena.pruning import measure
+
+    system = pendulum("x")
+    scene = Scene("s", "", (0.3,), (0.0,), 0.5, {"gravity", "springs"}, params={d: 0.0})
+    motion, event = motion_of(scene)
+    out = measure(system, scene, motion, event, repeats=1)
+    assert out["left_out"] == ["dampers", "inputs"]
+    assert set(out["sources"]) == {"symbolic", "pinocchio", "mujoco"}
+    for source, m in out["sources"].items():
+        assert m["error"] <= 1e-6 and m["ratio"] > 0, source
+    assert "disable flags actuation, damper" in out["sources"]["mujoco"]["method"]
+    every = Scene("e", "", (0.3,), (0.0,), 0.5, EVERY, inputs={tau: Constant(1.0)})
+    assert "nothing" in measure(system, every, motion, event, repeats=1)

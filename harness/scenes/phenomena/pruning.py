@@ -139,7 +139,8 @@ def measure(system, scene, motion, event, catalogue=None, sources=SOURCES, repea
         t_lean, t_full = min(t.seconds for t in lean), min(t.seconds for t in full)
         out["sources"][source] = {"pruned_seconds": t_lean, "idle_seconds": t_full,
                                   "ratio": t_full / max(t_lean, 1e-12), "error": sim.max_error(full[0], lean[0]),
-                                  "evaluations": [lean[0].evaluations, full[0].evaluations], "method": method}
+                                  "evaluations": [lean[0].evaluations, full[0].evaluations], "method": method,
+                                  "pruned_all": [t.seconds for t in lean], "idle_all": [t.seconds for t in full]}
     return out
 
 
