@@ -513,6 +513,10 @@ class MujocoModel(TreeEngine):
     def _id(self, kind, name) -> int:
         return mujoco.mj_name2id(self.model, kind, name)
 
+    def geom_name(self, gid) -> str:
+        """A geom's name (its id where it has none)."""
+        return mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_GEOM, int(gid)) or f"geom {int(gid)}"
+
     def _body_name(self, bid) -> str:
         return mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_BODY, bid)
 
@@ -754,3 +758,29 @@ class ContactSphere:
         spec.worldbody.add_geom(name="plane", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 1],
                                 pos=-self.radius * normal, quat=quat, **contact)
         body.add_geom(name="ball", type=mujoco.mjtGeom.mjGEOM_SPHERE, size=[self.radius, 0, 0], **contact)
+
+
+@dataclass(frozen=True)
+class CollisionMeshes:
+    """Collision geometry: each ``(body, shape, pos, quat)`` a geom of that body (``"world"``: the fixed base) that
+    collides (``contype = conaffinity = 1``, no mass: the bodies' inertia is explicit); ``shape`` is
+    ``("mesh", file)`` or ``("box", half sizes)``. With ``floor`` a plane ``z = floor``. MuJoCo collides a mesh's
+    convex hull; parent and child are filtered as usual. Contact detection stays off until enabled
+    (``Options(enable=("contact", "constraint"))``)."""
+
+    geoms: tuple
+    floor: float | None = None
+
+    def __call__(self, spec) -> None:
+        for k, (body, (kind, data), pos, quat) in enumerate(self.geoms):
+            parent = spec.worldbody if body == WORLD else spec.body(body)
+            common = dict(pos=list(pos), quat=list(quat), contype=1, conaffinity=1, mass=0.0, group=3)
+            if kind == "mesh":
+                name = f"collision_{k}_{Path(data).stem}"
+                spec.add_mesh(name=name, file=str(data))
+                parent.add_geom(name=name, type=mujoco.mjtGeom.mjGEOM_MESH, meshname=name, **common)
+            else:
+                parent.add_geom(name=f"collision_{k}_box", type=mujoco.mjtGeom.mjGEOM_BOX, size=list(data), **common)
+        if self.floor is not None:
+            spec.worldbody.add_geom(name="floor", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 1],
+                                    pos=[0.0, 0.0, self.floor], contype=1, conaffinity=1)
