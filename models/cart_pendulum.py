@@ -75,4 +75,7 @@ CLAIMS = [
 SCENES = [
     Scene("shaken", "Exercise 5.2: the cart driven by f^e = 5 sin(2π 0.8 t) N against its spring and friction",
           (0.2, 0.3), (0.0, 0.0), 4.0, {"gravity", "springs", "dampers", "inputs"}, inputs={f_e: Sine(5.0, 0.8)}),
+    Scene("released", "Exercise 5.2 without friction (d_R = 0) and without drive (f^e = 0): the cart released "
+          "at s = 0.3 m beside its spring's rest length with the rod at 0.5 rad; cart and rod swap energy "
+          "(conservative)", (0.3, 0.5), (0.0, 0.0), 4.0, {"gravity", "springs"}, params={d_R: 0.0}),
 ]

@@ -125,4 +125,8 @@ SCENES = [
           {"gravity", "springs", "dampers", "inputs"}, inputs={tau_1: Step(0.6, 5.0), tau_2: Constant(-1.0)}),
     Scene("swing", "Examples 4.1/5.1: free swing under gravity alone (conservative)", (0.3, -0.7), (0.0, 0.0), 3.0,
           {"gravity"}),
+    Scene("detached", "Example 5.5 with the end effector's spring and damper detached (c_e = d_e = 0) and a "
+          "frictionless joint 2 (d_2 = 0): tau_1 steps to 5 N m at 0.6 s, tau_2 = -1 N m, under gravity",
+          (0.3, -0.7), (0.0, 0.0), 3.0, {"gravity", "inputs"}, inputs={tau_1: Step(0.6, 5.0), tau_2: Constant(-1.0)},
+          params={c_e: 0.0, d_e: 0.0, d_2: 0.0}),
 ]

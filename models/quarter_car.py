@@ -71,4 +71,8 @@ SCENES = [
     Scene("bump", "Exercise A.4: from the static deflection over a 5 cm road bump of 0.2 s", _rest, (0.0, 0.0), 2.0,
           {"gravity", "springs", "dampers", "external"},
           inputs={x_U: Bump(0.05, 0.3, 0.2), v_U: Bump(0.05, 0.3, 0.2, rate=True)}),
+    Scene("smooth_road", "Exercise A.4 on a smooth road (x_U = v_U = 0) with the tyre damper d_R = 0: the body "
+          "released 2 cm above its static deflection (A.42) bounces on the suspension; the road's force "
+          "c_R x_U + d_R v_U is idle and left out", (_rest[0], _rest[1] + 0.02), (0.0, 0.0), 2.0,
+          {"gravity", "springs", "dampers"}, params={d_R: 0.0}),
 ]

@@ -4,7 +4,9 @@ cost, effect pruning. Benchmarks, run on demand and reported; never timed unit t
 Parts: :mod:`~harness.bench.workprecision` (scenes: reference, sweeps, Pareto frontiers, pruning),
 :mod:`~harness.bench.evalcost` (M, C·q̇, g, q̈ per state), :mod:`~harness.bench.derivation` (n-link chains
 against ``sympy.physics.mechanics``), :mod:`~harness.bench.runner` (process pool or Dask cluster),
-:mod:`~harness.bench.figures` (work-precision diagrams), :mod:`~harness.bench.report` (``bench.md``).
+:mod:`~harness.bench.figures` (work-precision diagrams), :mod:`~harness.bench.report` (``bench.md``),
+:mod:`~harness.bench.contact_pruning` (the lightweight robot's collision meshes: contact detection on / pruned, with
+the ``pruning`` part).
 An optional ``harness/bench/lightweight_robot.py`` with ``run(catalogue, quick: bool = False) -> dict`` is called
 too. The systems come from the catalogue handed to :func:`run_bench` (:class:`harness.catalogue.Catalogue`); each
 task carries it to its worker, which rebuilds it from its description.
@@ -54,8 +56,20 @@ Schema of ``bench.json`` (``schema: 2``; times in seconds, errors relative to th
                                "count_ops_M", "count_ops_C"} | {"timeout"} | {"error"},
                                "mechanics": {"seconds", "count_ops_M"} | {"timeout"}, "ratio_cold", "ratio_cached"}],
                      "figure": path},
-      "pruning": [{"system", "scene", "pruned_seconds", "idle_seconds", "speedup", "pruned_evaluations",
-                   "idle_evaluations", "same_trajectory_error"} | {"system", "scene", "skipped"}],
+      "pruning": [{"system", "scene", "declared", "inferred" (effects that can act, harness.scenes.effects),
+                   "inferred_idle" {effect: reason}, "idle_elements" {force element: reason}, "declared_idle",
+                   "undeclared_acting", "repeats",
+                   "nothing": why (nothing to prune: no ratio) | "left_out": [effect],
+                   "sources": {"symbolic" | "pinocchio" | "mujoco": {"pruned_seconds", "idle_seconds", "ratio"
+                               (idle / pruned, fastest of repeats each), "error" (pruned vs idle trajectory),
+                               "evaluations": [pruned, idle], "method"} | {"skipped": why}}}],
+                  (before: {"system", "scene", "pruned_seconds", "idle_seconds", "speedup", …} of the symbolic
+                  path alone)
+      "pruning_contact": {"system", "scene", "source": "mujoco", "method", "collision_geoms", "left_out",
+                          "first_contact" (s, or null), "first_contact_pairs", "whole_horizon_error",
+                          "measured_horizon", "pruned_seconds", "idle_seconds", "ratio", "error", "repeats"}
+                         (harness.bench.contact_pruning: the robot's collision meshes, contact detection on /
+                         mjDSBL_CONTACT, over the contact-free part of the scene),
       "lightweight_robot": {...} (when harness/bench/lightweight_robot.py exists),
       "updates": [{"parts", "command", "generated", "seconds", "machine", "versions"}] (parts re-measured by a
                  later run and merged, ``harness bench --merge``)
@@ -77,13 +91,14 @@ import sys
 import time
 from pathlib import Path
 
-from harness.bench import derivation, evalcost, workprecision as wp
+from harness.bench import contact_pruning, derivation, evalcost, workprecision as wp
 from harness.bench.runner import Task, run_tasks
 from harness.checks import json_clean, json_restore
 from harness.errors import InputError
 from harness.io import atomic_write_text
 
 SCHEMA = 2
+PRUNING_REPEATS = 5   # best of 5, idle and pruned alternating, in one process
 
 
 def _log(message: str) -> None:
@@ -153,7 +168,8 @@ def run_bench(catalogue, out="reports", quick: bool = False, scheduler: str | No
                        f"reference {s}/{c}") for s, c in cases]
     if "pruning" in parts:
         first += [Task("harness.bench.workprecision:pruning_task",
-                       {"catalogue": catalogue, "system": s, "scene": c, "repeats": 3}, f"pruning {s}/{c}")
+                       {"catalogue": catalogue, "system": s, "scene": c, "repeats": PRUNING_REPEATS},
+                       f"pruning {s}/{c}")
                   for s, c in cases]
     first += [Task("harness.bench.evalcost:task", {"catalogue": catalogue, "system": s, "states": 10_000},
                    f"evaluation cost {s}") for s in eval_systems]
@@ -166,6 +182,12 @@ def run_bench(catalogue, out="reports", quick: bool = False, scheduler: str | No
         doc["workprecision"] = _workprecision(catalogue, cases, by_task, grid, scheduler, workers, out)
     if "pruning" in parts:
         doc["pruning"] = [{"system": s, "scene": c, **by_task[f"pruning {s}/{c}"]} for s, c in cases]
+        if any(s == contact_pruning.ROBOT and c == contact_pruning.SCENE for s, c in cases):
+            _log("bench: lightweight_robot contact detection on / pruned (MuJoCo, collision meshes) …")
+            try:
+                doc["pruning_contact"] = contact_pruning.task(catalogue, repeats=PRUNING_REPEATS)
+            except Exception as exc:  # noqa: BLE001 - its failure is reported, the rest is kept
+                doc["pruning_contact"] = {"error": f"{type(exc).__name__}: {exc}"}
     if eval_systems:
         rows = [{"system": s, **by_task[f"evaluation cost {s}"]} for s in eval_systems]
         doc["evaluation"] = {"states": 10_000, "systems": rows}
@@ -191,7 +213,7 @@ def run_bench(catalogue, out="reports", quick: bool = False, scheduler: str | No
     return doc
 
 
-PARTS = ("workprecision", "evaluation", "derivation", "pruning", "lightweight_robot")
+PARTS = ("workprecision", "evaluation", "derivation", "pruning", "pruning_contact", "lightweight_robot")
 
 
 def merge(out="reports", other=None) -> dict:

@@ -6,6 +6,7 @@ against its target (``bound``), basis :data:`GOAL`, and where the time goes (``d
 from __future__ import annotations
 
 import math
+import statistics
 
 from harness.bench import derivation, evalcost, workprecision as wp
 from harness.checks import Check
@@ -117,6 +118,13 @@ def goals(doc: dict) -> list[dict]:
                   f"{other['seconds'] / max(other['evaluations'], 1) * 1e6:.1f} µs" if missed else ""))
         out.append(_goal(f"symbolic path at {wp.ACCURACY:g} accuracy vs the fastest engine configuration "
                          "(worst scene)", worst["ratio"], 1.0, where))
+    out += _pruning_goals(doc.get("pruning") or [])
+    c = doc.get("pruning_contact")
+    if c and "ratio" in c:
+        out.append(Check(f"contact detection pruned: idle / pruned ≥ {CONTACT_GOAL:g} × (MuJoCo, lightweight_robot; "
+                         "value pruned / idle)", "mujoco", 1.0 / c["ratio"], 1.0 / CONTACT_GOAL, GOAL,
+                         f"idle / pruned {c['ratio']:.2f} × over the contact-free {c['measured_horizon']:.3f} s "
+                         f"({c['idle_seconds'] * 1e3:.1f} / {c['pruned_seconds'] * 1e3:.1f} ms)").record())
     return out
 
 
@@ -229,21 +237,121 @@ def markdown(doc: dict) -> str:
                          f"{_fmt(r.get('ratio_cached'))} | {cell(o, 'count_ops_M')} | {cell(m, 'count_ops_M')} |")
     pr = doc.get("pruning")
     if pr:
-        lines += ["", "## Effect pruning (symbolic path, DOP853 1e-10): all effects on but idle / pruned", "",
-                  "Both take the same steps (same evaluations, same trajectory); the speed-up is the cost of the idle "
-                  "terms per evaluation, and within the timing noise of a loaded machine where it is near 1.", "",
-                  "| scene | pruned (s) | idle (s) | speed-up | same trajectory (error) |", "|---|---|---|---|---|"]
-        for r in pr:
-            if "speedup" in r:
-                lines.append(f"| {r['system']}/{r['scene']} | {r['pruned_seconds']:.3g} | {r['idle_seconds']:.3g} | "
-                             f"{r['speedup']:.2f} × | {r['same_trajectory_error']:.1e} |")
-            else:
-                lines.append(f"| {r['system']}/{r['scene']} | {r.get('skipped', r.get('error', '—'))} ||||")
+        lines += ["", *_pruning(pr)]
+    if doc.get("pruning_contact"):
+        lines += ["", *_contact(doc["pruning_contact"])]
     lwr = doc.get("lightweight_robot")
     if lwr:
         lines += ["", "## lightweight_robot (Example 1.2, 7 DoF, from its URDF)", ""] + _lightweight_robot(lwr)
     lines += ["", "Versions: " + ", ".join(f"{k} {v}" for k, v in doc["versions"].items()), ""]
     return "\n".join(lines)
+
+
+PRUNING_SOURCES = ("symbolic", "pinocchio", "mujoco")
+PRUNING_GOAL = 1.3      # idle / pruned, every source where something is pruned (issue 17)
+
+
+def _pruning(rows: list[dict]) -> list[str]:
+    """Effects inferred beside the declared ones, and idle / pruned per source (the fastest of N runs each)."""
+    lines = ["## Effect pruning: every effect present but idle / only the scene's effects, per source", "",
+             "Symbolic and Pinocchio: forward dynamics by DOP853 1e-10 (the same steps: the ratio is the cost of the "
+             "idle terms per evaluation); MuJoCo: its own RK4 (`mj_step`) on one MJCF, the pruned effects switched "
+             "off by their disable flags, the idle loads and inputs evaluated at every step. Ratio = idle / pruned, "
+             "the fastest of the repeats of each; **below 1: a finding** (the pruned run is slower). A scene that "
+             "calls for every effect of its system has nothing to prune and no ratio.", "",
+             "| scene | declared | inferred idle (reason) | left out | " +
+             " | ".join(f"{s} idle / pruned" for s in PRUNING_SOURCES) + " | pruned = idle (worst error) |",
+             "|---|---|---|---|" + "---|" * len(PRUNING_SOURCES) + "---|"]
+    nothing = []
+    for r in rows:
+        where = f"{r['system']}/{r['scene']}"
+        if "speedup" in r:  # a bench.json of before: the symbolic path alone
+            lines.append(f"| {where} | | | | {r['speedup']:.2f} × | | | {r['same_trajectory_error']:.1e} |")
+            continue
+        if "sources" not in r:
+            if "nothing" in r:
+                nothing.append(where + ("" if not r.get("inferred_idle") else
+                                        f" (inferred idle: {', '.join(r['inferred_idle'])})"))
+            else:
+                lines.append(f"| {where} | {r.get('skipped', r.get('error', '—'))} |" + " |" * (4 + len(PRUNING_SOURCES)))
+            continue
+        cells, errors = [], []
+        for source in PRUNING_SOURCES:
+            m = r["sources"].get(source)
+            if m is None:
+                cells.append("—")
+            elif "skipped" in m:
+                cells.append(f"not measured: {m['skipped']}")
+            else:
+                ratio = m["ratio"]
+                mark = f" **finding: slower pruned**{_noise(m)}" if ratio < 1 else ""
+                cells.append(f"{ratio:.2f} × " if ratio >= 1 else f"{ratio:.3f} × ")
+                cells[-1] += (f"({m['idle_seconds'] * 1e3:.1f} / {m['pruned_seconds'] * 1e3:.1f} ms)"
+                             f"{mark}")
+                errors.append(m["error"])
+        idle = "; ".join(f"{k}: {v}" for k, v in r.get("inferred_idle", {}).items()) or "—"
+        lines.append(f"| {where} | {', '.join(r.get('declared', []))} | {idle} | {', '.join(r['left_out'])} | " +
+                     " | ".join(cells) + f" | {max(errors, default=float('nan')):.1e} |")
+    disagree = [f"{r['system']}/{r['scene']}: " + "; ".join(
+                    ([f"declared but cannot act: {', '.join(r['declared_idle'])}"] if r.get("declared_idle") else []) +
+                    ([f"can act but not declared: {', '.join(r['undeclared_acting'])}"]
+                     if r.get("undeclared_acting") else []))
+                for r in rows if r.get("declared_idle") or r.get("undeclared_acting")]
+    if nothing:
+        lines += ["", f"Nothing to prune (no ratio): {', '.join(nothing)}."]
+    if disagree:
+        lines += ["", "Declared and inferred effects disagree (reported, not fixed): " + "; ".join(disagree) + "."]
+    return lines
+
+
+def _pruning_goals(rows: list[dict]) -> list[dict]:
+    """Per source, the worst scene where something is pruned: pruned / idle against 1 / 1.3 (idle / pruned ≥ 1.3),
+    and against 1 (no scene below 1.0 ×)."""
+    out = []
+    for source in PRUNING_SOURCES:
+        got = [(r, r["sources"][source]) for r in rows if "ratio" in r.get("sources", {}).get(source, {})]
+        if not got:
+            continue
+        worst_row, worst = min(got, key=lambda x: x[1]["ratio"])
+        listed = ", ".join(f"{r['system']}/{r['scene']} {m['ratio']:.2f} ×" for r, m in got)
+        where = (f"worst {worst_row['system']}/{worst_row['scene']} idle / pruned {worst['ratio']:.3f} × "
+                 f"({', '.join(worst_row['left_out'])} left out{_noise(worst)}); {listed}")
+        for target, what in ((PRUNING_GOAL, f"pruning pays: idle / pruned ≥ {PRUNING_GOAL:g} × ({source}, worst "
+                                            "scene; value pruned / idle)"),
+                             (1.0, f"no scene slower pruned: idle / pruned ≥ 1 × ({source}; value pruned / idle)")):
+            met = sum(m["ratio"] >= target for _, m in got)
+            out.append(Check(what, source, 1.0 / worst["ratio"], 1.0 / target, GOAL,
+                             f"{where}; met on {met} of {len(got)} scenes").record())
+    return out
+
+
+def _noise(m: dict) -> str:
+    """The spread of the repeats (median over fastest − 1, the larger of idle and pruned): a ratio within it of 1
+    is timing noise."""
+    spreads = [statistics.median(m[k]) / min(m[k]) - 1 for k in ("idle_all", "pruned_all") if m.get(k)]
+    return f"; repeats spread {max(spreads) * 100:.1f} %" if spreads else ""
+
+
+CONTACT_GOAL = 3.0      # MuJoCo, the robot with contact detection pruned (issue 17)
+
+
+def _contact(c: dict) -> list[str]:
+    if "error" in c and "ratio" not in c:
+        return ["## Contact detection pruned (lightweight_robot, MuJoCo)", "", f"Failed: {c['error']}"]
+    first = ("no contact over the whole horizon" if c["first_contact"] is None else
+             f"**finding: the arm touches itself at t = {c['first_contact']:.4f} s** "
+             f"({'; '.join(' – '.join(p) for p in c['first_contact_pairs'])}, convex hulls): contact can act in this "
+             f"scene, pruning it changes the motion after that (whole-horizon disagreement "
+             f"{c['whole_horizon_error']:.2g}); measured over the contact-free {c['measured_horizon']:.3f} s")
+    return ["## Contact detection pruned (lightweight_robot, MuJoCo)", "",
+            f"The Panda's {c['collision_geoms']} collision geoms of its URDF ({c.get('meshes', '?')} meshes, the "
+            f"fingers' boxes) and a floor (left out: "
+            f"{', '.join(c['left_out']) or 'none'}), {c['method']}: contact detection on against `mjDSBL_CONTACT`, "
+            f"the fastest of {c['repeats']} runs each. {first}.", "",
+            "| scene | idle: contact on (ms) | pruned (ms) | idle / pruned | pruned = idle (error) |",
+            "|---|---|---|---|---|",
+            f"| {c['system']}/{c['scene']} | {c['idle_seconds'] * 1e3:.1f} | {c['pruned_seconds'] * 1e3:.1f} | "
+            f"{c['ratio']:.2f} × | {c['error']:.1e} |"]
 
 
 def _lightweight_robot(lwr: dict) -> list[str]:

@@ -40,9 +40,9 @@ import numpy as np
 from harness.engines import ENGINES
 from harness.scenes import simulate as sim
 from harness.modeling.events import RollSlip
-from harness.modeling.scenes import Scene, with_idle_effects
+from harness.modeling.scenes import Scene
 from harness.scenes.base import REFERENCE_TOL
-from harness.scenes.phenomena import motion_of, mujoco_own, symbolic_run
+from harness.scenes.phenomena import motion_of, mujoco_own
 
 SCIPY_METHODS = ("RK45", "DOP853", "Radau", "LSODA")
 ADAPTIVE = (*SCIPY_METHODS, sim.ODEINT)
@@ -339,18 +339,22 @@ def fixed_step(rhs, scene: Scene, y0, method: str, k: int, t_eval):
 
 
 # --------------------------------------------------------------------------- effect pruning
-def pruning_task(catalogue, system: str, scene: str, repeats: int = 3) -> dict:
-    """Symbolic path, DOP853 1e-10: the pruned model against every effect present but idle
-    (:func:`harness.modeling.scenes.with_idle_effects`), the measurement of :mod:`harness.scenes.trajectories`, median of repeats."""
+def pruning_task(catalogue, system: str, scene: str, repeats: int = 5) -> dict:
+    """Idle against pruned by every source (:func:`harness.scenes.phenomena.pruning.measure`: symbolic and
+    Pinocchio forward dynamics by DOP853 1e-10, MuJoCo's own RK4 with the pruned effects' disable flags), the
+    fastest of ``repeats`` runs of each in this process; the effects inferred beside the declared ones
+    (:func:`harness.scenes.effects.infer`)."""
+    from harness.scenes.effects import infer
+    from harness.scenes.phenomena.pruning import measure
+
     s, sc = get_scene(catalogue, system, scene)
-    lean = [symbolic_run(s, sc, catalogue=catalogue) for _ in range(repeats)]
-    idle_system, idle_scene = with_idle_effects(s, sc)
-    full = [symbolic_run(idle_system, idle_scene, catalogue=catalogue) for _ in range(repeats)]
-    t_lean = statistics.median(x.seconds for x in lean)
-    t_full = statistics.median(x.seconds for x in full)
-    return {"system": system, "scene": scene, "pruned_seconds": t_lean, "idle_seconds": t_full,
-            "speedup": t_full / max(t_lean, 1e-12), "pruned_evaluations": lean[0].evaluations,
-            "idle_evaluations": full[0].evaluations, "same_trajectory_error": sim.max_error(full[0], lean[0])}
+    found = infer(s, sc)
+    motion, event = motion_of(sc)
+    row = {"system": system, "scene": scene, "declared": sorted(found.declared), "inferred": sorted(found.acting),
+           "inferred_idle": dict(sorted(found.idle.items())), "idle_elements": dict(sorted(found.idle_elements.items())),
+           "declared_idle": sorted(found.declared_idle), "undeclared_acting": sorted(found.undeclared_acting),
+           "repeats": repeats}
+    return {**row, **measure(s, sc, motion, event, catalogue, repeats=repeats)}
 
 
 # --------------------------------------------------------------------------- sweep definition and analysis

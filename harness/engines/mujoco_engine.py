@@ -513,6 +513,10 @@ class MujocoModel(TreeEngine):
     def _id(self, kind, name) -> int:
         return mujoco.mj_name2id(self.model, kind, name)
 
+    def geom_name(self, gid) -> str:
+        """A geom's name (its id where it has none)."""
+        return mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_GEOM, int(gid)) or f"geom {int(gid)}"
+
     def _body_name(self, bid) -> str:
         return mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_BODY, bid)
 
@@ -578,22 +582,37 @@ def _quat_matrix(quat) -> np.ndarray:
 
 # --------------------------------------------------------------------------------------------- spec transforms
 _FLAGS = {"equality": mujoco.mjtDisableBit.mjDSBL_EQUALITY, "constraint": mujoco.mjtDisableBit.mjDSBL_CONSTRAINT,
-          "frictionloss": mujoco.mjtDisableBit.mjDSBL_FRICTIONLOSS, "contact": mujoco.mjtDisableBit.mjDSBL_CONTACT}
+          "frictionloss": mujoco.mjtDisableBit.mjDSBL_FRICTIONLOSS, "contact": mujoco.mjtDisableBit.mjDSBL_CONTACT,
+          "gravity": mujoco.mjtDisableBit.mjDSBL_GRAVITY, "spring": mujoco.mjtDisableBit.mjDSBL_SPRING,
+          "damper": mujoco.mjtDisableBit.mjDSBL_DAMPER, "actuation": mujoco.mjtDisableBit.mjDSBL_ACTUATION}
+EFFECT_FLAGS = {"gravity": ("gravity",), "springs": ("spring",), "dampers": ("damper",), "inputs": ("actuation",),
+                "friction": ("frictionloss",), "contact": ("contact",), "external": ()}
+"""The disable flags of each scene effect (:data:`harness.modeling.scenes.EFFECTS`): what switches it off in
+MuJoCo. External loads are ours (``qfrc_applied``): pruned, they are not evaluated at all."""
+
+
+def effect_flags(effects) -> tuple:
+    """The disable flags of ``effects`` (sorted, without repetition)."""
+    return tuple(sorted({flag for e in effects for flag in EFFECT_FLAGS[e]}))
+
+
 STIFF_SOLIMP = [0.9999, 0.9999, 0.001, 0.5, 2.0]   # MuJoCo's impedance at its hardest
 
 
 @dataclass(frozen=True)
 class Options:
     """``<option>``: the time step, the integrator (``Euler``, ``RK4``, ``implicit``, ``implicitfast``), the
-    effects switched on (their disable flags cleared: ``equality``, ``constraint``, ``frictionloss``,
-    ``contact``), an elliptic friction cone, noslip iterations. A spec transform, or set on a compiled model
-    (:meth:`MujocoModel.configure`)."""
+    effects switched on (``enable``: their disable flags cleared) and off (``disable``: set; a scene's pruned
+    effects, :func:`effect_flags`) — ``equality``, ``constraint``, ``frictionloss``, ``contact``, ``gravity``,
+    ``spring``, ``damper``, ``actuation`` —, an elliptic friction cone, noslip iterations. A spec
+    transform, or set on a compiled model (:meth:`MujocoModel.configure`)."""
 
     timestep: float | None = None
     integrator: str | None = None
     enable: tuple = ()
     elliptic: bool = False
     noslip_iterations: int | None = None
+    disable: tuple = ()
 
     def __call__(self, spec) -> None:
         self.set(spec.option)
@@ -604,6 +623,11 @@ class Options:
             for flag in self.enable:
                 bits |= _FLAGS[flag]
             option.disableflags &= ~int(bits)
+        if self.disable:
+            bits = 0
+            for flag in self.disable:
+                bits |= _FLAGS[flag]
+            option.disableflags |= int(bits)
         if self.elliptic:
             option.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
         if self.timestep is not None:
@@ -734,3 +758,29 @@ class ContactSphere:
         spec.worldbody.add_geom(name="plane", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 1],
                                 pos=-self.radius * normal, quat=quat, **contact)
         body.add_geom(name="ball", type=mujoco.mjtGeom.mjGEOM_SPHERE, size=[self.radius, 0, 0], **contact)
+
+
+@dataclass(frozen=True)
+class CollisionMeshes:
+    """Collision geometry: each ``(body, shape, pos, quat)`` a geom of that body (``"world"``: the fixed base) that
+    collides (``contype = conaffinity = 1``, no mass: the bodies' inertia is explicit); ``shape`` is
+    ``("mesh", file)`` or ``("box", half sizes)``. With ``floor`` a plane ``z = floor``. MuJoCo collides a mesh's
+    convex hull; parent and child are filtered as usual. Contact detection stays off until enabled
+    (``Options(enable=("contact", "constraint"))``)."""
+
+    geoms: tuple
+    floor: float | None = None
+
+    def __call__(self, spec) -> None:
+        for k, (body, (kind, data), pos, quat) in enumerate(self.geoms):
+            parent = spec.worldbody if body == WORLD else spec.body(body)
+            common = dict(pos=list(pos), quat=list(quat), contype=1, conaffinity=1, mass=0.0, group=3)
+            if kind == "mesh":
+                name = f"collision_{k}_{Path(data).stem}"
+                spec.add_mesh(name=name, file=str(data))
+                parent.add_geom(name=name, type=mujoco.mjtGeom.mjGEOM_MESH, meshname=name, **common)
+            else:
+                parent.add_geom(name=f"collision_{k}_box", type=mujoco.mjtGeom.mjGEOM_BOX, size=list(data), **common)
+        if self.floor is not None:
+            spec.worldbody.add_geom(name="floor", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 1],
+                                    pos=[0.0, 0.0, self.floor], contype=1, conaffinity=1)

@@ -1,39 +1,192 @@
 """Pruning: the scene simulated with only the effects it calls for against the same scene with every effect of
-the system present but idle (multiplied by a parameter set to 0, :func:`harness.modeling.scenes.idle`): the same
-trajectory (``ENGINE``, :mod:`harness.scenes.base`), and the time ratio idle/pruned of our symbolic simulation."""
+the system present but idle (multiplied by a parameter set to 0, :func:`harness.modeling.scenes.idle`), by every
+source in its own terms, and the effects inferred beside the declared ones (:mod:`harness.scenes.effects`).
+
+* **symbolic**: the right-hand side derived and compiled from the pruned model (DOP853 at 1e-10) against the one
+  of the idle model;
+* **pinocchio**: its forward dynamics (``pin.aba``) of the pruned URDF against the idle one's, integrated alike:
+  the pruned tree has no idle spring, damper, input or load to evaluate;
+* **mujoco**: its own RK4 (``mj_step``) on one MJCF, every effect present (its flags cleared) against the same
+  MJCF with the pruned effects' disable flags set (:class:`~harness.engines.mujoco_engine.Options` ``disable``,
+  :func:`~harness.engines.mujoco_engine.effect_flags`); the idle model's loads and inputs are evaluated and
+  applied at every step (held over the step from its start), the pruned one's only where called for.
+
+Each source: the same trajectory (``ENGINE``, :mod:`harness.scenes.base`) and the time ratio idle / pruned, the
+fastest of ``repeats`` runs of each in one process, alternating (a single timing on a shared machine is noise).
+A scene that calls for every effect of its system has nothing to prune: no ratio is reported. Ratios are clock
+values: they go to ``timings.json`` (never into a verdict); ``harness bench --parts pruning`` reports them, and
+a ratio below 1 there as a finding.
+"""
 
 from __future__ import annotations
 
-from harness.modeling.scenes import with_idle_effects
+import time
+
+import numpy as np
+
+from harness.engines.base import load_functions
+from harness.modeling.scenes import effects_of, pruned, with_idle_effects
+from harness.modeling.system import JointInput
 from harness.scenes import simulate as sim
 from harness.scenes.base import ENGINE, Phenomenon, SceneRun
+from harness.scenes.effects import infer
 
 PRUNING_REPEATS = 3
+SOURCES = ("symbolic", "pinocchio", "mujoco")
+MUJOCO_STEPS = 2000        # RK4 steps of MuJoCo's own runs (at least; on the scene's grid, simulate.grid_steps)
+KEY = "pruning time ratio (idle / pruned), {}"
+
+
+def nothing_to_prune(system, scene) -> bool:
+    return with_idle_effects(system, scene)[1] is scene
+
+
+# --------------------------------------------------------------------------- MuJoCo's own stepping, idle or pruned
+class MujocoStepper:
+    """MuJoCo's RK4 on the MJCF of the idle system (every effect present, its flags cleared); ``prune``: the
+    scene's left-out effects switched off by their disable flags, and only the called-for loads and inputs
+    evaluated. Loads need the lecture state: identity or affine maps ``θ = φ(0) + J q``."""
+
+    def __init__(self, system, scene, prune: bool, dt: float):
+        from harness.derivation.compile import compiled
+        from harness.engines.mujoco_engine import MujocoModel, Options, effect_flags
+        from harness.export.numeric import instantiate
+
+        idle_system, idle_scene = with_idle_effects(system, scene)
+        every = effects_of(idle_system) | set(idle_scene.effects)
+        left_out = every - set(scene.effects)
+        params = {**idle_system.default_parameters(), **idle_scene.params}
+        transforms = [Options(timestep=dt, integrator="RK4", enable=effect_flags(every - {"friction", "contact"}))]
+        if prune:
+            transforms.append(Options(disable=effect_flags(left_out)))
+        self.model = MujocoModel(instantiate(idle_system, params), transforms=transforms,
+                                 where="MjSpec.compile (pruning)")
+        self.flags = effect_flags(left_out) if prune else ()
+        kept = pruned(idle_system, scene.effects) if prune else idle_system
+        self.c = compiled(idle_system)
+        self.p = np.array([params[p.name] for p in idle_system.parameters])
+        self.kept_p = np.array([params[p.name] for p in kept.parameters])
+        self.loads = load_functions(kept)
+        self.inputs = [f.input for f in kept.forces if isinstance(f, JointInput)]   # driven actuators only
+        self.kept_inputs = [i.name for i in kept.inputs]                             # the loads' arguments
+        self.scene, self.dt = idle_scene, dt
+        n = len(idle_system.coordinates)
+        u0 = idle_scene.u(0.0, idle_system)
+        theta0, J, J_dot = self.c.map_at(np.asarray(scene.q0, float), np.asarray(scene.qd0, float), self.p, u0)
+        self.theta0, self.theta_dot0 = theta0, J @ np.asarray(scene.qd0, float)
+        if self.loads:
+            phi0, J0, _ = self.c.map_at(np.zeros(n), np.zeros(n), self.p, u0)
+            if J.shape != (n, n) or np.any(J_dot) or not np.allclose(J, J0) or np.any(
+                    self.c.map_at(np.ones(n), np.zeros(n), self.p, u0)[0] - phi0 - J0 @ np.ones(n)):
+                raise ValueError("MuJoCo's own stepping with external loads needs an affine map θ = φ(0) + J q "
+                                 "(the loads are evaluated at the lecture state)")
+            self.phi0, self.J_inv = phi0, np.linalg.inv(J0)
+
+    def run(self) -> sim.Trajectory:
+        from harness.engines.base import Load
+
+        model, scene, dt = self.model, self.scene, self.dt
+        model.reset()
+        model.set_state(self.theta0, self.theta_dot0)
+        steps = int(round(scene.horizon / dt))
+        every = max(1, int(round(steps / (sim.SAMPLES - 1))))
+        loads, inputs, names = self.loads, self.inputs, self.kept_inputs
+        p = self.kept_p
+
+        def before(k):
+            t = (k + 0.5) * dt
+            if inputs:
+                model.set_inputs({name: scene.inputs[name](t) if name in scene.inputs else 0.0 for name in inputs})
+            if loads:
+                u = np.array([scene.inputs[name](t) if name in scene.inputs else 0.0 for name in names])
+                theta, theta_dot = model.theta(), model.theta_dot()
+                q, qd = self.J_inv @ (theta - self.phi0), self.J_inv @ theta_dot
+                model.pose(theta)   # the kinematics the loads are applied at (mj_kinematics, mj_comPos)
+                model.apply_loads([Load(kind, where, frame, np.asarray(fn(q, qd, p, u), dtype=float).ravel())
+                                   for kind, where, frame, fn in loads])
+
+        start = time.perf_counter()
+        out = model.rollout(steps, every, lambda k: (model.time, model.theta(), model.theta_dot()),
+                            before=before if (inputs or loads) else None, check=f"{scene.name} (pruning)")
+        seconds = time.perf_counter() - start
+        return sim.Trajectory(f"mujoco (mj_step RK4, dt={dt:g}{', disabled ' + ', '.join(self.flags) if self.flags else ''})",
+                              np.array([x[0] for x in out]), np.array([x[1] for x in out]),
+                              np.array([x[2] for x in out]), seconds, steps)
+
+
+# --------------------------------------------------------------------------- the measurement
+def measure(system, scene, motion, event, catalogue=None, sources=SOURCES, repeats: int = PRUNING_REPEATS) -> dict:
+    """Idle against pruned by each of ``sources``: ``{"left_out": [...], "sources": {source: {"pruned_seconds",
+    "idle_seconds", "ratio", "error", "evaluations", "method"} | {"skipped": why}}}``, or ``{"nothing": why}``
+    when the scene calls for every effect of its system. Runs alternate pruned, idle; the fastest of each."""
+    idle_system, idle_scene = with_idle_effects(system, scene)
+    if idle_scene is scene:
+        return {"nothing": "nothing to prune: the scene calls for every effect of the system"}
+    out = {"left_out": sorted(set(idle_scene.effects) - set(scene.effects)), "sources": {}}
+    for source in sources:
+        try:
+            runs = _runs(system, scene, idle_system, idle_scene, motion, event, source, catalogue)
+        except (ValueError, NotImplementedError) as why:
+            out["sources"][source] = {"skipped": str(why)}
+            continue
+        if runs is None:
+            continue
+        lean_run, full_run, method = runs
+        lean, full = [], []
+        for _ in range(repeats):
+            lean.append(lean_run())
+            full.append(full_run())
+        t_lean, t_full = min(t.seconds for t in lean), min(t.seconds for t in full)
+        out["sources"][source] = {"pruned_seconds": t_lean, "idle_seconds": t_full,
+                                  "ratio": t_full / max(t_lean, 1e-12), "error": sim.max_error(full[0], lean[0]),
+                                  "evaluations": [lean[0].evaluations, full[0].evaluations], "method": method,
+                                  "pruned_all": [t.seconds for t in lean], "idle_all": [t.seconds for t in full]}
+    return out
+
+
+def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalogue):
+    """``(pruned run, idle run, method)`` of ``source``, each a call returning a trajectory."""
+    if source == "mujoco":
+        if event is not None or scene.events:
+            raise ValueError("its motion switches at events: MuJoCo's own run of it is the event's plug-in's")
+        dt = scene.horizon / sim.grid_steps(scene, MUJOCO_STEPS)
+        lean, full = MujocoStepper(system, scene, True, dt), MujocoStepper(system, scene, False, dt)
+        how = [f"disable flags {', '.join(lean.flags)}"] if lean.flags else []
+        if len(full.loads) > len(lean.loads):
+            how.append("idle external loads not evaluated")
+        return lean.run, full.run, f"mj_step RK4, dt={dt:g}, pruned: {'; '.join(how) or 'nothing'}"
+    from harness.engines import ENGINES
+
+    if source != "symbolic" and ENGINES[source].applies(system):
+        raise ValueError(ENGINES[source].applies(system))
+
+    def one(s, sc):
+        return lambda: motion.simulate(s, sc, event, source, rtol=1e-10, atol=1e-10, catalogue=catalogue)
+    method = "our compiled right-hand side" if source == "symbolic" else f"{source} forward dynamics"
+    return one(system, scene), one(idle_system, idle_scene), f"{method}, DOP853 1e-10"
 
 
 class Pruning(Phenomenon):
     name = "pruning"
 
     def check(self, run: SceneRun) -> None:
-        """Idle-but-present against pruned: the same trajectory, and the time ratio (the fastest of
-        ``PRUNING_REPEATS`` runs each, as a single timing on a shared machine is noise). A scene that calls for
-        every effect of its system has nothing to prune: its ratio is 1 by construction."""
+        """The effects inferred beside the declared ones (notes; a disagreement is a note, not fixed); idle against
+        pruned by every source: the same trajectory (``ENGINE``) and the time ratio (``timings``)."""
         system, scene, result = run.system, run.scene, run.result
-        idle_system, idle_scene = with_idle_effects(system, scene)
-        key = "pruning time ratio (idle / pruned), symbolic"
-        if idle_scene is scene:
-            result.timings[key] = 1.0
-            result.notes["pruning"] = "nothing to prune: the scene calls for every effect of the system"
+        result.notes.update(infer(system, scene).notes())
+        measured = measure(system, scene, run.motion, run.event, run.catalogue,
+                           sources=("symbolic",) + tuple(e for e in run.engines if e in SOURCES))
+        if "nothing" in measured:
+            result.notes["pruning"] = measured["nothing"]
             return
-
-        def symbolic(s, sc):
-            return run.motion.simulate(s, sc, run.event, "symbolic", rtol=1e-10, atol=1e-10, catalogue=run.catalogue)
-
-        lean = [symbolic(system, scene) for _ in range(PRUNING_REPEATS)]
-        full = [symbolic(idle_system, idle_scene) for _ in range(PRUNING_REPEATS)]
-        result.add(ENGINE.check("pruned = all effects present but idle", "symbolic", sim.max_error(full[0], lean[0])))
-        result.timings[key] = min(t.seconds for t in full) / max(min(t.seconds for t in lean), 1e-12)
-        result.notes["pruning: effects left out"] = ", ".join(sorted(set(idle_scene.effects) - set(scene.effects)))
+        result.notes["pruning: effects left out"] = ", ".join(measured["left_out"])
+        for source, m in measured["sources"].items():
+            if "skipped" in m:
+                result.notes[f"pruning, {source}"] = f"not measured: {m['skipped']}"
+                continue
+            result.add(ENGINE.check("pruned = all effects present but idle", source, m["error"],
+                                    detail=m["method"]))
+            result.timings[KEY.format(source)] = m["ratio"]
 
 
 PLUGIN = Pruning()

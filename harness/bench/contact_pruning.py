@@ -1,0 +1,153 @@
+"""Contact detection pruned: the lightweight robot's scene ``fall`` in MuJoCo's own RK4 with the Panda's real
+collision meshes and a floor, contact detection on (``contact``, ``constraint`` enabled) against the same MJCF with
+``mjDSBL_CONTACT`` set (:class:`~harness.engines.mujoco_engine.Options` ``disable``): the scene touches nothing
+while nothing touches, so every collision test is work for nothing. Whether anything touches is not assumed: the
+run with contact on records the first step at which MuJoCo finds a contact (and the pair); the ratio is measured
+over the contact-free part of the horizon (the samples before it), where both trajectories must agree, and the
+whole horizon's disagreement is reported beside it (a scene whose contact can act cannot be pruned).
+
+Collision geometry: the ``<collision>`` meshes and boxes of ``example-robot-data``'s ``panda.urdf`` (the pinned package), each
+on the body it moves with — ``panda_link0`` on the fixed base, ``panda_link1`` … ``panda_link7`` on theirs, the
+hand (fixed joints ``panda_joint8``, ``panda_hand_joint``) and the fingers' collision boxes (held at the 1 mm
+opening, as the model holds them) on ``panda_link7`` as the model lumps them. MuJoCo collides the meshes' convex
+hulls; parent–child pairs are filtered (MuJoCo's default).
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+ROBOT, SCENE = "lightweight_robot", "fall"
+STEPS = 2000             # RK4 steps over the 0.5 s horizon (dt = 0.25 ms)
+FLOOR = 0.0              # the floor through the base's origin, z = 0
+EVERY = 10               # sample every 10 steps (2.5 ms)
+
+
+def _transform(origin) -> np.ndarray:
+    from harness.derivation.kinematics import rpy_rotation
+
+    T = np.eye(4)
+    if origin is None:
+        return T
+    xyz = [float(v) for v in origin.get("xyz", "0 0 0").split()]
+    rpy = [float(v) for v in origin.get("rpy", "0 0 0").split()]
+    T[:3, :3] = np.array(rpy_rotation(rpy), dtype=float)
+    T[:3, 3] = xyz
+    return T
+
+
+def collision_geometry(urdf_path, bodies, held: dict) -> tuple[tuple, list[str]]:
+    """``((body, shape, pos, quat), …)`` of every ``<collision>`` (mesh or box) of the URDF on the body of
+    ``bodies`` (or ``world``, the root) it moves with through fixed joints and the ``held`` prismatic joints (at
+    their values); and the links whose collision geometry is left out (another shape, or on a moving joint)."""
+    import defusedxml.ElementTree as ET
+    import mujoco
+
+    root = ET.parse(str(urdf_path)).getroot()
+    share = urdf_path.parents[3]   # …/share/example-robot-data/robots/<robot>/urdf/<file>
+    parent_joint = {j.find("child").get("link"): j for j in root.findall("joint")}
+    out, left_out = [], []
+    for link in root.findall("link"):
+        name, T, body = link.get("name"), np.eye(4), link.get("name")
+        if not link.findall("collision"):
+            continue
+        while body not in bodies and body in parent_joint:
+            joint = parent_joint[body]
+            if joint.get("type") != "fixed" and joint.get("name") not in held:
+                break
+            step = _transform(joint.find("origin"))
+            if joint.get("type") != "fixed":
+                axis = joint.find("axis")
+                step[:3, 3] += step[:3, :3] @ (held[joint.get("name")] *
+                                               np.array([float(v) for v in axis.get("xyz").split()]))
+            T = step @ T
+            body = joint.find("parent").get("link")
+        if body not in bodies and body not in parent_joint:
+            body = "world"   # the fixed base (the root link)
+        if body not in bodies and body != "world":
+            left_out.append(name)
+            continue
+        for c in link.findall("collision"):
+            M = T @ _transform(c.find("origin"))
+            quat = np.zeros(4)
+            mujoco.mju_mat2Quat(quat, M[:3, :3].ravel())
+            mesh, box = c.find("geometry/mesh"), c.find("geometry/box")
+            if mesh is not None:
+                shape = ("mesh", share.parent / mesh.get("filename").replace("package://", ""))
+            elif box is not None:
+                shape = ("box", tuple(float(v) / 2 for v in box.get("size").split()))
+            else:
+                left_out.append(name)
+                continue
+            out.append((body, shape, tuple(float(v) for v in M[:3, 3]), tuple(float(v) for v in quat)))
+    return tuple(out), left_out
+
+
+def task(catalogue, repeats: int = 5) -> dict:
+    """Contact detection on (idle: nothing touches) against pruned (``mjDSBL_CONTACT``), MuJoCo's own RK4; the
+    fastest of ``repeats`` runs of each, alternating, in this process."""
+    from harness.engines.mujoco_engine import CollisionMeshes, MujocoModel, Options
+    from harness.export.numeric import instantiate
+    from harness.scenes import simulate as sim
+
+    import models.lightweight_robot as robot
+
+    system = catalogue.get(ROBOT)
+    scene = next(s for s in catalogue.scenes(ROBOT) if s.name == SCENE)
+    tree = instantiate(system, system.default_parameters())
+    held = {"panda_finger_joint1": robot.FINGER_OPENING, "panda_finger_joint2": robot.FINGER_OPENING}  # mimic
+    meshes, left_out = collision_geometry(robot.urdf_file(), {link.name for link in tree.links}, held)
+    dt = scene.horizon / STEPS
+    base = (CollisionMeshes(meshes, floor=FLOOR), Options(timestep=dt, integrator="RK4"))
+    idle = MujocoModel(tree, transforms=base + (Options(enable=("contact", "constraint")),),
+                       where="MjSpec.compile (collision meshes)")
+    lean = MujocoModel(tree, transforms=base + (Options(enable=("contact", "constraint"), disable=("contact",)),),
+                       where="MjSpec.compile (collision meshes, contact pruned)")
+
+    def run(model, steps, stop_at_contact=False):
+        model.reset()
+        model.set_state(np.asarray(scene.q0, float), np.asarray(scene.qd0, float))
+        first = [None]
+
+        def sample(k):
+            return model.time, model.theta(), model.theta_dot()
+
+        def between(k):  # after mj_step1's collision detection: the first step with a contact
+            if first[0] is None and model.data.ncon:
+                first[0] = k
+
+        start = time.perf_counter()
+        out = model.rollout(steps, EVERY, sample, between=between if stop_at_contact else None,
+                            check=f"{ROBOT} {SCENE} (contact pruning)")
+        seconds = time.perf_counter() - start
+        tr = sim.Trajectory("mujoco", np.array([x[0] for x in out]), np.array([x[1] for x in out]),
+                            np.array([x[2] for x in out]), seconds, steps)
+        return tr, first[0]
+
+    # the scene with contact on: where does the arm first touch itself or the floor?
+    whole, first = run(idle, STEPS, stop_at_contact=True)
+    pairs = []
+    if first is not None:
+        idle.reset()
+        idle.set_state(np.asarray(scene.q0, float), np.asarray(scene.qd0, float))
+        idle.rollout(first + 1)
+        idle.forward()
+        pairs = sorted({tuple(sorted((idle.geom_name(c.geom1), idle.geom_name(c.geom2))))
+                        for c in idle.data.contact[:idle.data.ncon]})
+    free = STEPS if first is None else (first // EVERY) * EVERY   # contact-free: the samples before the first
+    runs = {"pruned": [], "idle": []}
+    for _ in range(repeats):
+        runs["pruned"].append(run(lean, free)[0])
+        runs["idle"].append(run(idle, free)[0])
+    t_lean = min(tr.seconds for tr in runs["pruned"])
+    t_full = min(tr.seconds for tr in runs["idle"])
+    pruned_whole = run(lean, STEPS)[0]
+    return {"system": ROBOT, "scene": SCENE, "source": "mujoco", "method": f"mj_step RK4, dt={dt:g}",
+            "collision_geoms": len(meshes), "meshes": sum(g[1][0] == "mesh" for g in meshes), "left_out": left_out,
+            "first_contact": None if first is None else first * dt, "first_contact_pairs": pairs,
+            "whole_horizon_error": sim.max_error(whole, pruned_whole),
+            "measured_horizon": free * dt, "pruned_seconds": t_lean, "idle_seconds": t_full,
+            "ratio": t_full / max(t_lean, 1e-12), "error": sim.max_error(runs["idle"][0], runs["pruned"][0]),
+            "repeats": repeats}

@@ -1,0 +1,38 @@
+"""``harness bench --parts pruning``: per-source ratios, findings and goals in bench.md (from a made-up document;
+the measurement itself: tests/test_effects.py)."""
+
+from harness.bench import report
+
+
+def _row(system, scene, ratios):
+    return {"system": system, "scene": scene, "declared": ["gravity"], "inferred": ["gravity"],
+            "inferred_idle": {"inputs": "drive: input tau ≡ 0 over [0, 3] s"}, "idle_elements": {},
+            "declared_idle": [], "undeclared_acting": ["dampers"], "repeats": 5, "left_out": ["inputs"],
+            "sources": {s: {"pruned_seconds": 1.0, "idle_seconds": r, "ratio": r, "error": 0.0,
+                            "evaluations": [10, 10], "method": "m", "pruned_all": [1.0, 1.02],
+                            "idle_all": [r, r * 1.01]} for s, r in ratios.items()}}
+
+
+def test_pruning_rows_goals_and_findings():
+    rows = [_row("governor", "coast", {"symbolic": 0.98, "pinocchio": 1.5, "mujoco": 8.0}),
+            {"system": "pendulum", "scene": "swing", "nothing": "nothing to prune", "inferred_idle": {}},
+            _row("quarter_car", "smooth_road", {"symbolic": 1.1, "pinocchio": 1.4,
+                                                "mujoco": 1.0})]
+    rows[2]["sources"]["mujoco"] = {"skipped": "an affine map is needed"}
+    text = "\n".join(report._pruning(rows))
+    assert "0.980 × (980.0 / 1000.0 ms) **finding: slower pruned**; repeats spread" in text
+    assert "Nothing to prune (no ratio): pendulum/swing." in text
+    assert "not measured: an affine map is needed" in text
+    assert "can act but not declared: dampers" in text
+    goals = {(g["check"].split(":")[0], g["source"]): g for g in report._pruning_goals(rows)}
+    assert not goals[("pruning pays", "symbolic")]["passed"]          # 0.98 × < 1.3 ×
+    assert goals[("pruning pays", "pinocchio")]["passed"]             # 1.4 × worst ≥ 1.3 ×
+    assert not goals[("no scene slower pruned", "symbolic")]["passed"]
+    assert goals[("no scene slower pruned", "mujoco")]["passed"] and ("pruning pays", "mujoco") in goals
+    contact = {"system": "lightweight_robot", "scene": "fall", "source": "mujoco", "method": "mj_step RK4",
+               "collision_geoms": 17, "meshes": 9, "left_out": [], "first_contact": 0.2365,
+               "first_contact_pairs": [["a", "b"]], "whole_horizon_error": 1.5, "measured_horizon": 0.235,
+               "pruned_seconds": 0.016, "idle_seconds": 0.048, "ratio": 3.0, "error": 0.0, "repeats": 5}
+    assert "the arm touches itself at t = 0.2365 s" in "\n".join(report._contact(contact))
+    doc = {"pruning": rows, "pruning_contact": contact}
+    assert any(g["check"].startswith("contact detection pruned") and g["passed"] for g in report.goals(doc))
