@@ -176,6 +176,12 @@ class Catalogue:
         self.get(name)
         return list(getattr(self._load_all()[0][name], "CLAIMS", []))
 
+    def module(self, name: str) -> ModuleType:
+        """The model module of system ``name`` (for what a model states beyond SYSTEM, CLAIMS, SCENES: e.g. the
+        lightweight robot's URDF file)."""
+        self.get(name)
+        return self._load_all()[0][name]
+
     def __contains__(self, name) -> bool:
         return name in self.systems()
 

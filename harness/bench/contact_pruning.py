@@ -92,9 +92,7 @@ def task(catalogue, repeats: int = 5) -> dict:
     from harness.export.numeric import instantiate
     from harness.scenes import simulate as sim
 
-    import models.lightweight_robot as robot
-
-    system = catalogue.get(ROBOT)
+    system, robot = catalogue.get(ROBOT), catalogue.module(ROBOT)
     scene = next(s for s in catalogue.scenes(ROBOT) if s.name == SCENE)
     tree = instantiate(system, system.default_parameters())
     held = {"panda_finger_joint1": robot.FINGER_OPENING, "panda_finger_joint2": robot.FINGER_OPENING}  # mimic
