@@ -39,6 +39,19 @@ def test_convention_dependent_claim():
     assert verdict.classification == "convention-dependent" and verdict.convention == "phi_2 counted clockwise"
 
 
+def test_holding_force_is_checked_against_every_source():
+    """A holding claim (the drawbridge's rope force at rest, (A.7)): the value that holds the system at any phi_B is
+    confirmed by the derivation and both engines; the printed one, with its extra cos(phi_B), is an erratum."""
+    bridge = models.get("drawbridge")
+    names = ("m_B", "m_T", "m", "l_B", "l_T", "l_m", "R", "g")
+    m_B, m_T, m, l_B, l_T, l_m, R, g = (bridge.parameter(n).symbol for n in names)
+    phi = bridge.q[0]
+    right = (m_B * l_B + m_T * l_T - m * l_m) * g * sp.cos(phi) / R
+    assert classify(bridge, Claim("(h1)", "holding:f_S2", right), examples=20).classification == "confirmed"
+    printed = (m_B * g * l_B + m_T * g * l_T - m * g * l_m * sp.cos(phi)) / R * sp.cos(phi)
+    assert classify(bridge, Claim("(h2)", "holding:f_S2", printed), examples=20).classification == "erratum"
+
+
 # The four systems whose claims take longest (renaming searches, ingredients; 20-57 s each on 2 cores) run with
 # `pytest -m slow`: the main job (`make check`, run first by CI) classifies every printed equation of every system
 # and fails on "engines disagree"; tests/test_errata.py covers the mechanisms on small cases.

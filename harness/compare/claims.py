@@ -15,6 +15,9 @@ faithfully (typos included) in the model's symbols, and names the quantity it cl
 * ``"position:<point>"``, ``"J_v:<point>"``, ``"J_omega:<link>"`` / ``"parameter"`` – kinematics (a position, the
   Jacobians (4.64), (4.62) in the inertial frame) or a parameter relation, checked against our kinematics
   (derivation only: ``reference`` gives the derived expression);
+* ``"holding:<input>"`` – the printed value of one input that holds the system at rest at any ``q`` (a static
+  balance, e.g. a rope force): at ``(q, q̇ = 0)`` with that input (the others 0) the forward dynamics of the
+  derivation and of each engine must give ``q̈ = 0``;
 * ``"force:<element>"``, ``"f_np:<element>"`` – the force vector of a spring or damper on its point ``b`` (along
   its line) and that element's generalized force ``J_rᵀ f`` (5.73), derivation only.
 
@@ -97,6 +100,14 @@ def _derive_claimed(system: System, claim: Claim):
     if kind == "equilibrium":  # the equation an equilibrium solves: g(q*) - f_np(q*, 0, 0) = 0
         rest = {x: 0 for x in [*system.qd, *system.u]}
         return sp.Matrix(d.g - d.f_np.xreplace(rest))
+    if kind == "holding":  # the input that holds the system at rest at q: g(q) − f_np(q, 0, u) = 0 solved for it
+        u = sp.Symbol(claim.quantity.split(":", 1)[1], real=True)
+        rest = {x: 0 for x in [*system.qd, *system.u] if x != u}
+        residual = (d.g - d.f_np).xreplace(rest)
+        row = next((e for e in residual if e.has(u)), None)
+        if row is None:
+            raise ValueError(f"{system.name}: the input {u} does not act on the system (holding claim)")
+        return sp.Matrix([sp.solve(row, u)[0]])
     if kind == "eom":
         qdd = sp.Matrix([co.accel for co in system.coordinates])
         expr = d.M * qdd + d.C * sp.Matrix(system.qd) + d.g - d.f_np
@@ -182,7 +193,7 @@ def _engine_values(claim: Claim, state: State, engines):
     kappa = float(np.linalg.cond(ref.M))
     kind = claim.quantity.split(":")[0]
     evaluations = {"derivation": ref}
-    if kind in ENGINE_QUANTITIES | {"eom", "equilibrium"}:
+    if kind in ENGINE_QUANTITIES | {"eom", "equilibrium", "holding"}:
         for name in engines:
             evaluations[name] = ENGINES[name](state.tree).evaluate(state)
     return evaluations, s, kappa
@@ -205,6 +216,15 @@ def evaluate_claim(system: System, claim: Claim, state: State, engines=CLAIM_ENG
         n = len(system.coordinates)
         q_star = np.asarray(fn(state.q, state.qd, np.zeros(n), state.p, state.u_vec), dtype=float).ravel()
         state = State.make(system, q_star, np.zeros(n), state.params, {})
+        evaluations, s, kappa = _engine_values(claim, state, engines)
+        return {source: relative_error(ev.qdd, np.zeros(n), s["qdd"]) / (FLOAT64_RTOL * kappa)
+                for source, ev in evaluations.items()}
+    if kind == "holding":  # the printed input at q, at rest: every source's q̈ must vanish
+        n = len(system.coordinates)
+        value = float(np.asarray(fn(state.q, np.zeros(n), np.zeros(n), state.p, np.zeros(len(system.u))),
+                                 dtype=float).ravel()[0])
+        inputs = {**{i.name: 0.0 for i in system.inputs}, claim.quantity.split(":", 1)[1]: value}
+        state = State.make(system, state.q, np.zeros(n), state.params, inputs)
         evaluations, s, kappa = _engine_values(claim, state, engines)
         return {source: relative_error(ev.qdd, np.zeros(n), s["qdd"]) / (FLOAT64_RTOL * kappa)
                 for source, ev in evaluations.items()}

@@ -31,7 +31,11 @@ local error to ``rtol`` of the state (an RMS over its 2n components, so up to ``
 the constraint sums such errors over its terms; the cable pulley's drum turns by 41 rad while its load moves 4 m,
 so an absolute 1e-8 would ask the integrator for 2.4e-10 of the state, below its own 1e-10 per step. Baumgarte's
 critically damped error dynamics forget what lies more than a few ``1/ω`` back, so the drift stays within a few
-steps' errors: ``DRIFT = 100 rtol`` relative.
+steps' errors: ``DRIFT = 100 rtol`` relative. That holds when the integrator resolves those error dynamics: DOP853's
+error control watches the state, not the constraint (a small difference of states), and on a slow motion it took
+steps of 0.12 s = 2.5/ω (the drawbridge's raise: 107 evaluations over 1.5 s) over which the stabilization is not
+integrated faithfully: drift 6.7e-8, non-monotonic in rtol and ω (3.8e-8 at rtol 1e-9, 3e-10 at 1e-11). So steps are
+limited to ``BAUMGARTE_STEP / ω`` (0.025 s).
 MuJoCo steps its soft equality constraints (``solref = 2 dt``, the stiffest ``solimp``, implicitfast): its error
 is first order in ``dt`` and is checked like its dry friction and contact
 (:func:`harness.scenes.base.soft_convergence`).
@@ -57,6 +61,7 @@ from harness.scenes import simulate as sim
 from harness.scenes.base import ENGINE, Phenomenon, SceneRun, soft_convergence
 
 BAUMGARTE_OMEGA = 20.0     # rad/s: constraint errors decay over ~0.1 s, far below the integrator's drift
+BAUMGARTE_STEP = 0.5       # steps of at most 0.5/ω: the integrator resolves the stabilization it relies on
 DRIFT = Bound("constraint drift", 1e-8, "max |c| of Pinocchio's constrained tree relative to the scale of the terms "
               "forming each constraint: 100 × the integrator's rtol 1e-10")
 DRIFT_TOL = DRIFT.value
@@ -192,7 +197,7 @@ def pinocchio_constrained(system, scene, rtol=1e-10, atol=1e-10, horizon=None) -
     n = len(theta0)
     start = time.perf_counter()
     t, y, _ = sim.solve_piecewise(rhs, scene, np.concatenate([theta0, theta_dot0]), "DOP853", rtol, atol,
-                                  sim.sample_times(scene), end=horizon)
+                                  sim.sample_times(scene), end=horizon, max_step=BAUMGARTE_STEP / BAUMGARTE_OMEGA)
     seconds = time.perf_counter() - start
     recover = _Recover(rhs.dyn, scene.q0)
     theta_scale = np.maximum(1.0, np.max(np.abs(y[:n]), axis=1))
