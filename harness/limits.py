@@ -9,7 +9,10 @@ command run for hours or take all memory.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import math
+import signal
+import threading
 
 # ------------------------------------------------------------------------------------------- model files
 MODEL_BYTES = 8 * 2**20
@@ -103,3 +106,39 @@ def check_magnitude(what: str, value: float) -> None:
         raise ValueError(f"{what}={value!r}: must be a finite number")
     if abs(value) > MAGNITUDE:
         raise ValueError(f"{what}={value!r}: exceeds {MAGNITUDE:g} in magnitude (results would overflow)")
+
+
+# ------------------------------------------------------------------------------------------- symbolic work
+class OutOfTime(BaseException):
+    """A CPU budget ran out (a BaseException: library code such as SymPy that catches ``Exception`` must not
+    swallow it)."""
+
+
+@contextlib.contextmanager
+def cpu_budget(seconds: float):
+    """Raises :class:`OutOfTime` inside the block after ``seconds`` of this process's CPU time (``ITIMER_VIRTUAL``:
+    other processes on a loaded machine do not shorten it; main thread only, elsewhere the cascade runs its bounded
+    steps without the expensive ones)."""
+    if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "setitimer"):
+        yield False
+        return
+
+    active = [True]
+
+    def stop(signum, frame):
+        # not inside a garbage-collector callback (it cannot propagate from there); the timer repeats
+        if active[0] and (frame is None or frame.f_code.co_name != "gc_callback"):
+            raise OutOfTime
+
+    previous = signal.signal(signal.SIGVTALRM, stop)
+    signal.setitimer(signal.ITIMER_VIRTUAL, seconds, 0.05)  # repeats: an interrupt swallowed elsewhere comes again
+    try:
+        yield True
+    finally:
+        while active[0]:  # an interrupt arriving here is retried until the handler is disarmed
+            try:
+                active[0] = False
+            except OutOfTime:
+                pass
+        signal.setitimer(signal.ITIMER_VIRTUAL, 0)
+        signal.signal(signal.SIGVTALRM, previous)

@@ -10,8 +10,9 @@
   coordinates, inputs) is tried; a renaming under which the claim holds makes it a *notation typo*
   ("holds after renaming l_e2 → l_2"), found here, never typed into the model.
 * **Decided.** Besides the hypothesis states, ``printed − derived`` is reduced symbolically by a cascade of cheap
-  steps (expand, trigonometric expansion, trigsimp, simplify) of bounded size under a time budget: a claim
-  the cascade reduces to zero is ``decided_by: "symbolic"``, else ``"numeric only"``.
+  steps (expand, trigonometric expansion, trigsimp, simplify) of bounded size under a budget of this process's CPU
+  time (so a loaded machine decides the same; a slower CPU may decide fewer): a claim the cascade reduces to zero
+  is ``decided_by: "symbolic"``, else ``"numeric only"``. The classification never depends on it.
 
 Classifications: ``confirmed``, ``C differs, C·q̇ agrees``, ``convention-dependent``, ``notation typo``,
 ``follows from erratum``, ``erratum`` (substantive), ``engines disagree``.
@@ -19,20 +20,18 @@ Classifications: ``confirmed``, ``C differs, C·q̇ agrees``, ``convention-depen
 
 from __future__ import annotations
 
-import contextlib
 import difflib
 import itertools
-import signal
-import threading
 import time
 
 import sympy as sp
 
+from harness.limits import OutOfTime, cpu_budget
 from harness.modeling.claims import Claim, as_matrix
 from harness.modeling.system import Damper, Point, Spring, System
 
 HOLDS = ("confirmed", "C differs, C·q̇ agrees")
-SYMBOLIC_BUDGET = 2.0      # seconds of symbolic reduction per claim
+SYMBOLIC_BUDGET = 2.0      # CPU seconds of symbolic reduction per claim (the machine's load does not shorten it)
 SYMBOLIC_SIZE = 3000       # count_ops above which only expansion is tried
 RENAMINGS = 60             # at most this many renamings are tried per claim
 SCREEN_EXAMPLES = 12       # states a renaming is screened on (derivation only) before the full check
@@ -235,60 +234,27 @@ def _renamed(system, claim, engines, examples, claims, printed, missing):
 
 
 # ----------------------------------------------------------------------------- symbolic decision
-class _OutOfTime(BaseException):  # not an Exception: library code that catches those must not swallow it
-    pass
-
-
-@contextlib.contextmanager
-def _budget(seconds: float):
-    """Raises :class:`_OutOfTime` inside the block after ``seconds`` (main thread only; elsewhere the cascade
-    runs its bounded steps without the expensive ones)."""
-    if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "setitimer"):
-        yield False
-        return
-
-    active = [True]
-
-    def stop(signum, frame):
-        # not inside a garbage-collector callback (it cannot propagate from there); the timer repeats
-        if active[0] and (frame is None or frame.f_code.co_name != "gc_callback"):
-            raise _OutOfTime
-
-    previous = signal.signal(signal.SIGALRM, stop)
-    signal.setitimer(signal.ITIMER_REAL, seconds, 0.05)  # repeats: an interrupt swallowed elsewhere comes again
-    try:
-        yield True
-    finally:
-        while active[0]:  # an interrupt arriving here is retried until the handler is disarmed
-            try:
-                active[0] = False
-            except _OutOfTime:
-                pass
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, previous)
-
-
 def reduce(expr, seconds: float = SYMBOLIC_BUDGET):
     """``expr`` reduced by the cascade; returns (reduced expression or None when out of budget, reached zero)."""
     expr = sp.sympify(expr)
     if expr == 0:
         return expr, True
-    deadline = time.monotonic() + seconds
+    deadline = time.process_time() + seconds
     best = expr
     try:
-        with _budget(seconds) as timed:
+        with cpu_budget(seconds) as timed:
             steps = [sp.expand, lambda e: sp.expand(sp.expand_trig(e)), sp.cancel]
             if timed:
                 steps += [sp.trigsimp, sp.simplify]
             for step in steps:
-                if time.monotonic() > deadline or sp.count_ops(best) > SYMBOLIC_SIZE:
+                if time.process_time() > deadline or sp.count_ops(best) > SYMBOLIC_SIZE:
                     break
                 candidate = step(best)
                 if candidate == 0:
                     return candidate, True
                 if sp.count_ops(candidate) <= sp.count_ops(best):
                     best = candidate
-    except (_OutOfTime, RecursionError):
+    except (OutOfTime, RecursionError):
         pass
     return best, False
 

@@ -12,14 +12,12 @@ the page says how large it is instead.
 
 from __future__ import annotations
 
-import signal
-import threading
 import time
-from contextlib import contextmanager
 from dataclasses import dataclass
 
 import sympy as sp
 
+from harness.limits import OutOfTime, cpu_budget
 from harness.report.mathml import body, bold, math
 
 SIMPLIFY_MAX_OPS = 300
@@ -27,36 +25,14 @@ PRINT_MAX_OPS = 1500
 BUDGET_SECONDS = 2.0
 
 
-class _OutOfTime(BaseException):
-    """Raised by the timer inside a simplification (a BaseException: SymPy's own ``except Exception`` must not
-    swallow it)."""
-
-
-@contextmanager
-def _deadline(seconds: float):
-    """Interrupt the block after ``seconds`` (SIGALRM; in the main thread only, elsewhere no limit)."""
-    if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "setitimer"):
-        yield
-        return
-
-    def expire(signum, frame):
-        raise _OutOfTime
-
-    previous = signal.signal(signal.SIGALRM, expire)
-    signal.setitimer(signal.ITIMER_REAL, max(seconds, 1e-3))
-    try:
-        yield
-    finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, previous)
-
 # the lecture's general equations the derived quantities follow
 GENERAL = {"M": "(5.21)", "C": "(5.95), (5.97)", "g": "(5.96)", "f_np": "(5.60), (5.73)", "eom": "(5.93)"}
 
 
 @dataclass
 class Budget:
-    """The simplification budget of one system (wall clock), and whether it ran out."""
+    """The simplification budget of one system (this process's CPU time: the machine's load does not shorten
+    it), and whether it ran out."""
 
     seconds: float = BUDGET_SECONDS
     start: float | None = None     # the clock starts at the first simplification (not at imports)
@@ -72,8 +48,8 @@ class Budget:
         if expr.is_number or expr.is_Symbol:
             return expr
         if self.start is None:
-            self.start = time.perf_counter()
-        left = self.seconds - (time.perf_counter() - self.start)
+            self.start = time.process_time()
+        left = self.seconds - (time.process_time() - self.start)
         if left <= 0:
             self.exhausted = True
             return expr
@@ -81,12 +57,12 @@ class Budget:
             self.skipped_large += 1
             return expr
         try:
-            with _deadline(left):
+            with cpu_budget(max(left, 1e-3)):
                 out = sp.expand(expr)
                 if out.has(sp.sin, sp.cos) and sp.count_ops(out) <= SIMPLIFY_MAX_OPS:
                     out = sp.trigsimp(out)
                 out = sp.factor_terms(out)
-        except _OutOfTime:
+        except OutOfTime:
             self.exhausted = True
             return expr
         return out if sp.count_ops(out) <= sp.count_ops(expr) else expr
