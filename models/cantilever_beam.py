@@ -1,6 +1,6 @@
 """Elastically mounted cantilever beam, Exercise A.14 (Figure A.22), solution (A.159)-(A.174).
 
-A carriage S (mass ``m_S``) slides on its guide along ``e_y`` (vertical) with position ``s``; the joint A of the
+A carriage S (mass ``m_s``) slides on its guide along ``e_y`` (vertical) with position ``s``; the joint A of the
 beam sits on the carriage at ``[0, s, 0]``. Gravity acts in ``-e_y`` (``V_g,B = g m_B (s + l_s sin phi)``,
 (A.162), (A.163)). A linear spring ``c_1`` (relaxed at ``s = s_10``, (A.164a)) and viscous friction ``d_1``
 (A.172a) act in the carriage guide; a torsion spring ``c_2`` (relaxed at ``phi = 0``, (A.164b)) and viscous
@@ -26,10 +26,10 @@ only translates, so its rotational inertia (a cuboid, for the engines) never ent
 
 from sympy import Matrix, cos, diff, sin
 
-from harness.modeling import (WORLD, Claim, Coordinate, Gravity, Inertia, Input, Joint, JointDamper, JointSpring, Link,
+from harness.modeling import (WORLD, Claim, Coordinate, Printed, Gravity, Inertia, Input, Joint, JointDamper, JointSpring, Link,
                               Parameter, Point, PointForce, Scene, Step, System, standard_gravity)
 
-m_S = Parameter("m_S", 5.0, "kg", "mass of the carriage S")
+m_s = Parameter("m_s", 5.0, "kg", "mass of the carriage S (m_s, as the exercise gives it)")
 rho = Parameter("rho", 2700.0, "kg/m^3", "density of the beam B")
 d = Parameter("d", 0.01, "m", "thickness of the beam B")
 b_1 = Parameter("b_1", 0.1, "m", "width of beam section 1 (free end)")
@@ -65,7 +65,7 @@ SYSTEM = System(
     lecture="Exercise A.14; (A.159)-(A.174)",
     coordinates=(s, phi),
     links=(
-        Link("carriage", m_S, (0, 0, 0), Inertia.cuboid(m_S, 0.2, 0.2, 0.1),
+        Link("carriage", m_s, (0, 0, 0), Inertia.cuboid(m_s, 0.2, 0.2, 0.1),
              description="carriage S; it only translates"),
         Link("beam", m_B, (x_sB, 0, 0), Inertia(I_xxB, I_yyB, I_zzB),
              description="beam B of three plates, x along the beam"),
@@ -89,6 +89,7 @@ SYSTEM = System(
 q, qd, qdd = [s, phi], [s.rate, phi.rate], [s.accel, phi.accel]
 c, s_ = cos(phi), sin(phi)
 m_B_printed = rho * d * (b_1 * l_1 + b_2 * l_2 + b_3 * l_3)                          # (A.159)
+m_S = Printed("m_S", "kg", "printed in (A.163), (A.166); the exercise names the carriage's mass m_s")
 l_s = ((b_1 * l_1 * (l_1 / 2 + l_2) + b_2 * l_2**2 / 2 - b_3 * l_3**2 / 2)
        / (b_1 * l_1 + b_2 * l_2 + b_3 * l_3))                                        # (A.160)
 V = (g * m_B_printed * (s + l_s * s_) + g * m_S * s                                  # (A.162), (A.163)
