@@ -173,7 +173,8 @@ def _capsule(body, name: str, a: np.ndarray, b: np.ndarray, radius: float, rgba)
 def add_visuals(tree: NumericTree, bodies: dict, fused: set) -> None:
     """Visual-only geoms sized from the model (``contype = conaffinity = 0``, no mass; the inertia is explicit,
     ``inertiafromgeom="false"``, so that the dynamics do not change): a rigid body as the cuboid of its mass and
-    inertia tensor (:func:`equivalent_box`), a point mass as a sphere, and the link frame as capsules from its
+    inertia tensor (:func:`equivalent_box`), one with an isotropic tensor as the homogeneous sphere of it (the
+    rolling sphere, a ball, pulleys whose axial inertia alone matters), a point mass as a small sphere, and the link frame as capsules from its
     origin to its centre of mass and to the joints of its children."""
     scale = model_scale(tree)
     radius = 0.015 * scale
@@ -193,6 +194,12 @@ def add_visuals(tree: NumericTree, bodies: dict, fused: set) -> None:
             body.add_geom(name=f"visual_{link.name}_mass", type=mujoco.mjtGeom.mjGEOM_SPHERE, pos=link.com,
                           size=[0.06 * scale, 0.0, 0.0], rgba=rgba, contype=0, conaffinity=0, group=VISUAL_GROUP,
                           mass=0.0)
+            continue
+        moments = np.linalg.eigvalsh(0.5 * (link.inertia + link.inertia.T))
+        if moments[-1] - moments[0] <= 1e-9 * moments[-1]:  # isotropic: the homogeneous sphere, I = 2/5 m r² (3.16)
+            radius_s = float(np.clip(np.sqrt(2.5 * moments[0] / link.mass), 0.01 * scale, 2.0 * scale))
+            body.add_geom(name=f"visual_{link.name}_body", type=mujoco.mjtGeom.mjGEOM_SPHERE, pos=link.com,
+                          size=[radius_s, 0.0, 0.0], rgba=rgba, contype=0, conaffinity=0, group=VISUAL_GROUP, mass=0.0)
             continue
         half, quat = equivalent_box(link.mass, link.inertia)
         half = np.clip(half, 0.01 * scale, 2.0 * scale)
