@@ -35,6 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
+from harness import profiling
 from harness.checks import Bound, Check, relative_error
 from harness.derivation.compile import compiled
 from harness.compare.conformance import FLOAT64_RTOL, scales
@@ -150,7 +151,8 @@ def _lambdify(system: System, expr, key=None):
     if key is None:
         return sp.lambdify(_symbols(system), _as_matrix(expr), modules="numpy")
     if key not in _COMPILED_CLAIMS:
-        _COMPILED_CLAIMS[key] = sp.lambdify(_symbols(system), _as_matrix(expr), modules="numpy")
+        with profiling.phase("lambdify claims"):
+            _COMPILED_CLAIMS[key] = sp.lambdify(_symbols(system), _as_matrix(expr), modules="numpy")
     return _COMPILED_CLAIMS[key]
 
 
@@ -164,15 +166,20 @@ CLAIM_ENGINES = ("pinocchio", "mujoco")
 
 def _engine_values(claim: Claim, state: State, engines):
     """The claimed quantity from each source, with the scale and tolerance it is compared at."""
-    ref = symbolic.evaluate(state)
-    ref.extra["qd"] = state.qd
-    s = scales(ref)
-    kappa = float(np.linalg.cond(ref.M))
+    with profiling.phase("symbolic"):
+        ref = symbolic.evaluate(state)
+        ref.extra["qd"] = state.qd
+        s = scales(ref)
+        kappa = float(np.linalg.cond(ref.M))
     kind = claim.quantity.split(":")[0]
     evaluations = {"derivation": ref}
     if kind in ENGINE_QUANTITIES | {"eom", "equilibrium"}:
         for name in engines:
-            evaluations[name] = ENGINES[name](state.tree).evaluate(state)
+            with profiling.phase(f"engine {name}"):
+                with profiling.phase("model"):
+                    model = ENGINES[name](state.tree)
+                with profiling.phase("evaluate"):
+                    evaluations[name] = model.evaluate(state)
     return evaluations, s, kappa
 
 

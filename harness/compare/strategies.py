@@ -14,6 +14,7 @@ import math
 import numpy as np
 from hypothesis import strategies as st
 
+from harness import profiling
 from harness.engines.base import State
 from harness.modeling.system import System
 
@@ -72,6 +73,11 @@ def parameters(draw, system: System) -> dict[str, float]:
 @st.composite
 def states(draw, system: System, random_parameters: bool = True) -> State:
     """A random state ``(q, q̇, parameters, u)`` of ``system``."""
+    with profiling.phase("draw states"):
+        return _state(draw, system, random_parameters)
+
+
+def _state(draw, system: System, random_parameters: bool) -> State:
     q = [draw(_float(*c.range) if c.range else _float(-ANGLE, ANGLE) if c.unit == "rad" else _float(-LENGTH, LENGTH))
          for c in system.coordinates]
     qd = [draw(_float(-RATE, RATE)) for _ in system.coordinates]
