@@ -30,6 +30,7 @@ Classification (computed, never typed in):
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -164,22 +165,43 @@ CLAIM_ENGINES = ("pinocchio", "mujoco")
 """The engines a claim is checked against (besides the derivation)."""
 
 
+_EVALUATIONS: dict = {}
+_EVALUATIONS_KEPT = 4096
+
+
+def _evaluated(state: State) -> dict:
+    """The evaluations at ``state`` by source, kept: every printed equation of a system is classified on the same
+    drawn states (the seed derives from the check, the same for all), and the derivation's and each engine's
+    numbers at a state do not depend on the claim. Evaluated on first use, never changed afterwards."""
+    kept = _EVALUATIONS.get(state.key)
+    if kept is not None and kept["system"] is state.system:
+        return kept
+    if len(_EVALUATIONS) >= _EVALUATIONS_KEPT:
+        _EVALUATIONS.clear()
+    kept = _EVALUATIONS[state.key] = {"system": state.system}
+    return kept
+
+
 def _engine_values(claim: Claim, state: State, engines):
     """The claimed quantity from each source, with the scale and tolerance it is compared at."""
-    with profiling.phase("symbolic"):
-        ref = symbolic.evaluate(state)
-        ref.extra["qd"] = state.qd
-        s = scales(ref)
-        kappa = float(np.linalg.cond(ref.M))
+    kept = _evaluated(state)
+    if "derivation" not in kept:
+        with profiling.phase("symbolic"):
+            ref = symbolic.evaluate(state)
+            ref.extra["qd"] = state.qd
+            kept["derivation"] = ref, scales(ref), float(np.linalg.cond(ref.M))
+    ref, s, kappa = kept["derivation"]
     kind = claim.quantity.split(":")[0]
     evaluations = {"derivation": ref}
     if kind in ENGINE_QUANTITIES | {"eom", "equilibrium"}:
         for name in engines:
-            with profiling.phase(f"engine {name}"):
-                with profiling.phase("model"):
-                    model = ENGINES[name](state.tree)
-                with profiling.phase("evaluate"):
-                    evaluations[name] = model.evaluate(state)
+            if name not in kept:
+                with profiling.phase(f"engine {name}"):
+                    with profiling.phase("model"):
+                        model = ENGINES[name](state.tree)
+                    with profiling.phase("evaluate"):
+                        kept[name] = model.evaluate(state)
+            evaluations[name] = kept[name]
     return evaluations, s, kappa
 
 
@@ -327,13 +349,78 @@ def holds(system: System, claim: Claim, engines, examples, substitution: dict | 
 
 
 def _run(system: System, check, examples, shrink: bool = True):
-    """None when ``check`` passes on every drawn state, else (counterexample text, State)."""
-    test = property_test(states(system), check, examples, shrink=shrink)
+    """None when ``check`` passes on every drawn state, else (counterexample text, State).
+
+    Every printed equation of a system is checked by the same check functions, so hypothesis (derandomized: the
+    seed derives from the check's source) draws the same states for each. The states of a run that passed are
+    kept (:data:`_PASSED`); the next run with the same check source, system and settings calls ``check`` on them
+    in the same order — what hypothesis would do, without drawing them again. If one of them fails, what the
+    check recorded is undone (:func:`_undo`) and hypothesis runs as always: it draws, finds the failure and
+    shrinks it."""
+    key = _replay_key(system, check, examples, shrink)
+    kept = _PASSED.get(key) if key is not None else None
+    if kept is not None and kept[0] is system:
+        undo = _undo(check)
+        try:
+            with profiling.phase("replay"):
+                for state in kept[1]:
+                    check(state)
+            return None
+        except Exception:  # noqa: BLE001 - hypothesis runs as always, from nothing recorded
+            undo()
+    seen: list = []
+
+    @functools.wraps(check)  # the same source, hence the same digest and seed as ``check``
+    def recording(state):
+        seen.append(state)
+        return check(state)
+
+    test = property_test(states(system), recording if key is not None else check, examples, shrink=shrink)
     try:
         test()
     except _Disagrees as failure:
         return str(failure.args[0]), (failure.args[1] if len(failure.args) > 1 else None)
+    if key is not None:
+        if len(_PASSED) >= 256:
+            _PASSED.clear()
+        _PASSED[key] = (system, seen)
     return None
+
+
+_PASSED: dict = {}
+"""(system, check digest, settings) → (system, the states a passing run called the check on, in order)."""
+
+
+def _replay_key(system: System, check, examples, shrink: bool):
+    """What decides the states of a run, or None when they are not determined by it (a random seed per run, or
+    hypothesis drawing constants from our modules' source: outside :func:`harness.settings.draws_from_seed_only`)."""
+    import hypothesis.core
+    from hypothesis import settings
+    from hypothesis.internal.reflection import function_digest
+
+    from harness.settings import seed_only
+
+    current = settings.default
+    force = hypothesis.core.global_force_seed
+    if not seed_only() or not (current.derandomize or force is not None) or current.database is not None:
+        return None
+    return (id(system), function_digest(check), examples, shrink, force, current.max_examples,
+            current.derandomize, tuple(current.phases))
+
+
+def _undo(check):
+    """A function restoring the lists and dicts ``check`` closes over (what it recorded) to their contents now."""
+    saved = []
+    for cell in check.__closure__ or ():
+        value = cell.cell_contents
+        if isinstance(value, (list, dict)):
+            saved.append((value, value.copy()))
+
+    def undo():
+        for value, copy in saved:
+            value.clear()
+            value.update(copy) if isinstance(value, dict) else value.extend(copy)
+    return undo
 
 
 def record_fields(system: System, verdict: Classification, claims) -> dict:
