@@ -148,9 +148,9 @@ def markdown(doc: dict, systems: bool = True) -> str:
 
     m = doc["machine"]
     lines = [f"# Profile of `harness {doc['command']}`", "",
-             f"{doc['seconds']:.1f} s wall, {doc['cpu_seconds']:.1f} CPU s in the phases, jobs {doc['jobs']}, {m['cpus']} CPUs, load average "
-             f"{m['load_average']} at the end; phases summed over the systems (a worker's phases run in parallel "
-             "with the others').", ""]
+             f"{doc['seconds']:.1f} s wall, {doc['cpu_seconds']:.1f} CPU s in the phases, jobs {doc['jobs']}, "
+             f"{m['cpus']} CPUs, load average {m['load_average']} at the end; phases summed over the systems (a "
+             "worker's phases run in parallel with the others').", ""]
     lines += rows(doc["phases"])
     if doc.get("counts"):
         lines += ["", "| counter | count |", "|---|---:|"]

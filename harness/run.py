@@ -465,16 +465,17 @@ def classify_system(job: tuple) -> dict:
             except Exception:  # noqa: BLE001 - the claims below report it, one by one
                 pass
         out, failures = [], []
-        for claim in printed:
-            print(f"classifying {name} {claim.equation} …", file=sys.stderr, flush=True)
-            try:
-                with profiling.phase("classify"):
-                    v = claims.classify(system, claim, examples=examples, claims=printed)
-                    extra = claims.record_fields(system, v, printed)
-            except Exception as exc:  # noqa: BLE001 - one claim that cannot be evaluated does not lose the others
-                failures.append(f"{name} {claim.equation}: cannot be evaluated: {type(exc).__name__}: {exc}")
-                continue
-            out.append({**claim_record(v), **extra})
+        with claims.shared_evaluations():  # the same drawn states for every claim of the system
+            for claim in printed:
+                print(f"classifying {name} {claim.equation} …", file=sys.stderr, flush=True)
+                try:
+                    with profiling.phase("classify"):
+                        v = claims.classify(system, claim, examples=examples, claims=printed)
+                        extra = claims.record_fields(system, v, printed)
+                except Exception as exc:  # noqa: BLE001 - one claim that cannot be evaluated does not lose the others
+                    failures.append(f"{name} {claim.equation}: cannot be evaluated: {type(exc).__name__}: {exc}")
+                    continue
+                out.append({**claim_record(v), **extra})
     failures += [f"{name}: unexplained {w['engine']} warning in {w['where']} ({w['count']}x): {w['message']}"
                  for w in warnings_log.drain(name) if not w["explained"]]
     return {"system": name, "failure": "; ".join(failures) or None, "records": out, **_profile_snapshot()}

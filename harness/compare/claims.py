@@ -31,6 +31,7 @@ Classification (computed, never typed in):
 from __future__ import annotations
 
 import functools
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import numpy as np
@@ -167,12 +168,29 @@ CLAIM_ENGINES = ("pinocchio", "mujoco")
 
 _EVALUATIONS: dict = {}
 _EVALUATIONS_KEPT = 4096
+_SHARING = [0]
+
+
+@contextmanager
+def shared_evaluations():
+    """Within the block, the evaluations at a state (derivation and engines) are kept and shared by the claims
+    classified: every printed equation of a system is checked on the same drawn states (the seed derives from
+    the check, the same for all), and the numbers at a state do not depend on the claim. The engines must not
+    change within the block; the kept evaluations are dropped at its end."""
+    _SHARING[0] += 1
+    try:
+        yield
+    finally:
+        _SHARING[0] -= 1
+        if not _SHARING[0]:
+            _EVALUATIONS.clear()
 
 
 def _evaluated(state: State) -> dict:
-    """The evaluations at ``state`` by source, kept: every printed equation of a system is classified on the same
-    drawn states (the seed derives from the check, the same for all), and the derivation's and each engine's
-    numbers at a state do not depend on the claim. Evaluated on first use, never changed afterwards."""
+    """The evaluations at ``state`` by source: kept within :func:`shared_evaluations` (evaluated on first use,
+    never changed afterwards), else evaluated for this call only."""
+    if not _SHARING[0]:
+        return {"system": state.system}
     kept = _EVALUATIONS.get(state.key)
     if kept is not None and kept["system"] is state.system:
         return kept
