@@ -144,8 +144,27 @@ _COMPILED_CLAIMS: dict = {}
 
 
 def _accel_coefficients(system: System, printed: sp.Matrix, key):
-    """``∂R/∂q̈`` of a printed residual ``R`` (its 'mass matrix' rows), compiled."""
-    return _lambdify(system, printed.jacobian([c.accel for c in system.coordinates]), key=("accel",) + key)
+    """``∂R/∂q̈`` of a printed residual ``R`` (its 'mass matrix' rows), compiled (differentiated once per key)."""
+    key = ("accel",) + key
+    if key in _COMPILED_CLAIMS:
+        return _COMPILED_CLAIMS[key]
+    return _lambdify(system, printed.jacobian([c.accel for c in system.coordinates]), key=key)
+
+
+_PRINTED: dict = {}
+
+
+def _printed(claim: Claim, substitution: dict | None) -> sp.Matrix:
+    """The printed expression as a matrix with ``substitution`` made, once per claim and substitution (both are
+    kept alive with it: their ids are not reused)."""
+    key = (id(claim), id(substitution))
+    kept = _PRINTED.get(key)
+    if kept is None or kept[0] is not claim or kept[1] is not substitution:
+        printed = _as_matrix(claim.printed)
+        if substitution:
+            printed = printed.xreplace(substitution)
+        kept = _PRINTED[key] = (claim, substitution, printed)
+    return kept[2]
 
 
 def _lambdify(system: System, expr, key=None):
@@ -231,9 +250,7 @@ def evaluate_claim(system: System, claim: Claim, state: State, engines=CLAIM_ENG
                    substitution: dict | None = None) -> dict[str, float]:
     """Relative error of the printed expression against each source at one state (relative to tolerance:
     a value ≤ 1 means 'agrees')."""
-    printed = _as_matrix(claim.printed)
-    if substitution:
-        printed = printed.xreplace(substitution)
+    printed = _printed(claim, substitution)
     fn = _lambdify(system, printed, key=("printed", id(system), id(claim), id(substitution)))
     kind = claim.quantity.split(":")[0]
     if kind == "equilibrium":
