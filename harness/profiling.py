@@ -140,8 +140,7 @@ def markdown(doc: dict, systems: bool = True) -> str:
     def rows(table_rows):
         out = ["| phase | wall s | CPU s | calls | ms per call |", "|---|---:|---:|---:|---:|"]
         for r in table_rows:
-            depth = r["phase"].count("/")
-            label = "&nbsp;&nbsp;" * depth + r["phase"].rsplit("/", 1)[-1]
+            label = r["phase"].replace("/", " / ")
             per = "" if r["per_call_ms"] is None else f"{r['per_call_ms']:.3f}"
             out.append(f"| {label} | {r['wall']:.3f} | {r['cpu']:.3f} | {r['calls']} | {per} |")
         return out

@@ -25,6 +25,7 @@ OPTIONAL_PAGES = (
     ("bench.html", "Benchmarks", "bench.json", "bench.md", "bench"),
     ("importer.html", "Importer findings", "importer.json", "importer.md", None),
     ("changes.html", "Changes", "changes.json", "changes.md", None),  # harness check --baseline
+    ("profile.html", "Profile", "profile.json", "profile.md", None),  # harness check/claims --profile
 )
 
 
