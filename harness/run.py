@@ -27,7 +27,7 @@ import sys
 import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from concurrent.futures.process import BrokenProcessPool
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from multiprocessing import get_context
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -321,9 +321,10 @@ def run_checks(catalogue: Catalogue, names: list[str], examples: int | None = No
     record holds its wall time in ``timings``. Progress goes to ``progress`` (stderr). With ``profiles`` (a dict),
     each system's phases (:mod:`harness.profiling`) are stored there by system name."""
     progress = sys.stderr if progress is None else progress
-    todo = [Job(catalogue, name, examples, seed, scenes, None if series_dir is None else str(series_dir),
-                profiles is not None)
+    todo = [Job(catalogue, name, examples, seed, scenes, None if series_dir is None else str(series_dir))
             for name in names]
+    if profiles is not None:
+        todo = [replace(job, profile=True) for job in todo]
     records: dict[str, dict] = {}
 
     def done(record):
