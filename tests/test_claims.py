@@ -36,6 +36,8 @@ def test_a_failure_on_replayed_states_is_shrunk_as_in_a_fresh_run(monkeypatch):
     wrong = CHRISTOFFEL.copy()
     wrong[0, 1] = 2 * wrong[0, 1]
     engines = ("pinocchio", "mujoco")
+    if claims._replay_key(SYSTEM, test_correct_claim_is_confirmed, 20, True) is None:
+        pytest.skip("the states are not determined by the seed (a random profile): nothing is replayed")
     runs = []  # the hypothesis runs started
     monkeypatch.setattr(claims, "property_test", lambda *a, **k: runs.append(a) or property_test(*a, **k))
     claims._PASSED.clear()
