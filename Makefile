@@ -38,7 +38,7 @@ check: setup
 
 # the test suite (fixed-seed hypothesis profile `ci`; HYPOTHESIS_PROFILE=long for the randomized one)
 test: setup
-	$(PYTHON) -m pytest -n 2 -q
+	$(PYTHON) -m pytest -n 2 --dist loadgroup -q
 
 # performance studies (on demand, not part of check/test): work-precision of the scenes, evaluation and
 # derivation cost; writes reports/bench.json, reports/bench.md, reports/bench/*.svg. BENCH_ARGS=--quick for ~2 min

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from harness import limits, run
+from harness import limits, profiling, run
 from harness.engines import SOURCES
 from harness.errors import HarnessError, InputError
 from harness.io import writable_folder
@@ -85,7 +85,9 @@ def cmd_check(args) -> int:
 
     baseline = ci.prepare(args.junit, args.baseline)  # bad flags fail before the work
     result = run.check(_catalogue(), args.systems, examples=args.examples, seed=args.seed, jobs=args.jobs,
-                       scenes=not args.no_scenes, out=args.out)
+                       scenes=not args.no_scenes, out=args.out, profile=args.profile)
+    if result.profile is not None:  # stderr: --json keeps stdout for the document
+        print(profiling.markdown(result.profile, systems=False), file=sys.stderr)
     if args.json:
         print(dumps(split_timings(result.document)[0]), end="")
     else:
@@ -157,7 +159,10 @@ def cmd_new(args) -> int:
 
 def cmd_claims(args) -> int:
     """Classify every printed equation; errata are findings (reported, exit 0), 'engines disagree' fails."""
-    result = run.claims(_catalogue(), args.systems, examples=args.examples, jobs=args.jobs, out=args.out)
+    result = run.claims(_catalogue(), args.systems, examples=args.examples, jobs=args.jobs, out=args.out,
+                        profile=args.profile)
+    if result.profile is not None:  # stderr: --json keeps stdout for the records
+        print(profiling.markdown(result.profile, systems=False), file=sys.stderr)
     if args.json:
         print(json.dumps(result.records, indent=1))
     else:
@@ -275,6 +280,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--examples", type=EXAMPLES, default=None, help="hypothesis examples per system (default: profile)")
     p.add_argument("--json", action="store_true")
     p.add_argument("--no-scenes", action="store_true", help="skip the trajectory checks of the scenes")
+    p.add_argument("--profile", action="store_true", help="print where the time goes per phase (and with --out "
+                   "write profile.json and profile.md)")
     p.add_argument("--out", help="folder for results.json, timings.json and summary.md")
     p.add_argument("--jobs", type=JOBS, default=1, help="systems checked in parallel processes")
     p.add_argument("--seed", type=int, default=None, help="hypothesis seed (default: the profile's fixed seeds)")
@@ -305,6 +312,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--examples", type=EXAMPLES, default=None)
     p.add_argument("--json", action="store_true")
     p.add_argument("--out", help="folder for claims.json and errata.md")
+    p.add_argument("--profile", action="store_true", help="print where the time goes per phase (and with --out "
+                   "write the claims section of profile.json)")
     p.set_defaults(func=cmd_claims)
 
     p = sub.add_parser("scenes", help="list the scenes; --run simulates and checks them")

@@ -27,13 +27,14 @@ import sys
 import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from concurrent.futures.process import BrokenProcessPool
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from multiprocessing import get_context
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
+from harness import profiling
 from harness.errors import EngineError, HarnessError, InputError
 from harness.io import atomic_write_text
 from harness.report.results import check_folder, load_results, read_claims, read_timings, write_claims, write_results
@@ -235,6 +236,7 @@ class Job:
     seed: int | None = None
     scenes: bool = True
     series_dir: str | None = None
+    profile: bool = False
 
 
 class Interrupted(HarnessError):
@@ -292,28 +294,43 @@ def run_job(job: Job) -> dict:
     """Check one system (in a worker process with ``--jobs``): its record, the wall time it took in its
     ``timings``."""
     start = time.perf_counter()
+    if job.profile:
+        profiling.enable()
+        profiling.reset()
+        profiling.instrument_scenes()
     apply_seed(job.seed)
     with draws_from_seed_only():
         try:
-            system = job.catalogue.get(job.system)
+            with profiling.phase("load the model module"):
+                system = job.catalogue.get(job.system)
         except Exception as exc:  # noqa: BLE001 - a model that does not load is a failed record, not a lost run
             record = _failed_record(job.system, f"{job.system}: {_reason(exc)}", "does not load")
         else:
             record = check_record(job.catalogue, system, job.examples, job.scenes, job.series_dir)
     record["timings"] = {"seconds": round(time.perf_counter() - start, 2)}
+    if job.profile:
+        record["profile"] = profiling.snapshot()
+        profiling.enable(False)
     return record
 
 
 def run_checks(catalogue: Catalogue, names: list[str], examples: int | None = None, seed: int | None = None,
-               jobs: int = 1, progress=None, scenes: bool = True, series_dir: str | None = None) -> list[dict]:
+               jobs: int = 1, progress=None, scenes: bool = True, series_dir: str | None = None,
+               profiles: dict | None = None) -> list[dict]:
     """Check ``names`` (in that order in the result), ``jobs`` systems at a time in spawned processes. Each
-    record holds its wall time in ``timings``. Progress goes to ``progress`` (stderr)."""
+    record holds its wall time in ``timings``. Progress goes to ``progress`` (stderr). With ``profiles`` (a dict),
+    each system's phases (:mod:`harness.profiling`) are stored there by system name."""
     progress = sys.stderr if progress is None else progress
     todo = [Job(catalogue, name, examples, seed, scenes, None if series_dir is None else str(series_dir))
             for name in names]
+    if profiles is not None:
+        todo = [replace(job, profile=True) for job in todo]
     records: dict[str, dict] = {}
 
     def done(record):
+        snapshot = record.pop("profile", None)
+        if profiles is not None and snapshot is not None:
+            profiles[record["system"]] = snapshot
         records[record["system"]] = record
         verdict = "ok" if record["passed"] else "FAILED"
         print(f"[{len(records)}/{len(todo)}] {record['system']}: {verdict} ({record['timings']['seconds']:.1f} s)",
@@ -339,6 +356,7 @@ class CheckRun:
 
     document: dict
     written: list = field(default_factory=list)
+    profile: dict | None = None  # with --profile: where the time went (harness.profiling.document)
 
     @property
     def passed(self) -> bool:
@@ -353,15 +371,18 @@ def _systems(catalogue: Catalogue, names) -> list[str]:
 
 
 def check(catalogue: Catalogue, names=None, examples: int | None = None, seed: int | None = None, jobs: int = 1,
-          scenes: bool = True, out=None, progress=None) -> CheckRun:
+          scenes: bool = True, out=None, progress=None, profile: bool = False) -> CheckRun:
     """Conformance (and scenes) of each system; with ``out``, results.json, timings.json and summary.md there,
-    merged by system into what the folder holds."""
+    merged by system into what the folder holds. With ``profile``, where the time went (per phase, per system;
+    :mod:`harness.profiling`), also written to ``out/profile.json`` and ``out/profile.md``."""
+    start, cpu = time.perf_counter(), time.process_time()
+    profiles = {} if profile else None
     names = _systems(catalogue, names)
     if out:
         check_folder(out)
     try:
         records = run_checks(catalogue, names, examples=examples, seed=seed, jobs=jobs, scenes=scenes,
-                             series_dir=out, progress=progress)
+                             series_dir=out, progress=progress, profiles=profiles)
     except Interrupted as stop:  # what finished is kept
         if out and stop.finished:
             merged = results_document(merge_records(catalogue, load_results(out), stop.finished), examples, seed)
@@ -371,7 +392,21 @@ def check(catalogue: Catalogue, names=None, examples: int | None = None, seed: i
     if out:  # merged by system into what the folder holds: other systems' results are kept
         merged = results_document(merge_records(catalogue, load_results(out), records), examples, seed)
         run.written = write_results(merged, out, timings=read_timings(out))
+    if profile:
+        run.profile = _profile_document("check", profiles, start, cpu, jobs)
+        if out:
+            run.written += profiling.write(run.profile, out)
     return run
+
+
+def _profile_document(command: str, profiles: dict, start: float, cpu: float, jobs: int) -> dict:
+    """The profile of a run: the systems' phases summed, each system's own, the parent process's CPU time."""
+    total: dict = {}
+    for snapshot in profiles.values():
+        profiling.merge(total, snapshot)
+    doc = profiling.document(command, total, profiles, time.perf_counter() - start, jobs, sys.argv[1:])
+    doc["parent_cpu_seconds"] = round(time.process_time() - cpu, 2)
+    return doc
 
 
 def report(catalogue: Catalogue, out, names=None, jobs: int = 1, examples: int | None = None,
@@ -411,28 +446,49 @@ def classify_system(job: tuple) -> dict:
     """Classify the claims of one system (in a worker process with ``--jobs``): ``{"system", "failure",
     "records"}``; a module that does not load, or a claim that cannot be evaluated, is a failure of its own."""
     from harness.compare import claims
+    from harness.derivation.compile import compiled as compiled_model
     from harness.engines import warnings_log
 
-    catalogue, name, examples = job
+    catalogue, name, examples, *profile = job
+    if profile and profile[0]:
+        profiling.enable()
+        profiling.reset()
     load_hypothesis_profile()
     with draws_from_seed_only():  # the examples depend on the seed only, not on our source's literals
         try:
-            system, printed = catalogue.get(name), catalogue.claims(name)
+            with profiling.phase("load the model module"):
+                system, printed = catalogue.get(name), catalogue.claims(name)
         except HarnessError as exc:
-            return {"system": name, "failure": str(exc), "records": []}
-        out, failures = [], []
-        for claim in printed:
-            print(f"classifying {name} {claim.equation} …", file=sys.stderr, flush=True)
+            return {"system": name, "failure": str(exc), "records": [], **_profile_snapshot()}
+        with profiling.phase("derivation and compilation"):
             try:
-                v = claims.classify(system, claim, examples=examples, claims=printed)
-                extra = claims.record_fields(system, v, printed)
-            except Exception as exc:  # noqa: BLE001 - one claim that cannot be evaluated does not lose the others
-                failures.append(f"{name} {claim.equation}: cannot be evaluated: {type(exc).__name__}: {exc}")
-                continue
-            out.append({**claim_record(v), **extra})
+                compiled_model(system).warm()
+            except Exception:  # noqa: BLE001 - the claims below report it, one by one
+                pass
+        out, failures = [], []
+        with claims.shared_evaluations():  # the same drawn states for every claim of the system
+            for claim in printed:
+                print(f"classifying {name} {claim.equation} …", file=sys.stderr, flush=True)
+                try:
+                    with profiling.phase("classify"):
+                        v = claims.classify(system, claim, examples=examples, claims=printed)
+                        extra = claims.record_fields(system, v, printed)
+                except Exception as exc:  # noqa: BLE001 - one claim that cannot be evaluated does not lose the others
+                    failures.append(f"{name} {claim.equation}: cannot be evaluated: {type(exc).__name__}: {exc}")
+                    continue
+                out.append({**claim_record(v), **extra})
     failures += [f"{name}: unexplained {w['engine']} warning in {w['where']} ({w['count']}x): {w['message']}"
                  for w in warnings_log.drain(name) if not w["explained"]]
-    return {"system": name, "failure": "; ".join(failures) or None, "records": out}
+    return {"system": name, "failure": "; ".join(failures) or None, "records": out, **_profile_snapshot()}
+
+
+def _profile_snapshot() -> dict:
+    """``{"profile": …}`` of this process's phases when profiling (and profiling switched off), else ``{}``."""
+    if not profiling.enabled():
+        return {}
+    snapshot = profiling.snapshot()
+    profiling.enable(False)
+    return {"profile": snapshot}
 
 
 def claim_record(v) -> dict:
@@ -460,6 +516,7 @@ class ClaimsRun:
     records: list
     failed: list
     written: list = field(default_factory=list)
+    profile: dict | None = None  # with --profile: where the time went (harness.profiling.document)
 
     @property
     def passed(self) -> bool:
@@ -467,22 +524,30 @@ class ClaimsRun:
         return not self.failed and not any(r["classification"] == "engines disagree" for r in self.records)
 
 
-def claims(catalogue: Catalogue, names=None, examples: int | None = None, jobs: int = 1, out=None) -> ClaimsRun:
+def claims(catalogue: Catalogue, names=None, examples: int | None = None, jobs: int = 1, out=None,
+           profile: bool = False) -> ClaimsRun:
     """Classify every printed equation of ``names`` (default: the catalogue), ``jobs`` systems at a time; with
-    ``out``, claims.json and errata.md there, merged by system."""
+    ``out``, claims.json and errata.md there, merged by system. With ``profile``, where the time went
+    (:mod:`harness.profiling`; with ``out`` also the ``claims`` section of profile.json)."""
+    start, cpu = time.perf_counter(), time.process_time()
     names = _systems(catalogue, names)
     if out:
         check_folder(out)
-    jobs_ = [(catalogue, name, examples) for name in names]
+    jobs_ = [(catalogue, name, examples, profile) for name in names]
     finished: dict[str, dict] = {}
     interrupted = parallel(classify_system, jobs_, jobs, lambda result: finished.__setitem__(result["system"], result),
                            lambda job, reason: {"system": job[1], "failure": f"{job[1]}: {reason}", "records": []})
     per_system = [finished[name] for name in names if name in finished]
+    profiles = {result["system"]: result.pop("profile") for result in per_system if "profile" in result}
     run = ClaimsRun([r for result in per_system for r in result["records"]],
                     [result["failure"] for result in per_system if result["failure"]])
     if out:  # merged by system: the classified systems replace their records, the others are kept
         merged = merge_claims(catalogue, read_claims(out), [result["system"] for result in per_system], run.records)
         run.written = write_claims(merged, out)
+    if profile:
+        run.profile = _profile_document("claims", profiles, start, cpu, jobs)
+        if out:
+            run.written += profiling.write(run.profile, out)
     if interrupted:
         raise Interrupted(per_system, len(names))
     return run

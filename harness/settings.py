@@ -70,14 +70,25 @@ def draws_from_seed_only():
     (it patches one private hook of the pinned hypothesis version and restores it on exit)."""
     from hypothesis.internal.conjecture import providers
 
+    global _SEED_ONLY
     real = providers._get_local_constants
     empty = type(providers._local_constants)(integers=providers.SortedSet(),
                                               floats=providers.SortedSet(key=providers.float_to_int),
                                               bytes=providers.SortedSet(), strings=providers.SortedSet())
     providers._get_local_constants = lambda: empty
     providers.CONSTANTS_CACHE.cache.clear()
+    _SEED_ONLY += 1
     try:
         yield
     finally:
+        _SEED_ONLY -= 1
         providers._get_local_constants = real
         providers.CONSTANTS_CACHE.cache.clear()
+
+
+_SEED_ONLY = 0
+
+
+def seed_only() -> bool:
+    """Whether the examples drawn now depend on the seed only (inside :func:`draws_from_seed_only`)."""
+    return _SEED_ONLY > 0

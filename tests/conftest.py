@@ -46,3 +46,21 @@ def user_models(tmp_path, monkeypatch):
     for name, module in list(sys.modules.items()):
         if name.startswith("models.") and str(getattr(module, "__file__", "") or "").startswith(str(folder)):
             sys.modules.pop(name)
+
+
+@pytest.fixture(scope="session")
+def conformance_run():
+    """``conformance_run(name)``: the conformance summary of catalogued system ``name`` against every engine that
+    applies (:func:`harness.compare.conformance.run`, what ``harness check`` computes), run once per test
+    session (per xdist worker) and shared by the tests that read it."""
+    import models
+    from harness.compare import conformance
+
+    runs: dict = {}
+
+    def run(name: str):
+        if name not in runs:
+            runs[name] = conformance.run(models.get(name))
+        return runs[name]
+
+    return run

@@ -6,6 +6,7 @@ import sympy as sp
 
 import models
 from harness.compare.claims import Claim, classify
+from harness.settings import property_test
 
 SYSTEM = models.get("planar_manipulator")
 (p1, p2), (w1, w2) = SYSTEM.q, SYSTEM.qd
@@ -24,6 +25,36 @@ def test_wrong_claim_is_an_erratum_with_minimal_counterexample():
     verdict = classify(SYSTEM, Claim("(t2)", "C", wrong), examples=20)
     assert verdict.classification == "erratum"
     assert verdict.counterexample and "q=[" in verdict.counterexample and verdict.corrected
+
+
+def test_a_failure_on_replayed_states_is_shrunk_as_in_a_fresh_run(monkeypatch):
+    """A passing claim's states are replayed for the next claim (harness.compare.claims._run); when one of them
+    fails, hypothesis runs as always and shrinks: the same counterexample, example count and errors as a run
+    with nothing kept."""
+    from harness.compare import claims
+
+    wrong = CHRISTOFFEL.copy()
+    wrong[0, 1] = 2 * wrong[0, 1]
+    engines = ("pinocchio", "mujoco")
+    if claims._replay_key(SYSTEM, test_correct_claim_is_confirmed, 20, True) is None:
+        pytest.skip("the states are not determined by the seed (a random profile): nothing is replayed")
+    runs = []  # the hypothesis runs started
+    monkeypatch.setattr(claims, "property_test", lambda *a, **k: runs.append(a) or property_test(*a, **k))
+    claims._PASSED.clear()
+    fresh = claims.classify_as_printed(SYSTEM, Claim("(t5)", "C", wrong), engines, 20)
+    assert fresh.classification == "erratum" and "q=[" in fresh.counterexample
+    assert not claims._PASSED  # a failing run keeps nothing
+    right = claims.classify_as_printed(SYSTEM, Claim("(t6)", "C", CHRISTOFFEL), engines, 20)
+    assert right.classification == "confirmed" and claims._PASSED  # its states are kept
+    del runs[:]
+    replayed = claims.classify_as_printed(SYSTEM, Claim("(t7)", "C", wrong), engines, 20)
+    assert runs  # the replay failed: hypothesis ran and shrank
+    assert (replayed.classification, replayed.counterexample, replayed.examples, replayed.errors) == \
+        (fresh.classification, fresh.counterexample, fresh.examples, fresh.errors)
+    del runs[:]
+    again = claims.classify_as_printed(SYSTEM, Claim("(t8)", "C", CHRISTOFFEL), engines, 20)
+    assert not runs  # replayed, no hypothesis run
+    assert (again.examples, again.errors) == (right.examples, right.errors)
 
 
 def test_other_C_with_same_C_qd_is_not_an_erratum():

@@ -75,3 +75,25 @@ def test_one_system_raising_does_not_lose_the_others(monkeypatch, capsys, tmp_pa
     by_name = {r["system"]: r for r in doc["systems"]}
     assert by_name["pendulum"]["failure"] == "pendulum: RuntimeError: simulated crash"
     assert by_name["cart_pendulum"]["passed"] and by_name["cart_pendulum"]["checks"]
+
+
+def test_profile_says_where_the_time_goes_and_changes_no_result(capsys, tmp_path):
+    """``check --profile`` prints and writes the phases (profile.json, profile.md) and leaves results.json as a run
+    without it writes it; ``claims --profile`` adds its own section."""
+    plain, profiled = tmp_path / "plain", tmp_path / "profiled"
+    args = ["check", "pendulum", "--no-scenes", "--examples", "20"]
+    assert cli.main([*args, "--out", str(plain)]) == 0
+    assert cli.main([*args, "--out", str(profiled), "--profile"]) == 0
+    assert "Profile of `harness check`" in capsys.readouterr().err
+    assert (plain / "results.json").read_text() == (profiled / "results.json").read_text()
+    doc = json.loads((profiled / "profile.json").read_text())["check"]
+    phases = {row["phase"]: row for row in doc["phases"]}
+    for name in ("conformance", "conformance/draw states", "conformance/symbolic", "derivation and compilation",
+                 "conformance/engine pinocchio/model", "conformance/engine mujoco/evaluate"):
+        assert phases[name]["calls"] >= 1 and phases[name]["cpu"] >= 0, name
+    assert phases["conformance/draw states"]["calls"] >= 20
+    assert doc["machine"]["cpus"] and "pendulum" in doc["systems"]
+    assert cli.main(["claims", "pendulum", "--examples", "5", "--out", str(profiled), "--profile"]) == 0
+    sections = json.loads((profiled / "profile.json").read_text())
+    assert set(sections) == {"check", "claims"}
+    assert "harness claims" in (profiled / "profile.md").read_text()

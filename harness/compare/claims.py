@@ -36,11 +36,14 @@ Classification (computed, never typed in):
 
 from __future__ import annotations
 
+import functools
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import numpy as np
 import sympy as sp
 
+from harness import profiling
 from harness.checks import Bound, Check, relative_error
 from harness.derivation.compile import compiled
 from harness.compare.conformance import FLOAT64_RTOL, scales
@@ -164,8 +167,27 @@ _COMPILED_CLAIMS: dict = {}
 
 
 def _accel_coefficients(system: System, printed: sp.Matrix, key):
-    """``∂R/∂q̈`` of a printed residual ``R`` (its 'mass matrix' rows), compiled."""
-    return _lambdify(system, printed.jacobian([c.accel for c in system.coordinates]), key=("accel",) + key)
+    """``∂R/∂q̈`` of a printed residual ``R`` (its 'mass matrix' rows), compiled (differentiated once per key)."""
+    key = ("accel",) + key
+    if key in _COMPILED_CLAIMS:
+        return _COMPILED_CLAIMS[key]
+    return _lambdify(system, printed.jacobian([c.accel for c in system.coordinates]), key=key)
+
+
+_PRINTED: dict = {}
+
+
+def _printed(claim: Claim, substitution: dict | None) -> sp.Matrix:
+    """The printed expression as a matrix with ``substitution`` made, once per claim and substitution (both are
+    kept alive with it: their ids are not reused)."""
+    key = (id(claim), id(substitution))
+    kept = _PRINTED.get(key)
+    if kept is None or kept[0] is not claim or kept[1] is not substitution:
+        printed = _as_matrix(claim.printed)
+        if substitution:
+            printed = printed.xreplace(substitution)
+        kept = _PRINTED[key] = (claim, substitution, printed)
+    return kept[2]
 
 
 def _lambdify(system: System, expr, key=None):
@@ -173,7 +195,8 @@ def _lambdify(system: System, expr, key=None):
     if key is None:
         return sp.lambdify(_symbols(system), _as_matrix(expr), modules="numpy")
     if key not in _COMPILED_CLAIMS:
-        _COMPILED_CLAIMS[key] = sp.lambdify(_symbols(system), _as_matrix(expr), modules="numpy")
+        with profiling.phase("lambdify claims"):
+            _COMPILED_CLAIMS[key] = sp.lambdify(_symbols(system), _as_matrix(expr), modules="numpy")
     return _COMPILED_CLAIMS[key]
 
 
@@ -185,17 +208,60 @@ CLAIM_ENGINES = ("pinocchio", "mujoco")
 """The engines a claim is checked against (besides the derivation)."""
 
 
+_EVALUATIONS: dict = {}
+_EVALUATIONS_KEPT = 4096
+_SHARING = [0]
+
+
+@contextmanager
+def shared_evaluations():
+    """Within the block, the evaluations at a state (derivation and engines) are kept and shared by the claims
+    classified: every printed equation of a system is checked on the same drawn states (the seed derives from
+    the check, the same for all), and the numbers at a state do not depend on the claim. The engines must not
+    change within the block; the kept evaluations are dropped at its end."""
+    _SHARING[0] += 1
+    try:
+        yield
+    finally:
+        _SHARING[0] -= 1
+        if not _SHARING[0]:
+            _EVALUATIONS.clear()
+
+
+def _evaluated(state: State) -> dict:
+    """The evaluations at ``state`` by source: kept within :func:`shared_evaluations` (evaluated on first use,
+    never changed afterwards), else evaluated for this call only."""
+    if not _SHARING[0]:
+        return {"system": state.system}
+    kept = _EVALUATIONS.get(state.key)
+    if kept is not None and kept["system"] is state.system:
+        return kept
+    if len(_EVALUATIONS) >= _EVALUATIONS_KEPT:
+        _EVALUATIONS.clear()
+    kept = _EVALUATIONS[state.key] = {"system": state.system}
+    return kept
+
+
 def _engine_values(claim: Claim, state: State, engines):
     """The claimed quantity from each source, with the scale and tolerance it is compared at."""
-    ref = symbolic.evaluate(state)
-    ref.extra["qd"] = state.qd
-    s = scales(ref)
-    kappa = float(np.linalg.cond(ref.M))
+    kept = _evaluated(state)
+    if "derivation" not in kept:
+        with profiling.phase("symbolic"):
+            ref = symbolic.evaluate(state)
+            ref.extra["qd"] = state.qd
+            kept["derivation"] = ref, scales(ref), float(np.linalg.cond(ref.M))
+    ref, s, kappa = kept["derivation"]
     kind = claim.quantity.split(":")[0]
     evaluations = {"derivation": ref}
     if kind in ENGINE_QUANTITIES | {"eom", "equilibrium", "holding"}:
         for name in engines:
-            evaluations[name] = ENGINES[name](state.tree).evaluate(state)
+            if name not in kept:
+                with profiling.phase(f"engine {name}"):
+                    with profiling.phase("model"):
+                        model = ENGINES[name](state.tree)
+                    with profiling.phase("evaluate"):
+                        kept[name] = model.evaluate(state)
+            evaluations[name] = kept[name]
     return evaluations, s, kappa
 
 
@@ -207,9 +273,7 @@ def evaluate_claim(system: System, claim: Claim, state: State, engines=CLAIM_ENG
                    substitution: dict | None = None) -> dict[str, float]:
     """Relative error of the printed expression against each source at one state (relative to tolerance:
     a value ≤ 1 means 'agrees')."""
-    printed = _as_matrix(claim.printed)
-    if substitution:
-        printed = printed.xreplace(substitution)
+    printed = _printed(claim, substitution)
     fn = _lambdify(system, printed, key=("printed", id(system), id(claim), id(substitution)))
     kind = claim.quantity.split(":")[0]
     if kind == "equilibrium":
@@ -352,13 +416,78 @@ def holds(system: System, claim: Claim, engines, examples, substitution: dict | 
 
 
 def _run(system: System, check, examples, shrink: bool = True):
-    """None when ``check`` passes on every drawn state, else (counterexample text, State)."""
-    test = property_test(states(system), check, examples, shrink=shrink)
+    """None when ``check`` passes on every drawn state, else (counterexample text, State).
+
+    Every printed equation of a system is checked by the same check functions, so hypothesis (derandomized: the
+    seed derives from the check's source) draws the same states for each. The states of a run that passed are
+    kept (:data:`_PASSED`); the next run with the same check source, system and settings calls ``check`` on them
+    in the same order — what hypothesis would do, without drawing them again. If one of them fails, what the
+    check recorded is undone (:func:`_undo`) and hypothesis runs as always: it draws, finds the failure and
+    shrinks it."""
+    key = _replay_key(system, check, examples, shrink)
+    kept = _PASSED.get(key) if key is not None else None
+    if kept is not None and kept[0] is system:
+        undo = _undo(check)
+        try:
+            with profiling.phase("replay"):
+                for state in kept[1]:
+                    check(state)
+            return None
+        except Exception:  # noqa: BLE001 - hypothesis runs as always, from nothing recorded
+            undo()
+    seen: list = []
+
+    @functools.wraps(check)  # the same source, hence the same digest and seed as ``check``
+    def recording(state):
+        seen.append(state)
+        return check(state)
+
+    test = property_test(states(system), recording if key is not None else check, examples, shrink=shrink)
     try:
         test()
     except _Disagrees as failure:
         return str(failure.args[0]), (failure.args[1] if len(failure.args) > 1 else None)
+    if key is not None:
+        if len(_PASSED) >= 256:
+            _PASSED.clear()
+        _PASSED[key] = (system, seen)
     return None
+
+
+_PASSED: dict = {}
+"""(system, check digest, settings) → (system, the states a passing run called the check on, in order)."""
+
+
+def _replay_key(system: System, check, examples, shrink: bool):
+    """What decides the states of a run, or None when they are not determined by it (a random seed per run, or
+    hypothesis drawing constants from our modules' source: outside :func:`harness.settings.draws_from_seed_only`)."""
+    import hypothesis.core
+    from hypothesis import settings
+    from hypothesis.internal.reflection import function_digest
+
+    from harness.settings import seed_only
+
+    current = settings.default
+    force = hypothesis.core.global_force_seed
+    if not seed_only() or not (current.derandomize or force is not None) or current.database is not None:
+        return None
+    return (id(system), function_digest(check), examples, shrink, force, current.max_examples,
+            current.derandomize, tuple(current.phases))
+
+
+def _undo(check):
+    """A function restoring the lists and dicts ``check`` closes over (what it recorded) to their contents now."""
+    saved = []
+    for cell in check.__closure__ or ():
+        value = cell.cell_contents
+        if isinstance(value, (list, dict)):
+            saved.append((value, value.copy()))
+
+    def undo():
+        for value, copy in saved:
+            value.clear()
+            value.update(copy) if isinstance(value, dict) else value.extend(copy)
+    return undo
 
 
 def record_fields(system: System, verdict: Classification, claims) -> dict:

@@ -28,7 +28,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from harness import profiling
 from harness.compare import roundtrip
+from harness.derivation.compile import compiled
 from harness.checks import Bound, Check, flag, max_abs as _max, relative_error as _relative
 from harness.engines import ENGINES, symbolic
 from harness.engines.base import Evaluation, State
@@ -114,16 +116,23 @@ def self_checks(state: State, ref: Evaluation) -> list[Check]:
 def evaluate_all(state: State, engines=None, pin_urdf=None, mj_xml=None) -> list[Check]:
     """All checks at one state, by every engine of ``engines`` (default: the registry). ``pin_urdf``/``mj_xml``
     may replace the exported model text Pinocchio/MuJoCo load (to show that a wrong export is caught)."""
-    ref = symbolic.evaluate(state)
-    ref.extra["qd"] = state.qd
-    findings = self_checks(state, ref)
+    with profiling.phase("symbolic"):
+        ref = symbolic.evaluate(state)
+        ref.extra["qd"] = state.qd
+        findings = self_checks(state, ref)
     texts = {"pinocchio": pin_urdf, "mujoco": mj_xml}
     for name in ENGINES if engines is None else engines:
         text = texts.get(name)
-        model = ENGINES[name](state.tree, text(state.tree) if text else None)
-        findings += compare(state, ref, model.evaluate(state))
-        worst = max(roundtrip.items(state.tree, model), key=lambda item: item.error)
-        findings.append(EXPORT.check("export round trip", name, worst.error, detail=worst.item))
+        with profiling.phase(f"engine {name}"):
+            with profiling.phase("model"):
+                model = ENGINES[name](state.tree, text(state.tree) if text else None)
+            with profiling.phase("evaluate"):
+                evaluation = model.evaluate(state)
+            with profiling.phase("compare"):
+                findings += compare(state, ref, evaluation)
+            with profiling.phase("round trip"):
+                worst = max(roundtrip.items(state.tree, model), key=lambda item: item.error)
+                findings.append(EXPORT.check("export round trip", name, worst.error, detail=worst.item))
     return findings
 
 
@@ -165,9 +174,12 @@ def run(system: System, engines=None, examples: int | None = None,
             if not f.passed:
                 raise ConformanceFailure(f, state)
 
+    with profiling.phase("derivation and compilation"):
+        compiled(system).warm()
     test = property_test(states(system, random_parameters), check, examples)
     try:
-        test()
+        with profiling.phase("conformance"):
+            test()
     except ConformanceFailure as failure:  # the shrunk (minimal) counterexample
         summary.failure = str(failure)
         summary.record([failure.check])

@@ -14,6 +14,7 @@ import math
 import numpy as np
 from hypothesis import strategies as st
 
+from harness import profiling
 from harness.engines.base import State
 from harness.modeling.system import System
 
@@ -49,32 +50,68 @@ def _inertia_groups(system: System) -> list[tuple[str, str, str]]:
     return groups
 
 
+class _Plan:
+    """The strategies of one system's parameters and states, built once (not at every draw): building a mapped
+    strategy, its validation, and the SymPy inertia matrices :func:`_inertia_groups` reads cost more than the draw.
+    The draws, their order and their spans are those of building them at each draw: the same examples."""
+
+    def __init__(self, system: System):
+        self.groups = []
+        for group in _inertia_groups(system):
+            defaults = np.array([system.parameter(n).default for n in group])
+            # second moments of the default tensor, each kept strictly positive
+            xx, yy, zz = defaults
+            a0, b0, c0 = (yy + zz - xx) / 2, (xx + zz - yy) / 2, (xx + yy - zz) / 2
+            scale = defaults.max()
+            self.groups.append((group, [_positive(max(m, 1e-3 * scale)) for m in (a0, b0, c0)]))
+        grouped = {n for group, _ in self.groups for n in group}
+        self.others = [(p.name, _positive(p.default) if p.assumption == "positive" else
+                        _real(p.default) if p.assumption == "real" else _float(0, 2 * p.default))
+                       for p in system.parameters if p.name not in grouped]
+        self.q = [_float(*c.range) if c.range else _float(-ANGLE, ANGLE) if c.unit == "rad" else
+                  _float(-LENGTH, LENGTH) for c in system.coordinates]
+        self.qd = [_float(-RATE, RATE) for _ in system.coordinates]
+        self.u = [(i.name, _float(-INPUT, INPUT)) for i in system.inputs]
+        self.parameters = _parameters(self)
+
+
+_PLANS: dict[int, tuple] = {}
+
+
+def _plan(system: System) -> _Plan:
+    entry = _PLANS.get(id(system))
+    if entry is None or entry[0] is not system:  # the system is kept alive: its id is not reused meanwhile
+        entry = _PLANS[id(system)] = (system, _Plan(system))
+    return entry[1]
+
+
 @st.composite
-def parameters(draw, system: System) -> dict[str, float]:
-    """Random valid parameter values of ``system``."""
+def _parameters(draw, plan: _Plan) -> dict[str, float]:
     values: dict[str, float] = {}
-    for group in _inertia_groups(system):
-        defaults = np.array([system.parameter(n).default for n in group])
-        # second moments of the default tensor, each kept strictly positive
-        xx, yy, zz = defaults
-        a0, b0, c0 = (yy + zz - xx) / 2, (xx + zz - yy) / 2, (xx + yy - zz) / 2
-        scale = defaults.max()
-        a, b, c = (draw(_positive(max(m, 1e-3 * scale))) for m in (a0, b0, c0))
+    for group, strategies in plan.groups:
+        a, b, c = (draw(s) for s in strategies)
         values.update(dict(zip(group, (b + c, a + c, a + b))))
-    for p in system.parameters:
-        if p.name in values:
-            continue
-        values[p.name] = draw(_positive(p.default) if p.assumption == "positive" else
-                              _real(p.default) if p.assumption == "real" else _float(0, 2 * p.default))
+    for name, strategy in plan.others:
+        values[name] = draw(strategy)
     return values
+
+
+def parameters(system: System):
+    """Random valid parameter values of ``system`` (a strategy of dicts)."""
+    return _plan(system).parameters
 
 
 @st.composite
 def states(draw, system: System, random_parameters: bool = True) -> State:
     """A random state ``(q, q̇, parameters, u)`` of ``system``."""
-    q = [draw(_float(*c.range) if c.range else _float(-ANGLE, ANGLE) if c.unit == "rad" else _float(-LENGTH, LENGTH))
-         for c in system.coordinates]
-    qd = [draw(_float(-RATE, RATE)) for _ in system.coordinates]
-    params = draw(parameters(system)) if random_parameters else system.default_parameters()
-    u = {i.name: draw(_float(-INPUT, INPUT)) for i in system.inputs}
+    with profiling.phase("draw states"):
+        return _state(draw, system, random_parameters)
+
+
+def _state(draw, system: System, random_parameters: bool) -> State:
+    plan = _plan(system)
+    q = [draw(s) for s in plan.q]
+    qd = [draw(s) for s in plan.qd]
+    params = draw(plan.parameters) if random_parameters else system.default_parameters()
+    u = {name: draw(s) for name, s in plan.u}
     return State.make(system, q, qd, params, u)

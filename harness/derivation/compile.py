@@ -19,6 +19,7 @@ import math
 import numpy as np
 import sympy as sp
 
+from harness import profiling
 from harness.derivation.derive import Derivation, derive, is_per_body
 from harness.errors import ModelError
 from harness.modeling.system import System
@@ -34,8 +35,19 @@ class CompiledModel:
     system: System
     derivation: Derivation
 
+    def warm(self) -> "CompiledModel":
+        """Compile now what every conformance check and claim evaluates (the quantities, the float function of
+        the forward dynamics), so that no later phase pays for it."""
+        self._functions
+        self._terms_function
+        return self
+
     @cached_property
     def _functions(self):
+        with profiling.phase("lambdify quantities"):
+            return self._lambdified()
+
+    def _lambdified(self):
         s = self.system
         args = [s.q, s.qd, s.p, s.u]
         out = {}
@@ -52,7 +64,8 @@ class CompiledModel:
     def _terms_function(self):
         """The entries of ``M``, ``C q̇``, ``g``, ``f_np`` (row-major) as one function of floats."""
         s, d = self.system, self.derivation
-        return _float_function(s, [*d.M, *(d.C * sp.Matrix(s.qd)), *d.g, *d.f_np])
+        with profiling.phase("lambdify terms of (5.93)"):
+            return _float_function(s, [*d.M, *(d.C * sp.Matrix(s.qd)), *d.g, *d.f_np])
 
     @cached_property
     def _map_function(self):
@@ -317,5 +330,13 @@ def compiled(system: System) -> CompiledModel:
     """The compiled model of ``system`` (derived or loaded from the cache once per process)."""
     key = system.fingerprint()
     if key not in _COMPILED:
-        _COMPILED[key] = CompiledModel(system, derive(system))
+        if profiling.enabled():
+            from harness.derivation import cache
+
+            hit = (cache.cache_dir() / f"{system.name}-{key}-{cache.code_version()}.json").exists()
+            profiling.count(f"derivation cache {'hit' if hit else 'miss'}")
+            with profiling.phase(f"derive (cache {'hit' if hit else 'miss'})"):
+                _COMPILED[key] = CompiledModel(system, derive(system))
+        else:
+            _COMPILED[key] = CompiledModel(system, derive(system))
     return _COMPILED[key]

@@ -83,8 +83,24 @@ def capture(engine: str, where: str, tree, state: dict | None = None):
         _log.append(EngineWarning(engine, tree.system, where, text.strip(), explained, reason, state))
 
 
+_EXPLAINED: dict = {}
+
+
 def explain(engine: str, text: str, tree) -> tuple[bool, str]:
-    """Whether the warning is explained, and why (or why not)."""
+    """Whether the warning is explained, and why (or why not); once per engine, message and tree (building the
+    exported MJCF and loading it raise the same warning three times for one tree)."""
+    key = (engine, text.strip(), id(tree))
+    kept = _EXPLAINED.get(key)
+    if kept is not None and kept[0] is tree:  # the tree is kept alive with the answer: its id is not reused
+        return kept[1]
+    answer = _explain(engine, text, tree)
+    if len(_EXPLAINED) >= 1024:
+        _EXPLAINED.clear()
+    _EXPLAINED[key] = (tree, answer)
+    return answer
+
+
+def _explain(engine: str, text: str, tree) -> tuple[bool, str]:
     if engine == "mujoco" and SINGULAR_AT_QPOS0.search(text.strip()):
         from harness.engines.pinocchio_engine import PinocchioModel
         import pinocchio as pin

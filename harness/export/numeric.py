@@ -95,19 +95,47 @@ def point_name(point: Point) -> str:
     return point.name or f"{point.link}_point"
 
 
+class _Values:
+    """The numbers of a system's expressions at parameter values ``subs``, each as :func:`_value` (and the inertia
+    matrix as ``Matrix.evalf``) gives it — bit for bit: a parameter is its value (``float(Float(v)) == v``),
+    anything else is substituted and evaluated as before. The model's vectors and matrices (SymPy matrices built
+    at every access: most of the time of an instantiation) are read once per model object."""
+
+    _entries: dict = {}
+
+    def __init__(self, subs: dict):
+        self.subs = subs
+
+    def __call__(self, expr) -> float:
+        if isinstance(expr, sp.Symbol) and expr in self.subs:
+            return float(self.subs[expr])
+        return _value(expr, self.subs)
+
+    @classmethod
+    def entries(cls, owner, attribute: str) -> tuple:
+        """The entries of ``owner.<attribute>`` (a vector or matrix property of a frozen model object), once."""
+        key = (id(owner), attribute)
+        kept = cls._entries.get(key)
+        if kept is None or kept[0] is not owner:  # the owner is kept alive with its entries: its id is not reused
+            value = getattr(owner, attribute)
+            kept = cls._entries[key] = (owner, tuple(sp.sympify(v) for v in value))
+        return kept[1]
+
+
 def instantiate(system: System, params: dict[str, float]) -> NumericTree:
     """Substitute parameter values into the tree; checks that the inertia tensors are physical."""
     subs = {system.parameter(k).symbol: sp.Float(v) for k, v in params.items()}
+    value = _Values(subs)
     links = []
     for link in system.links:
-        mass = _value(link.mass, subs)
-        com = np.array([_value(v, subs) for v in link.com_vector])
-        inertia = np.array(link.inertia.matrix.xreplace(subs).evalf(), dtype=float)
+        mass = value(link.mass)
+        com = np.array([value(v) for v in _Values.entries(link, "com_vector")])
+        inertia = np.array([value(v) for v in _Values.entries(link.inertia, "matrix")], dtype=float).reshape(3, 3)
         check_inertia(f"{system.name}: link {link.name}", mass, inertia)
         links.append(NumericLink(link.name, mass, com, inertia))
     joints = tuple(NumericJoint(j.name, j.type, j.parent, j.child, np.array(j.axis, dtype=float),
-                                np.array([_value(v, subs) for v in j.origin_vector]),
-                                np.array([_value(v, subs) for v in j.rpy]), _value(j.armature, subs))
+                                np.array([value(v) for v in _Values.entries(j, "origin_vector")]),
+                                np.array([value(v) for v in _Values.entries(j, "rpy")]), value(j.armature))
                    for j in system.joints)
     points: dict[str, NumericPoint] = {}
     tendons: dict[tuple, list] = {}
@@ -116,7 +144,7 @@ def instantiate(system: System, params: dict[str, float]) -> NumericTree:
         for pt in (getattr(f, "a", None), getattr(f, "b", None), getattr(f, "point", None)):
             if pt is not None:
                 points[point_name(pt)] = NumericPoint(point_name(pt), pt.link,
-                                                      np.array([_value(v, subs) for v in pt.vector]))
+                                                      np.array([value(v) for v in _Values.entries(pt, "vector")]))
         if isinstance(f, (Spring, Damper)):
             key = (point_name(f.a), point_name(f.b))
             entry = tendons.setdefault(key, [f.name, key[0], key[1], 0.0, 0.0, 0.0])
@@ -132,7 +160,8 @@ def instantiate(system: System, params: dict[str, float]) -> NumericTree:
             actuators.append((f.input, f.joint))
     for closure in system.closures:  # the guided point: a site/frame the engines constrain
         pt = closure.point
-        points[point_name(pt)] = NumericPoint(point_name(pt), pt.link, np.array([_value(v, subs) for v in pt.vector]))
+        points[point_name(pt)] = NumericPoint(point_name(pt), pt.link,
+                                              np.array([value(v) for v in _Values.entries(pt, "vector")]))
     gravity = np.zeros(3)
     if system.gravity is not None:
         gravity = _value(system.gravity.g, subs) * np.array(system.gravity.direction, dtype=float)

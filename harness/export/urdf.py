@@ -27,7 +27,18 @@ def _origin(xyz, rpy=(0.0, 0.0, 0.0)) -> np.ndarray:
     return matrix
 
 
+_LAST: list = [None, None]  # (tree, its URDF text): Pinocchio and Drake load the same tree one after the other
+
+
 def urdf_string(tree: NumericTree) -> str:
+    """The URDF text of ``tree`` (the text of the last tree is kept: one writing for both engines that read it)."""
+    if _LAST[0] is not tree:
+        _LAST[1] = _urdf_string(tree)
+        _LAST[0] = tree
+    return _LAST[1]
+
+
+def _urdf_string(tree: NumericTree) -> str:
     links = [yourdfpy.Link(name=WORLD)]
     joints = []
     for link in tree.links:

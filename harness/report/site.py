@@ -26,6 +26,7 @@ OPTIONAL_PAGES = (
     ("importer.html", "Importer findings", "importer.json", "importer.md", None),
     ("robots.html", "Robots", "robots.json", "robots.md", None),  # harness robots: one table over all robots
     ("changes.html", "Changes", "changes.json", "changes.md", None),  # harness check --baseline
+    ("profile.html", "Profile", "profile.json", "profile.md", None),  # harness check/claims --profile
 )
 
 
