@@ -24,6 +24,7 @@ import time
 
 import numpy as np
 
+from harness.engines import ENGINES, SYMBOLIC, simulating
 from harness.engines.base import load_functions
 from harness.modeling.scenes import effects_of, pruned, with_idle_effects
 from harness.modeling.system import JointInput
@@ -32,7 +33,7 @@ from harness.scenes.base import ENGINE, Phenomenon, SceneRun
 from harness.scenes.effects import infer
 
 PRUNING_REPEATS = 3
-SOURCES = ("symbolic", "pinocchio", "mujoco")
+SOURCES = (SYMBOLIC, "pinocchio", "mujoco")
 MUJOCO_STEPS = 2000        # RK4 steps of MuJoCo's own runs (at least; on the scene's grid, simulate.grid_steps)
 KEY = "pruning time ratio (idle / pruned), {}"
 
@@ -146,7 +147,7 @@ def measure(system, scene, motion, event, catalogue=None, sources=SOURCES, repea
 
 def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalogue):
     """``(pruned run, idle run, method)`` of ``source``, each a call returning a trajectory."""
-    if source == "mujoco":
+    if simulating((source,), "stepping"):  # an engine that steps the scene itself: its own integrator, its flags
         if event is not None or scene.events:
             raise ValueError("its motion switches at events: MuJoCo's own run of it is the event's plug-in's")
         dt = scene.horizon / sim.grid_steps(scene, MUJOCO_STEPS)
@@ -155,14 +156,12 @@ def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalog
         if len(full.loads) > len(lean.loads):
             how.append("idle external loads not evaluated")
         return lean.run, full.run, f"mj_step RK4, dt={dt:g}, pruned: {'; '.join(how) or 'nothing'}"
-    from harness.engines import ENGINES
-
-    if source != "symbolic" and ENGINES[source].applies(system):
+    if source != SYMBOLIC and ENGINES[source].applies(system):
         raise ValueError(ENGINES[source].applies(system))
 
     def one(s, sc):
         return lambda: motion.simulate(s, sc, event, source, rtol=1e-10, atol=1e-10, catalogue=catalogue)
-    method = "our compiled right-hand side" if source == "symbolic" else f"{source} forward dynamics"
+    method = "our compiled right-hand side" if source == SYMBOLIC else f"{source} forward dynamics"
     return one(system, scene), one(idle_system, idle_scene), f"{method}, DOP853 1e-10"
 
 
@@ -175,7 +174,7 @@ class Pruning(Phenomenon):
         system, scene, result = run.system, run.scene, run.result
         result.notes.update(infer(system, scene).notes())
         measured = measure(system, scene, run.motion, run.event, run.catalogue,
-                           sources=("symbolic",) + tuple(e for e in run.engines if e in SOURCES))
+                           sources=(SYMBOLIC,) + tuple(e for e in run.engines if e in SOURCES))
         if "nothing" in measured:
             result.notes["pruning"] = measured["nothing"]
             return
