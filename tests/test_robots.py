@@ -24,7 +24,8 @@ def test_sweep_records_and_files(tmp_path, capsys):
     assert f"{ARM}: 6 dof, fixed; pinocchio-mujoco agree" in out
     assert f"{FLOATING}: 18 dof, floating; pinocchio-mujoco agree" in out
     doc = json.loads((tmp_path / "robots.json").read_text())
-    assert doc["schema"] == robots.SCHEMA and doc["pairs"] == ["pinocchio-mujoco", "pinocchio-drake"]
+    assert doc["schema"] == robots.SCHEMA
+    assert doc["pairs"] == ["pinocchio-mujoco", "pinocchio-drake", "pinocchio-mujoco (our export)"]
     by_name = {r["robot"]: r for r in doc["robots"]}
     for name, dof, base in ((ARM, 6, "fixed"), (FLOATING, 18, "floating")):
         r = by_name[name]
@@ -39,9 +40,14 @@ def test_sweep_records_and_files(tmp_path, capsys):
         assert r["engines"]["mujoco"]["step"]["warnings"] == []
         assert r["seconds"] is not None
         assert any(f["kind"] == "geometry removed" for f in r["findings"])
+    ours = by_name[ARM]["pairs"][2]      # our export: the file's truncated quarter turns, snapped (proven)
+    assert ours["verdict"] == "disagree-explained" and ours["cause"]["proven"] and "1.57079632679" in \
+        ours["cause"]["cause"]
+    assert by_name[FLOATING]["pairs"][2]["verdict"] == "not compared"
     assert doc["open"] == []
     md = (tmp_path / "robots.md").read_text()
-    assert f"| {ARM} | 6 | fixed | agree | agree |" in md and f"| {FLOATING} | 18 | floating | agree | agree |" in md
+    assert f"| {ARM} | 6 | fixed | agree | agree | disagree-explained |" in md
+    assert f"| {FLOATING} | 18 | floating | agree | agree | not compared |" in md
 
 
 def test_unknown_robot_is_one_line(capsys):

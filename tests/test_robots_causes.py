@@ -45,7 +45,8 @@ def test_link_inertias_name_what_is_not_physical(tmp_path):
 def test_physical_arm_agrees_in_every_pair(tmp_path):
     record, pairs = _sweep(tmp_path, PHYSICAL)
     assert record["dof"] == 2
-    assert {p: v["verdict"] for p, v in pairs.items()} == {"pinocchio-mujoco": "agree", "pinocchio-drake": "agree"}
+    assert {p: v["verdict"] for p, v in pairs.items()} == {"pinocchio-mujoco": "agree", "pinocchio-drake": "agree",
+                                                         f"pinocchio-{robots.EXPORT}": "agree"}
     assert all(v["cause"] is None for v in pairs.values())
 
 

@@ -240,10 +240,11 @@ def axis_rotation(axis, angle: float) -> np.ndarray:
     return np.eye(3) + math.sin(angle) * K + (1 - math.cos(angle)) * K @ K
 
 
-def exact_angle(value: float):
-    """``value`` as an exact multiple of π/2 when it is within :data:`QUARTER_TURN_SNAP` of one, else a Float."""
+def exact_angle(value: float, snap: float = QUARTER_TURN_SNAP):
+    """``value`` as an exact multiple of π/2 when it is within ``snap`` (:data:`QUARTER_TURN_SNAP`) of one, else a
+    Float (``snap < 0``: always the Float, the file's decimals taken literally)."""
     k = round(value / (math.pi / 2))
-    if abs(value - k * math.pi / 2) <= QUARTER_TURN_SNAP:
+    if abs(value - k * math.pi / 2) <= snap or value == 0:
         return sp.pi * k / 2 if k else sp.Integer(0)
     return sp.Float(value)
 
@@ -335,12 +336,15 @@ def lock_values(robot: UrdfRobot, lock: dict[str, float]) -> dict[str, float]:
 
 def to_system(robot: UrdfRobot, *, name: str, title: str, lecture: str, doc: str = "",
               lock: dict[str, float] | None = None, coordinates: dict[str, str] | None = None,
-              masses: bool = True, g: float = 9.81, mass_names: dict[str, str] | None = None) -> System:
+              masses: bool = True, g: float = 9.81, mass_names: dict[str, str] | None = None,
+              quarter_turns: bool = True) -> System:
     """Our model of ``robot``: one elementary joint per free URDF joint, one body per movable link.
 
     ``lock`` holds movable joints at a value (rad or m; their mimic joints follow); ``coordinates`` names the
     lecture coordinate of each free, non-mimic joint (default ``q_1``, ``q_2``, … in the file's order);
-    ``masses`` makes each body's mass a parameter (``mass_names`` overrides ``m_<link>``)."""
+    ``masses`` makes each body's mass a parameter (``mass_names`` overrides ``m_<link>``); ``quarter_turns=False``
+    takes every joint angle literally (no snap to multiples of π/2, see the module docstring)."""
+    snap = QUARTER_TURN_SNAP if quarter_turns else -1.0
     for joint in lock or {}:
         if joint not in {j.name for j in robot.joints}:
             raise ModelError(f"URDF {robot.name}: cannot lock unknown joint {joint!r}")
@@ -378,10 +382,10 @@ def to_system(robot: UrdfRobot, *, name: str, title: str, lecture: str, doc: str
     for j in free:
         parent = where[j.parent]
         if parent.identity:
-            origin, rpy = j.xyz, tuple(exact_angle(a) for a in j.rpy)
+            origin, rpy = j.xyz, tuple(exact_angle(a, snap) for a in j.rpy)
         else:  # the joint sits on a link fixed to its body: compose the fixed chain with the joint's origin
             origin = tuple(parent.R @ np.array(j.xyz) + parent.p)
-            rpy = tuple(exact_angle(a) for a in matrix_rpy(parent.R @ rpy_matrix(j.rpy)))
+            rpy = tuple(exact_angle(a, snap) for a in matrix_rpy(parent.R @ rpy_matrix(j.rpy)))
         kind = "prismatic" if j.type == "prismatic" else "revolute"
         if j.mimic is None:
             phi = coords[j.name]

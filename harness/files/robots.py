@@ -25,7 +25,15 @@ For each robot (a URDF of the package, named by its file stem; the two ``anymal.
    merged, links without an inertial (with or without meshes), zero-mass links, inertias that are not
    physical, joint damping/friction, geometry removed.
 
-6. **Causes** (:func:`explain`, :func:`explain_refusal`): a pair that disagrees, is refused, or agrees above
+6. **Our exporter** (:data:`EXPORT`, fixed-base robots with at most :data:`EXPORT_MAX_DOF` moving DoF and no
+   ``<mimic>``: :func:`export_scope`): :func:`harness.files.from_urdf.from_urdf` on the file (nothing locked),
+   ``instantiate`` at the file's masses, our MJCF (:mod:`harness.export.mjcf`: the file's lumped numbers, no
+   boundmass/boundinertia, no balanceinertia) loaded by MuJoCo through
+   :class:`~harness.engines.mujoco_engine.MujocoModel`, compared like the other pairs. What our pipeline refuses
+   (``ModelError``: e.g. a tensor that is not physical) is "not compared", the reason a finding. Its cause finder
+   (:func:`explain_export`): the quarter turns from_urdf snaps (:func:`snapped_angles`), proven by the same export
+   with the file's decimals taken literally.
+7. **Causes** (:func:`explain`, :func:`explain_refusal`): a pair that disagrees, is refused, or agrees above
    :data:`MARGIN` of the bound gets its cause from the file (:class:`LinkInertia`: each link's stated inertia) and
    from what the engine reported, reproduced (:attr:`Engine.treatment`, :attr:`Engine.repair`) and proven: the
    reference given the engine's changes must agree with it within :data:`MARGIN`. No robot name decides a verdict.
@@ -149,6 +157,11 @@ class Engine:
     repair: Callable | None = None
     """``repair(robot, error)``: for a file the engine refuses, the cause found in the file and the file with it
     repaired for both engines, ``(cause, text, who is right)``, or None."""
+    scope: Callable | None = None
+    """``scope(robot, reference)``: why the engine is not compared on this robot (a sentence), or None when it is."""
+    explain: Callable | None = None
+    """``explain(engine, robot, reference, view, bound, facts, states, seed)``: the engine's own cause finder, in
+    place of :func:`explain` (which reproduces changed inertias)."""
 
 
 @dataclass
@@ -469,10 +482,135 @@ def load_drake(robot: Robot, reference: Reference, facts: dict, findings: list[d
     return view, 0.0
 
 
+# ------------------------------------------------------------------------------------------------ our exporter
+EXPORT = "mujoco (our export)"
+EXPORT_MAX_DOF = 7
+"""Our exporter is compared on fixed-base robots with at most this many moving DoF (the 7-DoF Panda of the
+catalogue is built the same way) and no ``<mimic>``: :func:`export_scope`."""
+
+
+class NotCompared(ModelError):
+    """Our pipeline refuses the file (``from_urdf`` or ``instantiate``): the pair is not compared, the reason is a
+    finding (a refusal with its reason is not a wrong number)."""
+
+
+def export_scope(robot: Robot, reference: Reference) -> str | None:
+    """Why our exporter is not compared on ``robot`` (None when it is): a floating base, more than
+    :data:`EXPORT_MAX_DOF` moving DoF, or ``<mimic>`` joints (from the file and the reference's model)."""
+    from harness.files.untrusted import parse_xml
+
+    if robot.floating:
+        return "floating base: from_urdf builds fixed-base trees (the root link is the world)"
+    dof = int(reference.model.nv)
+    if dof > EXPORT_MAX_DOF:
+        return f"{dof} moving DoF > {EXPORT_MAX_DOF}: out of the exporter pair's scope"
+    mimic = [j.get("name") for j in parse_xml(robot.text, robot.urdf).findall("joint") if j.find("mimic") is not None]
+    if mimic:
+        return (f"{len(mimic)} <mimic> joint(s) ({', '.join(mimic[:4])}{' …' if len(mimic) > 4 else ''}): out of "
+                "the exporter pair's scope (Pinocchio makes them independent joints, from_urdf couples them)")
+    return None
+
+
+def export_system(robot: Robot, quarter_turns: bool = True):
+    """Our :class:`~harness.modeling.system.System` of the file (:func:`harness.files.from_urdf.from_urdf` on its
+    text, nothing locked) and its numbers at the file's masses (:func:`harness.export.numeric.instantiate`)."""
+    from harness.export.numeric import instantiate
+    from harness.files.from_urdf import from_urdf
+
+    try:
+        system = from_urdf(robot.text, name=re.sub(r"\W", "_", robot.name), title=robot.name,
+                           lecture=f"example-robot-data {robot.urdf}", quarter_turns=quarter_turns)
+        return system, instantiate(system, system.default_parameters())
+    except ModelError as exc:
+        raise NotCompared(f"our from_urdf/instantiate refuses the file: {exc}") from None
+
+
+def load_export(robot: Robot, reference: Reference, facts: dict, findings: list[dict], quarter_turns: bool = True):
+    """Our pipeline: :func:`export_system`, exported by our MJCF exporter (:func:`harness.export.mjcf.mjcf_string`,
+    through :class:`~harness.engines.mujoco_engine.MujocoModel`) and loaded by MuJoCo, seen through the reference's
+    joints by name, gravity the reference's. ``bound``: the stand-in inertia our exporter gives a point mass
+    (:data:`~harness.export.numeric.MUJOCO_POINT_MASS_INERTIA`) when the tree has one, else 0. The exporter writes
+    the file's (lumped) numbers: no boundmass/boundinertia, no balanceinertia (:func:`harness.export.mjcf.mjcf_spec`);
+    what is not physical ``instantiate`` refuses before."""
+    from harness.export.numeric import MUJOCO_POINT_MASS_INERTIA
+
+    system, tree = export_system(robot, quarter_turns)
+    try:
+        exported = MujocoModel(tree)
+    except ValueError as exc:   # MjSpec.compile / from_xml_string refusing our export: open, not a scope matter
+        raise EngineError(f"MuJoCo refused our export of {robot.urdf}: {' '.join(str(exc).split())}") from None
+    view = MujocoModel.loaded(exported.model, reference.joints)
+    view.set_gravity(reference.view.gravity)
+    facts.update({**view.loaded_facts(), "links": len(tree.links), "quarter_turns": quarter_turns,
+                  "snapped": [f"{j} {a}" for j, a, _ in snapped_angles(robot.text, robot.urdf)]})
+    if view.dofs != reference.view.dofs:
+        findings.append(_finding("dof count", EXPORT, f"our export has {view.dofs} dofs, Pinocchio "
+                                 f"{reference.view.dofs}"))
+    point = any(link.mass > 0 and not np.any(link.inertia) for link in tree.links)
+    return view, MUJOCO_POINT_MASS_INERTIA if point else 0.0
+
+
+def snapped_angles(text: str, source: str = "URDF") -> list[tuple[str, str, float]]:
+    """The joint ``origin rpy`` angles of the file that :func:`harness.files.from_urdf.exact_angle` takes as an
+    exact multiple of π/2 although their decimals are not its float: ``(joint, decimals, offset rad)``."""
+    import math
+
+    from harness.files.from_urdf import QUARTER_TURN_SNAP
+    from harness.files.untrusted import parse_xml
+
+    out = []
+    for j in parse_xml(text, source).findall("joint"):
+        origin = j.find("origin")
+        for t in (origin.get("rpy", "").split() if origin is not None else []):
+            value = float(t)
+            k = round(value / (math.pi / 2))
+            offset = value - k * math.pi / 2
+            if 0 < abs(offset) <= QUARTER_TURN_SNAP:
+                out.append((j.get("name"), t, offset))
+    return out
+
+
+def explain_export(engine: Engine, robot: Robot, reference: Reference, view, bound: float, facts: dict,
+                   states: int, seed: int) -> dict | None:
+    """Why our export does not agree with the reference (or agrees closer to the bound than :data:`MARGIN`): the
+    quarter turns ``from_urdf`` makes exact (:func:`snapped_angles`: decimals such as ``1.57079632679``, π/2 −
+    4.9e-12, written as π/2; a documented modelling choice, see :mod:`harness.files.from_urdf`). **Proven** when
+    our export of the same file with every angle taken literally (``quarter_turns=False``) agrees with the reference
+    within :data:`MARGIN` of the bound at the same states. None when the file has no such angle."""
+    snapped = snapped_angles(robot.text, robot.urdf)
+    if not snapped:
+        return None
+    joints = sorted({j for j, _, _ in snapped})
+    largest = max(abs(o) for _, _, o in snapped)
+    what = (f"{len(snapped)} rpy angle(s) of {len(joints)} joint(s) ({', '.join(joints[:4])}"
+            f"{' …' if len(joints) > 4 else ''}) within {largest:.2g} rad of a multiple of π/2, e.g. "
+            f"{snapped[0][1]} (off by {snapped[0][2]:.2g} rad)")
+    try:
+        literal, literal_bound = load_export(robot, reference, {}, [], quarter_turns=False)
+        checks = importer.compare(literal, reference.view, reference.joints, reference.prismatic, states, seed,
+                                  literal_bound, forward=True)
+    except (ModelError, EngineError) as exc:
+        return {"cause": f"from_urdf snaps {what}; not proven: the literal export failed ({exc})", "right": "",
+                "links": [], "proven": False, "after": None}
+    after = _ratio(checks)
+    proven = all(c["passed"] for c in checks) and after <= MARGIN
+    snap = ("from_urdf takes a moving joint's rpy (composed with the fixed joints above it) within 1e-9 rad of a "
+            "multiple of π/2 as that exact multiple (its documented snap)")
+    cause = (f"the file writes {what}; {snap}. With the file's decimals taken literally our export agrees with "
+             f"Pinocchio: worst ratio {after:.2g} ≤ {MARGIN:g}" if proven else
+             f"the file writes {what}; {snap}, but with the decimals taken literally the export still differs "
+             f"(worst ratio {after:.2g}): the cause is elsewhere")
+    right = "" if not proven else (
+        "both: Pinocchio computes the file's decimals as written, our from_urdf the quarter turn they denote "
+        f"(rotations differ by at most {largest:.2g} rad)")
+    return {"cause": cause, "right": right, "links": [], "proven": proven, "after": after}
+
+
 ENGINES: dict[str, Engine] = {
     MujocoModel.name: Engine(MujocoModel.name, "MuJoCo (URDF importer)", load_mujoco, importer=True,
                              treatment=mujoco_treatment, repair=mujoco_repair),
     "drake": Engine("drake", "Drake (URDF parser)", load_drake, treatment=drake_treatment, repair=drake_repair),
+    EXPORT: Engine(EXPORT, "MuJoCo (our export)", load_export, scope=export_scope, explain=explain_export),
 }
 """The engines compared with the reference, by name."""
 REFERENCE = Engine(PinocchioModel.name, "Pinocchio", load_pinocchio)
@@ -639,6 +777,10 @@ def sweep_robot(job: tuple) -> dict:
             pair["cause"] = no_robot(root, record["error"])
             pair["verdict"] = NOT_COMPARED if pair["cause"] else NOT_COMPARED_OPEN
             continue
+        reason = engine.scope(robot, reference) if engine.scope else None
+        if reason:
+            pair["error"] = reason
+            continue
         try:
             view, bound = engine.load(robot, reference, facts, record["findings"])
             imported = view if engine.importer else imported
@@ -649,6 +791,10 @@ def sweep_robot(job: tuple) -> dict:
             record["findings"] += [_finding(f"{engine.label}: forward dynamics refused", "", (
                 f"{m} (at the states where the reference's M is singular too: q̈ not compared there)"))
                 for m in sorted(getattr(view, "refusals", ()))[:3]]
+        except NotCompared as exc:
+            pair["error"] = str(exc)
+            record["findings"].append(_finding("not compared", engine.label, str(exc)))
+            continue
         except (ModelError, EngineError) as exc:
             pair["error"] = str(exc)
             pair["cause"] = explain_refusal(engine, robot, str(exc), states, seed)
@@ -661,7 +807,7 @@ def sweep_robot(job: tuple) -> dict:
         if passed and pair["worst"]["ratio"] <= MARGIN:
             pair["verdict"] = AGREE
             continue
-        pair["cause"] = explain(engine, robot, reference, view, bound, facts, states, seed)
+        pair["cause"] = (engine.explain or explain)(engine, robot, reference, view, bound, facts, states, seed)
         proven = bool(pair["cause"] and pair["cause"]["proven"])
         pair["verdict"] = (AGREE if passed and proven else AGREE_NEAR_BOUND_OPEN if passed
                            else DISAGREE_EXPLAINED if proven else DISAGREE_OPEN)
@@ -870,7 +1016,10 @@ def markdown(doc: dict) -> str:
     labels = doc["engines"]
     out = [f"# Every robot of example-robot-data {doc['versions']['example-robot-data']}, across the engines", "",
            f"MuJoCo {doc['versions']['mujoco']} (its own URDF importer) and Drake {doc['versions'].get('drake', '?')} "
-           "(its URDF parser, a continuous MultibodyPlant), geometry removed, each against Pinocchio "
+           "(its URDF parser, a continuous MultibodyPlant), geometry removed, and our own pipeline (from_urdf, "
+           "our MJCF exporter, loaded by MuJoCo: \"MuJoCo (our export)\", on fixed-base robots with at most "
+           f"{EXPORT_MAX_DOF} moving DoF and no mimic joints; elsewhere not compared, the reason given), each "
+           "against Pinocchio "
            f"{doc['versions']['pinocchio']} (reference) reading the same URDF: M, bias, C·q̇, g and forward "
            f"dynamics q̈ at {doc['states']} random states (seed {doc['seed']}), joints matched by name, floating "
            "bases in Pinocchio's free-flyer coordinates (MuJoCo's free joint and Drake's QuaternionFloatingJoint: "
