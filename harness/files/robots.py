@@ -1066,6 +1066,21 @@ def markdown(doc: dict) -> str:
     return "\n".join(out) + "\n"
 
 
+COUNTEREXAMPLE_KEYS = ("worst_state", "imported", "reference")
+"""What a check records of the state where it is worst: kept in robots.json only where the check fails (its
+counterexample); a passing check keeps its error, bound and ratio (33 MB → about 2 MB for the whole package)."""
+
+
+def counterexamples_only(node):
+    """``node`` with the worst state and values removed from every passing check (nested anywhere)."""
+    if isinstance(node, list):
+        return [counterexamples_only(x) for x in node]
+    if not isinstance(node, dict):
+        return node
+    passing = node.get("passed") is True and "worst_state" in node
+    return {k: counterexamples_only(v) for k, v in node.items() if not (passing and k in COUNTEREXAMPLE_KEYS)}
+
+
 def write(doc: dict, out: Path) -> list[Path]:
     import json
 
@@ -1073,6 +1088,6 @@ def write(doc: dict, out: Path) -> list[Path]:
     from harness.io import atomic_write_text
 
     paths = [Path(out) / "robots.json", Path(out) / "robots.md"]
-    atomic_write_text(paths[0], json.dumps(json_clean(doc), indent=1) + "\n")
+    atomic_write_text(paths[0], json.dumps(json_clean(counterexamples_only(doc)), indent=1) + "\n")
     atomic_write_text(paths[1], markdown(doc))
     return paths
