@@ -147,7 +147,7 @@ def measure(system, scene, motion, event, catalogue=None, sources=SOURCES, repea
 
 def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalogue):
     """``(pruned run, idle run, method)`` of ``source``, each a call returning a trajectory."""
-    if simulating((source,), "stepping"):  # an engine that steps the scene itself: its own integrator, its flags
+    if source in ENGINES and simulating((source,), "stepping"):  # an engine that steps the scene itself: its flags
         if event is not None or scene.events:
             raise ValueError("its motion switches at events: MuJoCo's own run of it is the event's plug-in's")
         dt = scene.horizon / sim.grid_steps(scene, MUJOCO_STEPS)
