@@ -49,7 +49,7 @@ def test_sweep_records_and_files(tmp_path, capsys):
     assert doc["open"] == []
     md = (tmp_path / "robots.md").read_text()
     assert f"| {ARM} | 6 | fixed | agree | agree | disagree-explained |" in md
-    assert f"| {FLOATING} | 18 | floating | agree | agree | not compared |" in md
+    assert f"| {FLOATING} | 18 | floating | agree | agree | not compared (out of scope) |" in md
 
 
 def test_unknown_robot_is_one_line(capsys):

@@ -779,7 +779,7 @@ def sweep_robot(job: tuple) -> dict:
             continue
         reason = engine.scope(robot, reference) if engine.scope else None
         if reason:
-            pair["error"] = reason
+            pair["error"], pair["out_of_scope"] = reason, True
             continue
         try:
             view, bound = engine.load(robot, reference, facts, record["findings"])
@@ -970,14 +970,16 @@ def _drake_version() -> str:
 
 
 def verdict_cell(pair: dict) -> str:
-    return pair["verdict"]
+    """The verdict; a pair out of its engine's scope says so briefly (the reason is in robots.json)."""
+    return f"{pair['verdict']} (out of scope)" if pair.get("out_of_scope") else pair["verdict"]
 
 
 def cause_cell(pair: dict) -> str:
-    """Why a pair does not simply agree: the cause and who is right (empty when it agrees within the margin)."""
+    """Why a pair does not simply agree: the cause and who is right (empty when it agrees within the margin, and
+    for a pair out of its engine's scope: its verdict cell says so)."""
     c = pair.get("cause")
     if not c:
-        return f"{pair['error']}" if pair.get("error") else ""
+        return f"{pair['error']}" if pair.get("error") and not pair.get("out_of_scope") else ""
     return c["cause"] + (f" Right: {c['right']}." if c.get("right") else "")
 
 
