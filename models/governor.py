@@ -68,6 +68,9 @@ sa, ca = sin(alpha), cos(alpha)
 CLAIMS = [
     Claim("(A.59)", "position:arm_1", Matrix([l * sa * cos(phi), l * sa * sin(phi), h - l * ca]),
           "position of the point mass rotated by phi against the x axis"),
+    Claim("(A.60)", "v:arm_1", l * Matrix([w_a * ca * cos(phi) - w_p * sa * sin(phi),
+                                            w_a * ca * sin(phi) + w_p * sa * cos(phi), w_a * sa]),
+          "velocity of the point mass", note="printed with omega_alpha, omega_phi: read as alpha_dot, phi_dot"),
     Claim("(A.62)", "T", m * l**2 * (w_a**2 + w_p**2 * sa**2), "kinetic energy of both point masses",
           note="printed with omega_alpha, omega_phi: read as alpha_dot, phi_dot"),
     Claim("(A.63)", "V", 2 * m * g * (h - l * ca), "potential energy, zero at p_0z^m = 0"),

@@ -91,6 +91,10 @@ _I_note = "I_{1,zz}^{(S)}, I_{2,zz}^{(S)} read as I_zz1, I_zz2"
 CLAIMS = [
     Claim("(A.125)", "position:cylinder_1", K + l_1 / 2 * e, "centre of mass of the hollow cylinder"),
     Claim("(A.126)", "position:rod_2", K + (s + l_2 / 2) * e, "centre of mass of the rod"),
+    Claim("(A.127a)", "v:cylinder_1", l_1 / 2 * Matrix([cos(phi), sin(phi), 0]) * w_p,
+          "velocity of the hollow cylinder's centre of mass"),
+    Claim("(A.127b)", "v:rod_2", Matrix([sin(phi), -cos(phi), 0]) * w_s + (s + l_2 / 2) * Matrix([cos(phi), sin(phi), 0]) * w_p,
+          "velocity of the rod's centre of mass"),
     Claim("(A.135)", "position:d", Matrix([s * sin(phi), h - s * cos(phi), 0]),
           "point of application of the friction force"),
     Claim("(A.128), (A.129)", "T", (I_zz1 + I_zz2) * w_p**2 / 2 + m_1 * l_1**2 * w_p**2 / 8

@@ -112,6 +112,11 @@ CLAIMS = [
     Claim("(A.113c)", "position:segment_3",
           bearing + l_1 / 3 * Matrix([-cos(q_1), -sin(q_1), 0]) + l_3 / 2 * Matrix([-cos(q_3), -sin(q_3), 0]),
           "centre of gravity S_3"),
+    Claim("(A.114a)", "v:segment_1", l_1 / 6 * Matrix([-sin(q_1), cos(q_1), 0]) * qd_1, "velocity of S_1"),
+    Claim("(A.114b)", "v:segment_2", 2 * l_1 / 3 * Matrix([-sin(q_1), cos(q_1), 0]) * qd_1
+          + l_2 / 2 * Matrix([-sin(q_2), cos(q_2), 0]) * qd_2, "velocity of S_2"),
+    Claim("(A.114c)", "v:segment_3", l_1 / 3 * Matrix([sin(q_1), -cos(q_1), 0]) * qd_1
+          + l_3 / 2 * Matrix([sin(q_3), -cos(q_3), 0]) * qd_3, "velocity of S_3"),
     Claim("(A.119)", "position:e", bearing + 2 * l_1 / 3 * e(q_1) + l_2 * e(q_2),
           "point of application of f_e (free end of segment 2)"),
     Claim("(A.116)", "T",

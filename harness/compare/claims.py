@@ -12,8 +12,8 @@ faithfully (typos included) in the model's symbols, and names the quantity it cl
   engine;
 * ``"equilibrium"`` – a printed equilibrium ``q*`` (all coordinates, in parameters): at ``(q*, q̇ = 0, u = 0)``
   the forward dynamics of the derivation and of each engine must give ``q̈ = 0``;
-* ``"position:<point>"``, ``"J_v:<point>"``, ``"J_omega:<link>"`` / ``"parameter"`` – kinematics (a position, the
-  Jacobians (4.64), (4.62) in the inertial frame) or a parameter relation, checked against our kinematics
+* ``"position:<point>"``, ``"v:<point>"``, ``"J_v:<point>"``, ``"J_omega:<link>"`` / ``"parameter"`` – kinematics (a
+  position, a velocity, the Jacobians (4.64), (4.62) in the inertial frame) or a parameter relation, checked against our kinematics
   (derivation only: ``reference`` gives the derived expression);
 * ``"holding:<input>"`` – the printed value of one input that holds the system at rest at any ``q`` (a static
   balance, e.g. a rope force): at ``(q, q̇ = 0)`` with that input (the others 0) the forward dynamics of the
@@ -125,6 +125,8 @@ def _derive_claimed(system: System, claim: Claim):
         from harness.compare.errata import element_generalized_force
 
         expr = element_generalized_force(system, claim.quantity.split(":", 1)[1])
+    elif kind == "v":  # (4.64): the point's velocity J_v q̇ in the inertial frame
+        expr = _point(system, claim.quantity.split(":", 1)[1]).jacobian(system.q) * sp.Matrix(system.qd)
     elif kind == "J_v":  # (4.64): the point's translational Jacobian ∂p/∂q in the inertial frame
         expr = _point(system, claim.quantity.split(":", 1)[1]).jacobian(system.q)
     elif kind == "J_omega":  # (4.62): the link's rotational Jacobian in the inertial frame, in lecture coordinates

@@ -12,11 +12,12 @@ from harness.modeling.system import Declared, System, plain
 
 ENGINE_QUANTITIES = {"M", "C", "Cqd", "g"}
 QUANTITIES = ENGINE_QUANTITIES | {"f_np", "T", "V", "eom", "parameter", "equilibrium"}
-# kinds with an argument: "position:<point>", "J_v:<point>" (its translational Jacobian (4.64)), "J_omega:<link>"
+# kinds with an argument: "position:<point>", "v:<point>" (its velocity J_v q̇), "J_v:<point>" (its translational
+# Jacobian (4.64)), "J_omega:<link>"
 # (the link's rotational Jacobian (4.62)), "force:<element>" (the force vector a spring or damper exerts on its
 # point b), "f_np:<element>" (that element's generalized force alone; plain "f_np" is the whole vector)
 # "holding:<input>" (the value of the input that holds the system at rest at q)
-KINDS_WITH_ARGUMENT = {"position", "J_v", "J_omega", "force", "f_np", "holding"}
+KINDS_WITH_ARGUMENT = {"position", "v", "J_v", "J_omega", "force", "f_np", "holding"}
 
 
 class Printed(Declared):
