@@ -103,6 +103,7 @@ CLAIMS = [
     Claim("(A.98), (A.100)", "position:e", p_e, "end point of leg 2 (on the slide), phi_1 = q, phi_2 = phi_2(q)",
           note="phi_1 read as q (A.97); its y-component is the constraint (A.99)"),
     Claim("(A.101a)", "position:leg_1", L_1 / 2 * Matrix([cos(q), sin(q), 0]), "centre of gravity of leg 1"),
+    Claim("(A.102a)", "v:leg_1", L_1 / 2 * Matrix([-sin(q), cos(q), 0]) * qd, "velocity of the centre of gravity of leg 1"),
     Claim("(A.101b)", "position:leg_2",
           L_1 * Matrix([cos(q), sin(q), 0]) + L_2 / 2 * Matrix([cos(phi_2), -sin(phi_2), 0]),
           "centre of gravity of leg 2"),

@@ -69,6 +69,9 @@ CLAIMS = [
     Claim("(A.176b), (A.178)", "position:projectile",
           Matrix([-L * cos(theta) + r * sin(psi_printed), 0, -L * sin(theta) - r * cos(psi_printed)]),
           "position of the projectile with psi = psi(theta); its z-component is the constraint (A.177)"),
+    Claim("(A.179a)", "v:counterweight", Matrix([-l * sin(theta) * w_th - h * cos(phi) * w_ph, 0,
+                                                 l * cos(theta) * w_th + h * sin(phi) * w_ph]),
+          "velocity of the counterweight"),
     Claim("(A.181a), (A.182)", "T",
           M * (l**2 * w_th**2 + h**2 * w_ph**2 + 2 * l * h * w_th * w_ph * sin(theta + phi)) / 2
           + m * (L * sin(theta) * w_th + r * cos(psi_printed) * w_ps)**2 / 2,

@@ -98,6 +98,12 @@ CLAIMS = [
     Claim("(A.176b)", "position:projectile",
           Matrix([-L * cos(theta) + r * sin(psi), 0, -L * sin(theta) - r * cos(psi)]),
           "position of the projectile"),
+    Claim("(A.179a)", "v:counterweight", Matrix([-l * sin(theta) * w_th - h * cos(phi) * w_ph, 0,
+                                                 l * cos(theta) * w_th + h * sin(phi) * w_ph]),
+          "velocity of the counterweight"),
+    Claim("(A.179b)", "v:projectile", Matrix([L * sin(theta) * w_th + r * cos(psi) * w_ps, 0,
+                                              -L * cos(theta) * w_th + r * sin(psi) * w_ps]),
+          "velocity of the projectile in phase 2"),
     Claim("(A.181b)", "T", M * (l**2 * w_th**2 + h**2 * w_ph**2 + 2 * l * h * w_th * w_ph * sin(theta + phi)) / 2
           + m * (L**2 * w_th**2 + r**2 * w_ps**2 + 2 * L * r * w_th * w_ps * sin(theta - psi)) / 2,
           "kinetic energy T_2"),
