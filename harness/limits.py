@@ -114,6 +114,19 @@ class OutOfTime(BaseException):
     swallow it)."""
 
 
+def _in_collector_callback(frame, depth: int = 3) -> bool:
+    """Whether the interrupted ``frame`` (or one of its ``depth`` callers) is a callback of the garbage collector or
+    of a weak reference (only the innermost frames: the budgeted work itself may run below such a module)."""
+    for _ in range(depth):
+        if frame is None:
+            return False
+        code = frame.f_code
+        if code.co_name in ("gc_callback", "__del__") or code.co_filename.endswith(("weakref.py", "_weakrefset.py")):
+            return True
+        frame = frame.f_back
+    return False
+
+
 @contextlib.contextmanager
 def cpu_budget(seconds: float):
     """Raises :class:`OutOfTime` inside the block after ``seconds`` of this process's CPU time (``ITIMER_VIRTUAL``:
@@ -126,8 +139,9 @@ def cpu_budget(seconds: float):
     active = [True]
 
     def stop(signum, frame):
-        # not inside a garbage-collector callback (it cannot propagate from there); the timer repeats
-        if active[0] and (frame is None or frame.f_code.co_name != "gc_callback"):
+        # not inside a callback the garbage collector runs (a gc callback, a weak reference's or a finalizer): an
+        # exception cannot propagate from there (Python prints "Exception ignored"); the timer repeats every 0.05 s
+        if active[0] and not _in_collector_callback(frame):
             raise OutOfTime
 
     previous = signal.signal(signal.SIGVTALRM, stop)

@@ -77,3 +77,17 @@ def test_large_per_body_derivation_is_not_printed(monkeypatch):
     page = equations.derived_equations(system, models.claims("pendulum"))
     assert not page["quantities"] and "too large" in page["notes"][0]
     assert all("too large" in r["note"] for r in equations.claim_equations(system, models.claims("pendulum")))
+
+
+def test_cpu_budget_never_raises_inside_a_weak_reference_callback():
+    """A budget that runs out while the garbage collector runs a weak reference's callback waits for the next tick
+    (an exception raised there would be printed as 'Exception ignored' and lost)."""
+    import sys
+
+    from harness.limits import _in_collector_callback
+
+    namespace: dict = {}
+    exec(compile("def _remove(sys):\n    return sys._getframe()\n", "/usr/lib/python3.11/_weakrefset.py", "exec"),
+         namespace)
+    assert _in_collector_callback(namespace["_remove"](sys))
+    assert not _in_collector_callback(sys._getframe())
