@@ -42,6 +42,8 @@ def test_sweep_records_and_files(tmp_path, capsys):
         assert any(f["kind"] == "geometry removed" for f in r["findings"])
     checks = [c for r in doc["robots"] for p in r["pairs"] for c in p["checks"]]
     assert all(("worst_state" in c) == (not c["passed"]) for c in checks)   # a state only as a counterexample
+    for pair in (p for r in doc["robots"] for p in r["pairs"] if p["checks"]):  # the worst of each quantity kept
+        assert max(c["ratio"] for c in pair["checks"]) == pytest.approx(pair["worst"]["ratio"])
     ours = by_name[ARM]["pairs"][2]      # our export: the file's truncated quarter turns, snapped (proven)
     assert ours["verdict"] == "disagree-explained" and ours["cause"]["proven"] and "1.57079632679" in \
         ours["cause"]["cause"]

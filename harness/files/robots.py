@@ -1069,18 +1069,18 @@ def markdown(doc: dict) -> str:
 
 
 COUNTEREXAMPLE_KEYS = ("worst_state", "imported", "reference")
-"""What a check records of the state where it is worst: kept in robots.json only where the check fails (its
-counterexample); a passing check keeps its error, bound and ratio (33 MB → about 2 MB for the whole package)."""
 
 
-def counterexamples_only(node):
-    """``node`` with the worst state and values removed from every passing check (nested anywhere)."""
-    if isinstance(node, list):
-        return [counterexamples_only(x) for x in node]
-    if not isinstance(node, dict):
-        return node
-    passing = node.get("passed") is True and "worst_state" in node
-    return {k: counterexamples_only(v) for k, v in node.items() if not (passing and k in COUNTEREXAMPLE_KEYS)}
+def recorded(checks: list[dict]) -> list[dict]:
+    """What robots.json keeps of a pair's checks: every failing check with its counterexample (the state where it is
+    worst and both values there), and the worst passing check of each quantity without them. Every check was
+    judged; robots.md lists them all, ``harness robots NAME`` recomputes them (the whole package: 33 MB → 1.6 MB)."""
+    failing = [c for c in checks if not c["passed"]]
+    worst: dict[str, dict] = {}
+    for c in checks:
+        if c["passed"] and c["ratio"] >= worst.get(c["quantity"], {"ratio": -1.0})["ratio"]:
+            worst[c["quantity"]] = c
+    return failing + [{k: v for k, v in c.items() if k not in COUNTEREXAMPLE_KEYS} for c in worst.values()]
 
 
 def write(doc: dict, out: Path) -> list[Path]:
@@ -1090,6 +1090,8 @@ def write(doc: dict, out: Path) -> list[Path]:
     from harness.io import atomic_write_text
 
     paths = [Path(out) / "robots.json", Path(out) / "robots.md"]
-    atomic_write_text(paths[0], json.dumps(json_clean(counterexamples_only(doc)), indent=1) + "\n")
+    lean = {**doc, "robots": [{**r, "pairs": [{**p, "checks": recorded(p["checks"])} for p in r["pairs"]]}
+                              for r in doc["robots"]]}
+    atomic_write_text(paths[0], json.dumps(json_clean(lean), separators=(",", ":")) + "\n")
     atomic_write_text(paths[1], markdown(doc))
     return paths
