@@ -44,8 +44,8 @@ def element_force(system: System, name: str) -> sp.Matrix:
     """The force vector the spring or damper ``name`` exerts on its point ``b``, in the inertial frame and lecture
     coordinates, along ``r = p_b − p_a`` (``l = |r|``): a spring ``−c (l − l_0) r/l`` (3.84), a damper
     ``−d l̇ r/l`` with ``l̇ = rᵀ ṙ / l`` (an element acts along its line)."""
-    element = _point_element(system, name)
-    r, length = _element_vector(system, element)
+    element = point_element(system, name)
+    r, length = element_vector(system, element)
     if isinstance(element, Spring):
         return -element.stiffness * (length - element.rest_length) * r / length
     r_dot = r.jacobian(system.q) * sp.Matrix(system.qd)
@@ -55,20 +55,22 @@ def element_force(system: System, name: str) -> sp.Matrix:
 def element_generalized_force(system: System, name: str, force=None) -> sp.Matrix:
     """The generalized force of the spring or damper ``name`` (5.58), (5.73): ``J_rᵀ f`` with ``J_r = ∂r/∂q`` and
     ``f`` its force on ``b`` (:func:`element_force`; ``force``: another force vector, e.g. a printed one)."""
-    element = _point_element(system, name)
-    r, _ = _element_vector(system, element)
+    element = point_element(system, name)
+    r, _ = element_vector(system, element)
     f = element_force(system, name) if force is None else as_matrix(force)
     return r.jacobian(system.q).T * f
 
 
-def _point_element(system: System, name: str):
+def point_element(system: System, name: str):
+    """The spring or damper ``name`` of ``system`` (a force claim's element)."""
     for f in system.forces:
         if isinstance(f, (Spring, Damper)) and f.name == name:
             return f
     raise ValueError(f"{system.name}: no spring or damper named {name!r} for a force claim")
 
 
-def _element_vector(system: System, element) -> tuple[sp.Matrix, sp.Expr]:
+def element_vector(system: System, element) -> tuple[sp.Matrix, sp.Expr]:
+    """``r = p_b − p_a`` of a spring or damper in lecture coordinates, and its length ``|r|``."""
     from harness.compare.claims import _position
 
     r = _position(system, element.b) - _position(system, element.a)

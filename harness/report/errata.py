@@ -165,12 +165,12 @@ def along_the_line(system, claim, printed, derived) -> str | None:
     along the element's line ``r`` (``r rᵀ f / rᵀ r``), tested at random values of every symbol."""
     import random
 
-    from harness.compare.errata import _element_vector, _point_element
+    from harness.compare.errata import element_vector, point_element
 
     kind, _, name = claim.quantity.partition(":")
     if kind != "force":
         return None
-    r, _ = _element_vector(system, _point_element(system, name))
+    r, _ = element_vector(system, point_element(system, name))
     projected = r * (r.T * printed)[0] / (r.T * r)[0]
     symbols = sorted((projected - derived).free_symbols, key=str)
     rng = random.Random(0)
@@ -179,7 +179,7 @@ def along_the_line(system, claim, printed, derived) -> str | None:
         if any(abs(complex(e.xreplace(at).evalf())) > 1e-9 * (1 + abs(complex(d.xreplace(at).evalf())))
                for e, d in zip(projected - derived, derived)):
             return None
-    return (f"{claim.equation}: a {type(_point_element(system, name)).__name__.lower()} acts along its line: only the "
+    return (f"{claim.equation}: a {type(point_element(system, name)).__name__.lower()} acts along its line: only the "
             f"component of the printed force along r (r rᵀ f / rᵀ r) is its force; the printed vector also has the "
             f"component across the line.")
 

@@ -35,10 +35,3 @@ def mujoco_own(scene):
     event; None if there is none."""
     return next(((BY_EVENT[type(e)], e) for e in scene.events
                  if type(e) in BY_EVENT and BY_EVENT[type(e)].mujoco_run is not None), None)
-
-
-def symbolic_run(system, scene, rtol: float = 1e-10, catalogue=None):
-    """Our symbolic simulation of ``scene`` by its motion (DOP853, ``atol = rtol``; events located where it
-    switches; a lift-off finds its phase-2 system in ``catalogue``)."""
-    motion, event = motion_of(scene)
-    return motion.simulate(system, scene, event, "symbolic", rtol=rtol, atol=rtol, catalogue=catalogue)

@@ -38,10 +38,6 @@ MUJOCO_STEPS = 2000        # RK4 steps of MuJoCo's own runs (at least; on the sc
 KEY = "pruning time ratio (idle / pruned), {}"
 
 
-def nothing_to_prune(system, scene) -> bool:
-    return with_idle_effects(system, scene)[1] is scene
-
-
 # --------------------------------------------------------------------------- MuJoCo's own stepping, idle or pruned
 class MujocoStepper:
     """MuJoCo's RK4 on the MJCF of the idle system (every effect present, its flags cleared); ``prune``: the
