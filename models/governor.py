@@ -21,15 +21,19 @@ massless spindle is merged with arm 1 into one MuJoCo body. The external torque 
 Singularity: ``M = diag(2 m l² sin²(alpha), 2 m l²)`` is singular at ``alpha = 0`` and ``alpha = pi`` (masses on
 the axis, ``phi`` undefined). The drawn states keep ``alpha`` in ``[0.2, pi - 0.2]``, 0.2 rad away from both.
 
-Not transcribed as claims: the steady state (A.68), (A.69) ``alpha_s = arccos(g / (l phi_dot_s²))`` — the
-claims core has no kind for "q̈ = 0 at a printed stationary state"; (A.67) with ``alpha_dot = 0``,
-``tau = 0`` is the equation it is derived from.
+Steady state: (A.69) ``alpha_s = arccos(g / (l phi_dot_s²))`` is claimed as the value of ``alpha`` at which, with
+``alpha_dot = 0`` and ``tau = 0``, every source's q̈ vanishes (kind ``steady:alpha``), on the states of its stated
+condition ``phi_dot_s ≥ sqrt(g/l)`` (elsewhere the arccos is not real). The centrifugal force the text names after
+(A.69), ``f_f = m omega_phi² l cos(alpha)``, is claimed against ``m phi_dot² r`` with ``r`` the point mass's
+distance from the axis of rotation, from (A.59) of the model's kinematics. (A.68) is a condition (its left side
+vanishes exactly at the steady states), not a value; (A.69) solves it and is claimed.
 """
 
 import math
 
-from sympy import Matrix, cos, sin
+from sympy import Matrix, acos, cos, sin
 
+from harness.derivation.bodies import centre_of_mass
 from harness.modeling import (WORLD, Claim, Constant, Coordinate, Gravity, Input, Joint, JointInput, Link, Parameter,
                               Scene, System, standard_gravity)
 
@@ -65,6 +69,7 @@ SYSTEM = System(
 # ----------------------------------------------------------------------------- the lecture's printed equations
 w_p, w_a = phi.rate, alpha.rate
 sa, ca = sin(alpha), cos(alpha)
+_p_m = centre_of_mass(SYSTEM, "arm_1")   # the mass's position (A.59) from the model's own kinematics
 CLAIMS = [
     Claim("(A.59)", "position:arm_1", Matrix([l * sa * cos(phi), l * sa * sin(phi), h - l * ca]),
           "position of the point mass rotated by phi against the x axis"),
@@ -85,6 +90,16 @@ CLAIMS = [
                "transcribed multiplied by the printed denominator (non-zero in the drawn states) so that the "
                "residual is a generalized force, the unit the claims core scales eom residuals in"),
     Claim("(A.67b)", "eom", alpha.accel - sa * (l * w_p**2 * ca - g) / l, "alpha_ddot solved", index=(1,)),
+    Claim("(A.64)", "L", m * l**2 * (w_a**2 + w_p**2 * sa**2) - 2 * m * g * (h - l * ca), "Lagrange function T - V",
+          note="printed with omega_alpha, omega_phi: read as alpha_dot, phi_dot"),
+    Claim("(A.69)", "steady:alpha", acos(g / (l * w_p**2)),
+          "steady-state angle at the constant angular velocity phi_dot_s (alpha_dot = 0, tau = 0)",
+          note="printed with phi_dot_s: the drawn phi_dot; valid for phi_dot_s >= sqrt(g/l), as printed beside it"),
+    Claim("f_f after (A.69)", "parameter", m * w_p**2 * l * ca,
+          "centrifugal force on one point mass at the steady state (force balance of the freed mass)",
+          reference=m * w_p**2 * (_p_m[0] * cos(phi) + _p_m[1] * sin(phi)),
+          note="printed with omega_phi: read as phi_dot; reference m phi_dot² times the mass's distance from e_z "
+               "in its plane of rotation (the plane at the angle phi, (A.59)), from the model's position of the mass"),
 ]
 
 SCENES = [

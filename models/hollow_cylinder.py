@@ -101,6 +101,21 @@ CLAIMS = [
           + m_2 * (w_s**2 + w_p**2 * (s + l_2 / 2)**2) / 2, "kinetic energy T = T_r + T_t1 + T_t2", note=_I_note),
     Claim("(A.130), (A.131)", "V", c * (s - s_0)**2 / 2 + m_1 * g * (h - l_1 / 2 * cos(phi))
           + m_2 * g * (h - (s + l_2 / 2) * cos(phi)), "potential energy V = V_f + V_1 + V_2"),
+    Claim("(A.133a)", "dL_dqd:phi", m_1 * l_1**2 * w_p / 4 + m_2 * (s + l_2 / 2)**2 * w_p + (I_zz1 + I_zz2) * w_p,
+          "∂L/∂phi_dot", note=_I_note),
+    Claim("(A.133b)", "ddt_dL_dqd:phi", m_1 * l_1**2 * phi.accel / 4 + m_2 * (s + l_2 / 2)**2 * phi.accel
+          + 2 * m_2 * (s + l_2 / 2) * w_p * w_s + (I_zz1 + I_zz2) * phi.accel, "d/dt ∂L/∂phi_dot", note=_I_note),
+    Claim("(A.133c)", "dL_dq:phi", -m_1 * g * l_1 / 2 * sin(phi) - m_2 * g * (s + l_2 / 2) * sin(phi), "∂L/∂phi"),
+    Claim("(A.133d)", "dL_dqd:s", m_2 * w_s, "∂L/∂s_dot"),
+    Claim("(A.133e)", "ddt_dL_dqd:s", m_2 * s.accel, "d/dt ∂L/∂s_dot"),
+    Claim("(A.133f)", "dL_dq:s", m_2 * w_p**2 * (s + l_2 / 2) - c * (s - s_0) + m_2 * g * cos(phi), "∂L/∂s"),
+    Claim("(A.136a), (A.136b)", "f_np:friction_d", Matrix([0, -f_d]),
+          "generalized forces of the friction force: f_{f_d,phi} = 0, f_{f_d,s} = -f_d",
+          note="printed as two scalars, f_{f_d,s} (A.136a) and f_{f_d,phi} (A.136b); here in the order (phi, s) of q; "
+               "f_d from (A.134)"),
+    Claim("(A.137a), (A.137b)", "f_np:torque_e", Matrix([tau_e, 0]),
+          "generalized forces of the external torque: f_{tau_e,phi} = tau_e, f_{tau_e,s} = 0",
+          note="printed as two scalars, f_{tau_e,s} (A.137a) and f_{tau_e,phi} (A.137b); here in the order (phi, s)"),
     Claim("(A.138)", "f_np", Matrix([tau_e, -f_d]), "generalized forces f_phi = tau_e, f_s = -f_d",
           note="f_d from (A.134): d_0 (l_1 - s) d_2 pi s_dot"),
     Claim("(A.139a)", "eom", (m_1 * l_1**2 / 4 + m_2 * (s + l_2 / 2)**2 + I_zz1 + I_zz2) * phi.accel

@@ -23,7 +23,7 @@ inertial frame) acts at the free end of segment 2 (A.118)-(A.120); ``f_ex`` is a
 
 import math
 
-from sympy import Matrix, cos, sin
+from sympy import Matrix, Rational, cos, sin
 
 from harness.modeling import (printed_matrix, WORLD, Claim, Coordinate, Gravity, Inertia, Input, Joint, Link, Parameter, Point,
                               PointForce, Scene, Step, System, standard_gravity)
@@ -117,6 +117,11 @@ CLAIMS = [
           + l_2 / 2 * Matrix([-sin(q_2), cos(q_2), 0]) * qd_2, "velocity of S_2"),
     Claim("(A.114c)", "v:segment_3", l_1 / 3 * Matrix([sin(q_1), -cos(q_1), 0]) * qd_1
           + l_3 / 2 * Matrix([sin(q_3), -cos(q_3), 0]) * qd_3, "velocity of S_3"),
+    Claim("(A.115a)", "v_squared:segment_1", (l_1 / 6)**2 * qd_1**2, "squared speed of S_1"),
+    Claim("(A.115b)", "v_squared:segment_2", (2 * l_1 / 3)**2 * qd_1**2 + (l_2 / 2)**2 * qd_2**2
+          + Rational(2, 3) * l_1 * l_2 * cos(q_1 - q_2) * qd_1 * qd_2, "squared speed of S_2"),
+    Claim("(A.115c)", "v_squared:segment_3", (l_1 / 3)**2 * qd_1**2 + (l_3 / 2)**2 * qd_3**2
+          + Rational(1, 3) * l_1 * l_3 * cos(q_1 - q_3) * qd_1 * qd_3, "squared speed of S_3"),
     Claim("(A.119)", "position:e", bearing + 2 * l_1 / 3 * e(q_1) + l_2 * e(q_2),
           "point of application of f_e (free end of segment 2)"),
     Claim("(A.116)", "T",

@@ -104,6 +104,12 @@ CLAIMS = [
           note="phi_1 read as q (A.97); its y-component is the constraint (A.99)"),
     Claim("(A.101a)", "position:leg_1", L_1 / 2 * Matrix([cos(q), sin(q), 0]), "centre of gravity of leg 1"),
     Claim("(A.102a)", "v:leg_1", L_1 / 2 * Matrix([-sin(q), cos(q), 0]) * qd, "velocity of the centre of gravity of leg 1"),
+    Claim("(A.102b)", "v:leg_2", L_1 * Matrix([-sin(q), cos(q), 0]) * qd
+          + L_2 / 2 * Matrix([-sin(phi_2), -cos(phi_2), 0]) * dphi2 * qd, "velocity of the centre of gravity of leg 2",
+          note="the printed ∂phi_2(q)/∂q is the derivative of (A.100), left unevaluated in the text"),
+    Claim("(A.103a)", "omega:leg_1", qd, "angular velocity of leg 1 (about e_z)", index=(2,)),
+    Claim("(A.103b)", "omega:leg_2", -dphi2 * qd, "angular velocity of leg 2 (about e_z)", index=(2,),
+          note="the printed ∂phi_2(q)/∂q is the derivative of (A.100), left unevaluated in the text"),
     Claim("(A.101b)", "position:leg_2",
           L_1 * Matrix([cos(q), sin(q), 0]) + L_2 / 2 * Matrix([cos(phi_2), -sin(phi_2), 0]),
           "centre of gravity of leg 2"),

@@ -97,3 +97,28 @@ def test_every_printed_equation_is_classified(name):
     for claim in printed:
         verdict = classify(system, claim, examples=20, claims=printed)
         assert verdict.classification != "engines disagree", (claim.equation, verdict.errors)
+
+
+def test_per_body_energies_sum_to_the_derivation():
+    """(5.6), (5.12), (5.20) body by body add up to the T and V of (5.21), (5.20) the derivation assembles."""
+    from harness.derivation import bodies
+    from harness.derivation.derive import derive
+
+    d = derive(SYSTEM)
+    names = [link.name for link in SYSTEM.links if link.has_mass]
+    T = sum(bodies.translational_energy(SYSTEM, n) + bodies.rotational_energy(SYSTEM, n) for n in names)
+    V = sum(bodies.gravity_potential(SYSTEM, n) for n in names)
+    assert sp.simplify(T - d.T) == 0
+    assert sp.simplify(sp.Matrix([V]).jacobian(SYSTEM.q).T - d.g_gravity) == sp.zeros(len(SYSTEM.q), 1)
+
+
+def test_a_wrong_steady_state_is_an_erratum_and_out_of_domain_states_are_not_examples():
+    """``steady:<coordinate>``: the governor's printed arccos is real only for phi_dot² >= g/l (as printed beside
+    it); states outside are rejected, not counted. Twice the printed angle is no steady state."""
+    governor = models.get("governor")
+    alpha, (phi_dot, _) = governor.q[1], governor.qd
+    g, l = (governor.parameter(n).symbol for n in ("g", "l"))
+    right = classify(governor, Claim("(t5)", "steady:alpha", sp.acos(g / (l * phi_dot**2))), examples=20)
+    assert right.classification == "confirmed" and 0 < right.examples <= 20
+    wrong = classify(governor, Claim("(t6)", "steady:alpha", 2 * sp.acos(g / (l * phi_dot**2))), examples=20)
+    assert wrong.classification == "erratum"

@@ -19,7 +19,16 @@ faithfully (typos included) in the model's symbols, and names the quantity it cl
   balance, e.g. a rope force): at ``(q, q̇ = 0)`` with that input (the others 0) the forward dynamics of the
   derivation and of each engine must give ``q̈ = 0``;
 * ``"force:<element>"``, ``"f_np:<element>"`` – the force vector of a spring or damper on its point ``b`` (along
-  its line) and that element's generalized force ``J_rᵀ f`` (5.73), derivation only.
+  its line) and that element's generalized force ``J_rᵀ f`` (5.73) (of an external force or torque ``J_vᵀ f^e``,
+  ``J_ωᵀ τ^e``), derivation only;
+* per body (:mod:`harness.derivation.bodies`), derivation only: ``"R:<link>"``, ``"R:<frame>/<link>"`` (rotation
+  matrices (4.9)–(4.21)), ``"S:…"`` (``Ṙ Rᵀ`` (4.44)), ``"omega:<link>"`` (4.57), ``"I_0:<link>"`` (5.15),
+  ``"T_t:<link>"``, ``"T_r:<link>"`` (5.6), (5.12), ``"V:<link>"`` (5.20); ``"v_squared:<point>"`` (``ṗᵀ ṗ``);
+* ``"L"`` (the Lagrange function, up to a constant) and ``"dL_dqd:<q>"``, ``"ddt_dL_dqd:<q>"``, ``"dL_dq:<q>"``
+  (the terms of the Euler–Lagrange equation (5.69) of one coordinate), derivation only;
+* ``"steady:<coordinate>"`` – the printed value of one coordinate in a steady state (relative equilibrium): with
+  that coordinate at rest and no input, the forward dynamics of the derivation and of each engine must give
+  ``q̈ = 0``; states where the printed value is not real lie outside its stated domain and are not examples.
 
 Classification (computed, never typed in):
 
@@ -42,6 +51,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import sympy as sp
+from hypothesis.errors import UnsatisfiedAssumption
 
 from harness import profiling
 from harness.checks import Bound, Check, relative_error
@@ -51,7 +61,7 @@ from harness.engines import ENGINES, symbolic
 from harness.engines.base import State
 from harness.derivation.kinematics import link_poses, point_position
 from harness.modeling.claims import ENGINE_QUANTITIES, Claim, as_matrix as _as_matrix, symbols as _symbols
-from harness.modeling.system import Point, System
+from harness.modeling.system import WORLD, Point, System
 from harness.compare.strategies import states
 from harness.settings import property_test
 
@@ -127,11 +137,21 @@ def _derive_claimed(system: System, claim: Claim):
         expr = element_generalized_force(system, claim.quantity.split(":", 1)[1])
     elif kind == "v":  # (4.64): the point's velocity J_v q̇ in the inertial frame
         expr = _point(system, claim.quantity.split(":", 1)[1]).jacobian(system.q) * sp.Matrix(system.qd)
+    elif kind == "v_squared":  # (ṗ)ᵀ ṗ of the point, with ṗ = J_v q̇ (4.64)
+        v = _point(system, claim.quantity.split(":", 1)[1]).jacobian(system.q) * sp.Matrix(system.qd)
+        expr = v.T * v
     elif kind == "J_v":  # (4.64): the point's translational Jacobian ∂p/∂q in the inertial frame
         expr = _point(system, claim.quantity.split(":", 1)[1]).jacobian(system.q)
     elif kind == "J_omega":  # (4.62): the link's rotational Jacobian in the inertial frame, in lecture coordinates
         pose = link_poses(system)[claim.quantity.split(":", 1)[1]]
         expr = pose.J_omega_theta.xreplace(dict(zip(system.theta, system.phi))) * system.phi.jacobian(system.q)
+    elif kind in BODY_KINDS and ":" in claim.quantity:
+        expr = _body_quantity(system, kind, claim.quantity.split(":", 1)[1])
+    elif kind == "steady":  # the equation a steady state solves: C q̇ + g − f_np = 0 with the coordinate at rest
+        rest = _steady_rest(system, claim)
+        return sp.Matrix(d.C * sp.Matrix(system.qd) + d.g - d.f_np).xreplace(rest)
+    elif kind in LAGRANGIAN_KINDS:
+        expr = _lagrangian_term(system, d, kind, claim.quantity.partition(":")[2])
     elif kind == "parameter":
         expr = sp.sympify(claim.reference)
     elif kind == "Cqd":
@@ -139,6 +159,60 @@ def _derive_claimed(system: System, claim: Claim):
     else:
         expr = getattr(d, kind)
     return _select(sp.Matrix(expr) if isinstance(expr, sp.MatrixBase) else sp.Matrix([expr]), claim.index)
+
+
+BODY_KINDS = {"R", "S", "omega", "I_0", "T_t", "T_r", "V"}
+"""Per-body kinds (:mod:`harness.derivation.bodies`); ``R:`` and ``S:`` take ``<link>`` or ``<frame>/<link>``."""
+
+
+def _body_quantity(system: System, kind: str, argument: str):
+    from harness.derivation import bodies
+
+    frame, _, link = argument.rpartition("/")
+    frame = frame or WORLD
+    if kind == "R":
+        return bodies.rotation_matrix(system, link, frame)
+    if kind == "S":
+        return bodies.angular_velocity_matrix(system, link, frame)
+    return {"omega": bodies.angular_velocity, "I_0": bodies.inertia_in_inertial_frame,
+            "T_t": bodies.translational_energy, "T_r": bodies.rotational_energy,
+            "V": bodies.gravity_potential}[kind](system, link)
+
+
+LAGRANGIAN_KINDS = {"L", "dL_dqd", "ddt_dL_dqd", "dL_dq"}
+"""The Lagrange function L = T − V (5.67) (up to a constant, as V) and the terms of the Euler–Lagrange equation
+(5.69) of one coordinate: ``dL_dqd:<q>`` = ∂L/∂q̇, ``ddt_dL_dqd:<q>`` = d/dt ∂L/∂q̇, ``dL_dq:<q>`` = ∂L/∂q."""
+
+
+def _lagrangian_term(system: System, d, kind: str, coordinate: str):
+    L = d.T - d.V
+    if kind == "L":
+        return L
+    k = _coordinate_index(system, coordinate)
+    if kind == "dL_dq":
+        return sp.diff(L, system.q[k])
+    p = sp.diff(L, system.qd[k])
+    if kind == "dL_dqd":
+        return p
+    accel = [c.accel for c in system.coordinates]
+    return sum(sp.diff(p, x) * dx for x, dx in (*zip(system.q, system.qd), *zip(system.qd, accel)))
+
+
+def _coordinate_index(system: System, name: str) -> int:
+    for k, c in enumerate(system.coordinates):
+        if c.name == name:
+            return k
+    raise ValueError(f"{system.name}: no coordinate named {name!r}")
+
+
+def _steady_coordinate(system: System, claim: Claim) -> int:
+    return _coordinate_index(system, claim.quantity.split(":", 1)[1])
+
+
+def _steady_rest(system: System, claim: Claim) -> dict:
+    """A steady state (relative equilibrium) of ``steady:<coordinate>``: that coordinate at rest, no input."""
+    k = _steady_coordinate(system, claim)
+    return {system.qd[k]: 0, **{u: 0 for u in system.u}}
 
 
 def _point(system: System, name: str) -> sp.Matrix:
@@ -255,7 +329,7 @@ def _engine_values(claim: Claim, state: State, engines):
     ref, s, kappa = kept["derivation"]
     kind = claim.quantity.split(":")[0]
     evaluations = {"derivation": ref}
-    if kind in ENGINE_QUANTITIES | {"eom", "equilibrium", "holding"}:
+    if kind in ENGINE_QUANTITIES | {"eom", "equilibrium", "holding", "steady"}:
         for name in engines:
             if name not in kept:
                 with profiling.phase(f"engine {name}"):
@@ -294,6 +368,22 @@ def evaluate_claim(system: System, claim: Claim, state: State, engines=CLAIM_ENG
         evaluations, s, kappa = _engine_values(claim, state, engines)
         return {source: relative_error(ev.qdd, np.zeros(n), s["qdd"]) / (FLOAT64_RTOL * kappa)
                 for source, ev in evaluations.items()}
+    if kind == "steady":  # the printed steady value of one coordinate, that coordinate at rest, no input
+        k = _steady_coordinate(system, claim)
+        n = len(system.coordinates)
+        qd = np.array(state.qd, dtype=float)
+        qd[k] = 0.0
+        with np.errstate(divide="ignore", invalid="ignore"):
+            value = float(np.asarray(fn(state.q, qd, np.zeros(n), state.p, np.zeros(len(system.u))),
+                                     dtype=float).ravel()[0])
+        if not np.isfinite(value):  # outside the printed expression's domain (its stated condition)
+            return None
+        q = np.array(state.q, dtype=float)
+        q[k] = value
+        state = State.make(system, q, qd, state.params, {i.name: 0.0 for i in system.inputs})
+        evaluations, s, kappa = _engine_values(claim, state, engines)
+        return {source: relative_error(ev.qdd, np.zeros(n), s["qdd"]) / (FLOAT64_RTOL * kappa)
+                for source, ev in evaluations.items()}
     evaluations, s, kappa = _engine_values(claim, state, engines)
     out = {}
     for source, ev in evaluations.items():
@@ -315,12 +405,17 @@ def evaluate_claim(system: System, claim: Claim, state: State, engines=CLAIM_ENG
         elif source == "derivation":
             derived_fn = _lambdify(system, _derived(system, claim), key=("derived", id(system), id(claim)))
             reference = np.asarray(derived_fn(*args), dtype=float)
-            if kind == "V":  # a potential is defined up to a constant: compare V(q) - V(0)
-                at_zero = (np.zeros_like(state.q), state.qd, qdd, state.p, state.u_vec)
+            if kind in ("V", "L"):  # a potential is defined up to a constant: compare V(q) - V(0)
+                at_zero = (np.zeros_like(state.q), np.zeros_like(state.qd) if kind == "L" else state.qd, qdd,
+                           state.p, state.u_vec)
                 value = value - np.asarray(fn(*at_zero), dtype=float)
                 reference = reference - np.asarray(derived_fn(*at_zero), dtype=float)
-            scale = {"f_np": s["g"], "T": s["M"] * max(1.0, float(np.max(np.abs(state.qd)))) ** 2,
-                     "V": s["g"]}.get(kind, 1.0)
+            energy = s["M"] * max(1.0, float(np.max(np.abs(state.qd)))) ** 2
+            momentum = s["M"] * max(1.0, float(np.max(np.abs(state.qd))))
+            scale = {"f_np": s["g"], "T": energy, "T_t": energy, "T_r": energy, "V": s["g"], "L": energy,
+                     "I_0": s["M"], "dL_dqd": momentum, "ddt_dL_dqd": max(s["g"], energy),
+                     "dL_dq": max(s["g"], energy),
+                     "v_squared": max(1.0, float(np.max(np.abs(state.qd)))) ** 2}.get(kind, 1.0)
         else:
             continue
         reference = np.asarray(reference, dtype=float).reshape(value.shape)
@@ -353,7 +448,7 @@ def classify_as_printed(system: System, claim: Claim, engines, examples, base: d
     count = [0]
 
     def check(state: State):
-        errors = evaluate_claim(system, claim, state, engines, base)
+        errors = _in_domain(evaluate_claim(system, claim, state, engines, base))
         count[0] += 1
         for k, v in errors.items():
             worst[k] = max(worst.get(k, 0.0), v)
@@ -403,9 +498,23 @@ def _kept(substitution: dict | None) -> dict | None:
     return _KEPT.setdefault(key, substitution)
 
 
+def _in_domain(errors):
+    """The errors at a state, or hypothesis rejects the state: it lies outside the printed expression's domain
+    (a steady state that exists only under the condition the lecture states beside it). Rejected states do not
+    count as examples; hypothesis draws until the claim's examples lie inside."""
+    if errors is None:
+        from hypothesis import reject
+        from hypothesis.control import currently_in_test_context
+
+        if currently_in_test_context():
+            reject()
+        raise UnsatisfiedAssumption  # a kept state replayed (see _run): skipped as hypothesis skipped it
+    return errors
+
+
 def _holds_with(system, claim, engines, substitution):
     def check(state: State):
-        errors = evaluate_claim(system, claim, state, engines, substitution)
+        errors = _in_domain(evaluate_claim(system, claim, state, engines, substitution))
         if any(v > 1 for k, v in errors.items() if not k.startswith("Cqd (from")):
             raise _Disagrees(_state_text(state), state)
     return check
@@ -433,7 +542,10 @@ def _run(system: System, check, examples, shrink: bool = True):
         try:
             with profiling.phase("replay"):
                 for state in kept[1]:
-                    check(state)
+                    try:
+                        check(state)
+                    except UnsatisfiedAssumption:  # rejected when drawn too: not an example
+                        continue
             return None
         except Exception:  # noqa: BLE001 - hypothesis runs as always, from nothing recorded
             undo()

@@ -28,7 +28,7 @@ import sympy as sp
 
 from harness.limits import OutOfTime, cpu_budget
 from harness.modeling.claims import Claim, as_matrix
-from harness.modeling.system import Damper, Point, Spring, System
+from harness.modeling.system import WORLD, BodyTorque, Damper, Point, PointForce, Spring, System
 
 HOLDS = ("confirmed", "C differs, C·q̇ agrees")
 SYMBOLIC_BUDGET = 2.0      # CPU seconds of symbolic reduction per claim (the machine's load does not shorten it)
@@ -53,12 +53,36 @@ def element_force(system: System, name: str) -> sp.Matrix:
 
 
 def element_generalized_force(system: System, name: str, force=None) -> sp.Matrix:
-    """The generalized force of the spring or damper ``name`` (5.58), (5.73): ``J_rᵀ f`` with ``J_r = ∂r/∂q`` and
-    ``f`` its force on ``b`` (:func:`element_force`; ``force``: another force vector, e.g. a printed one)."""
+    """The generalized force of the force element ``name`` (5.58), (5.73): of a spring or damper ``J_rᵀ f`` with
+    ``J_r = ∂r/∂q`` and ``f`` its force on ``b`` (:func:`element_force`; ``force``: another force vector, e.g. a
+    printed one); of an external force ``J_vᵀ f^e`` at its point, of an external torque ``J_ωᵀ τ^e``."""
+    external = _external(system, name)
+    if external is not None:
+        return external
     element = point_element(system, name)
     r, _ = element_vector(system, element)
     f = element_force(system, name) if force is None else as_matrix(force)
     return r.jacobian(system.q).T * f
+
+
+def _external(system: System, name: str):
+    """(5.73) for the external force or torque ``name`` (None when ``name`` is no such element)."""
+    from harness.compare.claims import _position
+    from harness.derivation import bodies
+    from harness.derivation.kinematics import link_poses
+
+    for f in system.forces:
+        if getattr(f, "name", None) != name or not isinstance(f, (PointForce, BodyTorque)):
+            continue
+        vector = sp.Matrix(f.force if isinstance(f, PointForce) else f.torque)
+        if f.frame != WORLD:  # follower: components in a link's frame
+            vector = bodies.rotation_matrix(system, f.frame) * vector
+        if isinstance(f, PointForce):
+            return _position(system, f.point).jacobian(system.q).T * vector
+        pose = link_poses(system)[f.link]
+        J_w = pose.J_omega_theta.xreplace(dict(zip(system.theta, system.phi))) * system.phi.jacobian(system.q)
+        return J_w.T * vector
+    return None
 
 
 def point_element(system: System, name: str):
@@ -277,6 +301,12 @@ def difference(system: System, claim: Claim, subst: dict | None):
     if kind == "equilibrium":
         d = _derived(system, claim)
         return d.xreplace(dict(zip(system.q, list(printed))))
+    if kind == "steady":  # the derived steady-state equation at the printed value
+        from harness.compare.claims import _steady_coordinate, _steady_rest
+
+        k = _steady_coordinate(system, claim)
+        value = printed[0].xreplace(_steady_rest(system, claim))
+        return _derived(system, claim).xreplace({system.q[k]: value})
     derived = as_matrix(_derived(system, claim))
     if printed.shape != derived.shape:
         if len(printed) != len(derived):
@@ -284,6 +314,8 @@ def difference(system: System, claim: Claim, subst: dict | None):
         printed = printed.reshape(*derived.shape)
     if kind == "V":
         return (printed - derived).jacobian(system.q)
+    if kind == "L":  # up to a constant, as V
+        return (printed - derived).jacobian([*system.q, *system.qd])
     if kind == "eom":
         return sp.Matrix([r - row_factor(system, r, e) * e for r, e in zip(printed, derived)])
     return printed - derived

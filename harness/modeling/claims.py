@@ -11,13 +11,21 @@ import sympy as sp
 from harness.modeling.system import Declared, System, plain
 
 ENGINE_QUANTITIES = {"M", "C", "Cqd", "g"}
-QUANTITIES = ENGINE_QUANTITIES | {"f_np", "T", "V", "eom", "parameter", "equilibrium"}
-# kinds with an argument: "position:<point>", "v:<point>" (its velocity J_v q̇), "J_v:<point>" (its translational
+QUANTITIES = ENGINE_QUANTITIES | {"f_np", "T", "V", "L", "eom", "parameter", "equilibrium"}
+# kinds with an argument: "position:<point>", "v:<point>" (its velocity J_v q̇), "v_squared:<point>" (ṗᵀ ṗ), "J_v:<point>" (its translational
 # Jacobian (4.64)), "J_omega:<link>"
 # (the link's rotational Jacobian (4.62)), "force:<element>" (the force vector a spring or damper exerts on its
 # point b), "f_np:<element>" (that element's generalized force alone; plain "f_np" is the whole vector)
 # "holding:<input>" (the value of the input that holds the system at rest at q)
-KINDS_WITH_ARGUMENT = {"position", "v", "J_v", "J_omega", "force", "f_np", "holding"}
+# per body (harness.derivation.bodies): "R:<link>" / "R:<frame>/<link>" (rotation matrix R_0^k, R_j^k), "S:…" (its
+# S = Ṙ Rᵀ (4.44)), "omega:<link>" (ω_0^k (4.57)), "I_0:<link>" (inertia tensor in the inertial frame (5.15)),
+# "T_t:<link>", "T_r:<link>" (translational, rotational kinetic energy (5.6), (5.12)), "V:<link>" (its gravity
+# potential (5.20), up to a constant like V);
+# "steady:<coordinate>" (the value of that coordinate in a steady state: at rest in it, no input, the other
+# rates as drawn; states where the printed value is not real lie outside its stated domain);
+# "L" (the Lagrange function, up to a constant), "dL_dqd:<q>", "ddt_dL_dqd:<q>", "dL_dq:<q>" (the terms of (5.69))
+KINDS_WITH_ARGUMENT = {"position", "v", "v_squared", "J_v", "J_omega", "force", "f_np", "holding", "R", "S", "omega", "I_0",
+                       "T_t", "T_r", "V", "steady", "dL_dqd", "ddt_dL_dqd", "dL_dq"}
 
 
 class Printed(Declared):
