@@ -24,7 +24,7 @@ round-off (world-frame spatial algebra of a ball spinning at r_dot/r_K) is ampli
 J = dphi/dq, whose entry -1/r_K enters C_q = J^T C_theta J twice (error ~ 1/r_K^3, not a modeling error).
 """
 
-from sympy import Matrix, cos, sin
+from sympy import Matrix, cos, diff, sin
 
 from harness.modeling import (Printed, WORLD, Claim, Coordinate, Gravity, Inertia, Input, Joint, JointInput, Link, Parameter,
                               Scene, Step, System, standard_gravity)
@@ -77,6 +77,11 @@ _I_K_note = "I_zz^{sK} = 2/5 m_K r_K^2 (5.84)"
 CLAIMS = [
     Claim("(5.82)", "position:ball", Matrix([r * cos(phi_1) - r_K * sin(phi_1), r * sin(phi_1) + r_K * cos(phi_1), 0]),
           "centre of the ball"),
+    Claim("(5.85)", "parameter", -r_K, "rolling: r_dot = -r_K phi_2_dot, the printed factor between the rates",
+          reference=1 / diff(SYSTEM.joint("phi_2").phi, r.symbol),
+          note="φ_2 is the ball's tree joint phi_2 (its angle relative to the beam); the printed factor "
+               "-r_K = r_dot/phi_2_dot is compared with the model's joint map phi_2 = -r/r_K "
+               "(reference 1/(∂phi_2/∂r))"),
     Claim("(5.83)+(5.86)+(5.87)", "T", T_printed, "kinetic energy T_t,K + T_r,K + T_r,B of the Lagrangian (5.89)",
           note=_I_K_note),
     Claim("(5.88)", "g", Matrix([V_printed]).jacobian([phi_1, r]).T,

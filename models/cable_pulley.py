@@ -93,6 +93,10 @@ _v = "v read as s_dot"
 CLAIMS = [
     Claim("(A.89)", "parameter", omega_R1, "angular velocity of R_1, omega_R1 = v / r_2",
           reference=diff(SYSTEM.joint("phi_R1").phi, s.symbol) * v, note=_v),
+    Claim("(A.90)", "parameter", v * r_1 / r_2, "exit velocity of the rope from R_1, v_2 = r_1 omega_R1 = v r_1/r_2",
+          reference=r_1 * diff(SYSTEM.joint("phi_R1").phi, s.symbol) * v,
+          note=_v + "; reference: r_1 times the angular velocity of R_1 from the model's joint map (the rope "
+               "leaves R_1 at its outer radius r_1)"),
     Claim("(A.91a)", "parameter", v_R2, "velocity of R_2, v_R2 = v_2/2 = v r_1/(2 r_2)",
           reference=diff(SYSTEM.joint("s_R2").phi, s.symbol) * v, note=_v),
     Claim("(A.91b)", "parameter", omega_R2, "angular velocity of R_2, omega_R2 = v_R2 / r_2 = v r_1/(2 r_2²)",

@@ -31,7 +31,7 @@ turn about ``z``); they are set to a stated mass and to ``3/4`` of the axial mom
 solid cylinder of length ``√1.5`` times its radius).
 """
 
-from sympy import Matrix, diag
+from sympy import Matrix, diag, diff
 
 from harness.modeling import (WORLD, BodyTorque, Claim, Constant, Coordinate, Inertia, Input, Joint, JointDamper,
                               JointInput, JointSpring, Link, Parameter, Scene, Step, System)
@@ -92,6 +92,12 @@ b_e, b_u = Matrix([0, -1]), Matrix([i_g, 0])       # (3.142)
 _read_as = "(3.141) M q̈ + D q̇ + K q = b_e τ_l + b_u τ_m read as g = K q, f_np = −D q̇ + b_e τ_l + b_u τ_m"
 
 CLAIMS = [
+    Claim("(3.136)", "parameter", 1 / i_g, "gear: φ̇_1 = (1/i_g) φ̇_m, the printed factor between the rates",
+          reference=1 / diff(SYSTEM.joint("phi_m").phi, phi_1.symbol),
+          note="φ_m is the rotor's tree joint phi_m; the printed factor 1/i_g = φ̇_1/φ̇_m is compared with the "
+               "model's joint map phi_m = i_g phi_1 (reference 1/(∂phi_m/∂phi_1))"),
+    Claim("(3.138c)", "eom", I_2 * a_2 - (c * (phi_1 - phi_2) + d * (w_1 - w_2) - tau_l),
+          "angular momentum balance of body 2, I_2 φ̈_2 = c (φ_1 − φ_2) + d (φ̇_1 − φ̇_2) − τ_l", index=(1,)),
     Claim("(3.139)", "parameter", tau_m * i_g - I_m * i_g**2 * a_1,
           "gear torque on the output side τ_1 = τ_m i_g − I_m i_g² φ̈_1",
           reference=I_1 * a_1 + c * (phi_1 - phi_2) + d * (w_1 - w_2),

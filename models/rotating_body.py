@@ -28,6 +28,7 @@ reaches zero length: that would need ``l_f^0 = 2 (d + l_1)``, far outside the dr
 
 from sympy import Matrix, cos, integrate, sin, sqrt, symbols
 
+from harness.compare.errata import element_force
 from harness.modeling import (printed_matrix, WORLD, Claim, Coordinate, Gravity, Inertia, Joint, Link, Parameter, Point, Scene, Spring,
                               System, standard_gravity, steiner)
 
@@ -130,6 +131,11 @@ CLAIMS = [
     Claim("(A.18)", "parameter", f_c_p, "spring force f_c (along +y) that holds the body at phi = 0",
           reference=-m_g * g * p_S[0] / l_2,
           note="reference: the torque balance about A at phi = 0, -m_g g x_S + (-l_2) f_c = 0"),
+    Claim("(A.19)", "parameter", -c * (l_f_0 - l_f0), "spring force f_c = -c (l_f^0 - l_f0) at phi = 0",
+          reference=element_force(SYSTEM, "spring")[1].subs(phi.symbol, 0),
+          note="l_f^0 → l_f_0 (length of the spring at phi = 0), l_f0 → l_f0 (relaxed length); f_c is the "
+               "y-component of the spring force on the body, as in (A.16), (A.18): compared with the model's "
+               "spring at phi = 0"),
     Claim("(A.20)", "parameter", I1S_p, "I_zz,m1^(S) of sub-body 1",
           reference=rho * integrate(x**2 + y**2, (x, -l_2 / 2, l_2 / 2), (y, -d / 2, d / 2), (z, -b / 2, b / 2))),
     Claim("(A.21)", "parameter", I1S_p + m1_p * (r1_p[0]**2 + r1_p[1]**2), "I_zz,m1^(A) of sub-body 1",

@@ -95,6 +95,8 @@ k = Matrix([-m_1 * g + c_11 * s_011 - c_13 * s_013,
             -m_2 * g + c_22 * s_022 - c_23 * s_023,
             -m_3 * g + c_13 * s_013 + c_23 * s_023])                                        # (3.95)
 b = Matrix([0, 0, -1])                                                                      # (3.95)
+q_R = K.inv() * k                                                                           # (3.96)
+dq, dqd, dqdd = q - q_R, qd, qdd                                    # Δq = q − q_R (before (3.97)), q_R constant
 
 CLAIMS = [
     Claim("(3.91a)", "eom", m_1 * a_1 - (-m_1 * g - c_11 * (s_1 - s_011) - d_11 * v_1 + c_13 * (s_3 - s_1 - s_013)
@@ -109,6 +111,13 @@ CLAIMS = [
     Claim("(3.92), (3.93), (3.95)", "f_np", -D * qd + b * f_L, "non-potential forces −D q̇ + b f_L",
           note="(3.92) M q̈ + D q̇ + K q = k + b f_L read as g = K q − k, f_np = −D q̇ + b f_L"),
     Claim("(3.92)", "eom", M * qdd + D * qd + K * q - k - b * f_L, "M q̈ + D q̇ + K q = k + b f_L"),
+    Claim("(3.96)", "equilibrium", q_R, "equilibrium position q_R = K⁻¹ k (for f_L = 0)",
+          note="K (3.94), k (3.95) as printed"),
+    Claim("(3.97)", "eom", M * dqdd + D * dqd + K * dq + K * q_R - k - b * f_L,
+          "M Δq̈ + D Δq̇ + K Δq + K q_R = k + b f_L about the equilibrium position",
+          note="Δq = q − q_R as the text defines it, with q_R = K⁻¹ k of (3.96) (constant: Δq̇ = q̇, Δq̈ = q̈); "
+               "K, k of (3.94), (3.95). The underbrace, printed under K Δq + K q_R and labelled k, is not "
+               "part of the equation and not transcribed"),
 ]
 
 SCENES = [

@@ -39,6 +39,10 @@ SYSTEM = System(
 
 CLAIMS = [
     Claim("(3.79)", "eom", m * x.accel - (f_e - mu_C * m * g * sign(x.rate)), "m x'' = f_e - mu_C m g sgn(x')"),
+    Claim("(3.80b)", "eom", m * x.accel - (f_e - mu_C * m * g * sign(x.rate)),
+          "sliding branch: x' = v, m v' = f_e - mu_C m g sgn(v)",
+          note="v → x_dot and v' → x_ddot by the first row x' = v of the same system (the state's definition); "
+               "the second row is transcribed as its residual"),
 ]
 
 _amplitude = 1.2 * mu_H.default * m.default * g.default   # 1.2 times the largest force sticking can hold
