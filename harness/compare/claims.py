@@ -373,7 +373,7 @@ def evaluate_claim(system: System, claim: Claim, state: State, engines=CLAIM_ENG
         n = len(system.coordinates)
         qd = np.array(state.qd, dtype=float)
         qd[k] = 0.0
-        with np.errstate(divide="ignore", invalid="ignore"):
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             value = float(np.asarray(fn(state.q, qd, np.zeros(n), state.p, np.zeros(len(system.u))),
                                      dtype=float).ravel()[0])
         if not np.isfinite(value):  # outside the printed expression's domain (its stated condition)
