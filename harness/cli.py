@@ -85,7 +85,7 @@ def cmd_check(args) -> int:
 
     baseline = ci.prepare(args.junit, args.baseline)  # bad flags fail before the work
     result = run.check(_catalogue(), args.systems, examples=args.examples, seed=args.seed, jobs=args.jobs,
-                       scenes=not args.no_scenes, out=args.out, profile=args.profile)
+                       scenes=not args.no_scenes, out=args.out, profile=args.profile, scheduler=args.scheduler)
     if result.profile is not None:  # stderr: --json keeps stdout for the document
         print(profiling.markdown(result.profile, systems=False), file=sys.stderr)
     if args.json:
@@ -160,7 +160,7 @@ def cmd_new(args) -> int:
 def cmd_claims(args) -> int:
     """Classify every printed equation; errata are findings (reported, exit 0), 'engines disagree' fails."""
     result = run.claims(_catalogue(), args.systems, examples=args.examples, jobs=args.jobs, out=args.out,
-                        profile=args.profile)
+                        profile=args.profile, scheduler=args.scheduler)
     if result.profile is not None:  # stderr: --json keeps stdout for the records
         print(profiling.markdown(result.profile, systems=False), file=sys.stderr)
     if args.json:
@@ -227,7 +227,7 @@ def cmd_robots(args) -> int:
     """Every robot of example-robot-data in every engine (harness/files/robots.py): robots.json, robots.md."""
     doc, written = run.robots(args.robots, out=args.out, states=args.states, seed=args.seed, jobs=args.jobs,
                               echo=lambda line: print(line, flush=True),
-                              command="harness robots " + " ".join(sys.argv[2:]))
+                              command="harness robots " + " ".join(sys.argv[2:]), scheduler=args.scheduler)
     for path in written:
         print(f"wrote {path}", file=sys.stderr)
     for pair, counts in doc["summary"].items():
@@ -260,6 +260,11 @@ def cmd_hard(args) -> int:
     return 0 if doc["passed"] else 1
 
 
+def _scheduler_option(p, what: str) -> None:
+    p.add_argument("--scheduler", default=None, metavar="ADDR", help=f"run the {what} on this Dask scheduler "
+                   "(tcp://HOST:8786; instead of --jobs); the results are written here, as with --jobs")
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="harness", description=__doc__)
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -284,6 +289,7 @@ def build_parser() -> argparse.ArgumentParser:
                    "write profile.json and profile.md)")
     p.add_argument("--out", help="folder for results.json, timings.json and summary.md")
     p.add_argument("--jobs", type=JOBS, default=1, help="systems checked in parallel processes")
+    _scheduler_option(p, "systems")
     p.add_argument("--seed", type=int, default=None, help="hypothesis seed (default: the profile's fixed seeds)")
     p.add_argument("--junit", metavar="FILE", help="also write the results as JUnit XML (one test case per "
                    "system x check x engine)")
@@ -309,6 +315,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("claims", help="check the lecture's printed equations (errata report)")
     p.add_argument("systems", nargs="*")
     p.add_argument("--jobs", type=JOBS, default=os.cpu_count() or 1, help="systems classified in parallel")
+    _scheduler_option(p, "systems")
     p.add_argument("--examples", type=EXAMPLES, default=None)
     p.add_argument("--json", action="store_true")
     p.add_argument("--out", help="folder for claims.json and errata.md")
@@ -363,6 +370,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--states", type=STATES, default=None, help="random states per robot (default 10)")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--jobs", type=JOBS, default=1, help="robots compared in parallel processes")
+    _scheduler_option(p, "robots")
     p.set_defaults(func=cmd_robots)
 
     p = sub.add_parser("hard", help="hard cases: singularities, stiffness, chaos, long horizons (harness/hard/)")

@@ -13,8 +13,10 @@ Records
 * a **claim record** (:func:`classify_system`): one printed equation of the lecture with its classification.
 
 Process pools: ``--jobs N`` checks (or classifies) systems in spawned processes; each job carries the catalogue,
-which a worker rebuilds from its description. A run over some systems is merged by system into what the report
-folder holds (:func:`merge_records`, :func:`merge_claims`).
+which a worker rebuilds from its description. ``--scheduler ADDRESS`` runs the same jobs on a Dask cluster
+(:mod:`harness.cluster`); the results come back to this process, which writes the files as with ``--jobs``. A
+run over some systems is merged by system into what the report folder holds (:func:`merge_records`,
+:func:`merge_claims`).
 """
 
 from __future__ import annotations
@@ -27,6 +29,7 @@ import sys
 import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from concurrent.futures.process import BrokenProcessPool
+from contextlib import closing
 from dataclasses import dataclass, field, replace
 from multiprocessing import get_context
 from pathlib import Path
@@ -34,7 +37,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from harness import profiling
+from harness import cluster, profiling
 from harness.errors import EngineError, HarnessError, InputError
 from harness.io import atomic_write_text
 from harness.report.results import check_folder, load_results, read_claims, read_timings, write_claims, write_results
@@ -168,26 +171,36 @@ def merge_records(catalogue: Catalogue, existing: dict | None, records: list[dic
 
 
 # =========================================================================================== one system's checks
-def scene_records(catalogue: Catalogue, system, series_dir=None) -> list[dict]:
+def scene_records(catalogue: Catalogue, system, series_dir=None, collected: dict | None = None) -> list[dict]:
     """The records of every scene of ``system``; with ``series_dir``, each scene's series is written to
-    ``series_dir/<record['series']>`` (atomically)."""
+    ``series_dir/<record['series']>`` (atomically); with ``collected`` (a dict) instead, stored there by that name
+    for the caller to write (:func:`write_series`)."""
     from harness.scenes.trajectories import scene_record
 
     records = []
     for scene in catalogue.scenes(system.name):
         record, data = scene_record(system, scene, catalogue)
-        if series_dir is not None and data:
-            atomic_write_text(Path(series_dir) / record["series"], json.dumps(data) + "\n")
-        elif series_dir is None:
+        if collected is not None and data:
+            collected[record["series"]] = data
+        elif series_dir is not None and data:
+            write_series(series_dir, {record["series"]: data})
+        elif series_dir is None and collected is None:
             record["series"] = None
         records.append(record)
     return records
 
 
+def write_series(series_dir, series: dict) -> None:
+    """Each scene's series ``{name: data}`` to ``series_dir/<name>`` (atomically)."""
+    for name, data in series.items():
+        atomic_write_text(Path(series_dir) / name, json.dumps(data) + "\n")
+
+
 def check_record(catalogue: Catalogue, system, examples: int | None = None, scenes: bool = True,
-                 series_dir: str | None = None) -> dict:
+                 series_dir: str | None = None, collected: dict | None = None) -> dict:
     """The conformance record of one system; a system raising gives a failed record with the reason. With
-    ``scenes``, the trajectory checks of its scenes too (their series written into ``series_dir``)."""
+    ``scenes``, the trajectory checks of its scenes too (their series written into ``series_dir``, or stored in
+    ``collected``: :func:`scene_records`)."""
     from harness.compare import conformance
 
     try:
@@ -200,7 +213,7 @@ def check_record(catalogue: Catalogue, system, examples: int | None = None, scen
                   "not_applicable": {}, "checks": []}
     record["lecture"], record["status"] = system.lecture, system.status
     if scenes:
-        record["scenes"] = scene_records(catalogue, system, series_dir)
+        record["scenes"] = scene_records(catalogue, system, series_dir, collected)
         record["passed"] = record["passed"] and all(s["passed"] for s in record["scenes"])
     return with_warnings(record)
 
@@ -237,6 +250,8 @@ class Job:
     scenes: bool = True
     series_dir: str | None = None
     profile: bool = False
+    series_back: bool = False  # the scenes' series come back in the record (``series_data``) for the client to
+    # write, instead of being written by the worker (the workers of a Dask cluster need not share its file system)
 
 
 class Interrupted(HarnessError):
@@ -249,12 +264,21 @@ class Interrupted(HarnessError):
         self.finished = finished
 
 
-def parallel(work, jobs: list, workers: int, done, lost, announce=None) -> bool:
+def parallel(work, jobs: list, workers: int, done, lost, announce=None, scheduler=None) -> bool:
     """Run ``work(job)`` for every job, ``workers`` at a time in spawned processes (in this process with one
-    worker), handing each result to ``done``. A worker that dies (killed, out of memory, a crash in an engine)
+    worker), or with ``scheduler`` on that Dask cluster (:func:`harness.cluster.results`; ``workers`` unused),
+    handing each result to ``done``. A worker that dies (killed, out of memory, a crash in an engine)
     loses no other job: the jobs its pool had not finished run again, each in a fresh process of its own, and
     only a job that kills its own process is given up (``done(lost(job, reason))``). On Ctrl-C the workers are
     stopped, nothing more is started and ``True`` is returned (the finished results have been handed over)."""
+    if scheduler is not None:
+        try:
+            with closing(cluster.results(scheduler, work, jobs, lost)) as finished:
+                for _, result in finished:
+                    done(result)
+        except KeyboardInterrupt:
+            return True
+        return False
     if workers <= 1 or len(jobs) <= 1:
         try:
             for job in jobs:
@@ -306,7 +330,10 @@ def run_job(job: Job) -> dict:
         except Exception as exc:  # noqa: BLE001 - a model that does not load is a failed record, not a lost run
             record = _failed_record(job.system, f"{job.system}: {_reason(exc)}", "does not load")
         else:
-            record = check_record(job.catalogue, system, job.examples, job.scenes, job.series_dir)
+            collected = {} if job.series_back else None
+            record = check_record(job.catalogue, system, job.examples, job.scenes, job.series_dir, collected)
+            if collected is not None:
+                record["series_data"] = collected
     record["timings"] = {"seconds": round(time.perf_counter() - start, 2)}
     if job.profile:
         record["profile"] = profiling.snapshot()
@@ -316,18 +343,24 @@ def run_job(job: Job) -> dict:
 
 def run_checks(catalogue: Catalogue, names: list[str], examples: int | None = None, seed: int | None = None,
                jobs: int = 1, progress=None, scenes: bool = True, series_dir: str | None = None,
-               profiles: dict | None = None) -> list[dict]:
-    """Check ``names`` (in that order in the result), ``jobs`` systems at a time in spawned processes. Each
-    record holds its wall time in ``timings``. Progress goes to ``progress`` (stderr). With ``profiles`` (a dict),
-    each system's phases (:mod:`harness.profiling`) are stored there by system name."""
+               profiles: dict | None = None, scheduler=None) -> list[dict]:
+    """Check ``names`` (in that order in the result), ``jobs`` systems at a time in spawned processes, or on the
+    Dask cluster at ``scheduler`` (the scenes' series then come back and are written here). Each record holds its
+    wall time in ``timings``. Progress goes to ``progress`` (stderr). With ``profiles`` (a dict), each system's
+    phases (:mod:`harness.profiling`) are stored there by system name."""
     progress = sys.stderr if progress is None else progress
-    todo = [Job(catalogue, name, examples, seed, scenes, None if series_dir is None else str(series_dir))
+    remote = scheduler is not None
+    todo = [Job(catalogue, name, examples, seed, scenes, None if series_dir is None or remote else str(series_dir),
+                series_back=remote and series_dir is not None)
             for name in names]
     if profiles is not None:
         todo = [replace(job, profile=True) for job in todo]
     records: dict[str, dict] = {}
 
     def done(record):
+        series = record.pop("series_data", None)
+        if series:
+            write_series(series_dir, series)
         snapshot = record.pop("profile", None)
         if profiles is not None and snapshot is not None:
             profiles[record["system"]] = snapshot
@@ -339,10 +372,16 @@ def run_checks(catalogue: Catalogue, names: list[str], examples: int | None = No
     def lost(job, reason):
         return {**_failed_record(job.system, f"{job.system}: {reason}", "check crashed"), "timings": {"seconds": 0.0}}
 
-    if jobs > 1 and len(todo) > 1:
-        print(f"checking {len(todo)} systems in {min(jobs, len(todo))} processes …", file=progress, flush=True)
-    interrupted = parallel(run_job, todo, jobs, done, lost,
-                           announce=lambda job: print(f"checking {job.system} …", file=progress, flush=True))
+    if not remote:
+        if jobs > 1 and len(todo) > 1:
+            print(f"checking {len(todo)} systems in {min(jobs, len(todo))} processes …", file=progress, flush=True)
+        interrupted = parallel(run_job, todo, jobs, done, lost,
+                               announce=lambda job: print(f"checking {job.system} …", file=progress, flush=True))
+    else:
+        with cluster.client(scheduler) as dask:  # a bad address: one line before anything is printed or run
+            print(f"checking {len(todo)} systems on the Dask cluster at {dask.scheduler.address} "
+                  f"({cluster.workers(dask)} worker processes) …", file=progress, flush=True)
+            interrupted = parallel(run_job, todo, jobs, done, lost, scheduler=dask)
     if interrupted:
         raise Interrupted([records[n] for n in names if n in records], len(todo))
     return [records[name] for name in names]
@@ -371,10 +410,11 @@ def _systems(catalogue: Catalogue, names) -> list[str]:
 
 
 def check(catalogue: Catalogue, names=None, examples: int | None = None, seed: int | None = None, jobs: int = 1,
-          scenes: bool = True, out=None, progress=None, profile: bool = False) -> CheckRun:
-    """Conformance (and scenes) of each system; with ``out``, results.json, timings.json and summary.md there,
-    merged by system into what the folder holds. With ``profile``, where the time went (per phase, per system;
-    :mod:`harness.profiling`), also written to ``out/profile.json`` and ``out/profile.md``."""
+          scenes: bool = True, out=None, progress=None, profile: bool = False, scheduler=None) -> CheckRun:
+    """Conformance (and scenes) of each system, ``jobs`` at a time or on the Dask cluster at ``scheduler``; with
+    ``out``, results.json, timings.json and summary.md there, merged by system into what the folder holds. With
+    ``profile``, where the time went (per phase, per system; :mod:`harness.profiling`), also written to
+    ``out/profile.json`` and ``out/profile.md``."""
     start, cpu = time.perf_counter(), time.process_time()
     profiles = {} if profile else None
     names = _systems(catalogue, names)
@@ -382,7 +422,7 @@ def check(catalogue: Catalogue, names=None, examples: int | None = None, seed: i
         check_folder(out)
     try:
         records = run_checks(catalogue, names, examples=examples, seed=seed, jobs=jobs, scenes=scenes,
-                             series_dir=out, progress=progress, profiles=profiles)
+                             series_dir=out, progress=progress, profiles=profiles, scheduler=scheduler)
     except Interrupted as stop:  # what finished is kept
         if out and stop.finished:
             merged = results_document(merge_records(catalogue, load_results(out), stop.finished), examples, seed)
@@ -468,7 +508,7 @@ def classify_system(job: tuple) -> dict:
         out, failures = [], []
         with claims.shared_evaluations():  # the same drawn states for every claim of the system
             for claim in printed:
-                print(f"classifying {name} {claim.equation} …", file=sys.stderr, flush=True)
+                cluster.echo(f"classifying {name} {claim.equation} …", file=sys.stderr)
                 try:
                     with profiling.phase("classify"):
                         v = claims.classify(system, claim, examples=examples, claims=printed)
@@ -525,10 +565,11 @@ class ClaimsRun:
 
 
 def claims(catalogue: Catalogue, names=None, examples: int | None = None, jobs: int = 1, out=None,
-           profile: bool = False) -> ClaimsRun:
-    """Classify every printed equation of ``names`` (default: the catalogue), ``jobs`` systems at a time; with
-    ``out``, claims.json and errata.md there, merged by system. With ``profile``, where the time went
-    (:mod:`harness.profiling`; with ``out`` also the ``claims`` section of profile.json)."""
+           profile: bool = False, scheduler=None) -> ClaimsRun:
+    """Classify every printed equation of ``names`` (default: the catalogue), ``jobs`` systems at a time (or on
+    the Dask cluster at ``scheduler``); with ``out``, claims.json and errata.md there, merged by system. With
+    ``profile``, where the time went (:mod:`harness.profiling`; with ``out`` also the ``claims`` section of
+    profile.json)."""
     start, cpu = time.perf_counter(), time.process_time()
     names = _systems(catalogue, names)
     if out:
@@ -536,7 +577,8 @@ def claims(catalogue: Catalogue, names=None, examples: int | None = None, jobs: 
     jobs_ = [(catalogue, name, examples, profile) for name in names]
     finished: dict[str, dict] = {}
     interrupted = parallel(classify_system, jobs_, jobs, lambda result: finished.__setitem__(result["system"], result),
-                           lambda job, reason: {"system": job[1], "failure": f"{job[1]}: {reason}", "records": []})
+                           lambda job, reason: {"system": job[1], "failure": f"{job[1]}: {reason}", "records": []},
+                           scheduler=scheduler)
     per_system = [finished[name] for name in names if name in finished]
     profiles = {result["system"]: result.pop("profile") for result in per_system if "profile" in result}
     run = ClaimsRun([r for result in per_system for r in result["records"]],
@@ -653,10 +695,11 @@ def importer(catalogue: Catalogue, names=None, states: int = 20, seed: int = 0, 
 
 
 def robots(names=None, out=None, states: int | None = None, seed: int = 0, jobs: int = 1, echo=None,
-           command: str = "harness robots") -> tuple[dict, list]:
+           command: str = "harness robots", scheduler=None) -> tuple[dict, list]:
     """Every robot of the pinned example-robot-data package (or ``names``) in every engine
     (:mod:`harness.files.robots`): the document and, with ``out``, robots.json and robots.md written there. One
-    line per robot goes to ``echo`` as it finishes; ``jobs`` robots run at a time in spawned processes."""
+    line per robot goes to ``echo`` as it finishes; ``jobs`` robots run at a time in spawned processes (or on the
+    Dask cluster at ``scheduler``)."""
     from harness.files import robots as sweep
 
     if out:
@@ -672,7 +715,12 @@ def robots(names=None, out=None, states: int | None = None, seed: int = 0, jobs:
         if echo:
             echo(f"[{len(finished)}/{len(todo)}] {sweep.line(record)}")
 
-    interrupted = parallel(sweep.sweep_robot, todo, jobs, done, sweep.lost)
+    if scheduler is None:
+        interrupted = parallel(sweep.sweep_robot, todo, jobs, done, sweep.lost)
+    else:
+        with cluster.client(scheduler) as dask:
+            jobs = cluster.workers(dask)  # robots.json's "jobs": the robots run at a time, here the worker processes
+            interrupted = parallel(sweep.sweep_robot, todo, jobs, done, sweep.lost, scheduler=dask)
     records = [finished[name] for name in selected if name in finished]
     doc = sweep.document(records, states, seed, time.perf_counter() - start, jobs, command)
     written = sweep.write(doc, Path(out)) if out else []

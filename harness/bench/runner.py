@@ -1,4 +1,5 @@
-"""The sweep runner: independent benchmark tasks on a local process pool (default) or a Dask cluster.
+"""The sweep runner: independent benchmark tasks on a local process pool (default) or a Dask cluster
+(:mod:`harness.cluster`, the Dask path of every command).
 
 A :class:`Task` names its function as ``"module:function"`` and carries plain, picklable arguments; the
 function returns a JSON-ready dict. The same task list gives the same results on either back end (up to the
@@ -15,8 +16,6 @@ import sys
 import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field
-
-from harness.errors import InputError
 
 
 @dataclass(frozen=True)
@@ -67,24 +66,16 @@ def run_tasks(tasks: list[Task], scheduler: str | None = None, workers: int | No
     return results
 
 
-def _run_dask(tasks: list[Task], scheduler, started: float, quiet: bool) -> list[dict]:
-    from distributed import Client
-    from distributed import as_completed as dask_completed
+def _lost(task: Task, reason: str) -> dict:
+    """A task whose worker processes kept dying: a result with ``error``, as a task raising is."""
+    return {"error": reason}
 
-    own = not isinstance(scheduler, Client)
-    try:
-        client = Client(scheduler, timeout="10s") if own else scheduler
-    except OSError as exc:
-        raise InputError(f"--scheduler {scheduler}: cannot connect ({exc})") from None
-    try:
-        futures = client.map(execute, tasks, pure=False)
-        index = {f.key: k for k, f in enumerate(futures)}
-        results: list = [None] * len(tasks)
-        for done, future in enumerate(dask_completed(futures), 1):
-            k = index[future.key]
-            results[k] = future.result()
-            _progress(done, len(tasks), tasks[k], started, quiet)
-        return results
-    finally:
-        if own:
-            client.close()
+
+def _run_dask(tasks: list[Task], scheduler, started: float, quiet: bool) -> list[dict]:
+    from harness import cluster
+
+    results: list = [None] * len(tasks)
+    for done, (k, result) in enumerate(cluster.results(scheduler, execute, tasks, _lost), 1):
+        results[k] = result
+        _progress(done, len(tasks), tasks[k], started, quiet)
+    return results
