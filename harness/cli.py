@@ -227,7 +227,8 @@ def cmd_robots(args) -> int:
     """Every robot of example-robot-data in every engine (harness/files/robots.py): robots.json, robots.md."""
     doc, written = run.robots(args.robots, out=args.out, states=args.states, seed=args.seed, jobs=args.jobs,
                               echo=lambda line: print(line, flush=True),
-                              command="harness robots " + " ".join(sys.argv[2:]), scheduler=args.scheduler)
+                              command="harness robots " + " ".join(sys.argv[2:]), scheduler=args.scheduler,
+                              symbolic=args.symbolic)
     for path in written:
         print(f"wrote {path}", file=sys.stderr)
     for pair, counts in doc["summary"].items():
@@ -371,6 +372,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--jobs", type=JOBS, default=1, help="robots compared in parallel processes")
     _scheduler_option(p, "robots")
+    p.add_argument("--symbolic", action="store_true", help="also our symbolic derivation (fixed-base trees up to 7 "
+                   "DoF; reads and writes the derivation cache, HARNESS_CACHE_DIR)")
     p.set_defaults(func=cmd_robots)
 
     p = sub.add_parser("hard", help="hard cases: singularities, stiffness, chaos, long horizons (harness/hard/)")
@@ -382,14 +385,15 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 NO_DERIVATION = frozenset({"list", "new", "validate", "robots"})
-"""Commands that never read or write the derivation cache."""
+"""Commands that never read or write the derivation cache (``robots`` only with ``--symbolic``)."""
 
 
 def main(argv=None) -> int:
     load_hypothesis_profile()
     try:
         args = build_parser().parse_args(argv)
-        if args.command not in NO_DERIVATION and os.environ.get("HARNESS_CACHE_DIR"):
+        derives = args.command not in NO_DERIVATION or getattr(args, "symbolic", False)
+        if derives and os.environ.get("HARNESS_CACHE_DIR"):
             from harness.derivation.cache import cache_dir
 
             writable_folder(cache_dir(), "HARNESS_CACHE_DIR")  # before the work, not after it

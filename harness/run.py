@@ -695,7 +695,7 @@ def importer(catalogue: Catalogue, names=None, states: int = 20, seed: int = 0, 
 
 
 def robots(names=None, out=None, states: int | None = None, seed: int = 0, jobs: int = 1, echo=None,
-           command: str = "harness robots", scheduler=None) -> tuple[dict, list]:
+           command: str = "harness robots", scheduler=None, symbolic: bool = False) -> tuple[dict, list]:
     """Every robot of the pinned example-robot-data package (or ``names``) in every engine
     (:mod:`harness.files.robots`): the document and, with ``out``, robots.json and robots.md written there. One
     line per robot goes to ``echo`` as it finishes; ``jobs`` robots run at a time in spawned processes (or on the
@@ -706,7 +706,7 @@ def robots(names=None, out=None, states: int | None = None, seed: int = 0, jobs:
         check_folder(out)
     selected = sweep.select(names)
     states = sweep.STATES if states is None else states
-    todo = [(name, str(path), states, seed) for name, path in selected.items()]
+    todo = [(name, str(path), states, seed, None, symbolic) for name, path in selected.items()]
     finished: dict[str, dict] = {}
     start = time.perf_counter()
 
@@ -722,7 +722,7 @@ def robots(names=None, out=None, states: int | None = None, seed: int = 0, jobs:
             jobs = cluster.workers(dask)  # robots.json's "jobs": the robots run at a time, here the worker processes
             interrupted = parallel(sweep.sweep_robot, todo, jobs, done, sweep.lost, scheduler=dask)
     records = [finished[name] for name in selected if name in finished]
-    doc = sweep.document(records, states, seed, time.perf_counter() - start, jobs, command)
+    doc = sweep.document(records, states, seed, time.perf_counter() - start, jobs, command, symbolic)
     written = sweep.write(doc, Path(out)) if out else []
     if interrupted:
         raise Interrupted(records, len(todo))

@@ -50,8 +50,8 @@ def test_sweep_records_and_files(tmp_path, capsys):
     assert by_name[FLOATING]["pairs"][2]["verdict"] == "not compared"
     assert doc["open"] == []
     md = (tmp_path / "robots.md").read_text()
-    assert f"| {ARM} | 6 | fixed | agree | agree | disagree-explained |" in md
-    assert f"| {FLOATING} | 18 | floating | agree | agree | not compared (out of scope) |" in md
+    assert f"| [{ARM}](robots/{ARM}.html) | 6 | fixed | agree | agree | disagree-explained |" in md   # its page linked
+    assert f"| [{FLOATING}](robots/{FLOATING}.html) | 18 | floating | agree | agree | not compared (out of scope) |" in md
 
 
 def test_unknown_robot_is_one_line(capsys):

@@ -20,7 +20,7 @@ import numpy as np
 import sympy as sp
 
 from harness import profiling
-from harness.derivation.derive import Derivation, derive, is_per_body
+from harness.derivation.derive import Derivation, derive, is_per_body, matrix_vector
 from harness.errors import ModelError
 from harness.modeling.system import System
 
@@ -65,7 +65,7 @@ class CompiledModel:
         """The entries of ``M``, ``C q̇``, ``g``, ``f_np`` (row-major) as one function of floats."""
         s, d = self.system, self.derivation
         with profiling.phase("lambdify terms of (5.93)"):
-            return _float_function(s, [*d.M, *(d.C * sp.Matrix(s.qd)), *d.g, *d.f_np])
+            return _float_function(s, [*d.M, *matrix_vector(d.C, s.qd), *d.g, *d.f_np])
 
     @cached_property
     def _map_function(self):

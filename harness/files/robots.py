@@ -33,13 +33,22 @@ For each robot (a URDF of the package, named by its file stem; the two ``anymal.
    (``ModelError``: e.g. a tensor that is not physical) is "not compared", the reason a finding. Its cause finder
    (:func:`explain_export`): the quarter turns from_urdf snaps (:func:`snapped_angles`), proven by the same export
    with the file's decimals taken literally.
-7. **Causes** (:func:`explain`, :func:`explain_refusal`): a pair that disagrees, is refused, or agrees above
+7. **Our symbolic derivation** (:data:`SYMBOLIC`, only when asked: ``harness robots --symbolic``, :data:`ON_REQUEST`;
+   the trees of :func:`export_scope`: :func:`symbolic_scope`): :func:`our_system` (from_urdf, as for the exporter)
+   derived by :mod:`harness.derivation` (``M`` (5.21), the Christoffel ``C`` (5.95), (5.97) and ``g`` (5.96); body by
+   body from 6 DoF on), compiled and evaluated at the same states, ``q̈`` solved numerically
+   (:class:`harness.engines.symbolic.SymbolicTree`, joints by name), compared like the other pairs with the same
+   bound (:func:`load_symbolic`). A fourth source independent of the engines' recursive algorithms. The derivation is
+   cached on disk by the model's hash (``HARNESS_CACHE_DIR``). Its cause finder is the exporter's
+   (:func:`explain_export`: the quarter turns from_urdf snaps, proven by the derivation of the file taken literally).
+8. **Causes** (:func:`explain`, :func:`explain_refusal`): a pair that disagrees, is refused, or agrees above
    :data:`MARGIN` of the bound gets its cause from the file (:class:`LinkInertia`: each link's stated inertia) and
    from what the engine reported, reproduced (:attr:`Engine.treatment`, :attr:`Engine.repair`) and proven: the
    reference given the engine's changes must agree with it within :data:`MARGIN`. No robot name decides a verdict.
 
-``robots.json`` (schema ``robots/1``) and ``robots.md`` (one table over all robots) are written by
-``harness robots --out DIR``.
+``robots.json`` (schema ``robots/1``; the pair ``pinocchio-symbolic`` only with ``--symbolic``) and ``robots.md``
+(one table over all robots, each robot linked to its page ``robots/<robot>.html``, which ``harness report`` writes:
+:func:`harness.report.site.robot_pages`) are written by ``harness robots --out DIR``.
 """
 
 from __future__ import annotations
@@ -494,32 +503,42 @@ class NotCompared(ModelError):
     finding (a refusal with its reason is not a wrong number)."""
 
 
-def export_scope(robot: Robot, reference: Reference) -> str | None:
-    """Why our exporter is not compared on ``robot`` (None when it is): a floating base, more than
-    :data:`EXPORT_MAX_DOF` moving DoF, or ``<mimic>`` joints (from the file and the reference's model)."""
+def export_scope(robot: Robot, reference: Reference, pair: str = "the exporter pair") -> str | None:
+    """Why our exporter (or, with ``pair``, our other pipeline of the same trees: :func:`symbolic_scope`) is not
+    compared on ``robot`` (None when it is): a floating base, more than :data:`EXPORT_MAX_DOF` moving DoF, or
+    ``<mimic>`` joints (from the file and the reference's model)."""
     from harness.files.untrusted import parse_xml
 
     if robot.floating:
         return "floating base: from_urdf builds fixed-base trees (the root link is the world)"
     dof = int(reference.model.nv)
     if dof > EXPORT_MAX_DOF:
-        return f"{dof} moving DoF > {EXPORT_MAX_DOF}: out of the exporter pair's scope"
+        return f"{dof} moving DoF > {EXPORT_MAX_DOF}: out of {pair}'s scope"
     mimic = [j.get("name") for j in parse_xml(robot.text, robot.urdf).findall("joint") if j.find("mimic") is not None]
     if mimic:
         return (f"{len(mimic)} <mimic> joint(s) ({', '.join(mimic[:4])}{' …' if len(mimic) > 4 else ''}): out of "
-                "the exporter pair's scope (Pinocchio makes them independent joints, from_urdf couples them)")
+                f"{pair}'s scope (Pinocchio makes them independent joints, from_urdf couples them)")
     return None
 
 
-def export_system(robot: Robot, quarter_turns: bool = True):
+def our_system(robot: Robot, quarter_turns: bool = True):
     """Our :class:`~harness.modeling.system.System` of the file (:func:`harness.files.from_urdf.from_urdf` on its
-    text, nothing locked) and its numbers at the file's masses (:func:`harness.export.numeric.instantiate`)."""
-    from harness.export.numeric import instantiate
+    text, nothing locked; ``quarter_turns=False``: every angle as the file writes it)."""
     from harness.files.from_urdf import from_urdf
 
     try:
-        system = from_urdf(robot.text, name=re.sub(r"\W", "_", robot.name), title=robot.name,
-                           lecture=f"example-robot-data {robot.urdf}", quarter_turns=quarter_turns)
+        return from_urdf(robot.text, name=re.sub(r"\W", "_", robot.name),
+                         title=robot.name, lecture=f"example-robot-data {robot.urdf}", quarter_turns=quarter_turns)
+    except ModelError as exc:
+        raise NotCompared(f"our from_urdf refuses the file: {exc}") from None
+
+
+def export_system(robot: Robot, quarter_turns: bool = True):
+    """:func:`our_system` and its numbers at the file's masses (:func:`harness.export.numeric.instantiate`)."""
+    from harness.export.numeric import instantiate
+
+    system = our_system(robot, quarter_turns)
+    try:
         return system, instantiate(system, system.default_parameters())
     except ModelError as exc:
         raise NotCompared(f"our from_urdf/instantiate refuses the file: {exc}") from None
@@ -572,11 +591,12 @@ def snapped_angles(text: str, source: str = "URDF") -> list[tuple[str, str, floa
 
 def explain_export(engine: Engine, robot: Robot, reference: Reference, view, bound: float, facts: dict,
                    states: int, seed: int) -> dict | None:
-    """Why our export does not agree with the reference (or agrees closer to the bound than :data:`MARGIN`): the
-    quarter turns ``from_urdf`` makes exact (:func:`snapped_angles`: decimals such as ``1.57079632679``, π/2 −
-    4.9e-12, written as π/2; a documented modelling choice, see :mod:`harness.files.from_urdf`). **Proven** when
-    our export of the same file with every angle taken literally (``quarter_turns=False``) agrees with the reference
-    within :data:`MARGIN` of the bound at the same states. None when the file has no such angle."""
+    """Why our export (or our symbolic derivation: ``engine`` is either, both built by ``from_urdf``) does not agree
+    with the reference (or agrees closer to the bound than :data:`MARGIN`): the quarter turns ``from_urdf`` makes
+    exact (:func:`snapped_angles`: decimals such as ``1.57079632679``, π/2 − 4.9e-12, written as π/2; a documented
+    modelling choice, see :mod:`harness.files.from_urdf`). **Proven** when the engine's load of the same file with
+    every angle taken literally (``engine.load(..., quarter_turns=False)``) agrees with the reference within
+    :data:`MARGIN` of the bound at the same states. None when the file has no such angle."""
     snapped = snapped_angles(robot.text, robot.urdf)
     if not snapped:
         return None
@@ -586,19 +606,19 @@ def explain_export(engine: Engine, robot: Robot, reference: Reference, view, bou
             f"{' …' if len(joints) > 4 else ''}) within {largest:.2g} rad of a multiple of π/2, e.g. "
             f"{snapped[0][1]} (off by {snapped[0][2]:.2g} rad)")
     try:
-        literal, literal_bound = load_export(robot, reference, {}, [], quarter_turns=False)
+        literal, literal_bound = engine.load(robot, reference, {}, [], quarter_turns=False)
         checks = importer.compare(literal, reference.view, reference.joints, reference.prismatic, states, seed,
                                   literal_bound, forward=True)
     except (ModelError, EngineError) as exc:
-        return {"cause": f"from_urdf snaps {what}; not proven: the literal export failed ({exc})", "right": "",
+        return {"cause": f"from_urdf snaps {what}; not proven: the literal load failed ({exc})", "right": "",
                 "links": [], "proven": False, "after": None}
     after = _ratio(checks)
     proven = all(c["passed"] for c in checks) and after <= MARGIN
     snap = ("from_urdf takes a moving joint's rpy (composed with the fixed joints above it) within 1e-9 rad of a "
             "multiple of π/2 as that exact multiple (its documented snap)")
-    cause = (f"the file writes {what}; {snap}. With the file's decimals taken literally our export agrees with "
+    cause = (f"the file writes {what}; {snap}. With the file's decimals taken literally {engine.label} agrees with "
              f"Pinocchio: worst ratio {after:.2g} ≤ {MARGIN:g}" if proven else
-             f"the file writes {what}; {snap}, but with the decimals taken literally the export still differs "
+             f"the file writes {what}; {snap}, but with the decimals taken literally {engine.label} still differs "
              f"(worst ratio {after:.2g}): the cause is elsewhere")
     right = "" if not proven else (
         "both: Pinocchio computes the file's decimals as written, our from_urdf the quarter turn they denote "
@@ -606,13 +626,56 @@ def explain_export(engine: Engine, robot: Robot, reference: Reference, view, bou
     return {"cause": cause, "right": right, "links": [], "proven": proven, "after": after}
 
 
+# ------------------------------------------------------------------------------------------------ our derivation
+SYMBOLIC = "symbolic"
+
+
+def symbolic_scope(robot: Robot, reference: Reference) -> str | None:
+    """The trees of :func:`export_scope` (the same from_urdf model): fixed base, at most :data:`EXPORT_MAX_DOF`
+    moving DoF, no ``<mimic>``."""
+    return export_scope(robot, reference, "the symbolic pair")
+
+
+def load_symbolic(robot: Robot, reference: Reference, facts: dict, findings: list[dict], quarter_turns: bool = True):
+    """Our symbolic derivation (:mod:`harness.derivation`) of :func:`our_system`: ``M``, the Christoffel ``C q̇``
+    and ``g`` derived from the model's kinematics (body by body from 6 DoF on), compiled, evaluated at the reference's
+    states, joints matched by name (:class:`harness.engines.symbolic.SymbolicTree`); the derivation is cached on
+    disk by the model's hash (``HARNESS_CACHE_DIR``). Nothing is bounded: ``bound`` 0. ``facts`` receive whether the
+    derivation came from the cache and the seconds of deriving and of compiling (the derivation's cost)."""
+    from harness.derivation.derive import derive
+    from harness.engines.symbolic import SymbolicTree
+
+    system = our_system(robot, quarter_turns)
+    start = time.perf_counter()
+    derivation = derive(system)
+    middle = time.perf_counter()
+    view = SymbolicTree(system, reference.joints, reference.view.gravity, derivation)
+    view.terms(np.zeros(view.dofs), np.zeros(view.dofs))   # compiles the terms' function
+    facts.update({**view.loaded_facts(), "quarter_turns": quarter_turns,
+                  "derive or load s": round(middle - start, 2),
+                  "compile s": round(time.perf_counter() - middle, 2)})
+    return view, 0.0
+
+
 ENGINES: dict[str, Engine] = {
     MujocoModel.name: Engine(MujocoModel.name, "MuJoCo (URDF importer)", load_mujoco, importer=True,
                              treatment=mujoco_treatment, repair=mujoco_repair),
     "drake": Engine("drake", "Drake (URDF parser)", load_drake, treatment=drake_treatment, repair=drake_repair),
     EXPORT: Engine(EXPORT, "MuJoCo (our export)", load_export, scope=export_scope, explain=explain_export),
+    SYMBOLIC: Engine(SYMBOLIC, "our symbolic derivation", load_symbolic, scope=symbolic_scope,
+                     explain=explain_export),
 }
 """The engines compared with the reference, by name."""
+ON_REQUEST = frozenset({SYMBOLIC})
+"""Engines compared only when asked (``harness robots --symbolic``): on the 18 trees of the package the symbolic
+derivation adds ~110 s of CPU to the sweep with an empty derivation cache and ~35 s with a full one (measured with
+``--jobs 2``; the whole sweep without it: ~27 s), mostly SymPy's common-subexpression elimination when compiling and
+the cache's reading and writing of the expression graphs."""
+
+
+def engines(symbolic: bool = False) -> list[Engine]:
+    """The engines of one sweep: every engine of :data:`ENGINES`, those of :data:`ON_REQUEST` when asked."""
+    return [e for e in ENGINES.values() if symbolic or e.name not in ON_REQUEST]
 REFERENCE = Engine(PinocchioModel.name, "Pinocchio", load_pinocchio)
 
 
@@ -734,8 +797,9 @@ def _worst(checks: list[dict]) -> dict | None:
 
 
 def sweep_robot(job: tuple) -> dict:
-    """One robot: ``job = (name, path, states, seed[, mujoco_text])`` (``mujoco_text``: what the other engines
-    read instead of the file, for tests of the matching by name). The record of robots.json."""
+    """One robot: ``job = (name, path, states, seed[, mujoco_text[, symbolic]])`` (``mujoco_text``: what the other
+    engines read instead of the file, for tests of the matching by name; ``symbolic``: compare our symbolic
+    derivation too, :data:`ON_REQUEST`). The record of robots.json."""
     from lxml import etree
 
     from harness.files.untrusted import parse_xml
@@ -766,7 +830,7 @@ def sweep_robot(job: tuple) -> dict:
         if root.find("link") is None:
             record["error"] = f"the file holds no <link> (an empty <robot>): nothing to compare ({record['error']})"
     record["engines"][REFERENCE.name] = facts
-    for engine in ENGINES.values():
+    for engine in engines(len(rest) > 1 and rest[1]):
         facts = {}
         record["engines"][engine.name] = facts
         pair = {"pair": f"{REFERENCE.name}-{engine.name}", "verdict": NOT_COMPARED, "worst": None,
@@ -925,16 +989,18 @@ def no_robot(root, error: str) -> dict | None:
 
 
 def lost(job: tuple, reason: str) -> dict:
-    name, path = job[0], job[1]
+    name, path, symbolic = job[0], job[1], len(job) > 5 and job[5]
     return {"robot": name, "urdf": str(path), "floating": name in FLOATING, "base": "floating" if name in FLOATING
             else "fixed", "dof": None, "engines": {}, "findings": [], "error": reason, "seconds": None,
             "pairs": [{"pair": f"{REFERENCE.name}-{e}", "verdict": NOT_COMPARED_OPEN, "worst": None, "checks": [],
-                       "error": reason, "cause": None} for e in ENGINES]}
+                       "error": reason, "cause": None} for e in (x.name for x in engines(symbolic))]}
 
 
 # ------------------------------------------------------------------------------------------------ documents
-def document(records: list[dict], states: int, seed: int, seconds: float, jobs: int, command: str) -> dict:
-    pairs = [f"{REFERENCE.name}-{e}" for e in ENGINES]
+def document(records: list[dict], states: int, seed: int, seconds: float, jobs: int, command: str,
+             symbolic: bool = False) -> dict:
+    compared = engines(symbolic or any(p["pair"].endswith(f"-{SYMBOLIC}") for r in records for p in r["pairs"]))
+    pairs = [f"{REFERENCE.name}-{e.name}" for e in compared]
     summary = {p: dict.fromkeys(VERDICTS, 0) for p in pairs}
     for r in records:
         for p in r["pairs"]:
@@ -945,7 +1011,7 @@ def document(records: list[dict], states: int, seed: int, seconds: float, jobs: 
                          "example-robot-data": _package_version()},
             "seed": seed, "states": states, "tolerance": importer.TOLERANCE,
             "tolerance_reason": importer.TOLERANCE_REASON + "; qdd times kappa(M)",
-            "reference": REFERENCE.name, "engines": {e.name: e.label for e in [REFERENCE, *ENGINES.values()]},
+            "reference": REFERENCE.name, "engines": {e.name: e.label for e in [REFERENCE, *compared]},
             "pairs": pairs, "summary": summary, "open": open_pairs, "margin": MARGIN,
             "seconds": round(seconds, 1), "jobs": jobs,
             "robots": records}
@@ -1010,6 +1076,11 @@ def line(record: dict) -> str:
             f"{record['seconds']} s")
 
 
+def page(robot: str) -> str:
+    """The robot's own page of the report, relative to robots.md/robots.html (written by ``harness report``)."""
+    return "robots/" + re.sub(r"[^\w.-]", "_", robot) + ".html"
+
+
 def _cell(text: str) -> str:
     return re.sub(r"\s+", " ", str(text)).replace("|", "\\|")
 
@@ -1020,8 +1091,11 @@ def markdown(doc: dict) -> str:
            f"MuJoCo {doc['versions']['mujoco']} (its own URDF importer) and Drake {doc['versions'].get('drake', '?')} "
            "(its URDF parser, a continuous MultibodyPlant), geometry removed, and our own pipeline (from_urdf, "
            "our MJCF exporter, loaded by MuJoCo: \"MuJoCo (our export)\", on fixed-base robots with at most "
-           f"{EXPORT_MAX_DOF} moving DoF and no mimic joints; elsewhere not compared, the reason given), each "
-           "against Pinocchio "
+           f"{EXPORT_MAX_DOF} moving DoF and no mimic joints; elsewhere not compared, the reason given)"
+           + (", and our symbolic derivation of the same from_urdf trees (M (5.21), C·q̇ from the Christoffel "
+              "symbols (5.95), body by body from 6 DoF on, g (5.96), compiled and evaluated in float64; q̈ solved "
+              "numerically: \"our symbolic derivation\", `harness robots --symbolic`)" if SYMBOLIC in labels else "")
+           + ", each against Pinocchio "
            f"{doc['versions']['pinocchio']} (reference) reading the same URDF: M, bias, C·q̇, g and forward "
            f"dynamics q̈ at {doc['states']} random states (seed {doc['seed']}), joints matched by name, floating "
            "bases in Pinocchio's free-flyer coordinates (MuJoCo's free joint and Drake's QuaternionFloatingJoint: "
@@ -1044,7 +1118,7 @@ def markdown(doc: dict) -> str:
     out += ["", "| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     for r in doc["robots"]:
         kinds = sorted({f["kind"] for f in r["findings"]})
-        cells = [r["robot"], r["dof"] if r["dof"] is not None else "?", r["base"]]
+        cells = [f"[{r['robot']}]({page(r['robot'])})", r["dof"] if r["dof"] is not None else "?", r["base"]]
         cells += [verdict_cell(p) for p in r["pairs"]]
         cells += ["; ".join(worst_cell(p) for p in r["pairs"]),
                   " ".join(f"{p['pair']}: {cause_cell(p)}" for p in r["pairs"] if cause_cell(p)) or "–",

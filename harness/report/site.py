@@ -197,6 +197,77 @@ def _scalar(x) -> str:
     return "—" if x is None else str(x)
 
 
+# --------------------------------------------------------------------------- one page per robot
+ROBOT_QUANTITIES = ("M", "bias", "Cqd", "g", "qdd", "mass", "first moment of mass", "inertia")
+
+
+def robot_view(record: dict, doc: dict) -> dict:
+    """One robot of ``robots.json`` for its page: per pair the verdict, the worst recorded check of each quantity
+    (robots.json keeps every failing check and the worst passing one per quantity), the cause, the counterexamples."""
+    from harness.files import importer, robots
+
+    labels = doc.get("engines") or {}
+    pairs = []
+    for p in record.get("pairs") or []:
+        ref, other = p["pair"].split("-", 1)
+        worst: dict = {}
+        for c in p.get("checks") or []:
+            if c["ratio"] >= worst.get(c["quantity"], {"ratio": -1.0})["ratio"]:
+                worst[c["quantity"]] = c
+        css = {"agree": "ok", "disagree-explained": "erratum", "not compared": "na"}.get(p["verdict"], "fail")
+        pairs.append({
+            "label": f"{labels.get(ref, ref)} – {labels.get(other, other)}", "verdict": robots.verdict_cell(p),
+            "css": css, "why": (p.get("error") or "") if p.get("out_of_scope") else (robots.cause_cell(p) or (
+                f"agrees within {doc.get('margin', robots.MARGIN):g} of the bound: nothing to explain"
+                if p["verdict"] == robots.AGREE else "–")),
+            "worst": {q: {"passed": c["passed"], "item": c["item"], **_error_bound(c)} for q, c in worst.items()},
+            "failing": [{"finding": importer.finding(c),
+                         "state": ", ".join(f"{k} = {v:.6g}"
+                                            for k, v in (c.get("worst_state") or {}).get("theta", {}).items()),
+                         "imported": _short(c.get("imported")), "reference": _short(c.get("reference"))}
+                        for c in p.get("checks") or [] if not c["passed"]]})
+    step = next((facts["step"] for facts in (record.get("engines") or {}).values() if facts.get("step")), None)
+    engines = [(name, "; ".join(f"{k}: {_scalar(v) if not isinstance(v, (dict, list)) else json.dumps(v)}"
+                                 for k, v in facts.items() if k != "step"))
+               for name, facts in (record.get("engines") or {}).items() if facts]
+    return {"r": record, "pairs": pairs, "labels": labels, "reference": doc.get("reference", "pinocchio"),
+            "states": doc.get("states"), "seed": doc.get("seed"), "tolerance": f"{doc.get('tolerance', 0):.0e}",
+            "verdicts": ", ".join(robots.VERDICTS), "quantities": [q for q in ROBOT_QUANTITIES
+                                                                    if any(q in p["worst"] for p in pairs)],
+            "step": step, "engines": engines}
+
+
+def _error_bound(c: dict) -> dict:
+    """Error, bound and their ratio of one check, as robots.md's worst cell writes them."""
+    bound = c["max_error"] / c["ratio"] if c["ratio"] not in (0, float("inf")) else c["tolerance"]
+    return {"error": f"{c['max_error']:.1e}", "bound": f"{bound:.0e}", "ratio": f"{c['ratio']:.2g}"}
+
+
+def _short(values) -> str:
+    if values is None:
+        return "—"
+    flat = [x for row in values for x in (row if isinstance(row, list) else [row])] if isinstance(values, list) \
+        else [values]
+    text = ", ".join(f"{x:.15g}" if isinstance(x, (int, float)) else str(x) for x in flat[:12])  # to the round-off
+    return f"[{text}{', …' if len(flat) > 12 else ''}]"
+
+
+def robot_pages(out: Path, env, common: dict) -> list[str]:
+    """``robots/<robot>.html`` for every robot of ``out/robots.json`` (none without it), in the site's chrome."""
+    from harness.files.robots import page
+
+    doc = _read_json(out / "robots.json")
+    if not isinstance(doc, dict):
+        return []
+    written = []
+    template = env.get_template("robot")
+    for record in doc.get("robots") or []:
+        target = page(record["robot"])
+        atomic_write_text(out / target, template.render(root="../", **robot_view(record, doc), **common))
+        written.append(target)
+    return written
+
+
 # --------------------------------------------------------------------------- the site
 def _inside(out: Path, target: str) -> bool:
     """A relative link that resolves to a file inside the report folder (others would break offline)."""
@@ -307,6 +378,7 @@ def build_site(out: Path | str, catalogue=None, progress=None) -> dict:
         atomic_write_text(out / "errata.html", env.get_template("errata").render(
             records=claims, sheet=errata.sheet(claims), style=errata.STYLE, root="", **common))
         written.append("errata.html")
+    written += robot_pages(out, env, common)   # before robots.html, whose table links them
     for file, title, source, md, folder in OPTIONAL_PAGES:
         data = _read_json(out / source)
         if data is None:
@@ -322,6 +394,7 @@ def build_site(out: Path | str, catalogue=None, progress=None) -> dict:
             title=title, source=source, figures=figs, body=body, root="", **common))
         written.append(file)
     _stale(out / "systems", set(written), "*.html")
+    _stale(out / "robots", set(written), "*.html")
     _stale(out / "figures", figures, "*.svg")
     _stale(out / "figures", figures, "*.png")
     return {"pages": written, "failed": failed}

@@ -218,9 +218,46 @@ GENERIC = """{% extends "base" %}
 """
 
 
+ROBOT = """{% extends "base" %}
+{% block title %}{{ r.robot }} — robots sweep{% endblock %}
+{% block body %}
+<h1>{{ r.robot }}</h1>
+<p><code>{{ r.urdf }}</code> — {{ r.dof if r.dof is not none else "?" }} DoF, {{ r.base }} base; compared in
+{{ r.seconds if r.seconds is not none else "?" }} s. <a href="../robots.html">All robots</a>.</p>
+{% if r.error %}<p class="reason">Not loaded: {{ r.error }}</p>{% endif %}
+<h2>Engine pairs</h2>
+<p><small>Each pair against {{ labels[reference] }} (reference) at {{ states }} random states (seed {{ seed }}), joints matched
+by name; per quantity the worst check: error / bound = ratio (bound: {{ tolerance }} of the quantity's scale,
+q̈ times κ(M)). Verdicts: {{ verdicts }}.</small></p>
+<div class="wide"><table>
+<tr><th>pair</th><th>verdict</th>{% for q in quantities %}<th>{{ q }}</th>{% endfor %}</tr>
+{% for p in pairs %}<tr class="{{ p.css }}"><td>{{ p.label }}</td><td>{{ p.verdict }}</td>
+{% for q in quantities %}{% set w = p.worst.get(q) %}<td class="num{{ '' if not w else (' fail' if not w.passed else '') }}"{% if w %} title="{{ w.item }}"{% endif %}>{% if w %}{{ w.error }}<br><small>/ {{ w.bound }} = {{ w.ratio }}</small>{% else %}–{% endif %}</td>{% endfor %}
+</tr>{% endfor %}
+</table></div>
+<h3>Why (cause; who is right)</h3>
+<ul>{% for p in pairs %}<li><b>{{ p.label }}</b>: {{ p.why }}</li>{% endfor %}</ul>
+{% for p in pairs if p.failing %}<h3>{{ p.label }}: counterexamples</h3>
+<ul>{% for c in p.failing %}<li>{{ c.finding }}{% if c.state %}<br><small>at {{ c.state }}; {{ p.label.split(" – ")[1] }}: <code>{{ c.imported }}</code>, {{ labels[reference] }}: <code>{{ c.reference }}</code></small>{% endif %}</li>{% endfor %}</ul>
+{% endfor %}
+<h2>Stepping</h2>
+{% if step %}<p>MuJoCo (its URDF import, as imported) stepped {{ step.steps }} × {{ step.timestep }} s with small noise
+torques: {% if step.warnings %}warnings:</p><ul>{% for w in step.warnings %}<li>{{ w }}</li>{% endfor %}</ul>{% else %}no warning.</p>{% endif %}
+{% else %}<p>Not stepped (MuJoCo did not load the file).</p>{% endif %}
+<h2>Findings</h2>
+{% if r.findings %}<ul>{% for f in r.findings %}<li><b>{{ f.kind }}</b>{% if f.where %} ({{ f.where }}){% endif %}: {{ f.text }}</li>{% endfor %}</ul>
+{% else %}<p>None.</p>{% endif %}
+<h2>What each engine built</h2>
+<div class="wide"><table><tr><th>engine</th><th>facts</th></tr>
+{% for name, facts in engines %}<tr><td>{{ labels.get(name, name) }}</td><td>{{ facts }}</td></tr>{% endfor %}</table></div>
+{% endblock %}
+"""
+
+
 def environment() -> jinja2.Environment:
     env = jinja2.Environment(loader=jinja2.DictLoader({"base": BASE, "index": INDEX, "system": SYSTEM,
-                                                        "errata": ERRATA, "generic": GENERIC}),
+                                                        "errata": ERRATA, "generic": GENERIC,
+                                                        "robot": ROBOT}),
                              autoescape=True, undefined=jinja2.StrictUndefined, trim_blocks=True, lstrip_blocks=True)
     env.globals["css"] = CSS
     return env
