@@ -133,6 +133,11 @@ CLAIMS = [
         [m_1 * l_s1**2 + m_2 * (l_1**2 + 2 * l_1 * l_s2 * c_2 + l_s2**2) + I_zz1 + I_zz2,
          m_2 * l_s2 * (l_s2 + l_1 * c_2) + I_zz2],
         [m_2 * l_s2 * (l_s2 + l_1 * c_2) + I_zz2, m_2 * l_s2**2 + I_zz2]]), "mass matrix"),
+    Claim("(5.111)", "f_np:motor_1", Matrix([tau_1, 0]), "generalized force of the motor torque tau_1"),
+    Claim("(5.111)", "f_np:motor_2", Matrix([0, tau_2]),
+          "generalized force of the motor torque tau_2 (on rod 1 and rod 2 by the cutting principle)"),
+    Claim("f_q,d2 after (5.111)", "f_np:friction_2", Matrix([0, -d_2 * w_2]),
+          "generalized force of the viscous friction in joint 2", note="omega_2 = phi_2_dot"),
     Claim("(5.112)", "C", Matrix([
         [-m_2 * l_1 * l_s2 * s_2 * w_2, -m_2 * l_1 * l_s2 * s_2 * (w_1 + w_2)],
         [-m_2 * l_1 * l_s2 * s_2 * w_1, 0]]), "Coriolis matrix 'for checking'"),

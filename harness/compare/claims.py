@@ -20,7 +20,7 @@ faithfully (typos included) in the model's symbols, and names the quantity it cl
   derivation and of each engine must give ``q̈ = 0``;
 * ``"force:<element>"``, ``"f_np:<element>"`` – the force vector of a spring or damper on its point ``b`` (along
   its line) and that element's generalized force ``J_rᵀ f`` (5.73) (of an external force or torque ``J_vᵀ f^e``,
-  ``J_ωᵀ τ^e``), derivation only;
+  ``J_ωᵀ τ^e``; of a joint's input or viscous friction ``J_φᵀ`` of its row (5.111)), derivation only;
 * per body (:mod:`harness.derivation.bodies`), derivation only: ``"R:<link>"``, ``"R:<frame>/<link>"`` (rotation
   matrices (4.9)–(4.21)), ``"S:…"`` (``Ṙ Rᵀ`` (4.44)), ``"omega:<link>"`` (4.57), ``"I_0:<link>"`` (5.15),
   ``"T_t:<link>"``, ``"T_r:<link>"`` (5.6), (5.12), ``"V:<link>"`` (5.20); ``"v_squared:<point>"`` (``ṗᵀ ṗ``);

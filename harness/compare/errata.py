@@ -28,7 +28,8 @@ import sympy as sp
 
 from harness.limits import OutOfTime, cpu_budget
 from harness.modeling.claims import Claim, as_matrix
-from harness.modeling.system import WORLD, BodyTorque, Damper, Point, PointForce, Spring, System
+from harness.modeling.system import (WORLD, BodyTorque, Damper, JointDamper, JointInput, Point, PointForce, Spring,
+                                    System)
 
 HOLDS = ("confirmed", "C differs, C·q̇ agrees")
 SYMBOLIC_BUDGET = 2.0      # CPU seconds of symbolic reduction per claim (the machine's load does not shorten it)
@@ -66,11 +67,19 @@ def element_generalized_force(system: System, name: str, force=None) -> sp.Matri
 
 
 def _external(system: System, name: str):
-    """(5.73) for the external force or torque ``name`` (None when ``name`` is no such element)."""
+    """(5.73) for the external force or torque ``name``, or the input or viscous friction of a tree joint (a torque
+    pair on the two links it joins: ``J_φᵀ`` of that joint's row, (5.111)); None when ``name`` is no such element."""
     from harness.compare.claims import _position
     from harness.derivation import bodies
     from harness.derivation.kinematics import link_poses
 
+    for f in system.forces:
+        if getattr(f, "name", None) == name and isinstance(f, (JointInput, JointDamper)):
+            k = [j.name for j in system.joints].index(f.joint)
+            row = system.phi.jacobian(system.q)[k, :]
+            if isinstance(f, JointInput):
+                return sp.Symbol(f.input, real=True) * row.T
+            return -sp.sympify(f.damping) * (row * sp.Matrix(system.qd))[0] * row.T
     for f in system.forces:
         if getattr(f, "name", None) != name or not isinstance(f, (PointForce, BodyTorque)):
             continue
