@@ -26,6 +26,7 @@ J = dphi/dq, whose entry -1/r_K enters C_q = J^T C_theta J twice (error ~ 1/r_K^
 
 from sympy import Matrix, cos, diff, sin
 
+from harness.derivation.bodies import Ball, moment_of_inertia, solid_volume
 from harness.modeling import (Printed, WORLD, Claim, Coordinate, Gravity, Inertia, Input, Joint, JointInput, Link, Parameter,
                               Scene, Step, System, standard_gravity)
 
@@ -74,7 +75,12 @@ T_printed = (m_K * (r**2 * w_1**2 + (v - r_K * w_1)**2) / 2      # (5.83)
              + I_zz_sB * w_1**2 / 2)                             # (5.87)
 V_printed = m_K * g * (r * sin(phi_1) + r_K * cos(phi_1)) - m_K * g * r_K  # (5.88)
 _I_K_note = "I_zz^{sK} = 2/5 m_K r_K^2 (5.84)"
+_ball = Ball(r_K)
 CLAIMS = [
+    Claim("(5.84)", "parameter", 2 * m_K * r_K**2 / 5, "I_zz^sK: the ball's moment of inertia about its centre",
+          reference=moment_of_inertia(_ball, m_K / solid_volume(_ball)),
+          note="reference: the volume integral over a homogeneous ball of radius r_K and mass m_K, independent of "
+               "the formula the model builds the ball's inertia from"),
     Claim("(5.82)", "position:ball", Matrix([r * cos(phi_1) - r_K * sin(phi_1), r * sin(phi_1) + r_K * cos(phi_1), 0]),
           "centre of the ball"),
     Claim("(5.85)", "parameter", -r_K, "rolling: r_dot = -r_K phi_2_dot, the printed factor between the rates",

@@ -11,6 +11,8 @@ Its mass is ``m_S = rho_S l_S b_S h_S`` and its inertia about the centre of mass
 
 from sympy import cos, sin
 
+from harness.derivation.bodies import Box, moment_of_inertia
+
 from harness.modeling import (Printed, WORLD, Claim, Coordinate, Gravity, Inertia, Input, Joint, JointDamper, JointInput,
                               JointSpring, Link, Parameter, Scene, Sine, System, standard_gravity)
 
@@ -58,7 +60,22 @@ SYSTEM = System(
 # the solution names the mass m_S and the inertia I_zz^S and prints their values; (5.92) is written in them
 m_S_p = Printed("m_S", "kg", "mass of the pendulum rod, as the solution prints it")
 I_zz_S_p = Printed("I_zz^S", "kg m^2", "moment of inertia of the rod about its centre of gravity S")
+_rod = Box.around((0, -l_S / 2, 0), (b_S, l_S, h_S))   # the rod as the link declares it: frame in A, S at -l_S/2
+I_Szz_S_p = Printed("I_Szz^S", "kg m^2", "moment of inertia of the rod about the e_z axis through S, as (3.132) prints it")
 CLAIMS = [
+    Claim("(3.128)", "parameter", rho_S * (l_S**3 * b_S * h_S / 3 + b_S**3 * l_S * h_S / 12),
+          "I_S,zz^(A): the rod's moment of inertia about the axis of rotation (e_z through A)",
+          reference=moment_of_inertia(_rod, rho_S),
+          note="reference: the volume integral of rho_S (x² + y²) over the rod's cuboid, independent of the "
+               "Inertia.cuboid formula the link uses"),
+    Claim("(3.132)", "parameter", rho_S * (l_S**3 * b_S * h_S / 12 + b_S**3 * l_S * h_S / 12),
+          "I_S,zz^(S): the rod's moment of inertia about the parallel axis through its centre of gravity S",
+          reference=moment_of_inertia(_rod, rho_S, about=(0, -l_S / 2, 0)), defines=I_Szz_S_p,
+          note="reference: the volume integral about S"),
+    Claim("(3.135)", "parameter", I_Szz_S_p + m_S * l_S**2 / 4, "Steiner: I_S,zz^(A) = I_S,zz^(S) + m_S l_S²/4",
+          reference=moment_of_inertia(_rod, rho_S), ingredients=("(3.132)",),
+          note="with the printed I_S,zz^(S) of (3.132) and m_S = rho_S l_S b_S h_S as the text defines it beside "
+               "(3.132); reference: the volume integral about A"),
     Claim("Solution of Exc. 5.2 (m_S)", "parameter", rho_S * l_S * b_S * g * h_S,
           "mass of the rod m_S = rho_S l_S b_S g h_S", reference=m_S, defines=m_S_p),
     Claim("Solution of Exc. 5.2 (I_zz^S)", "parameter", m_S_p * (l_S**2 + b_S**2) / 12,

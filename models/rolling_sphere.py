@@ -13,6 +13,7 @@ with the scenes, where MuJoCo simulates the sphere on the plane with friction on
 
 from sympy import Rational, sin, tan
 
+from harness.derivation.bodies import Ball, moment_of_inertia, solid_volume
 from harness.modeling import (WORLD, Claim, Coordinate, Gravity, Inertia, Joint, Link, Parameter, RollSlip, Scene,
                               System, standard_gravity)
 
@@ -38,7 +39,12 @@ SYSTEM = System(
     doc=__doc__,
 )
 
+_sphere = Ball(R)
 CLAIMS = [
+    Claim("(3.123)", "parameter", Rational(2, 5) * m * R**2, "I: a homogeneous ball's moment of inertia about its centre",
+          reference=moment_of_inertia(_sphere, m / solid_volume(_sphere)),
+          note="(3.123) prints I = 8/15 pi rho R^5 = 2/5 m R^2; the second form, in the model's m, R, is claimed (the "
+               "model has no density rho); reference: the volume integral over the ball"),
     Claim("Exercise 3.17", "eom", phi.accel - Rational(5, 7) / R * g * sin(alpha),
           "phi'' = 5/(7R) g sin(alpha) while rolling"),
 ]

@@ -35,6 +35,7 @@ checks draw ``s_5`` in ``[0.3, 3] m`` (at least 0.3 m of rope) and ``phi_4`` in 
 
 from sympy import Matrix, cos, diag, pi, sin, zeros
 
+from harness.derivation.bodies import Cylinder, moment_of_inertia
 from harness.derivation.kinematics import link_poses
 from harness.modeling import (Printed, WORLD, Claim, Constant, Coordinate, Gravity, Inertia, Input, Joint, JointDamper,
                               JointInput, Link, Parameter, Scene, Step, System, standard_gravity, steiner)
@@ -155,6 +156,12 @@ phi_2p = Printed("phi_2", "rad", "printed in c_phi2 = cos(phi_2), row 2, column 
 c2p = cos(phi_2p)
 _c_phi2_note = "c_phi2 in row 2, column 1 as printed"
 CLAIMS = [
+    Claim("(3.122)", "parameter", rho_1 * r_1**4 * pi * h_1 / 2,
+          "I_zz of a homogeneous cylinder about its axis: the tower (Example 3.13's cylinder)",
+          reference=moment_of_inertia(Cylinder(r_1, h_1), rho_1),
+          note="Example 3.13's R, l, rho are the tower's r_1, h_1, rho_1; (3.122) prints rho R^4 pi l/2 = m R^2/2, the "
+               "first form is claimed; reference: the volume integral over the tower's cylinder, independent of the "
+               "formula the model builds I^sZ from"),
     Claim("(4.41)", "position:load", Matrix([
         s_2 * c1 + s_5 * (-s1 * s4 - c1 * s3 * c4),
         s_2 * s1 + s_5 * (c1 * s4 - s1 * s3 * c4),

@@ -116,9 +116,25 @@ def test_a_wrong_steady_state_is_an_erratum_and_out_of_domain_states_are_not_exa
     """``steady:<coordinate>``: the governor's printed arccos is real only for phi_dot² >= g/l (as printed beside
     it); states outside are rejected, not counted. Twice the printed angle is no steady state."""
     governor = models.get("governor")
-    alpha, (phi_dot, _) = governor.q[1], governor.qd
+    phi_dot = governor.qd[0]
     g, l = (governor.parameter(n).symbol for n in ("g", "l"))
     right = classify(governor, Claim("(t5)", "steady:alpha", sp.acos(g / (l * phi_dot**2))), examples=20)
     assert right.classification == "confirmed" and 0 < right.examples <= 20
     wrong = classify(governor, Claim("(t6)", "steady:alpha", 2 * sp.acos(g / (l * phi_dot**2))), examples=20)
     assert wrong.classification == "erratum"
+
+
+def test_volume_integrals_of_standard_bodies_give_the_formulas_the_models_use():
+    """(3.120)-(3.123), (3.128): the integrals the inertia claims are compared with, against the closed forms (and
+    Inertia.cuboid), so that a wrong integral cannot confirm a wrong printed inertia."""
+    from harness.derivation.bodies import Ball, Box, Cylinder, moment_of_inertia, solid_inertia, solid_volume
+    from harness.modeling import Inertia
+
+    m, R, l, a, b, c = sp.symbols("m R l a b c", positive=True)
+    assert sp.simplify(moment_of_inertia(Ball(R), m / solid_volume(Ball(R))) - 2 * m * R**2 / 5) == 0
+    assert sp.simplify(moment_of_inertia(Cylinder(R, l), m / solid_volume(Cylinder(R, l))) - m * R**2 / 2) == 0
+    box = Box.around((0, -l / 2, 0), (a, l, c))
+    about_S = solid_inertia(box, m / solid_volume(box), about=(0, -l / 2, 0))
+    assert sp.simplify(about_S - Inertia.cuboid(m, a, l, c).matrix) == sp.zeros(3, 3)
+    about_A = moment_of_inertia(box, m / solid_volume(box))
+    assert sp.simplify(about_A - (m * (a**2 + l**2) / 12 + m * l**2 / 4)) == 0   # Steiner (3.135)

@@ -7,6 +7,8 @@ these kinds (``R:``, ``S:``, ``omega:``, ``I_0:``, ``T_t:``, ``T_r:``, ``V:``) a
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import sympy as sp
 
 from harness.derivation.kinematics import link_poses
@@ -81,3 +83,91 @@ def gravity_potential(system: System, link: str) -> sp.Expr:
     e_g = sp.Matrix(system.gravity.direction)
     mass = sp.sympify(_link(system, link).mass)
     return -mass * sp.sympify(system.gravity.g) * (e_g.T * centre_of_mass(system, link))[0]
+
+
+# --------------------------------------------------------------------------- standard bodies by their volume integral
+@dataclass(frozen=True)
+class Box:
+    """A homogeneous cuboid ``x0 ≤ x ≤ x1``, ``y0 ≤ y ≤ y1``, ``z0 ≤ z ≤ z1`` in a body-fixed frame."""
+
+    x: tuple
+    y: tuple
+    z: tuple
+
+    @staticmethod
+    def around(centre, edges) -> "Box":
+        """The cuboid with edges ``(a, b, c)`` along x, y, z centred at ``centre``."""
+        return Box(*[(sp.sympify(c) - sp.sympify(e) / 2, sp.sympify(c) + sp.sympify(e) / 2)
+                     for c, e in zip(centre, edges)])
+
+
+@dataclass(frozen=True)
+class Cylinder:
+    """A homogeneous solid cylinder of ``radius`` about the frame's z axis, ``0 ≤ z ≤ length``."""
+
+    radius: object
+    length: object
+
+
+@dataclass(frozen=True)
+class Ball:
+    """A homogeneous solid ball of ``radius`` centred at the frame's origin."""
+
+    radius: object
+
+
+def moment_of_inertia(solid, density, axis=(0, 0, 1), about=(0, 0, 0)) -> sp.Expr:
+    """``I = ∫ ρ (rᵀ r − (eᵀ r)²) dV`` (3.120) of a homogeneous solid about the axis ``e`` through ``about``: one
+    entry of :func:`solid_inertia`, at the cost of one integral."""
+    e = sp.Matrix(axis)
+    return (e.T * solid_inertia(solid, density, about, entries=[tuple(e)]) * e)[0]
+
+
+def solid_inertia(solid, density, about=(0, 0, 0), entries=None) -> sp.Matrix:
+    """``I = ∫ ρ (rᵀ r E − r rᵀ) dV`` (3.118), (3.120) of a homogeneous solid about the point ``about``, by its
+    volume integral in Cartesian, cylindrical or spherical coordinates (3.122), (3.123): independent of the formulas a
+    model builds its inertia from. ``entries``: only the diagonal entries of these coordinate axes (others 0)."""
+    x, y, z = sp.symbols("x y z", real=True)
+    r_, t_, p_ = sp.symbols("r t p", nonnegative=True)
+    if isinstance(solid, Box):
+        point, jacobian, limits = sp.Matrix([x, y, z]), 1, [(x, *solid.x), (y, *solid.y), (z, *solid.z)]
+    elif isinstance(solid, Cylinder):
+        point = sp.Matrix([r_ * sp.cos(t_), r_ * sp.sin(t_), z])
+        jacobian, limits = r_, [(r_, 0, solid.radius), (t_, 0, 2 * sp.pi), (z, 0, solid.length)]
+    elif isinstance(solid, Ball):
+        point = sp.Matrix([r_ * sp.sin(t_) * sp.cos(p_), r_ * sp.sin(t_) * sp.sin(p_), r_ * sp.cos(t_)])
+        jacobian, limits = r_**2 * sp.sin(t_), [(r_, 0, solid.radius), (t_, 0, sp.pi), (p_, 0, 2 * sp.pi)]
+    else:
+        raise TypeError(f"no volume integral for {type(solid).__name__}")
+    r = point - sp.Matrix(about)
+    integrand = sp.sympify(density) * ((r.T * r)[0] * sp.eye(3) - r * r.T) * jacobian
+    wanted = None if entries is None else {[tuple(row) for row in sp.eye(3).tolist()].index(tuple(e))
+                                           for e in entries}
+    return sp.Matrix(3, 3, lambda i, j: _integral(integrand[i, j], limits)
+                     if wanted is None or (i == j and i in wanted) else sp.Integer(0))
+
+
+def _integral(expr, limits) -> sp.Expr:
+    """The volume integral of ``expr``, term by term, each term as the product of its one-variable integrals when it
+    separates (a product over the three coordinates of the solid: far cheaper than the nested integral)."""
+    total = sp.Integer(0)
+    variables = [v for v, _, _ in limits]
+    for term in sp.Add.make_args(sp.expand(expr)):
+        parts = sp.separatevars(term, symbols=variables, dict=True)
+        if parts is None:
+            total += sp.integrate(term, *limits)
+            continue
+        product = parts.pop("coeff")
+        for v, lo, hi in limits:
+            product *= sp.integrate(parts.get(v, sp.Integer(1)), (v, lo, hi))
+        total += product
+    return sp.simplify(total)
+
+
+def solid_volume(solid) -> sp.Expr:
+    """The volume of a :class:`Box`, :class:`Cylinder` or :class:`Ball` (for its density ``m / V``)."""
+    if isinstance(solid, Box):
+        return sp.Mul(*[hi - lo for lo, hi in (solid.x, solid.y, solid.z)])
+    if isinstance(solid, Cylinder):
+        return sp.pi * sp.sympify(solid.radius)**2 * sp.sympify(solid.length)
+    return sp.Rational(4, 3) * sp.pi * sp.sympify(solid.radius)**3
