@@ -28,6 +28,12 @@ SYSTEM = System(
 CLAIMS = [
     Claim("(3.109)", "position:bob", Matrix([0, l * sin(phi), -l * cos(phi)]),
           "position of the mass: y = l sin(phi), z = -l cos(phi)"),
+    Claim("(3.109a) y_dot", "v:bob", l * cos(phi) * phi.rate, "y_dot = l cos(phi) phi_dot", index=(1,)),
+    Claim("(3.109a) y_ddot", "a:bob", -l * sin(phi) * phi.rate**2 + l * cos(phi) * phi.accel,
+          "y_ddot = -l sin(phi) phi_dot² + l cos(phi) phi_ddot", index=(1,)),
+    Claim("(3.109b) z_dot", "v:bob", l * sin(phi) * phi.rate, "z_dot = l sin(phi) phi_dot", index=(2,)),
+    Claim("(3.109b) z_ddot", "a:bob", l * cos(phi) * phi.rate**2 + l * sin(phi) * phi.accel,
+          "z_ddot = l cos(phi) phi_dot² + l sin(phi) phi_ddot", index=(2,)),
     Claim("(3.111)", "eom", m * l**2 * phi.accel + m * g * l * sin(phi), "m l² phi'' = -m g l sin(phi)"),
     Claim("(3.114)", "eom", m * l**2 * phi.accel - (-m * g * l * sin(phi)),
           "d/dt l_x^(0) = m l² phi'' = tau_x^(0) = -m g l sin(phi), angular momentum about 0"),

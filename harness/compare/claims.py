@@ -21,6 +21,8 @@ faithfully (typos included) in the model's symbols, and names the quantity it cl
 * ``"force:<element>"``, ``"f_np:<element>"`` – the force vector of a spring or damper on its point ``b`` (along
   its line) and that element's generalized force ``J_rᵀ f`` (5.73) (of an external force or torque ``J_vᵀ f^e``,
   ``J_ωᵀ τ^e``; of a joint's input or viscous friction ``J_φᵀ`` of its row (5.111)), derivation only;
+* ``"a:<point>"`` – a point's acceleration ``J_v q̈ + J̇_v q̇`` at the q̈ of each source's forward dynamics,
+  derivation only;
 * per body (:mod:`harness.derivation.bodies`), derivation only: ``"R:<link>"``, ``"R:<frame>/<link>"`` (rotation
   matrices (4.9)–(4.21)), ``"S:…"`` (``Ṙ Rᵀ`` (4.44)), ``"omega:<link>"`` (4.57), ``"I_0:<link>"`` (5.15),
   ``"T_t:<link>"``, ``"T_r:<link>"`` (5.6), (5.12), ``"V:<link>"`` (5.20); ``"v_squared:<point>"`` (``ṗᵀ ṗ``);
@@ -137,6 +139,11 @@ def _derive_claimed(system: System, claim: Claim):
         expr = element_generalized_force(system, claim.quantity.split(":", 1)[1])
     elif kind == "v":  # (4.64): the point's velocity J_v q̇ in the inertial frame
         expr = _point(system, claim.quantity.split(":", 1)[1]).jacobian(system.q) * sp.Matrix(system.qd)
+    elif kind == "a":  # (4.64) differentiated: the point's acceleration J_v q̈ + J̇_v q̇ in the inertial frame
+        p = _point(system, claim.quantity.split(":", 1)[1])
+        v = p.jacobian(system.q) * sp.Matrix(system.qd)
+        expr = v.jacobian(system.q) * sp.Matrix(system.qd) + p.jacobian(system.q) * sp.Matrix(
+            [c.accel for c in system.coordinates])
     elif kind == "v_squared":  # (ṗ)ᵀ ṗ of the point, with ṗ = J_v q̇ (4.64)
         v = _point(system, claim.quantity.split(":", 1)[1]).jacobian(system.q) * sp.Matrix(system.qd)
         expr = v.T * v

@@ -12,7 +12,8 @@ from harness.modeling.system import Declared, System, plain
 
 ENGINE_QUANTITIES = {"M", "C", "Cqd", "g"}
 QUANTITIES = ENGINE_QUANTITIES | {"f_np", "T", "V", "L", "eom", "parameter", "equilibrium"}
-# kinds with an argument: "position:<point>", "v:<point>" (its velocity J_v q̇), "v_squared:<point>" (ṗᵀ ṗ), "J_v:<point>" (its translational
+# kinds with an argument: "position:<point>", "v:<point>" (its velocity J_v q̇), "a:<point>" (its
+# acceleration), "v_squared:<point>" (ṗᵀ ṗ), "J_v:<point>" (its translational
 # Jacobian (4.64)), "J_omega:<link>"
 # (the link's rotational Jacobian (4.62)), "force:<element>" (the force vector a spring or damper exerts on its
 # point b), "f_np:<element>" (that element's generalized force alone; plain "f_np" is the whole vector)
@@ -24,7 +25,7 @@ QUANTITIES = ENGINE_QUANTITIES | {"f_np", "T", "V", "L", "eom", "parameter", "eq
 # "steady:<coordinate>" (the value of that coordinate in a steady state: at rest in it, no input, the other
 # rates as drawn; states where the printed value is not real lie outside its stated domain);
 # "L" (the Lagrange function, up to a constant), "dL_dqd:<q>", "ddt_dL_dqd:<q>", "dL_dq:<q>" (the terms of (5.69))
-KINDS_WITH_ARGUMENT = {"position", "v", "v_squared", "J_v", "J_omega", "force", "f_np", "holding", "R", "S", "omega", "I_0",
+KINDS_WITH_ARGUMENT = {"position", "v", "a", "v_squared", "J_v", "J_omega", "force", "f_np", "holding", "R", "S", "omega", "I_0",
                        "T_t", "T_r", "V", "steady", "dL_dqd", "ddt_dL_dqd", "dL_dq"}
 
 
