@@ -28,7 +28,7 @@ reaches zero length: that would need ``l_f^0 = 2 (d + l_1)``, far outside the dr
 
 from sympy import Matrix, cos, integrate, sin, sqrt, symbols
 
-from harness.compare.errata import element_force
+from harness.derivation.bodies import element_force
 from harness.modeling import (printed_matrix, WORLD, Claim, Coordinate, Gravity, Inertia, Joint, Link, Parameter, Point, Scene, Spring,
                               System, standard_gravity, steiner)
 

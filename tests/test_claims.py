@@ -138,3 +138,18 @@ def test_volume_integrals_of_standard_bodies_give_the_formulas_the_models_use():
     assert sp.simplify(about_S - Inertia.cuboid(m, a, l, c).matrix) == sp.zeros(3, 3)
     about_A = moment_of_inertia(box, m / solid_volume(box))
     assert sp.simplify(about_A - (m * (a**2 + l**2) / 12 + m * l**2 / 4)) == 0   # Steiner (3.135)
+
+
+def test_a_wrong_cutting_force_is_an_erratum():
+    """(3.112) against the joint's cut force (harness.derivation.bodies.joint_force): the centripetal term with the
+    wrong sign is found; the printed one holds (tests the cut force, not only the claim)."""
+    from harness.derivation.bodies import joint_force
+
+    pendulum = models.get("pendulum")
+    (phi,), (phi_dot,) = pendulum.q, pendulum.qd
+    m, g, l = (pendulum.parameter(n).symbol for n in ("m", "g", "l"))
+    along_rod = (joint_force(pendulum, "phi").T * sp.Matrix([0, -sp.sin(phi), sp.cos(phi)]))[0]
+    right = Claim("(t7)", "parameter", m * g * sp.cos(phi) + m * l * phi_dot**2, reference=along_rod)
+    wrong = Claim("(t8)", "parameter", m * g * sp.cos(phi) - m * l * phi_dot**2, reference=along_rod)
+    assert classify(pendulum, right, examples=20).classification == "confirmed"
+    assert classify(pendulum, wrong, examples=20).classification == "erratum"

@@ -21,6 +21,8 @@ faithfully (typos included) in the model's symbols, and names the quantity it cl
 * ``"force:<element>"``, ``"f_np:<element>"`` – the force vector of a spring or damper on its point ``b`` (along
   its line) and that element's generalized force ``J_rᵀ f`` (5.73) (of an external force or torque ``J_vᵀ f^e``,
   ``J_ωᵀ τ^e``; of a joint's input or viscous friction ``J_φᵀ`` of its row (5.111)), derivation only;
+* cut forces (3.104): a ``parameter`` claim may compare a printed cutting force with
+  :func:`harness.derivation.bodies.joint_force` (a tree joint's force on what it carries), e.g. the pendulum's (3.112);
 * ``"a:<point>"`` – a point's acceleration ``J_v q̈ + J̇_v q̇`` at the q̈ of each source's forward dynamics,
   derivation only;
 * per body (:mod:`harness.derivation.bodies`), derivation only: ``"R:<link>"``, ``"R:<frame>/<link>"`` (rotation
@@ -130,11 +132,11 @@ def _derive_claimed(system: System, claim: Claim):
         name = claim.quantity.split(":", 1)[1]
         expr = _point(system, name)
     elif kind == "force":
-        from harness.compare.errata import element_force
+        from harness.derivation.bodies import element_force
 
         expr = element_force(system, claim.quantity.split(":", 1)[1])
     elif kind == "f_np" and ":" in claim.quantity:
-        from harness.compare.errata import element_generalized_force
+        from harness.derivation.bodies import element_generalized_force
 
         expr = element_generalized_force(system, claim.quantity.split(":", 1)[1])
     elif kind == "v":  # (4.64): the point's velocity J_v q̇ in the inertial frame

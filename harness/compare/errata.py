@@ -26,10 +26,10 @@ import time
 
 import sympy as sp
 
+from harness.derivation.bodies import element_generalized_force
 from harness.limits import OutOfTime, cpu_budget
 from harness.modeling.claims import Claim, as_matrix
-from harness.modeling.system import (WORLD, BodyTorque, Damper, JointDamper, JointInput, Point, PointForce, Spring,
-                                    System)
+from harness.modeling.system import Point, System
 
 HOLDS = ("confirmed", "C differs, C·q̇ agrees")
 SYMBOLIC_BUDGET = 2.0      # CPU seconds of symbolic reduction per claim (the machine's load does not shorten it)
@@ -38,76 +38,6 @@ RENAMINGS = 60             # at most this many renamings are tried per claim
 SCREEN_EXAMPLES = 12       # states a renaming is screened on (derivation only) before the full check
 
 _VERDICTS: dict = {}
-
-
-# ----------------------------------------------------------------------------- derived quantities
-def element_force(system: System, name: str) -> sp.Matrix:
-    """The force vector the spring or damper ``name`` exerts on its point ``b``, in the inertial frame and lecture
-    coordinates, along ``r = p_b − p_a`` (``l = |r|``): a spring ``−c (l − l_0) r/l`` (3.84), a damper
-    ``−d l̇ r/l`` with ``l̇ = rᵀ ṙ / l`` (an element acts along its line)."""
-    element = point_element(system, name)
-    r, length = element_vector(system, element)
-    if isinstance(element, Spring):
-        return -element.stiffness * (length - element.rest_length) * r / length
-    r_dot = r.jacobian(system.q) * sp.Matrix(system.qd)
-    return -element.damping * (r.T * r_dot)[0] / length * r / length
-
-
-def element_generalized_force(system: System, name: str, force=None) -> sp.Matrix:
-    """The generalized force of the force element ``name`` (5.58), (5.73): of a spring or damper ``J_rᵀ f`` with
-    ``J_r = ∂r/∂q`` and ``f`` its force on ``b`` (:func:`element_force`; ``force``: another force vector, e.g. a
-    printed one); of an external force ``J_vᵀ f^e`` at its point, of an external torque ``J_ωᵀ τ^e``."""
-    external = _external(system, name)
-    if external is not None:
-        return external
-    element = point_element(system, name)
-    r, _ = element_vector(system, element)
-    f = element_force(system, name) if force is None else as_matrix(force)
-    return r.jacobian(system.q).T * f
-
-
-def _external(system: System, name: str):
-    """(5.73) for the external force or torque ``name``, or the input or viscous friction of a tree joint (a torque
-    pair on the two links it joins: ``J_φᵀ`` of that joint's row, (5.111)); None when ``name`` is no such element."""
-    from harness.compare.claims import _position
-    from harness.derivation import bodies
-    from harness.derivation.kinematics import link_poses
-
-    for f in system.forces:
-        if getattr(f, "name", None) == name and isinstance(f, (JointInput, JointDamper)):
-            k = [j.name for j in system.joints].index(f.joint)
-            row = system.phi.jacobian(system.q)[k, :]
-            if isinstance(f, JointInput):
-                return sp.Symbol(f.input, real=True) * row.T
-            return -sp.sympify(f.damping) * (row * sp.Matrix(system.qd))[0] * row.T
-    for f in system.forces:
-        if getattr(f, "name", None) != name or not isinstance(f, (PointForce, BodyTorque)):
-            continue
-        vector = sp.Matrix(f.force if isinstance(f, PointForce) else f.torque)
-        if f.frame != WORLD:  # follower: components in a link's frame
-            vector = bodies.rotation_matrix(system, f.frame) * vector
-        if isinstance(f, PointForce):
-            return _position(system, f.point).jacobian(system.q).T * vector
-        pose = link_poses(system)[f.link]
-        J_w = pose.J_omega_theta.xreplace(dict(zip(system.theta, system.phi))) * system.phi.jacobian(system.q)
-        return J_w.T * vector
-    return None
-
-
-def point_element(system: System, name: str):
-    """The spring or damper ``name`` of ``system`` (a force claim's element)."""
-    for f in system.forces:
-        if isinstance(f, (Spring, Damper)) and f.name == name:
-            return f
-    raise ValueError(f"{system.name}: no spring or damper named {name!r} for a force claim")
-
-
-def element_vector(system: System, element) -> tuple[sp.Matrix, sp.Expr]:
-    """``r = p_b − p_a`` of a spring or damper in lecture coordinates, and its length ``|r|``."""
-    from harness.compare.claims import _position
-
-    r = _position(system, element.b) - _position(system, element.a)
-    return r, sp.sqrt((r.T * r)[0])
 
 
 def _point_or_none(value):

@@ -11,8 +11,9 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from harness.derivation.kinematics import link_poses
-from harness.modeling.system import WORLD, System
+from harness.derivation.kinematics import link_poses, point_position
+from harness.modeling.system import (WORLD, BodyTorque, Damper, JointDamper, JointInput, Point, PointForce, Spring,
+                                    System)
 
 
 def _in_q(system: System, expr):
@@ -49,6 +50,11 @@ def angular_velocity(system: System, link: str) -> sp.Matrix:
     _link(system, link)
     pose = link_poses(system)[link]
     return _in_q(system, pose.J_omega_theta) * system.phi.jacobian(system.q) * sp.Matrix(system.qd)
+
+
+def point_in_q(system: System, point: Point) -> sp.Matrix:
+    """``p_0 = R_0^k p_k + d_0^k`` (4.21) of a body-fixed point, in lecture coordinates."""
+    return _in_q(system, point_position(link_poses(system), point))
 
 
 def centre_of_mass(system: System, link: str) -> sp.Matrix:
@@ -171,3 +177,109 @@ def solid_volume(solid) -> sp.Expr:
     if isinstance(solid, Cylinder):
         return sp.pi * sp.sympify(solid.radius)**2 * sp.sympify(solid.length)
     return sp.Rational(4, 3) * sp.pi * sp.sympify(solid.radius)**3
+
+
+# --------------------------------------------------------------------------- cut forces
+def joint_force(system: System, joint: str) -> sp.Matrix:
+    """The force the joint ``joint`` exerts on everything it carries, inertial frame, by the momentum balance of that
+    subtree cut free (3.104): ``f = Σ m_i p̈_i − Σ m_i g e_g − Σ f^e`` over its bodies and the external forces on them
+    (point forces, springs and dampers with one end in the subtree), in ``q, q̇, q̈``. Only for a tree whose joint
+    coordinates are the lecture's coordinates: a map ``θ = φ(q)`` stands for a rope, gear or rolling contact whose
+    forces the tree does not carry."""
+    from harness.derivation.derive import _identity_map
+
+    if _identity_map(system) is None:
+        raise ValueError(f"{system.name}: its joints are coupled by a map theta = phi(q) (a rope, gear or contact): "
+                         "the cut force of a joint is not the tree's")
+    cut = next(j for j in system.joints if j.name == joint)
+    carried = {link.name for link in system.links if cut in system.chain(link.name)}
+    q, qd = system.q, sp.Matrix(system.qd)
+    qdd = sp.Matrix([c.accel for c in system.coordinates])
+
+    def acceleration(p):
+        J = p.jacobian(q)
+        return (J * qd).jacobian(q) * qd + J * qdd
+
+    force = sp.zeros(3, 1)
+    e_g = sp.Matrix(system.gravity.direction) if system.gravity is not None else sp.zeros(3, 1)
+    g = sp.sympify(system.gravity.g) if system.gravity is not None else 0
+    for link in system.links:
+        if link.name in carried and link.has_mass:
+            m = sp.sympify(link.mass)
+            force += m * acceleration(centre_of_mass(system, link.name)) - m * g * e_g
+    for element in system.forces:
+        if isinstance(element, PointForce) and element.point.link in carried:
+            vector = sp.Matrix(element.force)
+            if element.frame != WORLD:
+                vector = rotation_matrix(system, element.frame) * vector
+            force -= vector
+        elif isinstance(element, (Spring, Damper)):
+            a_in, b_in = element.a.link in carried, element.b.link in carried
+            if a_in != b_in:  # the element's force on b is f, on a −f (3.84)
+                f = element_force(system, element.name)
+                force -= f if b_in else -f
+    return _in_q(system, force)
+
+
+# --------------------------------------------------------------------------- force elements
+def element_force(system: System, name: str) -> sp.Matrix:
+    """The force vector the spring or damper ``name`` exerts on its point ``b``, in the inertial frame and lecture
+    coordinates, along ``r = p_b − p_a`` (``l = |r|``): a spring ``−c (l − l_0) r/l`` (3.84), a damper
+    ``−d l̇ r/l`` with ``l̇ = rᵀ ṙ / l`` (an element acts along its line)."""
+    element = point_element(system, name)
+    r, length = element_vector(system, element)
+    if isinstance(element, Spring):
+        return -element.stiffness * (length - element.rest_length) * r / length
+    r_dot = r.jacobian(system.q) * sp.Matrix(system.qd)
+    return -element.damping * (r.T * r_dot)[0] / length * r / length
+
+
+def element_generalized_force(system: System, name: str, force=None) -> sp.Matrix:
+    """The generalized force of the force element ``name`` (5.58), (5.73): of a spring or damper ``J_rᵀ f`` with
+    ``J_r = ∂r/∂q`` and ``f`` its force on ``b`` (:func:`element_force`; ``force``: another force vector, e.g. a
+    printed one); of an external force ``J_vᵀ f^e`` at its point, of an external torque ``J_ωᵀ τ^e``."""
+    external = _external(system, name)
+    if external is not None:
+        return external
+    element = point_element(system, name)
+    r, _ = element_vector(system, element)
+    f = element_force(system, name) if force is None else sp.Matrix(force)
+    return r.jacobian(system.q).T * f
+
+
+def _external(system: System, name: str):
+    """(5.73) for the external force or torque ``name``, or the input or viscous friction of a tree joint (a torque
+    pair on the two links it joins: ``J_φᵀ`` of that joint's row, (5.111)); None when ``name`` is no such element."""
+    for f in system.forces:
+        if getattr(f, "name", None) == name and isinstance(f, (JointInput, JointDamper)):
+            k = [j.name for j in system.joints].index(f.joint)
+            row = system.phi.jacobian(system.q)[k, :]
+            if isinstance(f, JointInput):
+                return sp.Symbol(f.input, real=True) * row.T
+            return -sp.sympify(f.damping) * (row * sp.Matrix(system.qd))[0] * row.T
+    for f in system.forces:
+        if getattr(f, "name", None) != name or not isinstance(f, (PointForce, BodyTorque)):
+            continue
+        vector = sp.Matrix(f.force if isinstance(f, PointForce) else f.torque)
+        if f.frame != WORLD:  # follower: components in a link's frame
+            vector = rotation_matrix(system, f.frame) * vector
+        if isinstance(f, PointForce):
+            return point_in_q(system, f.point).jacobian(system.q).T * vector
+        pose = link_poses(system)[f.link]
+        J_w = pose.J_omega_theta.xreplace(dict(zip(system.theta, system.phi))) * system.phi.jacobian(system.q)
+        return J_w.T * vector
+    return None
+
+
+def point_element(system: System, name: str):
+    """The spring or damper ``name`` of ``system`` (a force claim's element)."""
+    for f in system.forces:
+        if isinstance(f, (Spring, Damper)) and f.name == name:
+            return f
+    raise ValueError(f"{system.name}: no spring or damper named {name!r} for a force claim")
+
+
+def element_vector(system: System, element) -> tuple[sp.Matrix, sp.Expr]:
+    """``r = p_b − p_a`` of a spring or damper in lecture coordinates, and its length ``|r|``."""
+    r = point_in_q(system, element.b) - point_in_q(system, element.a)
+    return r, sp.sqrt((r.T * r)[0])

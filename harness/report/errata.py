@@ -165,7 +165,7 @@ def along_the_line(system, claim, printed, derived) -> str | None:
     along the element's line ``r`` (``r rᵀ f / rᵀ r``), tested at random values of every symbol."""
     import random
 
-    from harness.compare.errata import element_vector, point_element
+    from harness.derivation.bodies import element_vector, point_element
 
     kind, _, name = claim.quantity.partition(":")
     if kind != "force":
