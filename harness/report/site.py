@@ -324,25 +324,35 @@ def build_site(out: Path | str, catalogue=None, progress=None) -> dict:
     from harness.report.render import render_all
 
     print(f"rendering the mechanisms of {len(records)} system(s) with MuJoCo …", file=progress, flush=True)
-    rendered = render_all([{"system": r["system"], "out": str(out), "catalogue": catalogue,
-                            "scenes": [(sc.get("scene"), sc["series"]) for sc in r.get("scenes") or []
-                                       if sc.get("series") and (out / sc["series"]).is_file()]}
-                           for r in records if r["system"] in systems])
+    rendering = render_all([{"system": r["system"], "out": str(out), "catalogue": catalogue,
+                             "scenes": [(sc.get("scene"), sc["series"]) for sc in r.get("scenes") or []
+                                        if sc.get("series") and (out / sc["series"]).is_file()]}
+                            for r in records if r["system"] in systems], wait=False)
+    pages = []   # the scene figures are drawn here while the mechanisms render in their own process
     for k, record in enumerate(records, 1):
         name = record["system"]
         print(f"[{k}/{len(records)}] page {name}", file=progress, flush=True)
-        model = None
         try:
-            view = system_view(record, by_system.get(name, []), out, figures, bench)
+            view, model = system_view(record, by_system.get(name, []), out, figures, bench), None
             if name in systems:
                 system = systems[name]
                 model = model_view(system)
                 model["scene_names"] = [s.name for s in catalogue.scenes(name)]
                 view["title"] = system.title
                 _add_equations(view, model, system, catalogue.claims(name))
-                _add_pictures(view, rendered.get(name), figures)
             else:
                 view["reason"] = view["reason"] or catalogue_error or f"{name} is not in the catalogue any more"
+            pages.append((record, view, model, None))
+        except Exception as exc:  # noqa: BLE001 - one system raising never loses the others' pages
+            pages.append((record, None, None, exc))
+    rendered = rendering()
+    for record, view, model, error in pages:
+        name = record["system"]
+        try:
+            if error is not None:
+                raise error
+            if model is not None:
+                _add_pictures(view, rendered.get(name), figures)
             text = template.render(s=view, model=model, root="../", **common)
         except Exception as exc:  # noqa: BLE001 - one system raising never loses the others' pages
             reason = f"{name}: page not built: {type(exc).__name__}: {exc}"
