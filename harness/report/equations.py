@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
+from html import escape
 
 import sympy as sp
 
@@ -153,6 +154,26 @@ def _claim_lhs(claim) -> str:
            "Cqd": f'<mrow>{bold("C")}<mover accent="true"><mi mathvariant="bold">q</mi><mo>\u02d9</mo></mover>'
                   f'</mrow>' + (f"<msub><mrow/><mi>{index}</mi></msub>" if index else ""),
            "position": bold("p", subscript=point)}.get(kind)
+    if lhs is None and point:  # the per-point and per-body kinds: symbol, frame 0 (or the given frame), the body
+        frame, _, body = point.rpartition("/")
+        letter = {"v": "v", "a": "a", "R": "R", "S": "S", "omega": "ω", "I_0": "I", "J_v": "J", "J_omega": "J",
+                  "force": "f", "f_np": "f"}.get(kind)
+        if letter is not None:
+            below = {"J_v": "v", "J_omega": "ω", "f_np": "q"}.get(kind, frame or "0")
+            lhs = bold(letter, subscript=below, superscript=body)
+            if index:
+                lhs = f"<msub>{lhs}<mi>{index}</mi></msub>"
+        elif kind in ("T_t", "T_r", "V"):
+            lhs = f"<msubsup><mi>{kind[0]}</mi><mi>{kind[2:]}</mi><mi>{escape(body)}</mi></msubsup>" if "_" in kind \
+                else f"<msup><mi>V</mi><mi>{escape(body)}</mi></msup>"
+    if lhs is None and kind == "L":
+        lhs = "<mi>L</mi>"
+    if lhs is None and kind in ("dL_dqd", "dL_dq", "ddt_dL_dqd"):
+        q = f"<mi>{escape(point)}</mi>"
+        by = f'<mover accent="true">{q}<mo>\u02d9</mo></mover>' if kind != "dL_dq" else q
+        lhs = f"<mfrac><mrow><mo>∂</mo><mi>L</mi></mrow><mrow><mo>∂</mo>{by}</mrow></mfrac>"
+        if kind == "ddt_dL_dqd":
+            lhs = f"<mfrac><mi>d</mi><mrow><mi>d</mi><mi>t</mi></mrow></mfrac>{lhs}"
     return lhs or ""
 
 
