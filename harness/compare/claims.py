@@ -63,7 +63,8 @@ from harness.derivation.compile import compiled
 from harness.compare.conformance import FLOAT64_RTOL, scales
 from harness.engines import ENGINES, symbolic
 from harness.engines.base import State
-from harness.derivation.kinematics import link_poses, point_position
+from harness.derivation import bodies
+from harness.derivation.bodies import element_force, element_generalized_force, point_in_q, rotational_jacobian
 from harness.modeling.claims import ENGINE_QUANTITIES, Claim, as_matrix as _as_matrix, symbols as _symbols
 from harness.modeling.system import WORLD, Point, System
 from harness.compare.strategies import states
@@ -132,12 +133,8 @@ def _derive_claimed(system: System, claim: Claim):
         name = claim.quantity.split(":", 1)[1]
         expr = _point(system, name)
     elif kind == "force":
-        from harness.derivation.bodies import element_force
-
         expr = element_force(system, claim.quantity.split(":", 1)[1])
     elif kind == "f_np" and ":" in claim.quantity:
-        from harness.derivation.bodies import element_generalized_force
-
         expr = element_generalized_force(system, claim.quantity.split(":", 1)[1])
     elif kind == "v":  # (4.64): the point's velocity J_v q̇ in the inertial frame
         expr = _point(system, claim.quantity.split(":", 1)[1]).jacobian(system.q) * sp.Matrix(system.qd)
@@ -152,8 +149,7 @@ def _derive_claimed(system: System, claim: Claim):
     elif kind == "J_v":  # (4.64): the point's translational Jacobian ∂p/∂q in the inertial frame
         expr = _point(system, claim.quantity.split(":", 1)[1]).jacobian(system.q)
     elif kind == "J_omega":  # (4.62): the link's rotational Jacobian in the inertial frame, in lecture coordinates
-        pose = link_poses(system)[claim.quantity.split(":", 1)[1]]
-        expr = pose.J_omega_theta.xreplace(dict(zip(system.theta, system.phi))) * system.phi.jacobian(system.q)
+        expr = rotational_jacobian(system, claim.quantity.split(":", 1)[1])
     elif kind in BODY_KINDS and ":" in claim.quantity:
         expr = _body_quantity(system, kind, claim.quantity.split(":", 1)[1])
     elif kind == "steady":  # the equation a steady state solves: C q̇ + g − f_np = 0 with the coordinate at rest
@@ -175,8 +171,6 @@ BODY_KINDS = {"R", "S", "omega", "I_0", "T_t", "T_r", "V"}
 
 
 def _body_quantity(system: System, kind: str, argument: str):
-    from harness.derivation import bodies
-
     frame, _, link = argument.rpartition("/")
     frame = frame or WORLD
     if kind == "R":
@@ -228,16 +222,11 @@ def _point(system: System, name: str) -> sp.Matrix:
     for f in system.forces:
         for pt in (getattr(f, "a", None), getattr(f, "b", None), getattr(f, "point", None)):
             if isinstance(pt, Point) and pt.name == name:
-                return _position(system, pt)
+                return point_in_q(system, pt)
     for link in system.links:
         if link.name == name:
-            return _position(system, Point(link.name, link.com))
+            return point_in_q(system, Point(link.name, link.com))
     raise ValueError(f"{system.name}: no point or link named {name!r} for a position claim")
-
-
-def _position(system: System, point: Point) -> sp.Matrix:
-    poses = link_poses(system)
-    return point_position(poses, point).xreplace(dict(zip(system.theta, system.phi)))
 
 
 def _select(m: sp.Matrix, index):

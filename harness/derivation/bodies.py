@@ -20,21 +20,18 @@ def _in_q(system: System, expr):
     return expr.xreplace(dict(zip(system.theta, system.phi)))
 
 
-def _link(system: System, name: str):
-    for link in system.links:
-        if link.name == name:
-            return link
-    if name == WORLD:
-        return None
-    raise ValueError(f"{system.name}: no link named {name!r}")
+def _frame(system: System, name: str) -> str:
+    """``name`` when it is a link of ``system`` or the world (a frame :func:`link_poses` has), else ModelError."""
+    if name != WORLD:
+        system.link(name)
+    return name
 
 
 def rotation_matrix(system: System, link: str, relative_to: str = WORLD) -> sp.Matrix:
     """``R_a^b = (R_0^a)ᵀ R_0^b`` (4.9)–(4.21): the orientation of ``link``'s frame in ``relative_to``'s frame
     (the inertial frame by default)."""
-    _link(system, link), _link(system, relative_to)
     poses = link_poses(system)
-    return _in_q(system, poses[relative_to].R.T * poses[link].R)
+    return _in_q(system, poses[_frame(system, relative_to)].R.T * poses[_frame(system, link)].R)
 
 
 def angular_velocity_matrix(system: System, link: str, relative_to: str = WORLD) -> sp.Matrix:
@@ -45,11 +42,15 @@ def angular_velocity_matrix(system: System, link: str, relative_to: str = WORLD)
     return R_dot * R.T
 
 
+def rotational_jacobian(system: System, link: str) -> sp.Matrix:
+    """``(J_ω)_0^k`` (4.62) of ``link`` in the inertial frame and lecture coordinates: ``J_ω,θ ∂φ/∂q``."""
+    pose = link_poses(system)[_frame(system, link)]
+    return _in_q(system, pose.J_omega_theta) * system.phi.jacobian(system.q)
+
+
 def angular_velocity(system: System, link: str) -> sp.Matrix:
     """``ω_0^k = J_ω q̇`` (4.57), (4.62): the angular velocity of ``link`` in the inertial frame."""
-    _link(system, link)
-    pose = link_poses(system)[link]
-    return _in_q(system, pose.J_omega_theta) * system.phi.jacobian(system.q) * sp.Matrix(system.qd)
+    return rotational_jacobian(system, link) * sp.Matrix(system.qd)
 
 
 def point_in_q(system: System, point: Point) -> sp.Matrix:
@@ -59,21 +60,19 @@ def point_in_q(system: System, point: Point) -> sp.Matrix:
 
 def centre_of_mass(system: System, link: str) -> sp.Matrix:
     """``p_0^s = R_0^k p_k^s + d_0^k`` (4.21) of ``link``'s centre of mass."""
-    body = _link(system, link)
-    pose = link_poses(system)[link]
-    return _in_q(system, pose.R * body.com_vector + pose.d)
+    return point_in_q(system, Point(link, system.link(link).com))
 
 
 def inertia_in_inertial_frame(system: System, link: str) -> sp.Matrix:
     """``I_0^s = R_0^k I_k^s (R_0^k)ᵀ`` (5.15): the inertia tensor about the centre of mass, inertial frame."""
     R = rotation_matrix(system, link)
-    return R * _link(system, link).inertia.matrix * R.T
+    return R * system.link(link).inertia.matrix * R.T
 
 
 def translational_energy(system: System, link: str) -> sp.Expr:
     """``T_t = ½ m (ṗ_0^s)ᵀ ṗ_0^s`` (5.6) of one body."""
     v = centre_of_mass(system, link).jacobian(system.q) * sp.Matrix(system.qd)
-    return sp.sympify(_link(system, link).mass) * (v.T * v)[0] / 2
+    return sp.sympify(system.link(link).mass) * (v.T * v)[0] / 2
 
 
 def rotational_energy(system: System, link: str) -> sp.Expr:
@@ -87,7 +86,7 @@ def gravity_potential(system: System, link: str) -> sp.Expr:
     if system.gravity is None:
         return sp.Integer(0)
     e_g = sp.Matrix(system.gravity.direction)
-    mass = sp.sympify(_link(system, link).mass)
+    mass = sp.sympify(system.link(link).mass)
     return -mass * sp.sympify(system.gravity.g) * (e_g.T * centre_of_mass(system, link))[0]
 
 
@@ -191,7 +190,7 @@ def joint_force(system: System, joint: str) -> sp.Matrix:
     if _identity_map(system) is None:
         raise ValueError(f"{system.name}: its joints are coupled by a map theta = phi(q) (a rope, gear or contact): "
                          "the cut force of a joint is not the tree's")
-    cut = next(j for j in system.joints if j.name == joint)
+    cut = system.joint(joint)
     carried = {link.name for link in system.links if cut in system.chain(link.name)}
     q, qd = system.q, sp.Matrix(system.qd)
     qdd = sp.Matrix([c.accel for c in system.coordinates])
@@ -265,9 +264,7 @@ def _external(system: System, name: str):
             vector = rotation_matrix(system, f.frame) * vector
         if isinstance(f, PointForce):
             return point_in_q(system, f.point).jacobian(system.q).T * vector
-        pose = link_poses(system)[f.link]
-        J_w = pose.J_omega_theta.xreplace(dict(zip(system.theta, system.phi))) * system.phi.jacobian(system.q)
-        return J_w.T * vector
+        return rotational_jacobian(system, f.link).T * vector
     return None
 
 

@@ -321,27 +321,26 @@ def _render_jobs(jobs: list[dict]) -> dict:
     return {job["system"]: _render_system(job) for job in jobs}
 
 
-def render_all(jobs: list[dict], wait: bool = True):
-    """Render every job (``{"system", "out", "catalogue", "scenes": [(scene, series path)]}``) in one separate process, whose
-    MuJoCo is imported with ``MUJOCO_GL`` set (MuJoCo picks its OpenGL backend when imported, and an OpenGL
-    failure may abort the process: the report's own process is unaffected). ``{system: result}``; with
-    ``wait=False`` a function returning it, so that the caller works while the process renders."""
+def render_all(jobs: list[dict]):
+    """Start rendering every job (``{"system", "out", "catalogue", "scenes": [(scene, series path)]}``) in one
+    separate process, whose MuJoCo is imported with ``MUJOCO_GL`` set (MuJoCo picks its OpenGL backend when imported,
+    and an OpenGL failure may abort the process: the report's own process is unaffected); returns the function that
+    waits for ``{system: result}``, so that the caller works while the process renders."""
     from concurrent.futures import ProcessPoolExecutor
     from multiprocessing import get_context
-
-    if not jobs:
-        return {} if wait else dict
 
     def failed(exc) -> dict:
         reason = f"rendering process failed ({backend()}): {type(exc).__name__}: {exc}"
         return {job["system"]: {"picture": None, "strips": {}, "error": reason} for job in jobs}
 
+    if not jobs:
+        return dict
     backend()  # the spawned process inherits the environment
     try:
         pool = ProcessPoolExecutor(1, mp_context=get_context("spawn"))
         future = pool.submit(_render_jobs, jobs)
     except Exception as exc:  # noqa: BLE001 - no process: the pages say so
-        return failed(exc) if wait else (lambda error=exc: failed(error))
+        return lambda error=exc: failed(error)
 
     def result() -> dict:
         try:
@@ -350,4 +349,4 @@ def render_all(jobs: list[dict], wait: bool = True):
             return failed(exc)
         finally:
             pool.shutdown()
-    return result() if wait else result
+    return result

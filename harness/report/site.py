@@ -327,7 +327,7 @@ def build_site(out: Path | str, catalogue=None, progress=None) -> dict:
     rendering = render_all([{"system": r["system"], "out": str(out), "catalogue": catalogue,
                              "scenes": [(sc.get("scene"), sc["series"]) for sc in r.get("scenes") or []
                                         if sc.get("series") and (out / sc["series"]).is_file()]}
-                            for r in records if r["system"] in systems], wait=False)
+                            for r in records if r["system"] in systems])
     pages = []   # the scene figures are drawn here while the mechanisms render in their own process
     for k, record in enumerate(records, 1):
         name = record["system"]
