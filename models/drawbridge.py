@@ -15,14 +15,22 @@ each turned by ``phi_B``: the map ``theta = phi(q)`` holds rope 1 and the rigid 
 does not enter (``h_A``). The bridge is a plate of length ``2 l_B``, the girder a bar of length ``2 l_T``: their
 inertias enter the motion of the scene only, not the balances the lecture prints.
 
-Only rope 2's force is an input of the equations of motion; the bearing forces (A.4), (A.8) and rope 1's force
-(A.3) are constraint forces, which the harness does not derive (they stay in the list of unclaimed equations).
+Only rope 2's force is an input of the equations of motion. Rope 2 pulls the girder's cylinder down at radius ``R``:
+the torque ``R f_S2`` and the force ``-f_S2 e_y`` at ``A`` (together the rope's pull on its line). The bearing forces
+and rope 1's force are constraint forces: rope 1 (``f_S1``, at ``l_s`` from each bearing, vertical: up on the bridge,
+down on the girder, (A.1b), (A.5b)) and the counterweight's arm (a torque that keeps the counterweight on the girder)
+are the two constraints of the map; ``f_B`` is the force of the joint at ``B`` on the bridge, ``f_A`` the force of
+the two joints at ``A`` on the girder and the counterweight. The balances (A.1)-(A.8) are claimed at rest, held by
+rope 2 (``f_S2`` from the equations of motion at each drawn ``phi_B``). Not claimed: (A.9), the counterweight for
+which rope 2 is slack (a parameter solved from a derived quantity).
 """
 
-from sympy import cos
+from sympy import Matrix, cos
 
-from harness.modeling import (WORLD, BodyTorque, Claim, Constant, Coordinate, Gravity, Inertia, Input, Joint, Link,
-                              Parameter, Scene, System, standard_gravity)
+from harness.derivation.bodies import joint_force
+from harness.modeling import (WORLD, BodyTorque, Claim, Constant, ConstraintForce, Coordinate, Gravity, Inertia, Input,
+                              Joint, Link, Parameter, Point, PointForce, Printed, Scene, System, printed_matrix,
+                              standard_gravity)
 
 m_B = Parameter("m_B", 1000.0, "kg", "mass of the bridge")
 m_T = Parameter("m_T", 500.0, "kg", "mass of the girder")
@@ -31,6 +39,7 @@ l_B = Parameter("l_B", 5.0, "m", "bearing B to the bridge's centre of gravity S_
 l_T = Parameter("l_T", 2.0, "m", "bearing A to the girder's centre of gravity S_T")
 l_m = Parameter("l_m", 3.0, "m", "bearing A to the counterweight")
 R = Parameter("R", 0.5, "m", "radius of the girder's cylinder that rope 2 winds on")
+l_s = Parameter("l_s", 4.0, "m", "bearing to rope 1 on the bridge and on the girder (equal arms)")
 h_A = Parameter("h_A", 6.0, "m", "height of bearing A above bearing B (does not enter)")
 I_B = Parameter("I_B", 1000.0 * 10.0**2 / 12, "kg m^2", "inertia of the bridge about S_B (plate of length 2 l_B)")
 I_T = Parameter("I_T", 500.0 * 4.0**2 / 12, "kg m^2", "inertia of the girder about S_T (bar of length 2 l_T)")
@@ -61,14 +70,45 @@ SYSTEM = System(
         Joint("phi_m", "revolute", WORLD, "counterweight", axis="z", origin=(0, h_A, 0), phi=phi_B),
     ),
     gravity=Gravity(g, (0, -1, 0)),
-    forces=(BodyTorque("rope_2", "girder", (0, 0, R * f_S2)),),
+    forces=(BodyTorque("rope_2", "girder", (0, 0, R * f_S2)),
+            PointForce("rope_2_pull", Point("girder"), (0, -f_S2, 0))),
+    constraint_forces=(
+        ConstraintForce("f_S1", forces=(("bridge", Point("bridge", (l_s, 0, 0)), (0, 1, 0)),
+                                        ("girder", Point("girder", (l_s, 0, 0)), (0, -1, 0)))),
+        ConstraintForce("tau_arm", torques=(("counterweight", (0, 0, 1)), ("girder", (0, 0, -1)))),
+    ),
     doc=__doc__,
 )
 
 # ----------------------------------------------------------------------------- the lecture's printed equations
+f_S1_p = Printed("f_S1", "N", "rope 1's force, (A.3)")
+f_B_p = printed_matrix("f_B", 2, 1, "N", "the bearing force at B, (A.4)")
+f_A_p = printed_matrix("f_A", 2, 1, "N", "the bearing force at A, (A.8)")
+_held = "holding:f_S2"
+_f_B = joint_force(SYSTEM, "phi_B")[:2, 0]
+_f_A = (joint_force(SYSTEM, "phi_A") + joint_force(SYSTEM, "phi_m"))[:2, 0]
+_bearing_A = "bearing A carries the girder and the counterweight: the forces of the joints phi_A and phi_m"
+
 CLAIMS = [
     Claim("(A.7)", "holding:f_S2", (m_B * g * l_B + m_T * g * l_T - m * g * l_m * cos(phi_B)) / R * cos(phi_B),
           "tensile force in rope 2 that holds the bridge at phi_B"),
+    Claim("(A.3)", "constraint:f_S1", m_B * g * l_B / l_s, "tensile force in rope 1", at=_held, defines=f_S1_p),
+    Claim("(A.4)", "parameter", Matrix([0, m_B * g * (1 - l_B / l_s)]), "bearing force at B", at=_held,
+          reference=_f_B, defines=f_B_p, note="the force of the joint at B on the bridge"),
+    Claim("(A.1a)", "eom", f_B_p[0], "force balance of the bridge in e_x", at=_held, ingredients=("(A.4)",)),
+    Claim("(A.1b)", "eom", f_B_p[1] - m_B * g + f_S1_p, "force balance of the bridge in e_y", at=_held,
+          ingredients=("(A.3)", "(A.4)")),
+    Claim("(A.2)", "eom", -m_B * g * l_B * cos(phi_B) + f_S1_p * l_s * cos(phi_B), "torque balance of the bridge about B",
+          at=_held, ingredients=("(A.3)",)),
+    Claim("(A.8)", "parameter", Matrix([0, m_B * g * (l_B / l_s + l_B / R * cos(phi_B))
+                                        + m_T * g * (1 + l_T / R * cos(phi_B)) - m * g * (1 + l_m / R * cos(phi_B))]),
+          "bearing force at A", at=_held, reference=_f_A, defines=f_A_p, note=_bearing_A),
+    Claim("(A.5a)", "eom", f_A_p[0], "force balance of the girder in e_x", at=_held, ingredients=("(A.8)",)),
+    Claim("(A.5b)", "eom", -m * g - f_S2 + f_A_p[1] - m_T * g - f_S1_p, "force balance of the girder in e_y",
+          at=_held, ingredients=("(A.3)", "(A.8)"), note="f_S2: rope 2's force, the input that holds the bridge"),
+    Claim("(A.6)", "eom", m * g * l_m * cos(phi_B) + f_S2 * R - m_T * g * l_T * cos(phi_B) - f_S1_p * l_s * cos(phi_B),
+          "torque balance of the girder about A", at=_held, ingredients=("(A.3)",),
+          note="f_S2: rope 2's force, the input that holds the bridge"),
 ]
 
 SCENES = [

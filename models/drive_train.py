@@ -29,12 +29,16 @@ The lecture gives only the moments of inertia about the axes of rotation. The bo
 mass on their axes) and their transverse moments of inertia never enter the dynamics (the bodies only
 turn about ``z``); they are set to a stated mass and to ``3/4`` of the axial moment (a physical tensor: a
 solid cylinder of length ``√1.5`` times its radius).
+
+The gear cut open (3.137) is the map's constraint: the torque ``tau_1`` on body 1 and ``tau_1^(m) = tau_1 / i_g``
+against the rotor, declared as one constraint force of magnitude ``tau_1``; (3.139) is claimed as it. Not claimed:
+(3.137) and (3.138a), which name ``tau_1^(m)``, a value the lecture does not print.
 """
 
 from sympy import Matrix, diag, diff
 
-from harness.modeling import (WORLD, BodyTorque, Claim, Constant, Coordinate, Inertia, Input, Joint, JointDamper,
-                              JointInput, JointSpring, Link, Parameter, Scene, Step, System)
+from harness.modeling import (WORLD, BodyTorque, Claim, Constant, ConstraintForce, Coordinate, Inertia, Input, Joint,
+                              JointDamper, JointInput, JointSpring, Link, Parameter, Printed, Scene, Step, System)
 
 I_m = Parameter("I_m", 0.002, "kg m^2", "moment of inertia of the motor's rotor")
 I_1 = Parameter("I_1", 0.5, "kg m^2", "moment of inertia of body 1 (gear output side)")
@@ -79,6 +83,8 @@ SYSTEM = System(
         JointInput("motor", "phi_m", tau_m),
         BodyTorque("load", "body_2", (0, 0, -tau_l)),  # b_e = [0, -1] (3.142)
     ),
+    # the gear cut open (3.137): tau_1 on body 1, tau_1^(m) = tau_1 / i_g against the rotor
+    constraint_forces=(ConstraintForce("tau_1", torques=(("body_1", (0, 0, 1)), ("rotor", (0, 0, -1 / i_g)))),),
     doc=__doc__,
 )
 
@@ -91,6 +97,8 @@ D = Matrix([[d, -d], [-d, d]])                     # (3.142)
 b_e, b_u = Matrix([0, -1]), Matrix([i_g, 0])       # (3.142)
 _read_as = "(3.141) M q̈ + D q̇ + K q = b_e τ_l + b_u τ_m read as g = K q, f_np = −D q̇ + b_e τ_l + b_u τ_m"
 
+tau_1_p = Printed("tau_1", "N m", "the gear torque on body 1, (3.139)")
+
 CLAIMS = [
     Claim("(3.136)", "parameter", 1 / i_g, "gear: φ̇_1 = (1/i_g) φ̇_m, the printed factor between the rates",
           reference=1 / diff(SYSTEM.joint("phi_m").phi, phi_1.symbol),
@@ -98,11 +106,11 @@ CLAIMS = [
                "model's joint map phi_m = i_g phi_1 (reference 1/(∂phi_m/∂phi_1))"),
     Claim("(3.138c)", "eom", I_2 * a_2 - (c * (phi_1 - phi_2) + d * (w_1 - w_2) - tau_l),
           "angular momentum balance of body 2, I_2 φ̈_2 = c (φ_1 − φ_2) + d (φ̇_1 − φ̇_2) − τ_l", index=(1,)),
-    Claim("(3.139)", "parameter", tau_m * i_g - I_m * i_g**2 * a_1,
-          "gear torque on the output side τ_1 = τ_m i_g − I_m i_g² φ̈_1",
-          reference=I_1 * a_1 + c * (phi_1 - phi_2) + d * (w_1 - w_2),
-          note="τ_1 is a constraint (gear) torque: compared with τ_1 = I_1 φ̈_1 + c (φ_1 − φ_2) + d (φ̇_1 − φ̇_2), "
-               "the angular momentum balance of body 1 (3.138b), at the derived accelerations"),
+    Claim("(3.139)", "constraint:tau_1", tau_m * i_g - I_m * i_g**2 * a_1,
+          "gear torque on the output side τ_1 = τ_m i_g − I_m i_g² φ̈_1", defines=tau_1_p),
+    Claim("(3.138b)", "eom", I_1 * a_1 - (tau_1_p - c * (phi_1 - phi_2) - d * (w_1 - w_2)),
+          "angular momentum balance of body 1, I_1 φ̈_1 = τ_1 − c (φ_1 − φ_2) − d (φ̇_1 − φ̇_2)", index=(0,),
+          ingredients=("(3.139)",)),
     Claim("(3.140a)", "eom", (I_1 + i_g**2 * I_m) * a_1 - (tau_m * i_g - c * (phi_1 - phi_2) - d * (w_1 - w_2)),
           "(I_1 + i_g² I_m) φ̈_1 = τ_m i_g − c (φ_1 − φ_2) − d (φ̇_1 − φ̇_2)", index=(0,)),
     Claim("(3.140b)", "eom", I_2 * a_2 - (c * (phi_1 - phi_2) + d * (w_1 - w_2) - tau_l),

@@ -26,12 +26,13 @@ stated mass and to ``3/4`` of the axial moment (a physical tensor), as in ``driv
 
 from harness.modeling import WORLD, BodyTorque, Constant, Joint, JointDamper, JointSpring, Link, Scene, Step, System
 # the same parameters, inputs, coordinates, bodies and printed equations as the rotor-body model (one place):
-# both models must satisfy (3.139)-(3.142), one through the gear map, one through the engines' armature
+# both models must satisfy (3.140)-(3.142), one through the gear map, one through the engines' armature
 from models.drive_train import CLAIMS as _CLAIMS
 from models.drive_train import I_1, I_2, I_m, c, d, disc_inertia, i_g, m_1, m_2, phi_1, phi_2, tau_l, tau_m
 
-# all but the gear map (3.136): its reference is the rotor's tree joint phi_m, which only drive_train has
-CLAIMS = [claim for claim in _CLAIMS if claim.equation != "(3.136)"]
+# all but the gear: the map (3.136) (its reference is the rotor's tree joint phi_m) and the gear torque tau_1 (3.139)
+# with the balance (3.138b) it enters, the gear's constraint force: only drive_train has the gear
+CLAIMS = [claim for claim in _CLAIMS if claim.equation not in ("(3.136)", "(3.138b)", "(3.139)")]
 
 __all__ = ["CLAIMS", "SCENES", "SYSTEM"]
 

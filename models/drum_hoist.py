@@ -22,13 +22,21 @@ turns about ``z`` only) and are set equal to ``I_T``, which is a physical tensor
 (it only translates).
 
 The spring force at rest (A.76), ``f_f = (r_i + r_a)/r_a m_B g``, is claimed as the equilibrium it
-implies with ``f_f = c (x_T - s_f0)`` (A.85): ``x_T* = s_f0 + (r_i + r_a) m_B g / (r_a c)``. Not transcribed
-as claims: the other static forces (A.70)-(A.75), (A.77) and the rope and friction forces (A.81), (A.84):
-they are constraint forces, which the harness does not compute.
+implies with ``f_f = c (x_T - s_f0)`` (A.85): ``x_T* = s_f0 + (r_i + r_a) m_B g / (r_a c)``.
+
+Constraint forces (the cutting forces of Figure A.16): the rope's force ``f_S`` pulls the drum at the top of its inner
+radius towards the pulley (``+x``) and the block up (``-y``); the rolling contact's tangential force ``f_t`` acts
+on the drum at its contact point in ``-x`` (the sense (A.73) gives it). The normal force ``f_n`` is the force of
+the joint ``x_T`` on the drum (``-y``, up). The lecture writes ``f_S``, ``f_t`` both for the static forces
+(A.70)-(A.77) and for the forces in motion (A.80)-(A.85) and notes that they differ: the claims name the latter
+``f_S_dyn``, ``f_t_dyn``. ``omega = phi_dot`` (the lecture's definition) with (A.78) and ``v_B = y_B_dot`` with
+(A.79) are written in ``x_T``. Not claimed: the pulley's bearing forces (A.71a-b) (the massless pulley is no body of
+the model).
 """
 
-from harness.modeling import (WORLD, Claim, Coordinate, Gravity, Inertia, Joint, JointSpring, Link, Parameter, Scene,
-                              System, standard_gravity)
+from harness.derivation.bodies import joint_force
+from harness.modeling import (WORLD, Claim, ConstraintForce, Coordinate, Gravity, Inertia, Joint, JointSpring, Link,
+                              Parameter, Point, Printed, Scene, System, standard_gravity)
 
 m_T = Parameter("m_T", 20.0, "kg", "mass of the drum")
 I_T = Parameter("I_T", 0.4, "kg m^2", "moment of inertia of the drum about its axis (through S)")
@@ -44,7 +52,7 @@ x_T = Coordinate("x_T", "m", "position of the drum's centre")
 SYSTEM = System(
     name="drum_hoist",
     title="Drum hoist",
-    lecture="Exercise A.8; (A.76), (A.78), (A.79), (A.86)",
+    lecture="Exercise A.8; (A.70)-(A.86)",
     coordinates=(x_T,),
     links=(
         Link("drum_centre", description="massless frame at the drum's centre S (merged with the drum in MuJoCo)"),
@@ -58,8 +66,18 @@ SYSTEM = System(
     ),
     gravity=Gravity(g, (0, 1, 0)),
     forces=(JointSpring("spring_f", "x_T", c, s_f0),),
+    constraint_forces=(
+        ConstraintForce("f_S", forces=(("drum", Point("drum_centre", (0, -r_i, 0)), (1, 0, 0)),
+                                       ("block", Point("block"), (0, -1, 0)))),
+        ConstraintForce("f_t", forces=(("drum", Point("drum_centre", (0, r_a, 0)), (-1, 0, 0)),)),
+    ),
     doc=__doc__,
 )
+
+f_S_p = Printed("f_S", "N", "the rope force at rest, (A.70)")
+f_t_p = Printed("f_t", "N", "the tangential force at the contact at rest, (A.75)")
+f_S_dyn = Printed("f_S_dyn", "N", "the rope force in motion, (A.81) (printed f_S)")
+f_t_dyn = Printed("f_t_dyn", "N", "the tangential force in motion, (A.84) (printed f_t)")
 
 CLAIMS = [
     Claim("(A.78)", "parameter", x_T / r_a, "rolling: angle of the drum phi = x_T / r_a",
@@ -73,6 +91,41 @@ CLAIMS = [
           "spring force at rest f_f = (1 + r_i/r_a) m_B g",
           note="printed as the spring force f_f; with f_f = c (x_T - s_f0) (A.85) the rest position is "
                "x_T* = s_f0 + f_f / c"),
+    # ---- at rest (A.70)-(A.77): the forces of the cut-free bodies at the equilibrium
+    Claim("(A.70)", "constraint:f_S", m_B * g, "rope force at rest f_S = f_gB = m_B g", at="equilibrium",
+          defines=f_S_p),
+    Claim("(A.72)", "parameter", m_T * g, "normal force on the drum at rest f_n = f_gT = m_T g", at="equilibrium",
+          reference=-joint_force(SYSTEM, "x_T")[1],
+          note="f_n acts on the drum in -e_y (up): the force of the joint x_T on the drum, its -y component"),
+    Claim("(A.73)", "eom", f_S_p - c * (x_T - s_f0) - f_t_p, "force balance of the drum in x at rest",
+          at="equilibrium", ingredients=("(A.70)", "(A.75) f_t"),
+          note="f_f = c (x_T - s_f0), the lecture's spring force"),
+    Claim("(A.74)", "eom", f_S_p * r_i + f_t_p * r_a, "torque balance of the drum about S at rest",
+          at="equilibrium", ingredients=("(A.70)", "(A.75) f_t")),
+    Claim("(A.75)", "constraint:f_t", -r_i / r_a * Printed("F_S", "N", "printed in (A.75)"),
+          "tangential force at rest f_t = -(r_i/r_a) F_S", at="equilibrium"),
+    Claim("(A.75) f_t", "constraint:f_t", -r_i / r_a * m_B * g, "tangential force at rest f_t = -(r_i/r_a) m_B g",
+          at="equilibrium", defines=f_t_p),
+    Claim("(A.77)", "eom", Printed("f_s", "N", "printed in (A.77)") * (r_i + r_a) - c * (x_T - s_f0) * r_a,
+          "torque balance of the drum about the contact point M at rest", at="equilibrium",
+          note="f_f = c (x_T - s_f0), the lecture's spring force"),
+    # ---- in motion (A.80)-(A.85)
+    Claim("(A.80)", "eom", m_B * (r_i + r_a) / r_a * x_T.accel - (m_B * g - f_S_dyn),
+          "momentum balance of the block", ingredients=("(A.81)",),
+          note="v_B = y_B_dot with (A.79): d/dt v_B = (r_i + r_a)/r_a x_T_ddot"),
+    Claim("(A.81)", "constraint:f_S", m_B * (g - (r_i + r_a) / r_a * x_T.accel), "rope force in motion",
+          defines=f_S_dyn, note="printed for v_T_dot with v_T = x_T_dot: read as x_T_ddot"),
+    Claim("(A.82)", "eom", I_T * x_T.accel / r_a - (f_S_dyn * r_i + f_t_dyn * r_a),
+          "angular momentum balance of the drum about S", ingredients=("(A.81)", "(A.84)"),
+          note="omega = phi_dot with (A.78): d/dt omega = x_T_ddot / r_a"),
+    Claim("(A.83)", "constraint:f_t", (I_T * x_T.accel / r_a - f_S_dyn * r_i) / r_a, "tangential force in motion",
+          ingredients=("(A.81)",), note="omega = phi_dot with (A.78): d/dt omega = x_T_ddot / r_a"),
+    Claim("(A.84)", "constraint:f_t", (r_i * (r_i + r_a) * m_B + I_T) * x_T.accel / r_a**2 - r_i / r_a * m_B * g,
+          "tangential force in motion with (A.81), (A.78)", defines=f_t_dyn,
+          note="printed for v_T_dot with v_T = x_T_dot: read as x_T_ddot"),
+    Claim("(A.85)", "eom", m_T * x_T.accel - (f_S_dyn - c * (x_T - s_f0) - f_t_dyn),
+          "momentum balance of the drum in x", ingredients=("(A.81)", "(A.84)"),
+          note="printed for v_T_dot with v_T = x_T_dot: read as x_T_ddot"),
 ]
 
 SCENES = [

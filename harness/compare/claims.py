@@ -107,8 +107,59 @@ def _derived(system: System, claim: Claim):
     """The derived symbolic quantity the claim is compared with (also the 'corrected' expression)."""
     key = (id(system), id(claim))
     if key not in _DERIVED:
-        _DERIVED[key] = _derive_claimed(system, claim)
+        derived = _derive_claimed(system, claim)
+        _DERIVED[key] = derived.xreplace(at_rest(system, claim)) if claim.at else derived
     return _DERIVED[key]
+
+
+def _holding_value(system: System, name: str) -> sp.Expr:
+    """The input ``name`` that holds the system at rest at ``q``: ``g(q) − f_np(q, 0, u) = 0`` solved for it, the
+    other inputs 0."""
+    d = compiled(system).derivation
+    u = sp.Symbol(name, real=True)
+    rest = {x: 0 for x in [*system.qd, *system.u] if x != u}
+    row = next((e for e in (d.g - d.f_np).xreplace(rest) if e.has(u)), None)
+    if row is None:
+        raise ValueError(f"{system.name}: the input {u} does not act on the system (holding claim)")
+    return sp.solve(row, u)[0]
+
+
+def on_motion(system: System, largest: int = 3) -> dict | None:
+    """``q̈ = M⁻¹ (f_np − C q̇ − g)`` (5.99) as a substitution of the coordinates' accelerations, for a symbolic
+    decision of a statement that holds on the motion only (None above ``largest`` coordinates)."""
+    if len(system.coordinates) > largest:
+        return None
+    d = compiled(system).derivation
+    qdd = d.M.LUsolve(d.f_np - d.C * sp.Matrix(system.qd) - d.g)
+    return {c.accel: e for c, e in zip(system.coordinates, qdd)}
+
+
+_AT_REST: dict = {}
+
+
+def at_rest(system: System, claim: Claim) -> dict:
+    """The substitution that puts a claim's state at rest (``Claim.at``): ``q̇ = q̈ = 0`` and either the inputs 0
+    and ``q`` the system's one equilibrium (``g(q) − f_np(q, 0, 0) = 0`` solved), or the named input at its holding
+    value and the others 0."""
+    key = (id(system), claim.at)
+    if key in _AT_REST:
+        return _AT_REST[key]
+    rest = {**{x: 0 for x in system.qd}, **{c.accel: 0 for c in system.coordinates}}
+    if claim.at == "equilibrium":
+        d = compiled(system).derivation
+        zero = {**rest, **{u: 0 for u in system.u}}
+        solutions = sp.solve(list((d.g - d.f_np).xreplace(zero)), system.q, dict=True)
+        if len(solutions) != 1 or set(solutions[0]) != set(system.q):
+            raise ValueError(f"{system.name}: a claim at the equilibrium needs one equilibrium in closed form; "
+                             f"found {len(solutions)}")
+        rest.update(zero)
+        rest.update(solutions[0])
+    else:
+        name = claim.at.split(":", 1)[1]
+        rest.update({u: 0 for u in system.u})
+        rest[sp.Symbol(name, real=True)] = _holding_value(system, name)
+    _AT_REST[key] = rest
+    return rest
 
 
 def _derive_claimed(system: System, claim: Claim):
@@ -119,13 +170,7 @@ def _derive_claimed(system: System, claim: Claim):
         rest = {x: 0 for x in [*system.qd, *system.u]}
         return sp.Matrix(d.g - d.f_np.xreplace(rest))
     if kind == "holding":  # the input that holds the system at rest at q: g(q) − f_np(q, 0, u) = 0 solved for it
-        u = sp.Symbol(claim.quantity.split(":", 1)[1], real=True)
-        rest = {x: 0 for x in [*system.qd, *system.u] if x != u}
-        residual = (d.g - d.f_np).xreplace(rest)
-        row = next((e for e in residual if e.has(u)), None)
-        if row is None:
-            raise ValueError(f"{system.name}: the input {u} does not act on the system (holding claim)")
-        return sp.Matrix([sp.solve(row, u)[0]])
+        return sp.Matrix([_holding_value(system, claim.quantity.split(":", 1)[1])])
     if kind == "eom":
         qdd = sp.Matrix([co.accel for co in system.coordinates])
         expr = d.M * qdd + d.C * sp.Matrix(system.qd) + d.g - d.f_np
@@ -134,6 +179,12 @@ def _derive_claimed(system: System, claim: Claim):
         expr = _point(system, name)
     elif kind == "force":
         expr = element_force(system, claim.quantity.split(":", 1)[1])
+    elif kind == "constraint":  # a rope's, a contact's ... force: the map's constraint force (3.104)
+        name = claim.quantity.split(":", 1)[1]
+        forces = bodies.constraint_forces(system)
+        if name not in forces:
+            raise ValueError(f"{system.name}: no constraint force named {name!r} (declared: {sorted(forces)})")
+        expr = forces[name]
     elif kind == "f_np" and ":" in claim.quantity:
         expr = element_generalized_force(system, claim.quantity.split(":", 1)[1])
     elif kind == "v":  # (4.64): the point's velocity J_v q̇ in the inertial frame
@@ -343,6 +394,25 @@ def _value_of(claim: Claim, ev):
     return {"M": ev.M, "C": ev.C, "Cqd": ev.Cqd, "g": ev.g}[claim.quantity]
 
 
+def _terms_size(system: System, expr, key, args) -> float:
+    """``max Σ |t|`` over the entries of ``expr``, ``t`` the terms of each entry's sum: the scale its round-off is
+    relative to."""
+    size = _lambdify(system, _as_matrix(expr).applyfunc(lambda e: sum(map(abs, sp.Add.make_args(e)))), key=key)
+    return float(np.max(np.abs(np.asarray(size(*args), dtype=float)), initial=0.0))
+
+
+def _state_at_rest(system: System, claim: Claim, state: State) -> State:
+    """The drawn state put at rest as :func:`at_rest` says: the drawn parameters (and ``q``, when the system is held
+    there by an input)."""
+    rest = at_rest(system, claim)
+    n = len(system.coordinates)
+    args = (state.q, np.zeros(n), np.zeros(n), state.p, np.zeros(len(system.u)))
+    values = [rest.get(x, x) for x in (*system.q, *system.u)]
+    at = np.asarray(_lambdify(system, values, key=("at rest", id(system), claim.at))(*args), dtype=float).ravel()
+    inputs = {i.name: float(v) for i, v in zip(system.inputs, at[n:])}
+    return State.make(system, at[:n], np.zeros(n), state.params, inputs)
+
+
 def evaluate_claim(system: System, claim: Claim, state: State, engines=CLAIM_ENGINES,
                    substitution: dict | None = None) -> dict[str, float]:
     """Relative error of the printed expression against each source at one state (relative to tolerance:
@@ -382,6 +452,8 @@ def evaluate_claim(system: System, claim: Claim, state: State, engines=CLAIM_ENG
         evaluations, s, kappa = _engine_values(claim, state, engines)
         return {source: relative_error(ev.qdd, np.zeros(n), s["qdd"]) / (FLOAT64_RTOL * kappa)
                 for source, ev in evaluations.items()}
+    if claim.at:
+        state = _state_at_rest(system, claim, state)
     evaluations, s, kappa = _engine_values(claim, state, engines)
     out = {}
     for source, ev in evaluations.items():
@@ -394,6 +466,9 @@ def evaluate_claim(system: System, claim: Claim, state: State, engines=CLAIM_ENG
             coefficients = np.abs(np.asarray(_accel_coefficients(system, printed, key)(*args), dtype=float))
             terms = s["qdd"] * float(np.max(coefficients)) if np.any(coefficients) else \
                 max(s["qdd"] * float(np.max(np.abs(ev.M))), s["g"])
+            # and at least the size of its own terms: a residual whose q̈ terms cancel (a balance its printed
+            # ingredients satisfy identically) is round-off of those terms, not of its vanished coefficient
+            terms = max(terms, _terms_size(system, printed, ("terms",) + key, args))
             residual = value
             out[source] = relative_error(residual, np.zeros_like(residual), terms) / (FLOAT64_RTOL * kappa)
             continue
@@ -414,6 +489,10 @@ def evaluate_claim(system: System, claim: Claim, state: State, engines=CLAIM_ENG
                      "I_0": s["M"], "dL_dqd": momentum, "ddt_dL_dqd": max(s["g"], energy),
                      "dL_dq": max(s["g"], energy),
                      "v_squared": max(1.0, float(np.max(np.abs(state.qd)))) ** 2}.get(kind, 1.0)
+            # at least the size of the terms either side is the sum of: a value that cancels to 0 (a bearing
+            # force's component) is compared at the round-off of its terms
+            scale = max(scale, _terms_size(system, printed, ("terms", id(system), id(claim), id(substitution)), args),
+                        _terms_size(system, _derived(system, claim), ("terms derived", id(system), id(claim)), args))
         else:
             continue
         reference = np.asarray(reference, dtype=float).reshape(value.shape)
@@ -608,7 +687,7 @@ def record_fields(system: System, verdict: Classification, claims) -> dict:
     from harness.report.errata import finding
 
     out = {"decided_by": verdict.decided_by, "renaming": verdict.renaming, "blame": verdict.blame,
-           "ingredients": list(verdict.claim.ingredients)}
+           "ingredients": list(verdict.claim.ingredients), "where": verdict.claim.where}
     if verdict.classification not in ("confirmed", "C differs, C·q̇ agrees"):
         out.update(finding(system, verdict, claims))
     return out

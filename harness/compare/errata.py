@@ -85,11 +85,24 @@ def undefined(claim: Claim, claims) -> list[tuple[sp.Symbol, str]]:
             if sp.Symbol(n, real=True) not in defined]
 
 
-def candidates(system: System, unit: str) -> list[sp.Symbol]:
-    """The model's own symbols of ``unit``: parameters, coordinates, inputs."""
+def candidates(system: System, unit: str, claims=()) -> list[sp.Symbol]:
+    """The model's own symbols of ``unit`` — parameters, coordinates, inputs — and the printed symbols of ``unit``
+    that the system's ``claims`` define (a force the lecture names and another equation prints, e.g. ``f_S``)."""
     out = [p.symbol for p in system.parameters if p.unit == unit]
     out += [c.symbol for c in system.coordinates if c.unit == unit]
     out += [i.symbol for i in system.inputs if i.unit == unit]
+    units = {name: u for c in claims for name, u in c.printed_only}
+    out += [s for c in claims for s in c.defined if units.get(s.name) == unit and s not in out]
+    return out
+
+
+def _defined_values(system: System, claims) -> dict:
+    """Each symbol the claims define → its printed value (their own ingredients resolved)."""
+    out: dict = {}
+    for c in claims:
+        if c.defined:
+            values = as_matrix(c.printed).xreplace(substitution(system, c, claims, "printed"))
+            out.update(zip(c.defined, list(values)))
     return out
 
 
@@ -162,11 +175,14 @@ def _renamed(system, claim, engines, examples, claims, printed, missing):
     """A claim with printed symbols the model lacks: search the renamings over the model's own symbols."""
     from harness.compare.claims import Classification, classify_as_printed, holds
 
-    options = [[(symbol, y) for y in candidates(system, unit)] for symbol, unit in missing]
+    others = [c for c in claims if c is not claim]
+    options = [[(symbol, y) for y in candidates(system, unit, others)] for symbol, unit in missing]
+    defined = _defined_values(system, others)
     tried = []
     for combination in itertools.islice(itertools.product(*options), RENAMINGS):
         renaming = dict(combination)
-        full = {**{k: v.xreplace(renaming) for k, v in printed.items()}, **renaming}
+        values = {k: defined.get(v, v) for k, v in renaming.items()}  # a printed symbol stands for its value
+        full = {**{k: v.xreplace(values) for k, v in printed.items()}, **values}
         tried.append(renaming)
         if not holds(system, claim, (), SCREEN_EXAMPLES, full, shrink=False):
             continue
@@ -186,7 +202,8 @@ def _renamed(system, claim, engines, examples, claims, printed, missing):
     def closeness(renaming):
         return -sum(difflib.SequenceMatcher(None, str(k), str(v)).ratio() for k, v in renaming.items())
     best = min(tried, key=closeness)
-    full = {**{k: v.xreplace(best) for k, v in printed.items()}, **best}
+    values = {k: defined.get(v, v) for k, v in best.items()}
+    full = {**{k: v.xreplace(values) for k, v in printed.items()}, **values}
     verdict = classify_as_printed(system, claim, engines, examples, full)
     verdict.classification = "erratum"
     verdict.renaming = {}
@@ -225,9 +242,14 @@ def reduce(expr, seconds: float = SYMBOLIC_BUDGET):
 
 
 def is_zero(matrix, seconds: float = SYMBOLIC_BUDGET) -> bool:
-    matrix = as_matrix(matrix)
-    share = seconds / max(1, len(matrix))
-    return all(reduce(e, share)[1] for e in matrix)
+    """Whether every entry reduces to 0 within ``seconds`` of CPU for the whole matrix (a pool, not a share per
+    entry: one slow entry of a 3×3 matrix does not run out of a ninth of the budget)."""
+    deadline = time.process_time() + seconds
+    for e in as_matrix(matrix):
+        left = deadline - time.process_time()
+        if left <= 0 or not reduce(e, left)[1]:
+            return False
+    return True
 
 
 def difference(system: System, claim: Claim, subst: dict | None):
@@ -235,8 +257,15 @@ def difference(system: System, claim: Claim, subst: dict | None):
     defines equality: V up to a constant (its gradient), C·q̇ for Cqd, eom rows up to a factor."""
     from harness.compare.claims import _derived
 
+    from harness.compare.claims import at_rest, on_motion
+
     printed = as_matrix(claim.printed).xreplace(subst or {})
+    if claim.at:
+        printed = printed.xreplace(at_rest(system, claim))
     kind = claim.quantity.split(":")[0]
+    if kind == "constraint" and not claim.at:  # holds on the motion: q̈ from the equations of motion
+        motion = on_motion(system)
+        return None if motion is None else (printed - as_matrix(_derived(system, claim))).xreplace(motion)
     if kind == "equilibrium":
         d = _derived(system, claim)
         return d.xreplace(dict(zip(system.q, list(printed))))

@@ -7,13 +7,15 @@ these kinds (``R:``, ``S:``, ``omega:``, ``I_0:``, ``T_t:``, ``T_r:``, ``V:``) a
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 
+import numpy as np
 import sympy as sp
 
 from harness.derivation.kinematics import link_poses, point_position
-from harness.modeling.system import (WORLD, BodyTorque, Damper, JointDamper, JointInput, Point, PointForce, Spring,
-                                    System)
+from harness.modeling.system import (WORLD, BodyTorque, Damper, JointDamper, JointInput, JointSpring, Point,
+                                    PointForce, Spring, System)
 
 
 def _in_q(system: System, expr):
@@ -179,33 +181,174 @@ def solid_volume(solid) -> sp.Expr:
 
 
 # --------------------------------------------------------------------------- cut forces
+def acceleration(system: System, p: sp.Matrix) -> sp.Matrix:
+    """``p̈ = J q̈ + J̇ q̇`` of a position ``p(q)`` (4.64) differentiated, in ``q, q̇, q̈``."""
+    q, qd = system.q, sp.Matrix(system.qd)
+    J = p.jacobian(q)
+    return (J * qd).jacobian(q) * qd + J * sp.Matrix([c.accel for c in system.coordinates])
+
+
+def _skew(r: sp.Matrix) -> sp.Matrix:
+    return sp.Matrix([[0, -r[2], r[1]], [r[2], 0, -r[0]], [-r[1], r[0], 0]])
+
+
+def _material_jacobian(system: System, poses, link: str, at: Point) -> sp.Matrix:
+    """``∂p/∂θ`` of the material point of ``link`` that is at ``at`` now (a point of any frame): ``δp = δd + δω ×
+    (p − d)`` (4.64), in lecture coordinates."""
+    pose = poses[_frame(system, link)]
+    r = point_position(poses, at) - pose.d
+    return _in_q(system, pose.d.jacobian(system.theta) - _skew(r) * pose.J_omega_theta)
+
+
+def joint_space_balance(system: System) -> sp.Matrix:
+    """What the tree joints' constraints must supply, one row per tree joint ``θ``: the momentum rates of every body
+    minus the applied forces, projected on the joint's motion (3.104), (3.105), (5.58) —
+    ``Σ J_vᵀ (m p̈ − m g e_g) + J_ωᵀ (I_0 ω̇ + ω × I_0 ω) − Σ (applied)`` with the Jacobians taken in ``θ`` —
+    in ``q, q̇, q̈``. ``(∂φ/∂q)ᵀ`` of it is ``M q̈ + C q̇ + g − f_np``; a joint coupled by the map carries the
+    rest, which :func:`constraint_forces` splits into the constraints' forces."""
+    poses, theta = link_poses(system), system.theta
+    n = len(theta)
+    qd = sp.Matrix(system.qd)
+    e_g = sp.Matrix(system.gravity.direction) if system.gravity is not None else sp.zeros(3, 1)
+    g = sp.sympify(system.gravity.g) if system.gravity is not None else sp.Integer(0)
+    rows = sp.zeros(n, 1)
+    for link in system.links:
+        if not link.has_mass:
+            continue
+        m = sp.sympify(link.mass)
+        J_v = _material_jacobian(system, poses, link.name, Point(link.name, link.com))
+        rows += J_v.T * (m * acceleration(system, centre_of_mass(system, link.name)) - m * g * e_g)
+        inertia = link.inertia.matrix
+        if any(e != 0 for e in inertia):
+            w = angular_velocity(system, link.name)
+            w_dot = _rate(system, w)
+            I_0 = inertia_in_inertial_frame(system, link.name)
+            J_w = _in_q(system, poses[link.name].J_omega_theta)
+            rows += J_w.T * (I_0 * w_dot + w.cross(I_0 * w))
+    J_phi = system.phi.jacobian(system.q)
+    theta_dot = J_phi * qd
+    for k, joint in enumerate(system.joints):
+        if sp.sympify(joint.armature) != 0:
+            rows[k] += joint.armature * _rate(system, sp.Matrix([theta_dot[k]]))[0]
+    return rows - _applied_in_theta(system, poses, theta_dot)
+
+
+def _rate(system: System, expr: sp.Matrix) -> sp.Matrix:
+    """``d/dt`` of an expression in ``q, q̇`` along the motion (``q̈`` as the coordinates' ``accel``)."""
+    accel = sp.Matrix([c.accel for c in system.coordinates])
+    return expr.jacobian(system.q) * sp.Matrix(system.qd) + expr.jacobian(system.qd) * accel
+
+
+def _applied_in_theta(system: System, poses, theta_dot: sp.Matrix) -> sp.Matrix:
+    """The applied forces' generalized forces in the tree joints ``θ`` (5.73), in lecture coordinates: springs and
+    dampers ``J_rᵀ f``, external forces and torques ``J_vᵀ f^e``, ``J_ωᵀ τ^e``, and a joint's own spring, damper
+    and input in its row. Gravity is in :func:`joint_space_balance`."""
+    n = len(system.joints)
+    rows = sp.zeros(n, 1)
+    index = {j.name: k for k, j in enumerate(system.joints)}
+    for f in system.forces:
+        if isinstance(f, (Spring, Damper)):
+            J_r = (_material_jacobian(system, poses, f.b.link, f.b) if f.b.link != WORLD else sp.zeros(3, n)) - (
+                _material_jacobian(system, poses, f.a.link, f.a) if f.a.link != WORLD else sp.zeros(3, n))
+            rows += J_r.T * element_force(system, f.name)
+        elif isinstance(f, PointForce):
+            vector = sp.Matrix(f.force)
+            if f.frame != WORLD:
+                vector = rotation_matrix(system, f.frame) * vector
+            rows += _material_jacobian(system, poses, f.point.link, f.point).T * vector
+        elif isinstance(f, BodyTorque):
+            vector = sp.Matrix(f.torque)
+            if f.frame != WORLD:
+                vector = rotation_matrix(system, f.frame) * vector
+            rows += _in_q(system, poses[f.link].J_omega_theta).T * vector
+        elif isinstance(f, JointSpring):
+            k = index[f.joint]
+            rows[k] += -sp.sympify(f.stiffness) * (system.phi[k] - sp.sympify(f.rest))
+        elif isinstance(f, JointDamper):
+            rows[index[f.joint]] += -sp.sympify(f.damping) * theta_dot[index[f.joint]]
+        elif isinstance(f, JointInput):
+            rows[index[f.joint]] += sp.Symbol(f.input, real=True)
+    return rows
+
+
+def constraint_directions(system: System) -> sp.Matrix:
+    """One column per :class:`ConstraintForce`: its generalized force per unit magnitude in the tree joints,
+    ``Σ J_vᵀ direction + Σ J_ωᵀ axis`` (5.73), in lecture coordinates."""
+    poses = link_poses(system)
+    columns = []
+    for cf in system.constraint_forces:
+        column = sp.zeros(len(system.joints), 1)
+        for link, at, direction in cf.forces:
+            column += _material_jacobian(system, poses, link, at).T * sp.Matrix(direction)
+        for link, axis in cf.torques:
+            column += _in_q(system, poses[_frame(system, link)].J_omega_theta).T * sp.Matrix(axis)
+        columns.append(column)
+    return sp.Matrix.hstack(*columns) if columns else sp.zeros(len(system.joints), 0)
+
+
+_CONSTRAINT_FORCES: dict = {}
+
+
+def constraint_forces(system: System) -> dict[str, sp.Expr]:
+    """The magnitude ``λ`` of each declared :class:`ConstraintForce`, in ``q, q̇, q̈`` (at the q̈ of the motion: the
+    balance holds only there): the tree's balance :func:`joint_space_balance` ``= A λ`` with ``A`` the constraint
+    directions (the principle of cutting free, (3.104), in the tree joints). The declaration is checked first: the
+    forces do no work on the motions the map allows (``(∂φ/∂q)ᵀ A = 0``, ideal constraints) and there is one per
+    constraint (``A`` has rank ``len(θ) − len(q)``), else ValueError naming what is wrong."""
+    key = system.fingerprint()
+    if key in _CONSTRAINT_FORCES:
+        return _CONSTRAINT_FORCES[key]
+    from harness.derivation.derive import _simplify
+
+    names = [cf.name for cf in system.constraint_forces]
+    needed = len(system.joints) - len(system.coordinates)
+    if len(names) != needed:
+        raise ValueError(f"{system.name}: {len(system.joints)} tree joints and {len(system.coordinates)} "
+                         f"coordinates: declare {needed} constraint force(s) (the map's constraints), not "
+                         f"{len(names)}")
+    A = constraint_directions(system)
+    if names:
+        J_phi = system.phi.jacobian(system.q)
+        at = {s: 0.3 + 0.17 * k for k, s in enumerate(system.q)}
+        at.update({p.symbol: float(p.default) for p in system.parameters})
+        A_num = np.array(A.xreplace(at).evalf(), dtype=float)
+        work = np.array((J_phi.T * A).xreplace(at).evalf(), dtype=float)
+        if np.max(np.abs(work)) > 1e-9 * max(1.0, float(np.max(np.abs(A_num)))):
+            raise ValueError(f"{system.name}: the constraint forces {names} do work on the motions the map allows "
+                             f"((dphi/dq)^T A = {work.round(6).tolist()} at a generic state): wrong point or direction")
+    balance = joint_space_balance(system)
+    if names:  # the rows λ is solved from: a regular square block of A, the one with the shortest balance rows
+        regular = [list(r) for r in itertools.combinations(range(A_num.shape[0]), len(names))
+                   if np.linalg.matrix_rank(A_num[list(r), :], tol=1e-9) == len(names)]
+        if not regular:
+            raise ValueError(f"{system.name}: the constraint forces {names} are not independent")
+        rows = min(regular, key=lambda r: sum(sp.count_ops(balance[k]) for k in r))
+    solved = A.extract(rows, list(range(len(names)))).LUsolve(balance.extract(rows, [0])) if names else []
+    result = _CONSTRAINT_FORCES[key] = {name: _simplify(value) for name, value in zip(names, solved)}
+    return result
+
+
 def joint_force(system: System, joint: str) -> sp.Matrix:
     """The force the joint ``joint`` exerts on everything it carries, inertial frame, by the momentum balance of that
-    subtree cut free (3.104): ``f = Σ m_i p̈_i − Σ m_i g e_g − Σ f^e`` over its bodies and the external forces on them
-    (point forces, springs and dampers with one end in the subtree), in ``q, q̇, q̈``. Only for a tree whose joint
-    coordinates are the lecture's coordinates: a map ``θ = φ(q)`` stands for a rope, gear or rolling contact whose
-    forces the tree does not carry."""
+    subtree cut free (3.104): ``f = Σ m_i p̈_i − Σ m_i g e_g − Σ f^e`` over its bodies and the forces on them from
+    outside (point forces, springs and dampers with one end in the subtree, the declared constraint forces of a map
+    ``θ = φ(q)`` — a rope, gear or rolling contact — with their magnitudes from :func:`constraint_forces`), in
+    ``q, q̇, q̈``."""
     from harness.derivation.derive import _identity_map
 
-    if _identity_map(system) is None:
-        raise ValueError(f"{system.name}: its joints are coupled by a map theta = phi(q) (a rope, gear or contact): "
-                         "the cut force of a joint is not the tree's")
+    if _identity_map(system) is None and len(system.constraint_forces) != len(system.joints) - len(system.coordinates):
+        raise ValueError(f"{system.name}: its joints are coupled by a map theta = phi(q) (a rope, gear or contact) "
+                         "whose constraint forces the model does not declare: the cut force of a joint is not the "
+                         "tree's")
     cut = system.joint(joint)
     carried = {link.name for link in system.links if cut in system.chain(link.name)}
-    q, qd = system.q, sp.Matrix(system.qd)
-    qdd = sp.Matrix([c.accel for c in system.coordinates])
-
-    def acceleration(p):
-        J = p.jacobian(q)
-        return (J * qd).jacobian(q) * qd + J * qdd
-
     force = sp.zeros(3, 1)
     e_g = sp.Matrix(system.gravity.direction) if system.gravity is not None else sp.zeros(3, 1)
     g = sp.sympify(system.gravity.g) if system.gravity is not None else 0
     for link in system.links:
         if link.name in carried and link.has_mass:
             m = sp.sympify(link.mass)
-            force += m * acceleration(centre_of_mass(system, link.name)) - m * g * e_g
+            force += m * acceleration(system, centre_of_mass(system, link.name)) - m * g * e_g
     for element in system.forces:
         if isinstance(element, PointForce) and element.point.link in carried:
             vector = sp.Matrix(element.force)
@@ -217,6 +360,11 @@ def joint_force(system: System, joint: str) -> sp.Matrix:
             if a_in != b_in:  # the element's force on b is f, on a −f (3.84)
                 f = element_force(system, element.name)
                 force -= f if b_in else -f
+    magnitudes = constraint_forces(system) if system.constraint_forces else {}
+    for cf in system.constraint_forces:
+        for link, _, direction in cf.forces:
+            if link in carried:
+                force -= magnitudes[cf.name] * sp.Matrix(direction)
     return _in_q(system, force)
 
 

@@ -13,11 +13,11 @@ depends on SymPy and NumPy only: loading the catalogue loads no engine.
 from harness.modeling.claims import Claim, Printed, printed_matrix
 from harness.modeling.events import LiftOff, RollSlip, StickSlip
 from harness.modeling.scenes import Bump, Constant, Scene, Sine, Step
-from harness.modeling.system import (WORLD, BodyTorque, Closure, Coordinate, Damper, Gravity, Inertia, Input, Joint,
-                                     JointDamper, JointInput, JointSpring, Link, Parameter, Point, PointForce, Spring,
-                                     System, standard_gravity, steiner)
+from harness.modeling.system import (WORLD, BodyTorque, Closure, ConstraintForce, Coordinate, Damper, Gravity,
+                                     Inertia, Input, Joint, JointDamper, JointInput, JointSpring, Link, Parameter, Point,
+                                     PointForce, Spring, System, standard_gravity, steiner)
 
-__all__ = ["WORLD", "BodyTorque", "Bump", "Claim", "Closure", "Constant", "Coordinate", "Damper", "Gravity",
-           "Inertia", "Input", "Joint", "JointDamper", "JointInput", "JointSpring", "LiftOff", "Link", "Parameter",
+__all__ = ["WORLD", "BodyTorque", "Bump", "Claim", "Closure", "Constant", "ConstraintForce", "Coordinate", "Damper",
+           "Gravity", "Inertia", "Input", "Joint", "JointDamper", "JointInput", "JointSpring", "LiftOff", "Link", "Parameter",
            "Point", "PointForce", "Printed", "printed_matrix", "RollSlip", "Scene", "Sine", "Spring", "Step", "StickSlip", "System",
            "standard_gravity", "steiner"]

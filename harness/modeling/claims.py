@@ -24,9 +24,14 @@ QUANTITIES = ENGINE_QUANTITIES | {"f_np", "T", "V", "L", "eom", "parameter", "eq
 # potential (5.20), up to a constant like V);
 # "steady:<coordinate>" (the value of that coordinate in a steady state: at rest in it, no input, the other
 # rates as drawn; states where the printed value is not real lie outside its stated domain);
-# "L" (the Lagrange function, up to a constant), "dL_dqd:<q>", "ddt_dL_dqd:<q>", "dL_dq:<q>" (the terms of (5.69))
-KINDS_WITH_ARGUMENT = {"position", "v", "a", "v_squared", "J_v", "J_omega", "force", "f_np", "holding", "R", "S", "omega", "I_0",
-                       "T_t", "T_r", "V", "steady", "dL_dqd", "ddt_dL_dqd", "dL_dq"}
+# "L" (the Lagrange function, up to a constant), "dL_dqd:<q>", "ddt_dL_dqd:<q>", "dL_dq:<q>" (the terms of (5.69));
+# "constraint:<name>" (the magnitude of a declared ConstraintForce: a rope, rolling contact, ... force)
+KINDS_WITH_ARGUMENT = {"position", "v", "a", "v_squared", "J_v", "J_omega", "force", "f_np", "holding", "R", "S",
+                       "omega", "I_0", "T_t", "T_r", "V", "steady", "dL_dqd", "ddt_dL_dqd", "dL_dq", "constraint"}
+AT_REST = ("equilibrium", "holding:")
+"""``Claim.at``: where a statement about the system at rest holds — ``"equilibrium"`` (``q̇ = 0`` at the system's
+one equilibrium, no input) or ``"holding:<input>"`` (``q̇ = 0`` at any ``q``, held there by that input, the others
+0); empty: at every state, with ``q̈`` from the equations of motion."""
 
 
 class Printed(Declared):
@@ -64,11 +69,15 @@ class Claim:
     defines: object = None              # Printed symbol(s) whose printed value this claim states (e.g. m_S)
     ingredients: tuple = ()             # equations of the claims whose defined symbols this claim uses
     printed_only: tuple = ()            # (name, unit) of every Printed symbol used; filled in, not given
+    at: str = ""                        # "", "equilibrium" or "holding:<input>": a statement at rest (AT_REST)
 
     def __post_init__(self):
         kind = self.quantity.split(":")[0]
         if kind not in QUANTITIES | KINDS_WITH_ARGUMENT:
             raise ValueError(f"claim {self.equation}: unknown quantity {self.quantity!r}")
+        if self.at and (not (self.at == AT_REST[0] or self.at.startswith(AT_REST[1])) or kind in ("equilibrium", "holding", "steady")):
+            raise ValueError(f"claim {self.equation}: at={self.at!r}: use 'equilibrium' or 'holding:<input>', "
+                             f"and not with a {kind} claim (which is at rest already)")
         if isinstance(self.ingredients, str):
             object.__setattr__(self, "ingredients", (self.ingredients,))
         found: list = []
@@ -78,6 +87,15 @@ class Claim:
         if not self.printed_only:
             units = {s.name: s.unit for s in found if isinstance(s, Printed)}
             object.__setattr__(self, "printed_only", tuple(sorted(units.items())))
+
+    @property
+    def where(self) -> str:
+        """Where the statement holds, in words (``at``): empty for every state."""
+        if not self.at:
+            return ""
+        if self.at == "equilibrium":
+            return "at rest at the equilibrium"
+        return f"at rest, held by the input {self.at.split(':', 1)[1]}"
 
     @property
     def defined(self) -> list:

@@ -352,6 +352,22 @@ class Closure:
 
 
 @dataclass(frozen=True)
+class ConstraintForce:
+    """A force (or torque) a constraint of the map ``θ = φ(q)`` stands for — a rope, a rolling contact, a rigid
+    connection — of unknown magnitude ``λ`` (a cutting force of Section 3.x's free-body diagrams):
+    ``λ · direction`` on the material point of ``link`` that is at ``at`` (a :class:`Point` of any frame) for each
+    ``(link, at, direction)`` of ``forces``, ``λ · axis`` on ``link`` for each ``(link, axis)`` of ``torques``;
+    directions and axes in the inertial frame, expressions in ``q`` allowed. It does no work on the motions the
+    map allows; :func:`harness.derivation.bodies.constraint_forces` solves ``λ`` from the tree's balance. A
+    system with a map declares one per constraint (``len(θ) − len(q)`` of them) or none; the engines never see
+    them."""
+
+    name: str
+    forces: tuple = ()
+    torques: tuple = ()
+
+
+@dataclass(frozen=True)
 class Gravity:
     """Gravity ``g`` along the unit vector ``e_g`` (5.20): ``V = -m g e_g^T p_0^S``."""
 
@@ -438,7 +454,8 @@ ForceElement = Spring | Damper | JointSpring | JointDamper | JointInput | PointF
 class System:
     """One lecture system, modeled once.
 
-    Its parameters are collected from its expressions (links, joints, gravity, forces, closures) in the order
+    Its parameters are collected from its expressions (links, joints, gravity, forces, closures, constraint
+    forces) in the order
     they were declared; ``parameters`` names those it has without using them in its expressions (a friction
     coefficient only its scenes use). A ``parameters`` tuple that lists every parameter the expressions use is
     kept in its own order (``dataclasses.replace`` passes the complete tuple). Inputs likewise (an
@@ -460,6 +477,7 @@ class System:
     # engines that do not apply to this system, with the reason the report gives: (("mujoco", "…"), …)
     not_in_engines: tuple = ()
     closures: tuple = ()      # Closure: the closed chain behind a nonlinear map, for the engines' constraints
+    constraint_forces: tuple = ()  # ConstraintForce: the forces of the map's constraints (cutting forces), derived
 
     def engine_note(self, engine: str) -> str | None:
         """Why ``engine`` does not apply to this system (None when it does)."""
@@ -467,7 +485,7 @@ class System:
 
     def __post_init__(self):
         found: list = []
-        for name in ("links", "joints", "gravity", "forces", "closures"):
+        for name in ("links", "joints", "gravity", "forces", "closures", "constraint_forces"):
             object.__setattr__(self, name, plain(getattr(self, name), found))
         object.__setattr__(self, "parameters", _collected(self.parameters, found, Parameter))
         object.__setattr__(self, "inputs", _collected(self.inputs, found, Input))
@@ -655,6 +673,18 @@ def validate(system: System) -> None:
             system.joint(f.joint)
         if isinstance(f, JointInput) and f.input not in unames:
             raise ModelError(f"{where}: force {f.name} uses undeclared input {f.input!r}")
+    for cf in system.constraint_forces:
+        links = [a[0] for a in cf.forces] + [a[1].link for a in cf.forces] + [t[0] for t in cf.torques]
+        if any(link not in known_links for link in links):
+            raise ModelError(f"{where}: constraint force {cf.name} acts on unknown link(s) "
+                             f"{sorted(set(links) - known_links)}")
+        if any(len(a) != 3 for a in cf.forces) or any(len(t) != 2 for t in cf.torques):
+            raise ModelError(f"{where}: constraint force {cf.name}: forces are (link, Point, direction), "
+                             f"torques (link, axis)")
+        values = [v for a in cf.forces for v in (*a[1].position, *a[2])] + [v for t in cf.torques for v in t[1]]
+        bad = _undeclared(values, static | set(system.q))
+        if bad:
+            raise ModelError(f"{where}: constraint force {cf.name} uses undeclared symbol(s) {bad}")
     if system.gravity is not None:
         d = [float(v) for v in system.gravity.direction]
         if abs(sum(v * v for v in d) - 1.0) > 1e-12:

@@ -154,18 +154,20 @@ def _claim_lhs(claim) -> str:
            "Cqd": f'<mrow>{bold("C")}<mover accent="true"><mi mathvariant="bold">q</mi><mo>\u02d9</mo></mover>'
                   f'</mrow>' + (f"<msub><mrow/><mi>{index}</mi></msub>" if index else ""),
            "position": bold("p", subscript=point)}.get(kind)
+    if kind == "constraint":  # a constraint force by its lecture name (f_S, tau_1)
+        lhs = body(sp.Symbol(point, real=True))
     if lhs is None and point:  # the per-point and per-body kinds: symbol, frame 0 (or the given frame), the body
-        frame, _, body = point.rpartition("/")
+        frame, _, link = point.rpartition("/")
         letter = {"v": "v", "a": "a", "R": "R", "S": "S", "omega": "ω", "I_0": "I", "J_v": "J", "J_omega": "J",
                   "force": "f", "f_np": "f"}.get(kind)
         if letter is not None:
             below = {"J_v": "v", "J_omega": "ω", "f_np": "q"}.get(kind, frame or "0")
-            lhs = bold(letter, subscript=below, superscript=body)
+            lhs = bold(letter, subscript=below, superscript=link)
             if index:
                 lhs = f"<msub>{lhs}<mi>{index}</mi></msub>"
         elif kind in ("T_t", "T_r", "V"):
-            lhs = f"<msubsup><mi>{kind[0]}</mi><mi>{kind[2:]}</mi><mi>{escape(body)}</mi></msubsup>" if "_" in kind \
-                else f"<msup><mi>V</mi><mi>{escape(body)}</mi></msup>"
+            lhs = f"<msubsup><mi>{kind[0]}</mi><mi>{kind[2:]}</mi><mi>{escape(link)}</mi></msubsup>" if "_" in kind \
+                else f"<msup><mi>V</mi><mi>{escape(link)}</mi></msup>"
     if lhs is None and kind == "L":
         lhs = "<mi>L</mi>"
     if lhs is None and kind in ("dL_dqd", "dL_dq", "ddt_dL_dqd"):
@@ -201,7 +203,8 @@ def claim_equations(system, claims, budget: Budget | None = None) -> list[dict]:
     per_body = is_per_body(system)
     out = []
     for claim in claims:
-        row = {"equation": claim.equation, "quantity": claim.quantity, "description": claim.description,
+        row = {"equation": claim.equation, "quantity": claim.quantity,
+               "description": f"{claim.description} ({claim.where})" if claim.where else claim.description,
                "printed": _claim_math(claim, claim.printed), "derived": "", "note": ""}
         if per_body:
             row["note"] = "derived per body as an expression graph: too large to print"
