@@ -128,3 +128,93 @@ def test_pruned_equals_idle_in_every_source_and_nothing_to_prune_has_no_ratio():
     assert "disable flags actuation, damper" in out["sources"]["mujoco"]["method"]
     every = Scene("e", "", (0.3,), (0.0,), 0.5, EVERY, inputs={tau: Constant(1.0)})
     assert "nothing" in measure(system, every, motion, event, repeats=1)
+
+
+def test_an_idle_force_element_is_pruned_in_every_source():
+    """Pruning per element: the quarter car on a smooth road has its tyre damper at d_R = 0 beside the acting
+    suspension damper; the pruned model has no tyre damper (nor the road force), in the symbolic right-hand side,
+    Pinocchio's model and the MJCF, and each source's pruned trajectory equals its idle one."""
+    from harness.derivation.derive import derive
+    from harness.modeling.scenes import EFFECTS, pruned
+    from harness.scenes.base import ENGINE
+    from harness.scenes.phenomena import motion_of
+    from harness.scenes.phenomena.pruning import measure
+
+    system = models.get("quarter_car")
+    scene = next(s for s in models.scenes("quarter_car") if s.name == "smooth_road")
+    found = infer(system, scene)
+    assert set(found.idle_elements) == {"tyre_damper"} and "d_R = 0" in found.idle_elements["tyre_damper"]
+    assert found.simulated == {"gravity", "springs", "dampers"}
+    lean_system, lean_scene = found.pruned(system, scene)
+    assert [f.name for f in lean_system.forces] == ["tyre_spring", "road", "suspension_spring", "suspension_damper"]
+    assert lean_scene.effects == found.simulated
+    assert [f.name for f in pruned(system, EFFECTS, without={"road"}).forces if f.name == "road"] == []
+    d_R = next(p.symbol for p in system.parameters if p.name == "d_R")
+    assert d_R not in derive(pruned(lean_system, lean_scene.effects)).f_np.free_symbols
+
+    motion, event = motion_of(scene)
+    out = measure(system, scene, motion, event, repeats=1, found=found)
+    assert out["left_out"] == ["external"] and out["left_out_elements"] == ["tyre_damper"]
+    assert set(out["sources"]) == {"symbolic", "pinocchio", "mujoco"}
+    for source, m in out["sources"].items():
+        assert m["error"] <= ENGINE.value and m["ratio"] > 0, source
+    assert "not in the MJCF: tyre_damper" in out["sources"]["mujoco"]["method"]
+
+
+def test_a_declared_effect_found_idle_is_pruned_and_nothing_idle_is_nothing_to_prune():
+    """A scene that declares every effect: with the damper at 0 the pruned run leaves the dampers out (the
+    pruned = idle check proves the inference); with everything acting there is nothing to prune."""
+    from harness.scenes.phenomena import motion_of
+    from harness.scenes.phenomena.pruning import measure
+
+    system = pendulum("x")
+    scene = Scene("s", "", (0.3,), (0.0,), 0.5, EVERY, inputs={tau: Constant(1.0)}, params={d: 0.0})
+    motion, event = motion_of(scene)
+    out = measure(system, scene, motion, event, sources=("symbolic", "mujoco"), repeats=1)
+    assert out["left_out"] == ["dampers"] and out["left_out_elements"] == []
+    assert all(m["error"] <= 1e-6 for m in out["sources"].values())
+    assert "disable flags damper" in out["sources"]["mujoco"]["method"]
+
+
+def test_a_friction_that_never_switches_is_proved_by_a_bound():
+    """The stick-slip mass (Section 3.5.2) from rest under f_e = 0.8 mu_H m g sin(pi t): the force sticking needs
+    is at most 0.8 mu_H f_N over the horizon (a bound, not a sample), so it sticks throughout (3.80a): friction acts
+    without switching and the sliding friction, 0 at ẋ = 0, cannot act. The event-located simulation (ours,
+    Pinocchio's) has no event and x ≡ 0, and the pruned run equals the idle one. The lecture's scene
+    (1.2 mu_H m g) can switch: nothing is inferred."""
+    import dataclasses
+
+    from harness.scenes.phenomena import motion_of
+    from harness.scenes.phenomena.pruning import measure
+    from harness.scenes.phenomena.stick_slip import stick_slip
+
+    system, lecture = models.get("stick_slip"), models.scenes("stick_slip")[0]
+    assert not infer(system, lecture).never_switches
+    mu_H_f_N = 0.3 * 1.0 * 9.81
+    holds = dataclasses.replace(lecture, name="holds", inputs={"f_e": Sine(0.8 * mu_H_f_N, 0.5)})
+    found = infer(system, holds)
+    assert "never switches" in found.never_switches["friction"] and "friction" in found.acting
+    assert "q̇ = 0" in found.idle["external"] and found.declared_idle == {"external"}
+    assert "never switches" in found.notes()
+    over = dataclasses.replace(holds, inputs={"f_e": Sine(1.001 * mu_H_f_N, 0.5)})
+    assert not infer(system, over).never_switches
+    motion, event = motion_of(holds)
+    for source in ("symbolic", "pinocchio"):
+        run = stick_slip(system, holds, event, source)
+        assert run.events == [] and abs(run.q).max() == 0, source
+    out = measure(system, holds, motion, event, sources=("symbolic", "pinocchio"), repeats=1, found=found)
+    assert out["left_out"] == ["external", "gravity"]
+    assert all(m["error"] <= 1e-6 for m in out["sources"].values())
+
+
+@given(st.sampled_from(["constant", "step", "sine", "bump", "rate"]), st.floats(-3.0, 3.0), st.floats(-3.0, 3.0),
+       st.floats(0.05, 4.0))
+def test_bound_over_bounds_every_signal(kind, a, b, c):
+    """``bound_over`` is an upper bound of |u(t)| over the horizon (the sticking proof rests on it)."""
+    from harness.scenes.effects import bound_over
+
+    horizon = 2.0
+    signal = {"constant": Constant(a), "step": Step(c, a, b), "sine": Sine(a, c, b),
+              "bump": Bump(a, b % horizon, c), "rate": Bump(a, b % horizon, c, rate=True)}[kind]
+    bound = bound_over(signal, horizon)
+    assert max(abs(signal(horizon * k / 2000)) for k in range(2001)) <= bound * (1 + 1e-12) + 1e-15

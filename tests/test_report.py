@@ -120,3 +120,37 @@ def test_a_scene_shows_the_work_precision_the_bench_measured(tmp_path):
     assert [r["source"] for r in view["fastest"]] == ["symbolic"] and view["fastest"][0]["seconds"] == "0.01235"
     assert work_precision(bench, tmp_path, "pendulum", "outside")["figure"] is None
     assert work_precision(bench, tmp_path, "pendulum", "unknown") is None and work_precision(None, tmp_path, "p", "s") is None
+
+
+def test_a_system_page_shows_each_scenes_effects_and_pruning_ratios(tmp_path):
+    """Per scene of a system page: the declared effects, the effects and force elements inferred idle with their
+    reasons, and the idle / pruned time ratio per source from timings.json (the quarter car on a smooth road:
+    its road force and tyre damper left out), or "nothing to prune" (the bump calls for every effect); a stale
+    ratio of an earlier run is dropped when the system is checked again."""
+    import re
+
+    from harness.report.results import write_results
+    from harness.scenes.trajectories import scene_record
+
+    system = models.get("quarter_car")
+    scenes = [scene_record(system, sc, models.CATALOGUE)[0] for sc in models.scenes("quarter_car")
+              if sc.name in ("smooth_road", "bump")]
+    stale = {"systems/quarter_car/scenes/bump/notes/pruning time ratio (idle / pruned), symbolic": 1.0}
+    doc = {"systems": [{"system": "quarter_car", "lecture": "Ex. A.4", "passed": True, "checks": [],
+                        "scenes": scenes, "timings": {"seconds": 1.0}}], "versions": {}}
+    write_results(doc, tmp_path, timings=stale)
+    timings = json.loads((tmp_path / "timings.json").read_text())
+    assert not set(stale) & set(timings)
+    key = "systems/quarter_car/scenes/smooth_road/notes/pruning time ratio (idle / pruned), {}"
+    ratios = {s: timings[key.format(s)] for s in ("symbolic", "pinocchio", "mujoco")}
+    assert build_site(tmp_path, models.CATALOGUE, progress=open("/dev/null", "w"))["failed"] == {}
+    page = (tmp_path / "systems" / "quarter_car.html").read_text()
+    tables = [re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", t))
+              for t in re.findall(r'<table class="pruning">.*?</table>', page, re.S)]
+    bump, smooth = tables
+    assert "declared dampers, external, gravity, springs" in bump and "nothing to prune" in bump
+    assert "declared dampers, gravity, springs" in smooth
+    assert "external: road: 0: v_U, x_U ≡ 0 over [0, 2] s" in smooth and "tyre_damper: d_R = 0" in smooth
+    assert "left out when pruned external; force elements tyre_damper" in smooth
+    for source, ratio in ratios.items():
+        assert f"time idle / pruned, {source} {ratio:.3g} ×" in smooth

@@ -59,7 +59,8 @@ Schema of ``bench.json`` (``schema: 2``; times in seconds, errors relative to th
       "pruning": [{"system", "scene", "declared", "inferred" (effects that can act, harness.scenes.effects),
                    "inferred_idle" {effect: reason}, "idle_elements" {force element: reason}, "declared_idle",
                    "undeclared_acting", "repeats",
-                   "nothing": why (nothing to prune: no ratio) | "left_out": [effect],
+                   "nothing": why (nothing to prune: no ratio) | "left_out": [effect], "left_out_elements":
+                   [force element found idle inside an acting effect],
                    "sources": {"symbolic" | "pinocchio" | "mujoco": {"pruned_seconds", "idle_seconds", "ratio"
                                (idle / pruned, fastest of repeats each), "error" (pruned vs idle trajectory),
                                "evaluations": [pruned, idle], "method"} | {"skipped": why}}}],

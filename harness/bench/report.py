@@ -253,12 +253,16 @@ PRUNING_GOAL = 1.3      # idle / pruned, every source where something is pruned 
 
 def _pruning(rows: list[dict]) -> list[str]:
     """Effects inferred beside the declared ones, and idle / pruned per source (the fastest of N runs each)."""
-    lines = ["## Effect pruning: every effect present but idle / only the scene's effects, per source", "",
-             "Symbolic and Pinocchio: forward dynamics by DOP853 1e-10 (the same steps: the ratio is the cost of the "
-             "idle terms per evaluation); MuJoCo: its own RK4 (`mj_step`) on one MJCF, the pruned effects switched "
-             "off by their disable flags, the idle loads and inputs evaluated at every step. Ratio = idle / pruned, "
+    lines = ["## Effect pruning: every effect present but idle / only what can act of the scene's effects, per source",
+             "",
+             "Left out: the effects the scene does not call for, those it calls for found idle, and the force "
+             "elements found idle inside an acting effect. Symbolic and Pinocchio: forward dynamics of the pruned "
+             "model by DOP853 1e-10 (the same steps: the ratio is the cost of the idle terms per evaluation); "
+             "MuJoCo: its own RK4 (`mj_step`), the left-out effects switched off by their disable flags, the idle "
+             "force elements left out of the MJCF (a joint spring or damper is only a coefficient, 0 in the idle "
+             "model too: nothing saved), the idle loads and inputs evaluated at every step. Ratio = idle / pruned, "
              "the fastest of the repeats of each; **below 1: a finding** (the pruned run is slower). A scene that "
-             "calls for every effect of its system has nothing to prune and no ratio.", "",
+             "calls for every effect of its system, each able to act, has nothing to prune and no ratio.", "",
              "| scene | declared | inferred idle (reason) | left out | " +
              " | ".join(f"{s} idle / pruned" for s in PRUNING_SOURCES) + " | pruned = idle (worst error) |",
              "|---|---|---|---|" + "---|" * len(PRUNING_SOURCES) + "---|"]
@@ -289,8 +293,10 @@ def _pruning(rows: list[dict]) -> list[str]:
                 cells[-1] += (f"({m['idle_seconds'] * 1e3:.1f} / {m['pruned_seconds'] * 1e3:.1f} ms)"
                              f"{mark}")
                 errors.append(m["error"])
-        idle = "; ".join(f"{k}: {v}" for k, v in r.get("inferred_idle", {}).items()) or "—"
-        lines.append(f"| {where} | {', '.join(r.get('declared', []))} | {idle} | {', '.join(r['left_out'])} | " +
+        idle = "; ".join([f"{k}: {v}" for k, v in r.get("inferred_idle", {}).items()] +
+                         [f"force element {k}: {v}" for k, v in r.get("idle_elements", {}).items()]) or "—"
+        left_out = ", ".join(r["left_out"] + [f"force element {e}" for e in r.get("left_out_elements", [])])
+        lines.append(f"| {where} | {', '.join(r.get('declared', []))} | {idle} | {left_out or '—'} | " +
                      " | ".join(cells) + f" | {max(errors, default=float('nan')):.1e} |")
     disagree = [f"{r['system']}/{r['scene']}: " + "; ".join(
                     ([f"declared but cannot act: {', '.join(r['declared_idle'])}"] if r.get("declared_idle") else []) +
@@ -315,7 +321,8 @@ def _pruning_goals(rows: list[dict]) -> list[dict]:
         worst_row, worst = min(got, key=lambda x: x[1]["ratio"])
         listed = ", ".join(f"{r['system']}/{r['scene']} {m['ratio']:.2f} ×" for r, m in got)
         where = (f"worst {worst_row['system']}/{worst_row['scene']} idle / pruned {worst['ratio']:.3f} × "
-                 f"({', '.join(worst_row['left_out'])} left out{_noise(worst)}); {listed}")
+                 f"({', '.join(worst_row['left_out'] + worst_row.get('left_out_elements', []))} left out"
+                 f"{_noise(worst)}); {listed}")
         for target, what in ((PRUNING_GOAL, f"pruning pays: idle / pruned ≥ {PRUNING_GOAL:g} × ({source}, worst "
                                             "scene; value pruned / idle)"),
                              (1.0, f"no scene slower pruned: idle / pruned ≥ 1 × ({source}; value pruned / idle)")):

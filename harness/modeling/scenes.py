@@ -151,10 +151,11 @@ def effects_of(system: System) -> frozenset:
     return frozenset(found)
 
 
-def pruned(system: System, effects) -> System:
-    """The system with only ``effects``: other force elements and gravity removed (and unused inputs)."""
-    effects = frozenset(effects)
-    forces = tuple(f for f in system.forces if _EFFECT_OF[type(f)] in effects)
+def pruned(system: System, effects, without=()) -> System:
+    """The system with only ``effects``: other force elements and gravity removed, and the force elements named
+    in ``without`` (those found idle, :func:`harness.scenes.effects.infer`) removed inside the kept effects."""
+    effects, without = frozenset(effects), frozenset(without)
+    forces = tuple(f for f in system.forces if _EFFECT_OF[type(f)] in effects and f.name not in without)
     return dataclasses.replace(system, forces=forces,
                                gravity=system.gravity if "gravity" in effects else None)
 

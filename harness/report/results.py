@@ -58,10 +58,13 @@ def read_timings(out: Path | str) -> dict:
 
 def write_results(doc: dict, out: Path | str, timings: dict | None = None) -> list[Path]:
     """Write ``results.json`` (deterministic), ``timings.json`` (``timings`` plus the records' clock values) and
-    ``summary.md`` into ``out``; every file atomically. Returns the paths written."""
+    ``summary.md`` into ``out``; every file atomically. A system whose record carries clock values replaces all
+    of its earlier ones in ``timings`` (a scene with nothing to prune any more keeps no old ratio). Returns the
+    paths written."""
     out = check_folder(out)
     clean, found = split_timings(doc)
-    timings = {**(timings or {}), **found}
+    fresh = tuple(f"systems/{r.get('system')}/" for r in doc.get("systems", []) if r.get(TIMINGS) is not None)
+    timings = {**{k: v for k, v in (timings or {}).items() if not k.startswith(fresh)}, **found}
     atomic_write_text(out / "results.json", dumps(clean))
     atomic_write_text(out / "timings.json", dumps(dict(sorted(timings.items()))))
     atomic_write_text(out / "summary.md", summary_markdown(clean))

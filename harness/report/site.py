@@ -89,9 +89,47 @@ def work_precision(bench: dict | None, out: Path, system: str, scene: str) -> di
             "machine": f"{machine.get('cpus', '?')} CPUs, {machine.get('platform', '?')}"}
 
 
-def system_view(record: dict, claims: list[dict], out: Path, figures: set, bench: dict | None = None) -> dict:
+# the scene notes the pruning block shows (harness.scenes.effects.Inferred.notes, harness.scenes.phenomena.pruning)
+_PRUNING_NOTES = {"effects declared": "declared", "effects inferred to act": "acting",
+                  "effects inferred idle": "idle", "force elements inferred idle": "idle_elements",
+                  "never switches": "never_switches",
+                  "pruning": "nothing", "pruning: effects left out": "left_out",
+                  "pruning: force elements left out": "left_out_elements"}
+
+
+def pruning_view(system: str, scene: dict, timings: dict) -> dict | None:
+    """A scene's effects and their pruning: declared, inferred idle effects and force elements with their reasons
+    and the disagreements (its notes), and the idle / pruned time ratio per source (``timings``: timings.json;
+    only where the scene has the pruned = idle check of that source, else why not) or "nothing to prune"."""
+    from harness.scenes.phenomena.pruning import CHECK, KEY, PRUNING_REPEATS, SOURCES
+
+    notes = scene.get("notes") or {}
+    if "effects declared" not in notes:
+        return None
+    view = {field: notes.get(key, "") for key, field in _PRUNING_NOTES.items()}
+    view["disagreements"] = {k.split(": ", 1)[1]: v for k, v in notes.items() if k.startswith("effects disagreement")}
+    view["ratios"], view["repeats"] = [], PRUNING_REPEATS
+    if view["nothing"]:
+        return view
+    checked = {c.get("source") for c in scene.get("checks") or [] if c.get("check") == CHECK}
+    at = f"systems/{system}/scenes/{scene.get('scene')}/notes/"
+    for source in SOURCES:
+        ratio = timings.get(at + KEY.format(source)) if source in checked else None
+        if isinstance(ratio, (int, float)):
+            shown = f"{ratio:.3g} ×" + (" (finding: slower pruned)" if ratio < 1 else "")
+        elif source in checked:
+            shown = "not in timings.json"
+        else:
+            shown = notes.get(f"pruning, {source}", "not run")
+        view["ratios"].append({"source": source, "ratio": shown})
+    return view
+
+
+def system_view(record: dict, claims: list[dict], out: Path, figures: set, bench: dict | None = None,
+                timings: dict | None = None) -> dict:
     """What the index and the system page show of one record; figures are rendered into ``out/figures``; the
-    scenes' work-precision comes from ``bench`` (``out/bench.json``) where it has them."""
+    scenes' work-precision comes from ``bench`` (``out/bench.json``) where it has them, the pruning time ratios
+    from ``timings`` (``out/timings.json``)."""
     from harness.report.figures import render_scene_figure
 
     name = record["system"]
@@ -103,7 +141,10 @@ def system_view(record: dict, claims: list[dict], out: Path, figures: set, bench
     for sc in record.get("scenes") or []:
         view = {"scene": sc.get("scene", "?"), "description": sc.get("description", ""),
                 "effects": list(sc.get("effects") or []), "horizon": sc.get("horizon"),
-                "passed": bool(sc.get("passed")), "notes": sc.get("notes") or {},
+                "passed": bool(sc.get("passed")),
+                "notes": {k: v for k, v in (sc.get("notes") or {}).items()
+                          if k not in _PRUNING_NOTES and not k.startswith(("effects disagreement", "pruning, "))},
+                "pruning": pruning_view(name, sc, timings or {}),
                 "checks": [_check_view(c) for c in sc.get("checks", [])], "figure": None,
                 "figure_note": "", "series": sc.get("series"), "strip": None, "strip_size": (0, 0),
                 "strip_sources": [], "strip_note": "",
@@ -291,12 +332,13 @@ def build_site(out: Path | str, catalogue=None, progress=None) -> dict:
     model pages from ``catalogue`` (:class:`harness.catalogue.Catalogue`; without one, the recorded results
     only). Returns {"pages": [...], "failed": {system: reason}}."""
     progress = sys.stderr if progress is None else progress
-    from harness.report.results import load_results
+    from harness.report.results import load_results, read_timings
 
     out = Path(out)
     doc = load_results(out) or {"systems": [], "versions": {}, "tolerance_policy": "", "passed": False}
     claims_doc = _read_json(out / "claims.json")
     bench = _read_json(out / "bench.json")
+    timings = read_timings(out)
     claims = claims_doc if isinstance(claims_doc, list) else []
     by_system: dict[str, list] = {}
     for c in claims:
@@ -333,7 +375,7 @@ def build_site(out: Path | str, catalogue=None, progress=None) -> dict:
         name = record["system"]
         print(f"[{k}/{len(records)}] page {name}", file=progress, flush=True)
         try:
-            view, model = system_view(record, by_system.get(name, []), out, figures, bench), None
+            view, model = system_view(record, by_system.get(name, []), out, figures, bench, timings), None
             if name in systems:
                 system = systems[name]
                 model = model_view(system)

@@ -168,6 +168,18 @@ number follows (compared in <a href="#claims">Printed equations</a>).</p>
 <p>{{ sc.description }}{% if sc.horizon is not none %} — horizon {{ sc.horizon }} s{% endif %}{% if sc.effects %}; effects: {{ sc.effects|join(", ") }}{% endif %}</p>
 {% if sc.checks %}<table><tr><th>check</th><th>source</th><th>value</th><th>bound</th><th>ratio</th><th>verdict</th></tr>
 {% for c in sc.checks %}<tr class="{{ 'ok' if c.passed else 'fail' }}"><td>{{ c.check }}</td><td>{{ c.source }}</td><td class="num">{{ c.error }}</td><td class="num" title="{{ c.basis }}">{{ c.tolerance }}</td><td class="num">{{ c.ratio }}</td><td>{{ 'ok' if c.passed else 'FAIL' }}</td></tr>{% endfor %}</table>{% endif %}
+{% set pr = sc.pruning %}{% if pr %}<table class="pruning"><tr><th colspan="2">effects and pruning</th></tr>
+<tr><td>declared</td><td>{{ pr.declared }}</td></tr>
+<tr><td>inferred to act</td><td>{{ pr.acting }}</td></tr>
+<tr><td>effects inferred idle (reason)</td><td>{{ pr.idle or "none" }}</td></tr>
+<tr><td>force elements inferred idle (reason)</td><td>{{ pr.idle_elements or "none" }}</td></tr>
+{% if pr.never_switches %}<tr><td>never switches (proof)</td><td>{{ pr.never_switches }}</td></tr>{% endif %}
+{% for k, v in pr.disagreements.items() %}<tr><td>disagreement (a note, not fixed): {{ k }}</td><td>{{ v }}</td></tr>{% endfor %}
+{% if pr.nothing %}<tr><td>idle / pruned</td><td>{{ pr.nothing }}</td></tr>
+{% else %}<tr><td>left out when pruned</td><td>{{ pr.left_out or "no effect" }}{% if pr.left_out_elements %}; force elements {{ pr.left_out_elements }}{% endif %}</td></tr>
+{% for r in pr.ratios %}<tr><td>time idle / pruned, {{ r.source }}</td><td class="num">{{ r.ratio }}</td></tr>{% endfor %}{% endif %}</table>
+{% if not pr.nothing %}<p><small>Idle: every effect present, the left-out ones multiplied by 0; pruned: without them. The ratios are clock values of <code>harness check</code> (the fastest of {{ pr.repeats }} runs each, alternating; timings.json) on its machine; <code>harness bench --parts pruning</code> measures them in a run of their own (<a href="../bench.html">Benchmarks</a>).</small></p>{% endif %}
+{% endif %}
 {% if sc.notes %}<ul>{% for k, v in sc.notes.items() %}<li>{{ k }}: {{ v }}</li>{% endfor %}</ul>{% endif %}
 {% if sc.strip %}<figure class="strip"><img src="../{{ sc.strip }}" width="{{ sc.strip_size[0] }}" height="{{ sc.strip_size[1] }}" alt="filmstrip of {{ s.name }} {{ sc.scene }}">
 <figcaption>The reference trajectory at a few instants; the lines are the path of the last body's centre of mass as computed by {% for src in sc.strip_sources %}<span class="src-{{ src }}">{{ src }}</span>{{ ", " if not loop.last }}{% endfor %} (they overlap where the engines agree).</figcaption></figure>

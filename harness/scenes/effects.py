@@ -4,6 +4,9 @@ effects of :data:`harness.modeling.scenes.EFFECTS` can act at all, each one that
 A scene still lists its effects by hand (``Scene.effects``, what :func:`harness.modeling.scenes.pruned` keeps);
 :func:`infer` derives the set beside it, and a disagreement — a declared effect that cannot act, or an effect
 that can act but is not declared — is reported (:mod:`harness.scenes.phenomena.pruning`), never silently fixed.
+What is found idle — an effect type or a single force element inside an effect that acts (the quarter car's tyre
+damper at ``d_R = 0`` beside its acting suspension damper) — is what the pruning measurement leaves out
+(:meth:`Inferred.pruned`), and the pruned run equal to the idle one checks the inference.
 
 What is inferred, each a proof on the model's expressions, not a sample of the motion:
 
@@ -18,22 +21,27 @@ What is inferred, each a proof on the model's expressions, not a sample of the m
   (:attr:`Derivation.g_gravity` with the parameters substituted is the zero vector: checked at random states
   first, then proved by simplification);
 * **friction, contact**: they act only with their structural change (a :class:`StickSlip`, a :class:`RollSlip`
-  event of the scene).
+  event of the scene);
+* **a friction that never switches** (:func:`sticks_throughout`): from rest, the force sticking needs,
+  ``f_np(q_0, 0, u(t)) − g(q_0)`` (affine in the inputs), bounded over the horizon by ``|a| + Σ |b_i| sup |u_i|``
+  (:func:`bound_over`: the exact supremum of each signal), stays within ``mu_H f_N``: the mass sticks over the
+  whole horizon (3.80a), friction acts without switching, and the force elements that vanish at ``q̇ = 0`` (the
+  sliding friction, dampers) cannot act.
 
-Not inferred (left as declared): contact the geometry cannot reach over the horizon, a friction that never
-switches, an inactive closure.
+Not inferred (left as declared): contact the geometry cannot reach over the horizon, an inactive closure.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
 import sympy as sp
 
 from harness.modeling.events import RollSlip, StickSlip
-from harness.modeling.scenes import _EFFECT_OF, EFFECTS, Bump, Constant, Scene, Sine, Step, effects_of
+from harness.modeling.scenes import _EFFECT_OF, EFFECTS, Bump, Constant, Scene, Sine, Step, effects_of, pruned
 from harness.modeling.system import Damper, JointDamper, JointInput, JointSpring, PointForce, Spring, System
 
 _EVENT_EFFECT = {StickSlip: "friction", RollSlip: "contact"}
@@ -55,16 +63,67 @@ def zero_over(signal, horizon: float) -> bool:
     return False
 
 
+def bound_over(signal, horizon: float) -> float | None:
+    """``sup |signal(t)|`` over ``[0, horizon]``, or an upper bound of it (None: a signal of a kind not known
+    here; 0 for an input the scene does not drive)."""
+    if signal is None:
+        return 0.0
+    if isinstance(signal, Constant):
+        return abs(signal.value)
+    if isinstance(signal, Step):
+        return max(abs(signal.before), abs(signal.after) if signal.time <= horizon else 0.0)
+    if isinstance(signal, Sine):
+        return abs(signal.offset) + abs(signal.amplitude)
+    if isinstance(signal, Bump):
+        if signal.start >= horizon:
+            return 0.0
+        return abs(signal.height) * (math.pi / signal.duration if signal.rate else 1.0)
+    return None
+
+
+def sticks_throughout(system: System, scene: Scene, event: StickSlip) -> str | None:
+    """Why the friction of ``event`` never switches over the scene's horizon (None: it may): the scene starts at
+    rest and the force sticking needs at ``q_0`` (``M q̈`` with ``q̇ = 0``: ``f_np − g`` of the simulated model,
+    affine in the inputs ``a + b u(t)``) is bounded by ``|a| + Σ |b_i| sup |u_i|`` within ``mu_H f_N`` (3.80a)."""
+    from harness.derivation.derive import derive
+
+    if any(scene.qd0) or len(system.coordinates) != 1:
+        return None
+    params = _values(system, scene)
+    model = pruned(system, scene.effects)
+    d = derive(model)
+    at = {**{q: sp.Float(v) for q, v in zip(model.q, scene.q0)}, **{qd: sp.Integer(0) for qd in model.qd}}
+    force = sp.expand(_substituted((d.f_np - d.g)[0].xreplace(at), params, set()))
+    u = {i.symbol: i.name for i in model.inputs}
+    if force.free_symbols - set(u):
+        return None
+    b = {x: sp.diff(force, x) for x in u}
+    if any(sp.sympify(c).free_symbols for c in b.values()):
+        return None
+    sups = {x: bound_over(scene.inputs.get(name), scene.horizon) for x, name in u.items()}
+    if any(v is None for v in sups.values()):
+        return None
+    a = float(force.xreplace({x: 0 for x in u}))
+    bound = abs(a) + sum(abs(float(b[x])) * sups[x] for x in u)
+    mu_H, _, f_N = event.values(params)
+    if bound > mu_H * f_N:
+        return None
+    return (f"sticks over [0, {scene.horizon:g}] s, never switches: from rest the force sticking needs is at most "
+            f"{bound:.6g} N ≤ mu_H f_N = {mu_H * f_N:.6g} N (3.80a)")
+
+
 @dataclass(frozen=True)
 class Inferred:
     """The effects of one scene: ``declared`` (by hand), ``acting`` (inferred to be able to act), ``idle`` (an
-    effect of the system or the scene that cannot act: its reason) and ``idle_elements`` (force elements that
-    cannot act inside an effect that can: their reasons)."""
+    effect of the system or the scene that cannot act: its reason), ``idle_elements`` (force elements that
+    cannot act inside an effect that can: their reasons) and ``never_switches`` (an acting friction or contact
+    whose structural change cannot happen over the horizon: the proof)."""
 
     declared: frozenset
     acting: frozenset
     idle: dict = field(default_factory=dict)
     idle_elements: dict = field(default_factory=dict)
+    never_switches: dict = field(default_factory=dict)
 
     @property
     def declared_idle(self) -> frozenset:
@@ -80,6 +139,20 @@ class Inferred:
     def agrees(self) -> bool:
         return self.declared == self.acting
 
+    @property
+    def simulated(self) -> frozenset:
+        """The declared effects that can act: what a pruned run simulates (without :attr:`idle_elements`)."""
+        return frozenset(self.declared - set(self.idle))
+
+    def pruned(self, system: System, scene: Scene) -> tuple[System, Scene]:
+        """``scene`` pruned by what is found idle: the system without the idle force elements
+        (:func:`harness.modeling.scenes.pruned`), the scene with only :attr:`simulated`; the two themselves when
+        nothing the scene declares is idle."""
+        if not self.idle_elements and self.simulated == self.declared:
+            return system, scene
+        return (pruned(system, EFFECTS, without=self.idle_elements),
+                dataclasses.replace(scene, effects=self.simulated))
+
     def notes(self) -> dict:
         """The record's notes: the inferred set beside the declared one, the reasons, the disagreement."""
         out = {"effects declared": ", ".join(sorted(self.declared)) or "none",
@@ -88,6 +161,8 @@ class Inferred:
             out["effects inferred idle"] = "; ".join(f"{k}: {v}" for k, v in sorted(self.idle.items()))
         if self.idle_elements:
             out["force elements inferred idle"] = "; ".join(f"{k}: {v}" for k, v in sorted(self.idle_elements.items()))
+        if self.never_switches:
+            out["never switches"] = "; ".join(f"{k}: {v}" for k, v in sorted(self.never_switches.items()))
         if self.declared_idle:
             out["effects disagreement: declared but cannot act"] = ", ".join(
                 f"{e} ({self.idle.get(e, 'not in the system')})" for e in sorted(self.declared_idle))
@@ -126,15 +201,21 @@ def _shown(expr, params: dict) -> str:
     return f"{sp.sstr(expr)} = 0" + (f" at {given}" if given else "")
 
 
-def _element_idle(f, params: dict, zero_inputs: set, scene: Scene) -> str | None:
-    """Why the force element ``f`` cannot act in the scene (None: it can)."""
+def _element_idle(f, params: dict, zero_inputs: set, scene: Scene, at_rest: set = frozenset()) -> str | None:
+    """Why the force element ``f`` cannot act in the scene (None: it can); ``at_rest``: the velocity symbols
+    proved 0 over the horizon (a friction that never switches)."""
     if isinstance(f, (Spring, JointSpring)):
         return _shown(f.stiffness, params) if _is_zero(_substituted(f.stiffness, params, set())) else None
     if isinstance(f, (Damper, JointDamper)):
+        if at_rest:
+            return "no motion: q̇ ≡ 0 over the horizon (the friction never switches)"
         return _shown(f.damping, params) if _is_zero(_substituted(f.damping, params, set())) else None
     if isinstance(f, JointInput):
         return f"input {f.input} ≡ 0 over [0, {scene.horizon:g}] s" if f.input in zero_inputs else None
     parts = f.force if isinstance(f, PointForce) else f.torque
+    if at_rest and all(_is_zero(_substituted(sp.sympify(c).xreplace({v: 0 for v in at_rest}), params, zero_inputs))
+                       for c in parts):
+        return "0 at q̇ = 0, and q̇ ≡ 0 over the horizon (the friction never switches)"
     if all(_is_zero(_substituted(c, params, zero_inputs)) for c in parts):
         zeros = sorted({x.name for c in parts for x in sp.sympify(c).free_symbols} & zero_inputs)
         return "0" + (f": {', '.join(zeros)} ≡ 0 over [0, {scene.horizon:g}] s" if zeros else
@@ -170,9 +251,12 @@ def infer(system: System, scene: Scene) -> Inferred:
     """The effects that can act in ``scene`` (see the module docstring), beside those it declares."""
     params = _values(system, scene)
     zero_inputs = {i.name for i in system.inputs if zero_over(scene.inputs.get(i.name), scene.horizon)}
+    never = {"friction": why for e in scene.events if isinstance(e, StickSlip)
+             for why in [sticks_throughout(system, scene, e)] if why is not None}
+    at_rest = {c.rate for c in system.coordinates} if never else set()
     elements: dict[str, dict] = {}
     for f in system.forces:
-        elements.setdefault(_EFFECT_OF[type(f)], {})[f.name] = _element_idle(f, params, zero_inputs, scene)
+        elements.setdefault(_EFFECT_OF[type(f)], {})[f.name] = _element_idle(f, params, zero_inputs, scene, at_rest)
     acting, idle, idle_elements = set(), {}, {}
     for effect, reasons in elements.items():
         if all(r is not None for r in reasons.values()):
@@ -194,7 +278,7 @@ def infer(system: System, scene: Scene) -> Inferred:
                            "which the scene does not have"
         elif effect not in idle:
             idle[effect] = "the system has no such effect"
-    return Inferred(frozenset(scene.effects), frozenset(acting), idle, idle_elements)
+    return Inferred(frozenset(scene.effects), frozenset(acting), idle, idle_elements, never)
 
 
 def inferred_scene(system: System, scene: Scene) -> Scene:
@@ -202,4 +286,5 @@ def inferred_scene(system: System, scene: Scene) -> Scene:
     return dataclasses.replace(scene, effects=infer(system, scene).acting)
 
 
-__all__ = ["EFFECTS", "Inferred", "gravity_idle", "infer", "inferred_scene", "zero_over"]
+__all__ = ["EFFECTS", "Inferred", "bound_over", "gravity_idle", "infer", "inferred_scene", "sticks_throughout",
+           "zero_over"]

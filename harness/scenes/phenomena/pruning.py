@@ -1,21 +1,29 @@
-"""Pruning: the scene simulated with only the effects it calls for against the same scene with every effect of
-the system present but idle (multiplied by a parameter set to 0, :func:`harness.modeling.scenes.idle`), by every
-source in its own terms, and the effects inferred beside the declared ones (:mod:`harness.scenes.effects`).
+"""Pruning: the scene simulated with only what can act of the effects it calls for against the same scene with
+every effect of the system present but idle (multiplied by a parameter set to 0, :func:`harness.modeling.scenes.idle`),
+by every source in its own terms. What is left out: the effects the scene does not call for, the called-for
+effects found idle and the force elements found idle inside an acting effect (:mod:`harness.scenes.effects`,
+:meth:`~harness.scenes.effects.Inferred.pruned`: the quarter car's tyre damper at ``d_R = 0`` beside its suspension
+damper); the pruned run equal to the idle one checks that inference.
 
 * **symbolic**: the right-hand side derived and compiled from the pruned model (DOP853 at 1e-10) against the one
   of the idle model;
 * **pinocchio**: its forward dynamics (``pin.aba``) of the pruned URDF against the idle one's, integrated alike:
   the pruned tree has no idle spring, damper, input or load to evaluate;
-* **mujoco**: its own RK4 (``mj_step``) on one MJCF, every effect present (its flags cleared) against the same
-  MJCF with the pruned effects' disable flags set (:class:`~harness.engines.mujoco_engine.Options` ``disable``,
-  :func:`~harness.engines.mujoco_engine.effect_flags`); the idle model's loads and inputs are evaluated and
-  applied at every step (held over the step from its start), the pruned one's only where called for.
+* **mujoco**: its own RK4 (``mj_step``), every effect present (its flags cleared) against the left-out effects'
+  disable flags set (:class:`~harness.engines.mujoco_engine.Options` ``disable``,
+  :func:`~harness.engines.mujoco_engine.effect_flags`). The flags are per effect type, so an idle element of an
+  acting effect is removed from the pruned MJCF. What that saves: an input is an actuator less; a point spring or
+  damper is a spatial tendon (one per pair of points, shared by a spring and a damper between them) whose length,
+  Jacobian and force MuJoCo no longer computes once every element on it is removed; a joint spring or damper, or
+  one of a tendon's two elements, is only a coefficient, 0 in the idle model already: the same compiled model,
+  nothing saved (the quarter car's tyre damper). The idle model's loads and inputs are evaluated and applied at
+  every step (held over the step from its start), the pruned one's only where called for and not idle.
 
 Each source: the same trajectory (``ENGINE``, :mod:`harness.scenes.base`) and the time ratio idle / pruned, the
 fastest of ``repeats`` runs of each in one process, alternating (a single timing on a shared machine is noise).
-A scene that calls for every effect of its system has nothing to prune: no ratio is reported. Ratios are clock
-values: they go to ``timings.json`` (never into a verdict); ``harness bench --parts pruning`` reports them, and
-a ratio below 1 there as a finding.
+A scene that calls for every effect of its system, each able to act, has nothing to prune: no ratio is reported.
+Ratios are clock values: they go to ``timings.json`` (never into a verdict) and the system's report page;
+``harness bench --parts pruning`` reports them, and a ratio below 1 there as a finding.
 """
 
 from __future__ import annotations
@@ -35,31 +43,36 @@ from harness.scenes.effects import infer
 PRUNING_REPEATS = 3
 SOURCES = (SYMBOLIC, "pinocchio", "mujoco")
 MUJOCO_STEPS = 2000        # RK4 steps of MuJoCo's own runs (at least; on the scene's grid, simulate.grid_steps)
-KEY = "pruning time ratio (idle / pruned), {}"
+KEY = "pruning time ratio (idle / pruned), {}"     # a scene's timings (timings.json), per source
+CHECK = "pruned = all effects present but idle"
 
 
 # --------------------------------------------------------------------------- MuJoCo's own stepping, idle or pruned
 class MujocoStepper:
     """MuJoCo's RK4 on the MJCF of the idle system (every effect present, its flags cleared); ``prune``: the
-    scene's left-out effects switched off by their disable flags, and only the called-for loads and inputs
-    evaluated. Loads need the lecture state: identity or affine maps ``θ = φ(0) + J q``."""
+    left-out effects switched off by their disable flags, the idle force elements (``found.idle_elements``) not in
+    the MJCF (its flags are per effect type only), and only the called-for loads and inputs evaluated. Loads need
+    the lecture state: identity or affine maps ``θ = φ(0) + J q``."""
 
-    def __init__(self, system, scene, prune: bool, dt: float):
+    def __init__(self, system, scene, prune: bool, dt: float, found=None):
         from harness.derivation.compile import compiled
         from harness.engines.mujoco_engine import MujocoModel, Options, effect_flags
         from harness.export.numeric import instantiate
 
+        found = found or infer(system, scene)
         idle_system, idle_scene = with_idle_effects(system, scene)
         every = effects_of(idle_system) | set(idle_scene.effects)
-        left_out = every - set(scene.effects)
+        left_out = every - found.simulated
         params = {**idle_system.default_parameters(), **idle_scene.params}
         transforms = [Options(timestep=dt, integrator="RK4", enable=effect_flags(every - {"friction", "contact"}))]
         if prune:
             transforms.append(Options(disable=effect_flags(left_out)))
-        self.model = MujocoModel(instantiate(idle_system, params), transforms=transforms,
+        without = found.idle_elements if prune else ()
+        self.model = MujocoModel(instantiate(pruned(idle_system, every, without), params), transforms=transforms,
                                  where="MjSpec.compile (pruning)")
         self.flags = effect_flags(left_out) if prune else ()
-        kept = pruned(idle_system, scene.effects) if prune else idle_system
+        self.removed = sorted(without)
+        kept = pruned(idle_system, found.simulated, without) if prune else idle_system
         self.c = compiled(idle_system)
         self.p = np.array([params[p.name] for p in idle_system.parameters])
         self.kept_p = np.array([params[p.name] for p in kept.parameters])
@@ -112,17 +125,24 @@ class MujocoStepper:
 
 
 # --------------------------------------------------------------------------- the measurement
-def measure(system, scene, motion, event, catalogue=None, sources=SOURCES, repeats: int = PRUNING_REPEATS) -> dict:
-    """Idle against pruned by each of ``sources``: ``{"left_out": [...], "sources": {source: {"pruned_seconds",
-    "idle_seconds", "ratio", "error", "evaluations", "method"} | {"skipped": why}}}``, or ``{"nothing": why}``
-    when the scene calls for every effect of its system. Runs alternate pruned, idle; the fastest of each."""
+def measure(system, scene, motion, event, catalogue=None, sources=SOURCES, repeats: int = PRUNING_REPEATS,
+            found=None) -> dict:
+    """Idle against pruned by each of ``sources``: ``{"left_out": [effect], "left_out_elements": [force element],
+    "sources": {source: {"pruned_seconds", "idle_seconds", "ratio", "error", "evaluations", "method"} |
+    {"skipped": why}}}``, or ``{"nothing": why}`` when the scene calls for every effect of its system and none of
+    them, nor any force element, is found idle (``found``: :func:`~harness.scenes.effects.infer`). Runs
+    alternate pruned, idle; the fastest of each."""
+    found = found or infer(system, scene)
     idle_system, idle_scene = with_idle_effects(system, scene)
-    if idle_scene is scene:
-        return {"nothing": "nothing to prune: the scene calls for every effect of the system"}
-    out = {"left_out": sorted(set(idle_scene.effects) - set(scene.effects)), "sources": {}}
+    lean_system, lean_scene = found.pruned(system, scene)
+    if idle_scene is scene and lean_scene is scene:
+        return {"nothing": "nothing to prune: the scene calls for every effect of the system, each can act"}
+    out = {"left_out": sorted(set(idle_scene.effects) - set(lean_scene.effects)),
+           "left_out_elements": sorted(found.idle_elements), "sources": {}}
     for source in sources:
         try:
-            runs = _runs(system, scene, idle_system, idle_scene, motion, event, source, catalogue)
+            runs = _runs(lean_system, lean_scene, idle_system, idle_scene, motion, event, source, catalogue,
+                         (system, scene, found))
         except (ValueError, NotImplementedError) as why:
             out["sources"][source] = {"skipped": str(why)}
             continue
@@ -141,14 +161,19 @@ def measure(system, scene, motion, event, catalogue=None, sources=SOURCES, repea
     return out
 
 
-def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalogue):
-    """``(pruned run, idle run, method)`` of ``source``, each a call returning a trajectory."""
+def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalogue, given):
+    """``(pruned run, idle run, method)`` of ``source``, each a call returning a trajectory: ``system``,
+    ``scene`` the pruned ones, ``given`` the scene's own ``(system, scene, found)``."""
     if source in ENGINES and simulating((source,), "stepping"):  # an engine that steps the scene itself: its flags
         if event is not None or scene.events:
             raise ValueError("its motion switches at events: MuJoCo's own run of it is the event's plug-in's")
+        own_system, own_scene, found = given
         dt = scene.horizon / sim.grid_steps(scene, MUJOCO_STEPS)
-        lean, full = MujocoStepper(system, scene, True, dt), MujocoStepper(system, scene, False, dt)
+        lean = MujocoStepper(own_system, own_scene, True, dt, found)
+        full = MujocoStepper(own_system, own_scene, False, dt, found)
         how = [f"disable flags {', '.join(lean.flags)}"] if lean.flags else []
+        if lean.removed:
+            how.append(f"not in the MJCF: {', '.join(lean.removed)}")
         if len(full.loads) > len(lean.loads):
             how.append("idle external loads not evaluated")
         return lean.run, full.run, f"mj_step RK4, dt={dt:g}, pruned: {'; '.join(how) or 'nothing'}"
@@ -168,18 +193,21 @@ class Pruning(Phenomenon):
         """The effects inferred beside the declared ones (notes; a disagreement is a note, not fixed); idle against
         pruned by every source: the same trajectory (``ENGINE``) and the time ratio (``timings``)."""
         system, scene, result = run.system, run.scene, run.result
-        result.notes.update(infer(system, scene).notes())
+        found = infer(system, scene)
+        result.notes.update(found.notes())
         measured = measure(system, scene, run.motion, run.event, run.catalogue,
-                           sources=(SYMBOLIC,) + tuple(e for e in run.engines if e in SOURCES))
+                           sources=(SYMBOLIC,) + tuple(e for e in run.engines if e in SOURCES), found=found)
         if "nothing" in measured:
             result.notes["pruning"] = measured["nothing"]
             return
-        result.notes["pruning: effects left out"] = ", ".join(measured["left_out"])
+        result.notes["pruning: effects left out"] = ", ".join(measured["left_out"]) or "none"
+        if measured["left_out_elements"]:
+            result.notes["pruning: force elements left out"] = ", ".join(measured["left_out_elements"])
         for source, m in measured["sources"].items():
             if "skipped" in m:
                 result.notes[f"pruning, {source}"] = f"not measured: {m['skipped']}"
                 continue
-            result.add(ENGINE.check("pruned = all effects present but idle", source, m["error"],
+            result.add(ENGINE.check(CHECK, source, m["error"],
                                     detail=m["method"]))
             result.timings[KEY.format(source)] = m["ratio"]
 
