@@ -35,7 +35,7 @@ from sympy import Matrix, acos, cos, sin
 
 from harness.derivation.bodies import centre_of_mass
 from harness.modeling import (WORLD, Claim, Constant, Coordinate, Gravity, Input, Joint, JointInput, Link, Parameter,
-                              Scene, System, standard_gravity)
+                              Printed, Scene, System, standard_gravity)
 
 m = Parameter("m", 2.0, "kg", "each of the two point masses")
 l = Parameter("l", 0.5, "m", "length of an arm (pin to point mass)")
@@ -70,12 +70,18 @@ SYSTEM = System(
 w_p, w_a = phi.rate, alpha.rate
 sa, ca = sin(alpha), cos(alpha)
 _p_m = centre_of_mass(SYSTEM, "arm_1")   # the mass's position (A.59) from the model's own kinematics
+# the velocity (A.60) as its claim defines it, and the vector (A.61) prints beside it
+_p_dot_0m = Matrix([Printed(f"p_0m{x}_dot", "m/s", "the velocity (A.60) of the point mass") for x in "xyz"])
+_p_dot_m = Matrix([Printed(f"p_m{x}_dot", "m/s", "printed in (A.61)") for x in "xyz"])
 CLAIMS = [
     Claim("(A.59)", "position:arm_1", Matrix([l * sa * cos(phi), l * sa * sin(phi), h - l * ca]),
           "position of the point mass rotated by phi against the x axis"),
     Claim("(A.60)", "v:arm_1", l * Matrix([w_a * ca * cos(phi) - w_p * sa * sin(phi),
                                             w_a * ca * sin(phi) + w_p * sa * cos(phi), w_a * sa]),
-          "velocity of the point mass", note="printed with omega_alpha, omega_phi: read as alpha_dot, phi_dot"),
+          "velocity of the point mass", note="printed with omega_alpha, omega_phi: read as alpha_dot, phi_dot",
+          defines=_p_dot_0m),
+    Claim("(A.61)", "T", 2 * m * (_p_dot_0m.T * _p_dot_m)[0] / 2, "kinetic energy of both point masses, T = 2 ½ m "
+          "(ṗ_0^m)ᵀ ṗ_m", ingredients=("(A.60)",)),
     Claim("(A.62)", "T", m * l**2 * (w_a**2 + w_p**2 * sa**2), "kinetic energy of both point masses",
           note="printed with omega_alpha, omega_phi: read as alpha_dot, phi_dot"),
     Claim("(A.63)", "V", 2 * m * g * (h - l * ca), "potential energy, zero at p_0z^m = 0"),

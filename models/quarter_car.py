@@ -62,6 +62,10 @@ mass_g = (m_A + m_R) * g
 CLAIMS = [
     Claim("(A.39a)", "eom", m_A * x_A.accel - (f_cA + f_dA - m_A * g), "body", index=(1,)),
     Claim("(A.39b)", "eom", m_R * x_R.accel - (f_cR + f_dR - f_cA - f_dA - m_R * g), "wheel", index=(0,)),
+    Claim("(A.40a)", "eom", f_cA - m_A * g, "static balance of the body, x_U = 0", index=(1,), at="equilibrium",
+          note="0 = f_cA - m_A g written as the residual f_cA - m_A g"),
+    Claim("(A.40b)", "eom", f_cR - f_cA - m_R * g, "static balance of the wheel, x_U = 0", index=(0,),
+          at="equilibrium", note="0 = f_cR - f_cA - m_R g written as the residual"),
     Claim("(A.41), (A.42)", "equilibrium",
           Matrix([-mass_g / c_R, -mass_g / c_R - m_A * g / c_A]), "static deflections for x_U = 0"),
 ]

@@ -28,7 +28,7 @@ reaches zero length: that would need ``l_f^0 = 2 (d + l_1)``, far outside the dr
 
 from sympy import Matrix, cos, integrate, sin, sqrt, symbols
 
-from harness.derivation.bodies import element_force
+from harness.derivation.bodies import element_force, element_vector, point_in_q
 from harness.modeling import (printed_matrix, WORLD, Claim, Coordinate, Gravity, Inertia, Joint, Link, Parameter, Point, Scene, Spring,
                               System, standard_gravity, steiner)
 
@@ -111,6 +111,8 @@ fc_vec_p = c * (lf_p - l_f0) * (rfc_p - rfcfp_p) / lf_p                         
 f_c_sym = printed_matrix("f_c", 3, 1, "N", "spring force vector of (A.27)")
 tau_fc_p = rfc_p[0] * f_c_sym[1] - rfc_p[1] * f_c_sym[0]                        # (r_fc x f_c)_z with (A.27)
 
+_r_1_phi = point_in_q(SYSTEM, Point("body", tuple(r_1)))     # sub-body 1's centre of gravity, body-fixed
+
 CLAIMS = [
     Claim("(A.10)", "parameter", m1_p, "mass of sub-body 1", reference=integrate(rho, *bounds_1)),
     Claim("(A.11)", "parameter", -l_2 / 2, "r_Sm1,x by (3.29)", reference=integrate(x * rho, *bounds_1) / m1_p),
@@ -140,6 +142,13 @@ CLAIMS = [
           reference=rho * integrate(x**2 + y**2, (x, -l_2 / 2, l_2 / 2), (y, -d / 2, d / 2), (z, -b / 2, b / 2))),
     Claim("(A.21)", "parameter", I1S_p + m1_p * (r1_p[0]**2 + r1_p[1]**2), "I_zz,m1^(A) of sub-body 1",
           reference=(I_1 + steiner(m_1, r_1))[2, 2]),
+    Claim("(A.22)", "parameter", _rot(r1_p), "centre of gravity of sub-body 1 turned by phi",
+          reference=_r_1_phi, note="reference: the body-fixed point r_1 (A.12) in the model's kinematics"),
+    Claim("(A.23)", "parameter", Matrix([0, 0, -(r1_p[0] * cos(phi) - r1_p[1] * sin(phi)) * m1_p * g]),
+          "torque of sub-body 1's weight about A", reference=_r_1_phi.cross(Matrix([0, -m_1 * g, 0])),
+          note="reference: r_Sm1(phi) × f_Sm1 (3.10) with the model's kinematics and gravity"),
+    Claim("(A.26)", "parameter", lf_p, "length of the spring l_f(phi)",
+          reference=element_vector(SYSTEM, SYSTEM.forces[0])[1], note="reference: |p_b - p_a| of the model's spring"),
     Claim("(A.27)", "force:spring", fc_vec_p, "spring force f_c on the body at r_fc, with l_f of (A.26)",
           defines=f_c_sym),
     Claim("(A.28)", "eom", I_A_p * phi.accel - (tau_gravity_p + tau_fc_p), ingredients=("(A.27)",),

@@ -72,6 +72,9 @@ CLAIMS = [
     Claim("(A.179a)", "v:counterweight", Matrix([-l * sin(theta) * w_th - h * cos(phi) * w_ph, 0,
                                                  l * cos(theta) * w_th + h * sin(phi) * w_ph]),
           "velocity of the counterweight"),
+    Claim("(A.180)", "v:projectile", Matrix([L * sin(theta) * w_th + r * cos(psi_printed) * w_ps, 0, 0]),
+          "velocity of the projectile in phase 1 (on the ground)",
+          note="psi = psi(theta) (A.178) and psi_dot = ∂psi/∂theta theta_dot (A.182), as in (A.181a)"),
     Claim("(A.181a), (A.182)", "T",
           M * (l**2 * w_th**2 + h**2 * w_ph**2 + 2 * l * h * w_th * w_ph * sin(theta + phi)) / 2
           + m * (L * sin(theta) * w_th + r * cos(psi_printed) * w_ps)**2 / 2,

@@ -85,14 +85,15 @@ def undefined(claim: Claim, claims) -> list[tuple[sp.Symbol, str]]:
             if sp.Symbol(n, real=True) not in defined]
 
 
-def candidates(system: System, unit: str, claims=()) -> list[sp.Symbol]:
+def candidates(system: System, unit: str, claims=(), claim=None) -> list[sp.Symbol]:
     """The model's own symbols of ``unit`` — parameters, coordinates, inputs — and the printed symbols of ``unit``
-    that the system's ``claims`` define (a force the lecture names and another equation prints, e.g. ``f_S``)."""
+    that the system's ``claims`` other than ``claim`` define (a force the lecture names and another equation prints,
+    e.g. ``f_S``; their units are those the claims that use them declare)."""
     out = [p.symbol for p in system.parameters if p.unit == unit]
     out += [c.symbol for c in system.coordinates if c.unit == unit]
     out += [i.symbol for i in system.inputs if i.unit == unit]
     units = {name: u for c in claims for name, u in c.printed_only}
-    out += [s for c in claims for s in c.defined if units.get(s.name) == unit and s not in out]
+    out += [s for c in claims if c is not claim for s in c.defined if units.get(s.name) == unit and s not in out]
     return out
 
 
@@ -175,9 +176,8 @@ def _renamed(system, claim, engines, examples, claims, printed, missing):
     """A claim with printed symbols the model lacks: search the renamings over the model's own symbols."""
     from harness.compare.claims import Classification, classify_as_printed, holds
 
-    others = [c for c in claims if c is not claim]
-    options = [[(symbol, y) for y in candidates(system, unit, others)] for symbol, unit in missing]
-    defined = _defined_values(system, others)
+    options = [[(symbol, y) for y in candidates(system, unit, claims, claim)] for symbol, unit in missing]
+    defined = _defined_values(system, [c for c in claims if c is not claim])
     tried = []
     for combination in itertools.islice(itertools.product(*options), RENAMINGS):
         renaming = dict(combination)

@@ -106,8 +106,9 @@ def finding(system, verdict, claims) -> dict:
         corrected = as_matrix(claim.printed).xreplace(renaming)
         out["corrected_mathml"] = mathml(_shown(corrected, claim))
         pairs = ", ".join(f"{k} → {v}" for k, v in verdict.renaming.items())
-        out["sentence"] = (f"{claim.equation}: {', '.join(verdict.renaming)} is not a symbol of this example; "
-                           f"the equation holds after renaming {pairs}.")
+        names = ", ".join(verdict.renaming)
+        verb = "is not a symbol" if len(verdict.renaming) == 1 else "are not symbols"
+        out["sentence"] = f"{claim.equation}: {names} {verb} of this example; the equation holds after renaming {pairs}."
         return out
     if verdict.classification == "follows from erratum":
         out["sentence"] = (f"{claim.equation} is right as written in its symbols; it fails only through the printed "
