@@ -200,29 +200,39 @@ def sentence(claim, printed, corrected, verdict) -> str:
             parts = []
             for i, j in wrong:
                 at = f"({i + 1}, {j + 1})" if printed.cols > 1 else f"{i + 1}"
-                if sp.expand(printed[i, j] + corrected[i, j]) == 0:
-                    parts.append(f"entry {at} has the wrong sign (it is {corrected[i, j]})")
+                phrase = _entry_phrase(printed[i, j], corrected[i, j])
+                if phrase is not None:
+                    parts.append(f"in entry {at}, {phrase}")
                 elif len(str(corrected[i, j])) > SHORT:
                     parts.append(f"entry {at} differs (the corrected expression is shown in full)")
                 else:
                     parts.append(f"entry {at} should read {corrected[i, j]}, not {printed[i, j]}")
             return f"{where}: " + "; ".join(parts) + "."
     if printed.shape == (1, 1) == corrected.shape:
-        ratio = sp.cancel(printed[0] / corrected[0]) if corrected[0] != 0 else None
-        if ratio is not None and (ratio.is_Symbol or (1 / ratio).is_Symbol):
-            return (f"{where}: the factor {ratio} does not belong." if ratio.is_Symbol
-                    else f"{where}: a factor {1 / ratio} is missing.")
-        have = set(sp.Add.make_args(sp.expand(printed[0])))
-        want = set(sp.Add.make_args(sp.expand(corrected[0])))
-        extra, lacking = have - want, want - have
-        if 0 < len(extra) <= 2 and 0 < len(lacking) <= 2:
-            return (f"{where}: the term {' + '.join(map(str, extra))} should read "
-                    f"{' + '.join(map(str, lacking))}.")
-        if not extra and 0 < len(lacking) <= 2:
-            return f"{where}: the term {' + '.join(map(str, lacking))} is missing."
-        if not lacking and 0 < len(extra) <= 2:
-            return f"{where}: the term {' + '.join(map(str, extra))} does not belong."
+        phrase = _entry_phrase(printed[0], corrected[0])
+        if phrase is not None:
+            return f"{where}: {phrase}."
     return f"{where}: the printed expression differs from the derived one by {_short(corrected - printed)}."
+
+
+def _entry_phrase(printed, corrected) -> str | None:
+    """What is wrong with one printed entry, in words: its sign, a factor, or at most two terms (of the expanded
+    sums) that should read otherwise, are missing or do not belong; None when it is none of these."""
+    if sp.expand(printed + corrected) == 0:
+        return f"the sign is wrong (it is {corrected})"
+    ratio = sp.cancel(printed / corrected) if corrected != 0 else None
+    if ratio is not None and (ratio.is_Symbol or (1 / ratio).is_Symbol):
+        return f"the factor {ratio} does not belong" if ratio.is_Symbol else f"a factor {1 / ratio} is missing"
+    have = set(sp.Add.make_args(sp.expand(printed)))
+    want = set(sp.Add.make_args(sp.expand(corrected)))
+    extra, lacking = have - want, want - have
+    if 0 < len(extra) <= 2 and 0 < len(lacking) <= 2:
+        return f"the term {' + '.join(map(str, extra))} should read {' + '.join(map(str, lacking))}"
+    if not extra and 0 < len(lacking) <= 2:
+        return f"the term {' + '.join(map(str, lacking))} is missing"
+    if not lacking and 0 < len(extra) <= 2:
+        return f"the term {' + '.join(map(str, extra))} does not belong"
+    return None
 
 
 def _short(m):
