@@ -10,7 +10,7 @@ import pytest
 import sympy as sp
 
 import models
-from harness.compare.claims import classify
+from harness.compare.claims import classify, on_motion
 from harness.derivation import bodies
 from harness.derivation.derive import derive
 from harness.modeling import Claim, ConstraintForce, Point
@@ -47,12 +47,6 @@ def test_the_balance_of_the_bodies_is_the_lagrange_derivation(name):
         assert float(np.max(np.abs(np.array(residual.xreplace(at).evalf(), dtype=float)))) < 1e-10 * scale
 
 
-def _on_motion(system):
-    d = derive(system)
-    qdd = d.M.LUsolve(d.f_np - d.C * sp.Matrix(system.qd) - d.g)
-    return {c.accel: e for c, e in zip(system.coordinates, qdd)}
-
-
 @pytest.mark.parametrize("name", DECLARED)
 def test_every_row_of_the_balance_holds_with_the_solved_forces(name):
     """λ is solved from a square block of rows; on the motion the other rows must hold too (the declared forces
@@ -61,13 +55,13 @@ def test_every_row_of_the_balance_holds_with_the_solved_forces(name):
     forces = bodies.constraint_forces(system)
     lam = sp.Matrix([forces[cf.name] for cf in system.constraint_forces])
     residual = (bodies.joint_space_balance(system) - bodies.constraint_directions(system) * lam).xreplace(
-        _on_motion(system))
+        on_motion(system))
     rng = np.random.default_rng(1)
     for _ in range(3):
         at = _numeric(system, rng)
         values = np.array(residual.xreplace(at).evalf(), dtype=float)
         assert float(np.max(np.abs(values))) < 1e-9 * max(1.0, float(np.max(np.abs(np.array(
-            bodies.joint_space_balance(system).xreplace(_on_motion(system)).xreplace(at).evalf(), dtype=float)))))
+            bodies.joint_space_balance(system).xreplace(on_motion(system)).xreplace(at).evalf(), dtype=float)))))
 
 
 def test_a_declaration_that_does_work_or_misses_a_constraint_is_refused():

@@ -79,7 +79,7 @@ def test_errata_sheet_renders_a_finding_in_the_lecture_notation():
     name = "cart_pendulum"
     system, printed = models.get(name), models.claims(name)
     records = []
-    for claim in printed:
+    for claim in [c for c in printed if c.equation in ("(5.92a)", "(5.92b)")]:  # with their ingredients
         v = classify(system, claim, examples=20, claims=printed)
         records.append({"system": name, "equation": claim.equation, "quantity": claim.quantity,
                         "classification": v.classification, "printed": str(claim.printed), "corrected": v.corrected,

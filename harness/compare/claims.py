@@ -190,10 +190,7 @@ def _derive_claimed(system: System, claim: Claim):
     elif kind == "v":  # (4.64): the point's velocity J_v q̇ in the inertial frame
         expr = _point(system, claim.quantity.split(":", 1)[1]).jacobian(system.q) * sp.Matrix(system.qd)
     elif kind == "a":  # (4.64) differentiated: the point's acceleration J_v q̈ + J̇_v q̇ in the inertial frame
-        p = _point(system, claim.quantity.split(":", 1)[1])
-        v = p.jacobian(system.q) * sp.Matrix(system.qd)
-        expr = v.jacobian(system.q) * sp.Matrix(system.qd) + p.jacobian(system.q) * sp.Matrix(
-            [c.accel for c in system.coordinates])
+        expr = bodies.acceleration(system, _point(system, claim.quantity.split(":", 1)[1]))
     elif kind == "v_squared":  # (ṗ)ᵀ ṗ of the point, with ṗ = J_v q̇ (4.64)
         v = _point(system, claim.quantity.split(":", 1)[1]).jacobian(system.q) * sp.Matrix(system.qd)
         expr = v.T * v
@@ -246,10 +243,7 @@ def _lagrangian_term(system: System, d, kind: str, coordinate: str):
     if kind == "dL_dq":
         return sp.diff(L, system.q[k])
     p = sp.diff(L, system.qd[k])
-    if kind == "dL_dqd":
-        return p
-    accel = [c.accel for c in system.coordinates]
-    return sum(sp.diff(p, x) * dx for x, dx in (*zip(system.q, system.qd), *zip(system.qd, accel)))
+    return p if kind == "dL_dqd" else bodies.rate(system, p)
 
 
 def _coordinate_index(system: System, name: str) -> int:

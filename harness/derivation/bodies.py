@@ -183,9 +183,7 @@ def solid_volume(solid) -> sp.Expr:
 # --------------------------------------------------------------------------- cut forces
 def acceleration(system: System, p: sp.Matrix) -> sp.Matrix:
     """``p̈ = J q̈ + J̇ q̇`` of a position ``p(q)`` (4.64) differentiated, in ``q, q̇, q̈``."""
-    q, qd = system.q, sp.Matrix(system.qd)
-    J = p.jacobian(q)
-    return (J * qd).jacobian(q) * qd + J * sp.Matrix([c.accel for c in system.coordinates])
+    return rate(system, p.jacobian(system.q) * sp.Matrix(system.qd))
 
 
 def _skew(r: sp.Matrix) -> sp.Matrix:
@@ -221,7 +219,7 @@ def joint_space_balance(system: System) -> sp.Matrix:
         inertia = link.inertia.matrix
         if any(e != 0 for e in inertia):
             w = angular_velocity(system, link.name)
-            w_dot = _rate(system, w)
+            w_dot = rate(system, w)
             I_0 = inertia_in_inertial_frame(system, link.name)
             J_w = _in_q(system, poses[link.name].J_omega_theta)
             rows += J_w.T * (I_0 * w_dot + w.cross(I_0 * w))
@@ -229,14 +227,17 @@ def joint_space_balance(system: System) -> sp.Matrix:
     theta_dot = J_phi * qd
     for k, joint in enumerate(system.joints):
         if sp.sympify(joint.armature) != 0:
-            rows[k] += joint.armature * _rate(system, sp.Matrix([theta_dot[k]]))[0]
+            rows[k] += joint.armature * rate(system, theta_dot[k])
     return rows - _applied_in_theta(system, poses, theta_dot)
 
 
-def _rate(system: System, expr: sp.Matrix) -> sp.Matrix:
-    """``d/dt`` of an expression in ``q, q̇`` along the motion (``q̈`` as the coordinates' ``accel``)."""
-    accel = sp.Matrix([c.accel for c in system.coordinates])
-    return expr.jacobian(system.q) * sp.Matrix(system.qd) + expr.jacobian(system.qd) * accel
+def rate(system: System, expr):
+    """``d/dt`` of an expression (or matrix) in ``q, q̇`` along the motion, ``q̈`` as the coordinates' ``accel``
+    (the chain rule of (5.69))."""
+    pairs = (*zip(system.q, system.qd), *zip(system.qd, [c.accel for c in system.coordinates]))
+    if isinstance(expr, sp.MatrixBase):
+        return expr.applyfunc(lambda e: rate(system, e))
+    return sum((sp.diff(expr, x) * dx for x, dx in pairs), sp.Integer(0))
 
 
 def _applied_in_theta(system: System, poses, theta_dot: sp.Matrix) -> sp.Matrix:
