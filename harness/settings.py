@@ -54,8 +54,9 @@ def property_test(strategy, check, examples: int | None = None, shrink: bool = T
     overrides = dict(OVERRIDES)
     if examples is not None:
         overrides["max_examples"] = examples
-    if not shrink:
-        overrides["phases"] = [Phase.explicit, Phase.reuse, Phase.generate]
+    # no explain phase: after shrinking it runs the check again on variations of the minimal example only to
+    # comment on which parts of it matter; the harness reports the minimal example itself (and its own reduction)
+    overrides["phases"] = [Phase.explicit, Phase.reuse, Phase.generate] + ([Phase.shrink] if shrink else [])
     return settings(**overrides)(given(strategy)(check))
 
 
