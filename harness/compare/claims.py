@@ -209,6 +209,8 @@ def _derive_claimed(system: System, claim: Claim):
         expr = sp.sympify(claim.reference)
     elif kind == "Cqd":
         expr = d.C * sp.Matrix(system.qd)
+    elif kind == "K":  # the stiffness matrix ∂g/∂q (3.74)
+        expr = d.g.jacobian(system.q)
     else:
         expr = getattr(d, kind)
     return _select(sp.Matrix(expr) if isinstance(expr, sp.MatrixBase) else sp.Matrix([expr]), claim.index)

@@ -11,7 +11,8 @@ import sympy as sp
 from harness.modeling.system import Declared, System, plain
 
 ENGINE_QUANTITIES = {"M", "C", "Cqd", "g"}
-QUANTITIES = ENGINE_QUANTITIES | {"f_np", "T", "V", "L", "eom", "parameter", "equilibrium"}
+QUANTITIES = ENGINE_QUANTITIES | {"f_np", "T", "V", "L", "K", "eom", "parameter", "equilibrium"}
+# "K": the stiffness matrix ∂g/∂q of the potential forces (3.74) (its symmetry is the integrability condition (3.73))
 # kinds with an argument: "position:<point>", "v:<point>" (its velocity J_v q̇), "a:<point>" (its
 # acceleration), "v_squared:<point>" (ṗᵀ ṗ), "J_v:<point>" (its translational
 # Jacobian (4.64)), "J_omega:<link>"

@@ -150,6 +150,7 @@ def _claim_lhs(claim) -> str:
     index = "".join(str(i + 1) for i in claim.index) if claim.index else ""
     lhs = {"M": bold("M", subscript=index), "C": bold("C", subscript=index),
            "g": bold("g", subscript=index), "f_np": bold("f", subscript=index, superscript="np"),
+           "K": bold("K", subscript=index),
            "T": "<mi>T</mi>", "V": "<mi>V</mi>",
            "Cqd": f'<mrow>{bold("C")}<mover accent="true"><mi mathvariant="bold">q</mi><mo>\u02d9</mo></mover>'
                   f'</mrow>' + (f"<msub><mrow/><mi>{index}</mi></msub>" if index else ""),
