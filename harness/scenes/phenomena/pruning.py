@@ -180,10 +180,24 @@ def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalog
     if source != SYMBOLIC and ENGINES[source].applies(system):
         raise ValueError(ENGINES[source].applies(system))
 
+    if source == SYMBOLIC and same_right_hand_side(pruned(system, scene.effects),
+                                                   pruned(idle_system, idle_scene.effects)):
+        raise ValueError("the pruned and the idle model derive the same M, C, g, f_np (what is left out adds no "
+                         "term, e.g. gravity orthogonal to every motion): nothing is pruned in this source")
+
     def one(s, sc):
         return lambda: motion.simulate(s, sc, event, source, rtol=1e-10, atol=1e-10, catalogue=catalogue)
     method = "our compiled right-hand side" if source == SYMBOLIC else f"{source} forward dynamics"
     return one(system, scene), one(idle_system, idle_scene), f"{method}, DOP853 1e-10"
+
+
+def same_right_hand_side(pruned_system, idle_system) -> bool:
+    """Whether the two models derive the same expressions of ``M``, ``C``, ``g``, ``f_np`` (then their compiled
+    right-hand sides are the same function and a time ratio would measure noise)."""
+    from harness.derivation.compile import compiled
+
+    a, b = compiled(pruned_system).derivation, compiled(idle_system).derivation
+    return all(getattr(a, k) == getattr(b, k) for k in ("M", "C", "g", "f_np"))
 
 
 class Pruning(Phenomenon):
