@@ -49,9 +49,9 @@ def test_check_out_merges_by_system(tmp_path, capsys):
 def test_claims_out_merges_by_system(tmp_path, capsys):
     out = tmp_path / "reports"
     assert cli.main(["claims", "pendulum", "--examples", "3", "--jobs", "1", "--out", str(out)]) == 0
-    assert cli.main(["claims", "cart_pendulum", "--examples", "3", "--jobs", "1", "--out", str(out)]) == 0
+    assert cli.main(["claims", "pulley", "--examples", "3", "--jobs", "1", "--out", str(out)]) == 0
     records = json.loads((out / "claims.json").read_text())
-    assert {r["system"] for r in records} == {"pendulum", "cart_pendulum"}
+    assert {r["system"] for r in records} == {"pendulum", "pulley"}
     assert "| pendulum |" in (out / "errata.md").read_text()
     # a rerun of one system replaces its records, it does not add a second copy
     assert cli.main(["claims", "pendulum", "--examples", "3", "--jobs", "1", "--out", str(out)]) == 0
