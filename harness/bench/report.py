@@ -288,7 +288,8 @@ def _pruning(rows: list[dict]) -> list[str]:
                 cells.append(f"not measured: {m['skipped']}")
             else:
                 ratio = m["ratio"]
-                mark = f" **finding: slower pruned**{_noise(m)}" if ratio < 1 else ""
+                mark = "" if ratio >= 1 else (f" ≈ 1: no measurable difference{_noise(m)}" if 1 - ratio <= _spread(m)
+                                              else f" **finding: slower pruned**{_noise(m)}")
                 cells.append(f"{ratio:.2f} × " if ratio >= 1 else f"{ratio:.3f} × ")
                 cells[-1] += (f"({m['idle_seconds'] * 1e3:.1f} / {m['pruned_seconds'] * 1e3:.1f} ms)"
                              f"{mark}")
@@ -332,11 +333,15 @@ def _pruning_goals(rows: list[dict]) -> list[dict]:
     return out
 
 
-def _noise(m: dict) -> str:
+def _spread(m: dict) -> float:
     """The spread of the repeats (median over fastest − 1, the larger of idle and pruned): a ratio within it of 1
-    is timing noise."""
+    is timing noise (0 without repeats)."""
     spreads = [statistics.median(m[k]) / min(m[k]) - 1 for k in ("idle_all", "pruned_all") if m.get(k)]
-    return f"; repeats spread {max(spreads) * 100:.1f} %" if spreads else ""
+    return max(spreads, default=0.0)
+
+
+def _noise(m: dict) -> str:
+    return f"; repeats spread {_spread(m) * 100:.1f} %" if m.get("idle_all") or m.get("pruned_all") else ""
 
 
 CONTACT_GOAL = 3.0      # MuJoCo, the robot with contact detection pruned (issue 17)
