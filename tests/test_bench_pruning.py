@@ -36,3 +36,16 @@ def test_pruning_rows_goals_and_findings():
     assert "the arm touches itself at t = 0.2365 s" in "\n".join(report._contact(contact))
     doc = {"pruning": rows, "pruning_contact": contact}
     assert any(g["check"].startswith("contact detection pruned") and g["passed"] for g in report.goals(doc))
+
+
+def test_contact_is_proved_idle_until_just_before_the_arm_touches_itself():
+    """The clearance bound along the pruned run (every step, every geom pair MuJoCo considers) ends at or before
+    the first contact MuJoCo's own run with contact on finds, and not far before it (the bound is a proof, and a
+    tight one); over the proved interval contact on and pruned give the same motion."""
+    from harness.bench import contact_pruning
+    from harness.catalogue import repository
+
+    c = contact_pruning.task(repository(), repeats=1)
+    assert c["first_contact"] is not None and c["collision_pairs"] > 0
+    assert 0.9 * c["first_contact"] <= c["certified_contact_free"] <= c["first_contact"]
+    assert c["error"] == 0.0 and c["measured_horizon"] <= c["certified_contact_free"]

@@ -67,7 +67,9 @@ Schema of ``bench.json`` (``schema: 2``; times in seconds, errors relative to th
                   (before: {"system", "scene", "pruned_seconds", "idle_seconds", "speedup", …} of the symbolic
                   path alone)
       "pruning_contact": {"system", "scene", "source": "mujoco", "method", "collision_geoms", "left_out",
-                          "first_contact" (s, or null), "first_contact_pairs", "whole_horizon_error",
+                          "first_contact" (s, or null), "first_contact_pairs", "certified_contact_free" (s: contact
+                          proved idle before it), "certificate_ends_at" (the geom pair), "collision_pairs",
+                          "whole_horizon_error",
                           "measured_horizon", "pruned_seconds", "idle_seconds", "ratio", "error", "repeats"}
                          (harness.bench.contact_pruning: the robot's collision meshes, contact detection on /
                          mjDSBL_CONTACT, over the contact-free part of the scene),

@@ -1,10 +1,16 @@
 """Contact detection pruned: the lightweight robot's scene ``fall`` in MuJoCo's own RK4 with the Panda's real
 collision meshes and a floor, contact detection on (``contact``, ``constraint`` enabled) against the same MJCF with
 ``mjDSBL_CONTACT`` set (:class:`~harness.engines.mujoco_engine.Options` ``disable``): the scene touches nothing
-while nothing touches, so every collision test is work for nothing. Whether anything touches is not assumed: the
-run with contact on records the first step at which MuJoCo finds a contact (and the pair); the ratio is measured
-over the contact-free part of the horizon (the samples before it), where both trajectories must agree, and the
-whole horizon's disagreement is reported beside it (a scene whose contact can act cannot be pruned).
+while nothing touches, so every collision test is work for nothing. Whether anything touches is not assumed, it
+is bounded: along the pruned run, at every step, each geom pair MuJoCo's collision detection considers has a
+clearance ``d`` (``mj_geomDistance`` less the contact margin) and a bound ``r`` of the rate at which it can shrink
+(``|v| + |ω| r_bound`` of both geoms); over a step of length ``Δt`` the pair's clearance stays above
+``(d_k + d_k+1)/2 − 1.1 max(r_k, r_k+1) Δt/2`` (the distance is Lipschitz with that rate; 1.1 covers the rate's
+change within a 0.25 ms step). While that is positive for every pair, no contact can be made, the contact-on run
+is the pruned run: contact is inferred idle over that interval (:func:`certified_contact_free`). The run with
+contact on also records the first step at which MuJoCo finds a contact (and the pair); the ratio is measured over
+the certified interval, where both trajectories must agree, and the whole horizon's disagreement is reported
+beside it (a scene whose contact can act cannot be pruned).
 
 Collision geometry: the ``<collision>`` meshes and boxes of ``example-robot-data``'s ``panda.urdf`` (the pinned package), each
 on the body it moves with — ``panda_link0`` on the fixed base, ``panda_link1`` … ``panda_link7`` on theirs, the
@@ -85,6 +91,32 @@ def collision_geometry(urdf_path, bodies, held: dict) -> tuple[tuple, list[str]]
     return tuple(out), left_out
 
 
+DISTMAX = 0.05           # m: clearances above it are not computed exactly (mj_geomDistance's cap)
+RATE_SLACK = 1.1         # the shrink rate's change within a step (see the module docstring)
+
+
+def certified_contact_free(model, q0, qd0, steps: int) -> tuple[int, tuple[str, str] | None]:
+    """The number of steps from ``(q0, qd0)`` over which ``model`` (contact detection pruned) provably makes no
+    contact (see the module docstring), and the geom pair whose bound ends it (None: the whole ``steps``)."""
+    pairs = model.collision_pairs()
+    model.reset()
+    model.set_state(q0, qd0)
+    dt = float(model.model.opt.timestep)
+
+    def clearance(k):
+        model.forward()
+        return model.clearance(pairs, DISTMAX)
+
+    samples = model.rollout(steps, 1, clearance)
+    for k in range(steps):
+        (d0, r0), (d1, r1) = samples[k], samples[k + 1]
+        bound = (d0 + d1) / 2 - RATE_SLACK * np.maximum(r0, r1) * dt / 2
+        if np.min(bound) <= 0:
+            a, b = pairs[int(np.argmin(bound))]
+            return k, (model.geom_name(a), model.geom_name(b))
+    return steps, None
+
+
 def task(catalogue, repeats: int = 5) -> dict:
     """Contact detection on (idle: nothing touches) against pruned (``mjDSBL_CONTACT``), MuJoCo's own RK4; the
     fastest of ``repeats`` runs of each, alternating, in this process."""
@@ -134,7 +166,9 @@ def task(catalogue, repeats: int = 5) -> dict:
         idle.forward()
         pairs = sorted({tuple(sorted((idle.geom_name(c.geom1), idle.geom_name(c.geom2))))
                         for c in idle.data.contact[:idle.data.ncon]})
-    free = STEPS if first is None else (first // EVERY) * EVERY   # contact-free: the samples before the first
+    certified, ends_at = certified_contact_free(lean, np.asarray(scene.q0, float), np.asarray(scene.qd0, float),
+                                                STEPS)
+    free = (certified // EVERY) * EVERY   # contact provably idle: the samples before its bound ends
     runs = {"pruned": [], "idle": []}
     for _ in range(repeats):
         runs["pruned"].append(run(lean, free)[0])
@@ -145,6 +179,8 @@ def task(catalogue, repeats: int = 5) -> dict:
     return {"system": ROBOT, "scene": SCENE, "source": "mujoco", "method": f"mj_step RK4, dt={dt:g}",
             "collision_geoms": len(meshes), "meshes": sum(g[1][0] == "mesh" for g in meshes), "left_out": left_out,
             "first_contact": None if first is None else first * dt, "first_contact_pairs": pairs,
+            "certified_contact_free": certified * dt, "certificate_ends_at": list(ends_at or ()),
+            "collision_pairs": len(lean.collision_pairs()),
             "whole_horizon_error": sim.max_error(whole, pruned_whole),
             "measured_horizon": free * dt, "pruned_seconds": t_lean, "idle_seconds": t_full,
             "ratio": t_full / max(t_lean, 1e-12), "error": sim.max_error(runs["idle"][0], runs["pruned"][0]),

@@ -513,6 +513,38 @@ class MujocoModel(TreeEngine):
     def _id(self, kind, name) -> int:
         return mujoco.mj_name2id(self.model, kind, name)
 
+    def collision_pairs(self) -> list[tuple[int, int]]:
+        """The geom pairs MuJoCo's collision detection considers, by its own filter: ``contype``/``conaffinity``
+        compatible, not in one weld body, not parent and child unless one of them is welded to the world."""
+        m = self.model
+        weld = m.body_weldid[m.geom_bodyid]
+        parent = m.body_weldid[m.body_parentid[weld]]
+        out = []
+        for a in range(m.ngeom):
+            for b in range(a + 1, m.ngeom):
+                if not (m.geom_contype[a] & m.geom_conaffinity[b] or m.geom_contype[b] & m.geom_conaffinity[a]):
+                    continue
+                if weld[a] == weld[b] or (weld[a] and weld[b] and (weld[a] == parent[b] or weld[b] == parent[a])):
+                    continue
+                out.append((a, b))
+        return out
+
+    def clearance(self, pairs, distmax: float) -> tuple[np.ndarray, np.ndarray]:
+        """At the current state (after :meth:`forward`), per pair: the signed distance of its geoms less their
+        contact margin (``mj_geomDistance``, capped at ``distmax``: MuJoCo makes a contact only below it) and a bound
+        of the rate at which it can shrink, the sum over its two geoms of ``|v| + |ω| r`` (``mj_objectVelocity``
+        at the geom's centre, ``r`` its bounding radius ``geom_rbound``; 0 for a geom welded to the world)."""
+        m, d = self.model, self.data
+        speed = np.zeros(m.ngeom)
+        v = np.zeros(6)
+        for g in {g for pair in pairs for g in pair}:
+            if m.body_weldid[m.geom_bodyid[g]]:
+                mujoco.mj_objectVelocity(m, d, mujoco.mjtObj.mjOBJ_GEOM, g, v, 0)
+                speed[g] = np.linalg.norm(v[3:]) + np.linalg.norm(v[:3]) * m.geom_rbound[g]
+        gaps = np.array([mujoco.mj_geomDistance(m, d, a, b, distmax, None) - max(m.geom_margin[a], m.geom_margin[b])
+                         for a, b in pairs])
+        return gaps, np.array([speed[a] + speed[b] for a, b in pairs])
+
     def geom_name(self, gid) -> str:
         """A geom's name (its id where it has none)."""
         return mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_GEOM, int(gid)) or f"geom {int(gid)}"
