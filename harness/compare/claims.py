@@ -142,8 +142,9 @@ def at_rest(system: System, claim: Claim) -> dict:
     and ``q`` the system's one equilibrium (``g(q) − f_np(q, 0, 0) = 0`` solved), or the named input at its holding
     value and the others 0."""
     key = (id(system), claim.at)
-    if key in _AT_REST:
-        return _AT_REST[key]
+    kept = _AT_REST.get(key)
+    if kept is not None and kept[0] is system:  # the system is kept alive with it: its id is not reused
+        return kept[1]
     rest = {**{x: 0 for x in system.qd}, **{c.accel: 0 for c in system.coordinates}}
     if claim.at == "equilibrium":
         d = compiled(system).derivation
@@ -158,7 +159,7 @@ def at_rest(system: System, claim: Claim) -> dict:
         name = claim.at.split(":", 1)[1]
         rest.update({u: 0 for u in system.u})
         rest[sp.Symbol(name, real=True)] = _holding_value(system, name)
-    _AT_REST[key] = rest
+    _AT_REST[key] = (system, rest)
     return rest
 
 

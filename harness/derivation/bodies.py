@@ -240,6 +240,13 @@ def rate(system: System, expr):
     return sum((sp.diff(expr, x) * dx for x, dx in pairs), sp.Integer(0))
 
 
+def load_vector(system: System, load) -> sp.Matrix:
+    """The force of a :class:`PointForce` or the torque of a :class:`BodyTorque` in the inertial frame (a follower
+    load's components are given in a link's frame: ``R_0^k`` times them)."""
+    vector = sp.Matrix(load.force if isinstance(load, PointForce) else load.torque)
+    return vector if load.frame == WORLD else rotation_matrix(system, load.frame) * vector
+
+
 def _applied_in_theta(system: System, poses, theta_dot: sp.Matrix) -> sp.Matrix:
     """The applied forces' generalized forces in the tree joints ``θ`` (5.73), in lecture coordinates: springs and
     dampers ``J_rᵀ f``, external forces and torques ``J_vᵀ f^e``, ``J_ωᵀ τ^e``, and a joint's own spring, damper
@@ -253,15 +260,9 @@ def _applied_in_theta(system: System, poses, theta_dot: sp.Matrix) -> sp.Matrix:
                 _material_jacobian(system, poses, f.a.link, f.a) if f.a.link != WORLD else sp.zeros(3, n))
             rows += J_r.T * element_force(system, f.name)
         elif isinstance(f, PointForce):
-            vector = sp.Matrix(f.force)
-            if f.frame != WORLD:
-                vector = rotation_matrix(system, f.frame) * vector
-            rows += _material_jacobian(system, poses, f.point.link, f.point).T * vector
+            rows += _material_jacobian(system, poses, f.point.link, f.point).T * load_vector(system, f)
         elif isinstance(f, BodyTorque):
-            vector = sp.Matrix(f.torque)
-            if f.frame != WORLD:
-                vector = rotation_matrix(system, f.frame) * vector
-            rows += _in_q(system, poses[f.link].J_omega_theta).T * vector
+            rows += _in_q(system, poses[f.link].J_omega_theta).T * load_vector(system, f)
         elif isinstance(f, JointSpring):
             k = index[f.joint]
             rows[k] += -sp.sympify(f.stiffness) * (system.phi[k] - sp.sympify(f.rest))
@@ -352,10 +353,7 @@ def joint_force(system: System, joint: str) -> sp.Matrix:
             force += m * acceleration(system, centre_of_mass(system, link.name)) - m * g * e_g
     for element in system.forces:
         if isinstance(element, PointForce) and element.point.link in carried:
-            vector = sp.Matrix(element.force)
-            if element.frame != WORLD:
-                vector = rotation_matrix(system, element.frame) * vector
-            force -= vector
+            force -= load_vector(system, element)
         elif isinstance(element, (Spring, Damper)):
             a_in, b_in = element.a.link in carried, element.b.link in carried
             if a_in != b_in:  # the element's force on b is f, on a −f (3.84)
@@ -408,9 +406,7 @@ def _external(system: System, name: str):
     for f in system.forces:
         if getattr(f, "name", None) != name or not isinstance(f, (PointForce, BodyTorque)):
             continue
-        vector = sp.Matrix(f.force if isinstance(f, PointForce) else f.torque)
-        if f.frame != WORLD:  # follower: components in a link's frame
-            vector = rotation_matrix(system, f.frame) * vector
+        vector = load_vector(system, f)
         if isinstance(f, PointForce):
             return point_in_q(system, f.point).jacobian(system.q).T * vector
         return rotational_jacobian(system, f.link).T * vector
