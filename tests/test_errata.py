@@ -93,4 +93,5 @@ def test_errata_sheet_renders_a_finding_in_the_lecture_notation():
     assert "rho" not in by["(5.92b)"]["difference"]
     page = errata.html(records)
     assert "<math" in page and "(5.92b)" in page
+    assert "href='#cart-pendulum-5.92b'" in page and "<section id='cart-pendulum-5.92b'>" in page  # summary -> finding
     assert "| (5.92b) | cart_pendulum | substantive |" in errata.markdown(records)

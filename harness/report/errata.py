@@ -9,6 +9,7 @@ summary table and the numbered equations that have no claim, with the reason.
 from __future__ import annotations
 
 import json
+import re
 from html import escape
 from pathlib import Path
 
@@ -345,6 +346,8 @@ def markdown(records) -> str:
         if r.get("sentence"):
             lines += [r["sentence"], ""]
         lines += [f"- printed: `{r['printed']}`"]
+        if r.get("where"):
+            lines.append(f"- checked {r['where']}")
         if r.get("renaming"):
             lines.append(f"- holds after renaming {_correction(r)}")
         if r.get("difference"):
@@ -394,6 +397,11 @@ def html(records) -> str:
             + sheet(records) + "</body></html>\n")
 
 
+def _anchor(record) -> str:
+    """The id of a finding's section: its system and equation, letters, digits and dots only."""
+    return re.sub(r"[^A-Za-z0-9.]+", "-", f"{record['system']}-{record['equation']}").strip("-")
+
+
 def sheet(records) -> str:
     """The errata sheet: summary table, each finding with printed and corrected equation as MathML, the
     numbered equations without a claim."""
@@ -403,13 +411,15 @@ def sheet(records) -> str:
             f"<p>{len(records)} printed equations checked: "
             + ", ".join(f"{v} {escape(k)}" for k, v in sorted(counts.items())) + ".</p>",
             "<h2>Summary</h2><table><tr><th>equation</th><th>system</th><th>kind</th><th>correction</th></tr>"]
-    body += [f"<tr><td>{escape(r['equation'])}</td><td>{escape(r['system'])}</td>"
+    body += [f"<tr><td><a href='#{_anchor(r)}'>{escape(r['equation'])}</a></td><td>{escape(r['system'])}</td>"
              f"<td>{escape(KIND.get(r['classification'], r['classification']))}</td>"
              f"<td>{escape(_correction(r))}</td></tr>" for r in findings]
     body.append("</table><h2>Findings</h2>")
     for r in findings:
-        body.append(f"<section><h3>{escape(r['equation'])} ({escape(r['system'])}): "
+        body.append(f"<section id='{_anchor(r)}'><h3>{escape(r['equation'])} ({escape(r['system'])}): "
                     f"{escape(r['classification'])}</h3>")
+        if r.get("where"):
+            body.append(f"<p>checked {escape(r['where'])}</p>")
         if r.get("sentence"):
             body.append(f"<p class='act'>{escape(r['sentence'])}</p>")
         if r.get("printed_mathml"):
