@@ -32,15 +32,20 @@ force ``f_n = m_L g cos(alpha)`` (A.94) and the tangential force ``f_t = mu_c f_
 non-smooth; it comes with the scenes. ``mu_c`` is declared here so that the scene can use it by name; it
 enters none of M, C, g. The data of the task, ``s_1``, ``v_0``, ``v_1``, belong to the scene as well.
 
-Not transcribed as claims: (A.94)-(A.96) (they contain the friction); (A.96), the force ``f`` that accelerates
+Constraint forces: the map's four constraints are the incline (its normal force ``f_n`` on the load), rope 1 between
+the load and ``R_1``'s inner radius (``f_S1``, at its tangent point above the rope's line), rope 2 between ``R_1``'s
+outer radius and ``R_2``'s left rim (``f_S2``) and rope 2's fixed strand at ``R_2``'s right rim (``f_S3``); the normal
+force (A.94) is claimed against ``f_n`` (the force the load exerts on the incline is its reaction).
+
+Not transcribed as claims: (A.95)-(A.96) (they contain the friction); (A.96), the force ``f`` that accelerates
 the load from ``v_0`` to ``v_1`` over ``s_1``, is the energy balance (A.87) of (A.88), (A.92), (A.93) and (A.95),
 which are claims here except (A.95).
 """
 
 from sympy import cos, diff, sin
 
-from harness.modeling import (WORLD, Claim, Constant, Coordinate, Gravity, Inertia, Input, Joint, Link, Parameter,
-                              Point, PointForce, Scene, System, standard_gravity)
+from harness.modeling import (WORLD, Claim, Constant, ConstraintForce, Coordinate, Gravity, Inertia, Input, Joint, Link,
+                              Parameter, Point, PointForce, Scene, System, standard_gravity)
 
 m_L = Parameter("m_L", 10.0, "kg", "mass of the load")
 m_1 = Parameter("m_1", 4.0, "kg", "mass of the pulley R_1 (fixed axis)")
@@ -81,6 +86,15 @@ SYSTEM = System(
     ),
     gravity=Gravity(g, (0, -1, 0)),
     forces=(PointForce("force_f", Point("R2", (0, 0, 0), "R2_axis"), (0, -f, 0)),),
+    constraint_forces=(   # the map's four constraints, their forces (the ropes are straight and massless)
+        ConstraintForce("f_n", forces=(("load", Point("load"), (-sin(alpha), cos(alpha), 0)),)),
+        ConstraintForce("f_S1", forces=(("load", Point("load"), (cos(alpha), sin(alpha), 0)),
+                                        ("R1", Point(WORLD, (-r_2 * sin(alpha), r_2 * cos(alpha), 0)),
+                                         (-cos(alpha), -sin(alpha), 0)))),
+        ConstraintForce("f_S2", forces=(("R1", Point(WORLD, (r_1, 0, 0)), (0, -1, 0)),
+                                        ("R2", Point("R2_centre", (-r_2, 0, 0)), (0, 1, 0)))),
+        ConstraintForce("f_S3", forces=(("R2", Point("R2_centre", (r_2, 0, 0)), (0, 1, 0)),)),
+    ),
     doc=__doc__,
 )
 
@@ -109,6 +123,8 @@ CLAIMS = [
     Claim("(A.93)", "f_np", f * r_1 / (2 * r_2), "generalized force of f",
           note="printed as the work W_F = f s_1 r_1/(2 r_2) of the constant force over s_1; its generalized "
                "force (5.60) is dW_F/ds_1 = f r_1/(2 r_2)"),
+    Claim("(A.94)", "constraint:f_n", m_L * g * cos(alpha), "normal force of the load on the incline",
+          note="f_n: the incline's force on the load, normal to it (the load's force on the incline is its reaction)"),
 ]
 
 SCENES = [

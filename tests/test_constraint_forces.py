@@ -18,7 +18,7 @@ from harness.modeling import Claim, ConstraintForce, Point
 # systems with a map θ = φ(q) (and so constraint forces) and two trees, the balance checked on each
 BALANCED = ["drum_hoist", "drawbridge", "pulley", "drive_train", "cable_pulley", "toggle_press", "pendulum",
             "planar_manipulator"]
-DECLARED = ["drum_hoist", "drawbridge", "pulley", "drive_train"]
+DECLARED = ["drum_hoist", "drawbridge", "pulley", "drive_train", "cable_pulley"]
 
 
 def _numeric(system, rng):
