@@ -60,6 +60,7 @@ from hypothesis.errors import UnsatisfiedAssumption
 from harness import profiling
 from harness.checks import Bound, Check, relative_error
 from harness.derivation.compile import compiled
+from harness.derivation.derive import SIMPLIFY_MAX_OPS
 from harness.compare.conformance import FLOAT64_RTOL, scales
 from harness.engines import ENGINES, symbolic
 from harness.engines.base import State
@@ -108,7 +109,10 @@ def _derived(system: System, claim: Claim):
     key = (id(system), id(claim))
     if key not in _DERIVED:
         derived = _derive_claimed(system, claim)
-        _DERIVED[key] = derived.xreplace(at_rest(system, claim)) if claim.at else derived
+        if claim.at:  # at rest: the equilibrium substituted leaves fractions that cancel (f_S = m_B g), shown so
+            derived = derived.xreplace(at_rest(system, claim)).applyfunc(
+                lambda e: sp.factor_terms(sp.cancel(e)) if sp.count_ops(e) <= SIMPLIFY_MAX_OPS else e)
+        _DERIVED[key] = derived
     return _DERIVED[key]
 
 
