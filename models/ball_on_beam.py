@@ -78,7 +78,7 @@ _I_K_note = "I_zz^{sK} = 2/5 m_K r_K^2 (5.84)"
 _ball = Ball(r_K)
 CLAIMS = [
     Claim("(5.84)", "parameter", 2 * m_K * r_K**2 / 5, "I_zz^sK: the ball's moment of inertia about its centre",
-          reference=moment_of_inertia(_ball, m_K / solid_volume(_ball)),
+          reference=lambda: moment_of_inertia(_ball, m_K / solid_volume(_ball)),
           note="reference: the volume integral over a homogeneous ball of radius r_K and mass m_K, independent of "
                "the formula the model builds the ball's inertia from"),
     Claim("(5.82)", "position:ball", Matrix([r * cos(phi_1) - r_K * sin(phi_1), r * sin(phi_1) + r_K * cos(phi_1), 0]),

@@ -65,15 +65,15 @@ I_Szz_S_p = Printed("I_Szz^S", "kg m^2", "moment of inertia of the rod about the
 CLAIMS = [
     Claim("(3.128)", "parameter", rho_S * (l_S**3 * b_S * h_S / 3 + b_S**3 * l_S * h_S / 12),
           "I_S,zz^(A): the rod's moment of inertia about the axis of rotation (e_z through A)",
-          reference=moment_of_inertia(_rod, rho_S),
+          reference=lambda: moment_of_inertia(_rod, rho_S),
           note="reference: the volume integral of rho_S (x² + y²) over the rod's cuboid, independent of the "
                "Inertia.cuboid formula the link uses"),
     Claim("(3.132)", "parameter", rho_S * (l_S**3 * b_S * h_S / 12 + b_S**3 * l_S * h_S / 12),
           "I_S,zz^(S): the rod's moment of inertia about the parallel axis through its centre of gravity S",
-          reference=moment_of_inertia(_rod, rho_S, about=(0, -l_S / 2, 0)), defines=I_Szz_S_p,
+          reference=lambda: moment_of_inertia(_rod, rho_S, about=(0, -l_S / 2, 0)), defines=I_Szz_S_p,
           note="reference: the volume integral about S"),
     Claim("(3.135)", "parameter", I_Szz_S_p + m_S * l_S**2 / 4, "Steiner: I_S,zz^(A) = I_S,zz^(S) + m_S l_S²/4",
-          reference=moment_of_inertia(_rod, rho_S), ingredients=("(3.132)",),
+          reference=lambda: moment_of_inertia(_rod, rho_S), ingredients=("(3.132)",),
           note="with the printed I_S,zz^(S) of (3.132) and m_S = rho_S l_S b_S h_S as the text defines it beside "
                "(3.132); reference: the volume integral about A"),
     Claim("Solution of Exc. 5.2 (m_S)", "parameter", rho_S * l_S * b_S * g * h_S,

@@ -85,8 +85,18 @@ f_S1_p = Printed("f_S1", "N", "rope 1's force, (A.3)")
 f_B_p = printed_matrix("f_B", 2, 1, "N", "the bearing force at B, (A.4)")
 f_A_p = printed_matrix("f_A", 2, 1, "N", "the bearing force at A, (A.8)")
 _held = "holding:f_S2"
-_f_B = joint_force(SYSTEM, "phi_B")[:2, 0]
-_f_A = (joint_force(SYSTEM, "phi_A") + joint_force(SYSTEM, "phi_m"))[:2, 0]
+
+
+def _f_B():
+    """The force of the joint at B on the bridge (a derivation: made when the claim is first compared)."""
+    return joint_force(SYSTEM, "phi_B")[:2, 0]
+
+
+def _f_A():
+    """The force of the two joints at A on the girder and the counterweight."""
+    return (joint_force(SYSTEM, "phi_A") + joint_force(SYSTEM, "phi_m"))[:2, 0]
+
+
 _bearing_A = "bearing A carries the girder and the counterweight: the forces of the joints phi_A and phi_m"
 
 CLAIMS = [

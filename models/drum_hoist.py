@@ -95,7 +95,7 @@ CLAIMS = [
     Claim("(A.70)", "constraint:f_S", m_B * g, "rope force at rest f_S = f_gB = m_B g", at="equilibrium",
           defines=f_S_p),
     Claim("(A.72)", "parameter", m_T * g, "normal force on the drum at rest f_n = f_gT = m_T g", at="equilibrium",
-          reference=-joint_force(SYSTEM, "x_T")[1],
+          reference=lambda: -joint_force(SYSTEM, "x_T")[1],
           note="f_n acts on the drum in -e_y (up): the force of the joint x_T on the drum, its -y component"),
     Claim("(A.73)", "eom", f_S_p - c * (x_T - s_f0) - f_t_p, "force balance of the drum in x at rest",
           at="equilibrium", ingredients=("(A.70)", "(A.75) f_t"),

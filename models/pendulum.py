@@ -40,7 +40,7 @@ CLAIMS = [
     Claim("(3.109b) z_ddot", "a:bob", l * cos(phi) * phi.rate**2 + l * sin(phi) * phi.accel,
           "z_ddot = l cos(phi) phi_dot² + l sin(phi) phi_ddot", index=(2,), defines=z_ddot_p),
     Claim("(3.112)", "parameter", m * g * cos(phi) + m * l * phi.rate**2, "the cutting force f_S in the rod",
-          reference=(joint_force(SYSTEM, "phi").T * Matrix([0, -sin(phi), cos(phi)]))[0], defines=f_S_p,
+          reference=lambda: (joint_force(SYSTEM, "phi").T * Matrix([0, -sin(phi), cos(phi)]))[0], defines=f_S_p,
           note="reference: the force the joint exerts on the mass (its momentum balance cut free, "
                "harness.derivation.bodies.joint_force), along the rod towards the pivot, the direction in which "
                "(3.108) lets f_S act on the mass (-f_S sin(phi), f_S cos(phi))"),

@@ -42,7 +42,7 @@ SYSTEM = System(
 _sphere = Ball(R)
 CLAIMS = [
     Claim("(3.123)", "parameter", Rational(2, 5) * m * R**2, "I: a homogeneous ball's moment of inertia about its centre",
-          reference=moment_of_inertia(_sphere, m / solid_volume(_sphere)),
+          reference=lambda: moment_of_inertia(_sphere, m / solid_volume(_sphere)),
           note="(3.123) prints I = 8/15 pi rho R^5 = 2/5 m R^2; the second form, in the model's m, R, is claimed (the "
                "model has no density rho); reference: the volume integral over the ball"),
     Claim("Exercise 3.17", "eom", phi.accel - Rational(5, 7) / R * g * sin(alpha),

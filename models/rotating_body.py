@@ -114,10 +114,10 @@ tau_fc_p = rfc_p[0] * f_c_sym[1] - rfc_p[1] * f_c_sym[0]                        
 _r_1_phi = point_in_q(SYSTEM, Point("body", tuple(r_1)))     # sub-body 1's centre of gravity, body-fixed
 
 CLAIMS = [
-    Claim("(A.10)", "parameter", m1_p, "mass of sub-body 1", reference=integrate(rho, *bounds_1)),
-    Claim("(A.11)", "parameter", -l_2 / 2, "r_Sm1,x by (3.29)", reference=integrate(x * rho, *bounds_1) / m1_p),
+    Claim("(A.10)", "parameter", m1_p, "mass of sub-body 1", reference=lambda: integrate(rho, *bounds_1)),
+    Claim("(A.11)", "parameter", -l_2 / 2, "r_Sm1,x by (3.29)", reference=lambda: integrate(x * rho, *bounds_1) / m1_p),
     Claim("(A.12)", "parameter", r1_p, "centre of gravity of sub-body 1 at phi = 0",
-          reference=Matrix([integrate(v * rho, *bounds_1) / m1_p for v in (x, y, z)])),
+          reference=lambda: Matrix([integrate(v * rho, *bounds_1) / m1_p for v in (x, y, z)])),
     Claim("(after A.12)", "parameter", Matrix([m2_p, m3_p]), "masses m_2, m_3 of sub-bodies 2, 3",
           reference=Matrix([m_2, m_3])),
     Claim("(A.13)", "parameter", Matrix.hstack(r2_p, r3_p, rm_p),
@@ -139,7 +139,7 @@ CLAIMS = [
                "y-component of the spring force on the body, as in (A.16), (A.18): compared with the model's "
                "spring at phi = 0"),
     Claim("(A.20)", "parameter", I1S_p, "I_zz,m1^(S) of sub-body 1",
-          reference=rho * integrate(x**2 + y**2, (x, -l_2 / 2, l_2 / 2), (y, -d / 2, d / 2), (z, -b / 2, b / 2))),
+          reference=lambda: rho * integrate(x**2 + y**2, (x, -l_2 / 2, l_2 / 2), (y, -d / 2, d / 2), (z, -b / 2, b / 2))),
     Claim("(A.21)", "parameter", I1S_p + m1_p * (r1_p[0]**2 + r1_p[1]**2), "I_zz,m1^(A) of sub-body 1",
           reference=(I_1 + steiner(m_1, r_1))[2, 2]),
     Claim("(A.22)", "parameter", _rot(r1_p), "centre of gravity of sub-body 1 turned by phi",

@@ -158,7 +158,7 @@ _c_phi2_note = "c_phi2 in row 2, column 1 as printed"
 CLAIMS = [
     Claim("(3.122)", "parameter", rho_1 * r_1**4 * pi * h_1 / 2,
           "I_zz of a homogeneous cylinder about its axis: the tower (Example 3.13's cylinder)",
-          reference=moment_of_inertia(Cylinder(r_1, h_1), rho_1),
+          reference=lambda: moment_of_inertia(Cylinder(r_1, h_1), rho_1),
           note="Example 3.13's R, l, rho are the tower's r_1, h_1, rho_1; (3.122) prints rho R^4 pi l/2 = m R^2/2, the "
                "first form is claimed; reference: the volume integral over the tower's cylinder, independent of the "
                "formula the model builds I^sZ from"),

@@ -6,10 +6,10 @@ against its target (``bound``), basis :data:`GOAL`, and where the time goes (``d
 from __future__ import annotations
 
 import math
-import statistics
 
 from harness.bench import derivation, evalcost, workprecision as wp
 from harness.checks import Check
+from harness.scenes.phenomena.pruning import repeats_spread, slower_pruned
 
 GOAL = "bench goal"
 """The basis of every goal: a target ratio of wall times the issue set, not a tolerance."""
@@ -288,8 +288,9 @@ def _pruning(rows: list[dict]) -> list[str]:
                 cells.append(f"not measured: {m['skipped']}")
             else:
                 ratio = m["ratio"]
-                mark = "" if ratio >= 1 else (f" ≈ 1: no measurable difference{_noise(m)}" if 1 - ratio <= _spread(m)
-                                              else f" **finding: slower pruned**{_noise(m)}")
+                finding = slower_pruned(ratio, repeats_spread(m))
+                mark = "" if not finding else (f" **{finding}**" if finding.startswith("finding") else f" {finding}")
+                mark += _noise(m) if finding else ""
                 cells.append(f"{ratio:.2f} × " if ratio >= 1 else f"{ratio:.3f} × ")
                 cells[-1] += (f"({m['idle_seconds'] * 1e3:.1f} / {m['pruned_seconds'] * 1e3:.1f} ms)"
                              f"{mark}")
@@ -333,15 +334,8 @@ def _pruning_goals(rows: list[dict]) -> list[dict]:
     return out
 
 
-def _spread(m: dict) -> float:
-    """The spread of the repeats (median over fastest − 1, the larger of idle and pruned): a ratio within it of 1
-    is timing noise (0 without repeats)."""
-    spreads = [statistics.median(m[k]) / min(m[k]) - 1 for k in ("idle_all", "pruned_all") if m.get(k)]
-    return max(spreads, default=0.0)
-
-
 def _noise(m: dict) -> str:
-    return f"; repeats spread {_spread(m) * 100:.1f} %" if m.get("idle_all") or m.get("pruned_all") else ""
+    return f"; repeats spread {repeats_spread(m) * 100:.1f} %" if m.get("idle_all") or m.get("pruned_all") else ""
 
 
 CONTACT_GOAL = 3.0      # MuJoCo, the robot with contact detection pruned (issue 17)

@@ -211,7 +211,7 @@ def _derive_claimed(system: System, claim: Claim):
     elif kind in LAGRANGIAN_KINDS:
         expr = _lagrangian_term(system, d, kind, claim.quantity.partition(":")[2])
     elif kind == "parameter":
-        expr = sp.sympify(claim.reference)
+        expr = sp.sympify(claim.derived_reference())
     elif kind == "Cqd":
         expr = d.C * sp.Matrix(system.qd)
     elif kind == "K":  # the stiffness matrix ∂g/∂q (3.74)

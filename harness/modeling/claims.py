@@ -64,7 +64,8 @@ class Claim:
     printed: object                     # sympy Expr or Matrix, as printed
     description: str = ""
     index: tuple | None = None          # only this element/row of the quantity, e.g. (1, 0) or (0,)
-    reference: object = None            # derived expression for "parameter" claims
+    reference: object = None            # derived expression for "parameter" claims, or a function of no
+    #                                     arguments returning it (derived when first compared: see derived_reference)
     conventions: dict = field(default_factory=dict)  # name -> substitution dict (alternative conventions)
     note: str = ""                      # transcription remarks (notation mappings, never corrections)
     defines: object = None              # Printed symbol(s) whose printed value this claim states (e.g. m_S)
@@ -76,7 +77,8 @@ class Claim:
         kind = self.quantity.split(":")[0]
         if kind not in QUANTITIES | KINDS_WITH_ARGUMENT:
             raise ValueError(f"claim {self.equation}: unknown quantity {self.quantity!r}")
-        if self.at and (not (self.at == AT_REST[0] or self.at.startswith(AT_REST[1])) or kind in ("equilibrium", "holding", "steady")):
+        if self.at and (not (self.at == AT_REST[0] or self.at.startswith(AT_REST[1]))
+                        or kind in ("equilibrium", "holding", "steady")):
             raise ValueError(f"claim {self.equation}: at={self.at!r}: use 'equilibrium' or 'holding:<input>', "
                              f"and not with a {kind} claim (which is at rest already)")
         if isinstance(self.ingredients, str):
@@ -88,6 +90,18 @@ class Claim:
         if not self.printed_only:
             units = {s.name: s.unit for s in found if isinstance(s, Printed)}
             object.__setattr__(self, "printed_only", tuple(sorted(units.items())))
+
+    def derived_reference(self):
+        """The ``reference`` expression (plain symbols); a function given as the reference — a cut force, a volume
+        integral: a derivation of its own — is called once, when the claim is first compared, not whenever the
+        catalogue loads."""
+        if not callable(self.reference):
+            return self.reference
+        kept = self.__dict__.get("_reference")
+        if kept is None:
+            kept = plain(self.reference())
+            object.__setattr__(self, "_reference", kept)  # frozen: a cache, not state
+        return kept
 
     @property
     def where(self) -> str:
@@ -140,7 +154,7 @@ def validate_claims(system: System, claims) -> None:
                 raise ModelError(f"claim {claim.equation}: ingredient {equation!r} is not a claim of {system.name} "
                                  f"that defines printed symbols (Claim(..., defines=...))")
         declared_here = declared | printed_only
-        parts = [("printed", claim.printed), ("reference", claim.reference)]
+        parts = [("printed", claim.printed), ("reference", None if callable(claim.reference) else claim.reference)]
         parts += [(f"convention {name!r}", sp.Matrix([*sub.keys(), *sub.values()]) if sub else None)
                   for name, sub in claim.conventions.items()]
         for what, expr in parts:

@@ -33,7 +33,7 @@ def definitions(claims) -> list[tuple[sp.Symbol, sp.Expr]]:
     for c in claims:
         if c.defines is None or c.quantity != "parameter" or c.reference is None:
             continue
-        out += [(s, v) for s, v in zip(c.defined, as_matrix(c.reference)) if isinstance(s, sp.Symbol)]
+        out += [(s, v) for s, v in zip(c.defined, as_matrix(c.derived_reference())) if isinstance(s, sp.Symbol)]
     return out
 
 

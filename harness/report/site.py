@@ -101,7 +101,7 @@ def pruning_view(system: str, scene: dict, timings: dict) -> dict | None:
     """A scene's effects and their pruning: declared, inferred idle effects and force elements with their reasons
     and the disagreements (its notes), and the idle / pruned time ratio per source (``timings``: timings.json;
     only where the scene has the pruned = idle check of that source, else why not) or "nothing to prune"."""
-    from harness.scenes.phenomena.pruning import CHECK, KEY, PRUNING_REPEATS, SOURCES
+    from harness.scenes.phenomena.pruning import CHECK, KEY, PRUNING_REPEATS, SOURCES, SPREAD, slower_pruned
 
     notes = scene.get("notes") or {}
     if "effects declared" not in notes:
@@ -116,7 +116,8 @@ def pruning_view(system: str, scene: dict, timings: dict) -> dict | None:
     for source in SOURCES:
         ratio = timings.get(at + KEY.format(source)) if source in checked else None
         if isinstance(ratio, (int, float)):
-            shown = f"{ratio:.3g} ×" + (" (finding: slower pruned)" if ratio < 1 else "")
+            finding = slower_pruned(ratio, timings.get(at + SPREAD.format(source)) or 0.0)
+            shown = f"{ratio:.3g} ×" + (f" ({finding})" if finding else "")
         elif source in checked:
             shown = "not in timings.json"
         else:

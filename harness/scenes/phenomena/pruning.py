@@ -28,6 +28,7 @@ Ratios are clock values: they go to ``timings.json`` (never into a verdict) and 
 
 from __future__ import annotations
 
+import statistics
 import time
 
 import numpy as np
@@ -44,6 +45,7 @@ PRUNING_REPEATS = 3
 SOURCES = (SYMBOLIC, "pinocchio", "mujoco")
 MUJOCO_STEPS = 2000        # RK4 steps of MuJoCo's own runs (at least; on the scene's grid, simulate.grid_steps)
 KEY = "pruning time ratio (idle / pruned), {}"     # a scene's timings (timings.json), per source
+SPREAD = "pruning time spread of the repeats, {}"  # beside it: how far a ratio of 1 may be off by timing noise
 CHECK = "pruned = all effects present but idle"
 
 
@@ -191,6 +193,21 @@ def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalog
     return one(system, scene), one(idle_system, idle_scene), f"{method}, DOP853 1e-10"
 
 
+def repeats_spread(m: dict) -> float:
+    """The spread of a measurement's repeats (:func:`measure`): median over fastest − 1, the larger of idle and
+    pruned (0 without repeats). A ratio within it of 1 is timing noise."""
+    spreads = [statistics.median(m[k]) / min(m[k]) - 1 for k in ("idle_all", "pruned_all") if m.get(k)]
+    return max(spreads, default=0.0)
+
+
+def slower_pruned(ratio: float, spread: float) -> str:
+    """What a ratio idle / pruned below 1 is: "" at or above 1, no measurable difference within the repeats'
+    ``spread`` of 1, else a finding (a pruning that makes a run slower)."""
+    if ratio >= 1:
+        return ""
+    return "≈ 1: no measurable difference" if 1 - ratio <= spread else "finding: slower pruned"
+
+
 def same_right_hand_side(pruned_system, idle_system) -> bool:
     """Whether the two models derive the same expressions of ``M``, ``C``, ``g``, ``f_np`` (then their compiled
     right-hand sides are the same function and a time ratio would measure noise)."""
@@ -224,6 +241,7 @@ class Pruning(Phenomenon):
             result.add(ENGINE.check(CHECK, source, m["error"],
                                     detail=m["method"]))
             result.timings[KEY.format(source)] = m["ratio"]
+            result.timings[SPREAD.format(source)] = repeats_spread(m)
 
 
 PLUGIN = Pruning()
