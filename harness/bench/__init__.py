@@ -69,7 +69,7 @@ Schema of ``bench.json`` (``schema: 2``; times in seconds, errors relative to th
       "pruning_contact": {"system", "scene", "source": "mujoco", "method", "collision_geoms", "left_out",
                           "first_contact" (s, or null), "first_contact_pairs", "certified_contact_free" (s: contact
                           proved idle before it), "certificate_ends_at" (the geom pair), "collision_pairs",
-                          "whole_horizon_error",
+                          "pruned_geoms" (the pruned model's geoms: visual only), "whole_horizon_error",
                           "measured_horizon", "pruned_seconds", "idle_seconds", "ratio", "error", "repeats"}
                          (harness.bench.contact_pruning: the robot's collision meshes, contact detection on /
                          mjDSBL_CONTACT, over the contact-free part of the scene),

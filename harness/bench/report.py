@@ -359,7 +359,9 @@ def _contact(c: dict) -> list[str]:
     return ["## Contact detection pruned (lightweight_robot, MuJoCo)", "",
             f"The Panda's {c['collision_geoms']} collision geoms of its URDF ({c.get('meshes', '?')} meshes, the "
             f"fingers' boxes) and a floor (left out: "
-            f"{', '.join(c['left_out']) or 'none'}), {c['method']}: contact detection on against `mjDSBL_CONTACT`, "
+            f"{', '.join(c['left_out']) or 'none'}), {c['method']}: contact detection on against the "
+            f"collision geometry dropped ({c.get('pruned_geoms', '?')} visual geoms left, no contact) and "
+            f"`mjDSBL_CONTACT`, "
             f"the fastest of {c['repeats']} runs each. {first}.", "",
             "| scene | idle: contact on (ms) | pruned (ms) | idle / pruned | pruned = idle (error) |",
             "|---|---|---|---|---|",
