@@ -384,11 +384,28 @@ def _engine_values(claim: Claim, state: State, engines):
             if name not in kept:
                 with profiling.phase(f"engine {name}"):
                     with profiling.phase("model"):
-                        model = ENGINES[name](state.tree)
+                        model = _engine_model(name, state.tree)
                     with profiling.phase("evaluate"):
                         kept[name] = model.evaluate(state)
             evaluations[name] = kept[name]
     return evaluations, s, kappa
+
+
+_MODELS: dict = {}
+
+
+def _engine_model(name: str, tree):
+    """One engine model per tree (:func:`~harness.export.numeric.instantiate` gives one tree per system and
+    parameter values): the claims of a system draw the same parameters, and a claim at rest or at an equilibrium
+    evaluates another state of the drawn ones. Every evaluation sets the whole state (MuJoCo: ``mj_forward``
+    alone, no step, so no warm start carried from one evaluation to the next)."""
+    key = (name, id(tree))
+    kept = _MODELS.get(key)
+    if kept is None or kept[0] is not tree:  # the tree is kept alive with its model: its id is not reused
+        if len(_MODELS) >= _EVALUATIONS_KEPT:
+            _MODELS.clear()
+        kept = _MODELS[key] = (tree, ENGINES[name](tree))
+    return kept[1]
 
 
 def _value_of(claim: Claim, ev):
@@ -398,7 +415,8 @@ def _value_of(claim: Claim, ev):
 def _terms_size(system: System, expr, key, args) -> float:
     """``max Σ |t|`` over the entries of ``expr``, ``t`` the terms of each entry's sum: the scale its round-off is
     relative to."""
-    size = _lambdify(system, _as_matrix(expr).applyfunc(lambda e: sum(map(abs, sp.Add.make_args(e)))), key=key)
+    size = _COMPILED_CLAIMS.get(key) or _lambdify(
+        system, _as_matrix(expr).applyfunc(lambda e: sum(map(abs, sp.Add.make_args(e)))), key=key)
     return float(np.max(np.abs(np.asarray(size(*args), dtype=float)), initial=0.0))
 
 

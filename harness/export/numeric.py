@@ -122,8 +122,26 @@ class _Values:
         return kept[1]
 
 
+_TREES: dict = {}
+_TREES_KEPT = 1024
+
+
 def instantiate(system: System, params: dict[str, float]) -> NumericTree:
-    """Substitute parameter values into the tree; checks that the inertia tensors are physical."""
+    """Substitute parameter values into the tree; checks that the inertia tensors are physical. Once per system
+    and parameter values (2 ms of SymPy each: the claims of a system draw the same parameters, and a claim at
+    rest or at an equilibrium instantiates the drawn ones again)."""
+    key = (id(system), tuple((k, float(v)) for k, v in params.items()))
+    kept = _TREES.get(key)
+    if kept is not None and kept[0] is system:  # the system is kept alive with its tree: its id is not reused
+        return kept[1]
+    tree = _instantiate(system, params)
+    if len(_TREES) >= _TREES_KEPT:
+        _TREES.clear()
+    _TREES[key] = (system, tree)
+    return tree
+
+
+def _instantiate(system: System, params: dict[str, float]) -> NumericTree:
     subs = {system.parameter(k).symbol: sp.Float(v) for k, v in params.items()}
     value = _Values(subs)
     links = []
