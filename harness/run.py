@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import importlib
 import json
+import math
 import os
 import platform
 import sys
@@ -264,6 +265,14 @@ class Interrupted(HarnessError):
         self.finished = finished
 
 
+def longest_first(jobs: list, seconds) -> list:
+    """``jobs`` ordered for a pool: the longest first, by ``seconds(job)`` the previous run took (None: not known,
+    put first, it may be long). With the jobs in catalogue order the longest system (tower_crane, 40 s cold) was
+    started last and ran alone at the end; the results do not depend on the order (each is kept by its name)."""
+    known = [seconds(job) for job in jobs]
+    return [job for _, job in sorted(zip(known, jobs), key=lambda pair: -math.inf if pair[0] is None else -pair[0])]
+
+
 def parallel(work, jobs: list, workers: int, done, lost, announce=None, scheduler=None) -> bool:
     """Run ``work(job)`` for every job, ``workers`` at a time in spawned processes (in this process with one
     worker), or with ``scheduler`` on that Dask cluster (:func:`harness.cluster.results`; ``workers`` unused),
@@ -343,8 +352,9 @@ def run_job(job: Job) -> dict:
 
 def run_checks(catalogue: Catalogue, names: list[str], examples: int | None = None, seed: int | None = None,
                jobs: int = 1, progress=None, scenes: bool = True, series_dir: str | None = None,
-               profiles: dict | None = None, scheduler=None) -> list[dict]:
-    """Check ``names`` (in that order in the result), ``jobs`` systems at a time in spawned processes, or on the
+               profiles: dict | None = None, scheduler=None, previous: dict | None = None) -> list[dict]:
+    """Check ``names`` (in that order in the result; started longest first by the ``previous`` run's timings.json),
+    ``jobs`` systems at a time in spawned processes, or on the
     Dask cluster at ``scheduler`` (the scenes' series then come back and are written here). Each record holds its
     wall time in ``timings``. Progress goes to ``progress`` (stderr). With ``profiles`` (a dict), each system's
     phases (:mod:`harness.profiling`) are stored there by system name."""
@@ -372,6 +382,8 @@ def run_checks(catalogue: Catalogue, names: list[str], examples: int | None = No
     def lost(job, reason):
         return {**_failed_record(job.system, f"{job.system}: {reason}", "check crashed"), "timings": {"seconds": 0.0}}
 
+    previous = previous or {}
+    todo = longest_first(todo, lambda job: previous.get(f"systems/{job.system}/seconds"))
     if not remote:
         if jobs > 1 and len(todo) > 1:
             print(f"checking {len(todo)} systems in {min(jobs, len(todo))} processes …", file=progress, flush=True)
@@ -422,7 +434,8 @@ def check(catalogue: Catalogue, names=None, examples: int | None = None, seed: i
         check_folder(out)
     try:
         records = run_checks(catalogue, names, examples=examples, seed=seed, jobs=jobs, scenes=scenes,
-                             series_dir=out, progress=progress, profiles=profiles, scheduler=scheduler)
+                             series_dir=out, progress=progress, profiles=profiles, scheduler=scheduler,
+                             previous=read_timings(out) if out else None)
     except Interrupted as stop:  # what finished is kept
         if out and stop.finished:
             merged = results_document(merge_records(catalogue, load_results(out), stop.finished), examples, seed)
@@ -465,7 +478,7 @@ def report(catalogue: Catalogue, out, names=None, jobs: int = 1, examples: int |
         print(f"checking {len(todo)} system(s) not in {out / 'results.json'} …", file=progress, flush=True)
         try:
             fresh = run_checks(catalogue, todo, examples=examples, seed=seed, jobs=jobs, progress=progress,
-                               scenes=scenes, series_dir=out)
+                               scenes=scenes, series_dir=out, previous=read_timings(out))
         except Interrupted as stop:  # what finished is kept
             if stop.finished:
                 write_results(results_document(merge_records(catalogue, existing, stop.finished), examples, seed),
@@ -707,6 +720,13 @@ def robots(names=None, out=None, states: int | None = None, seed: int = 0, jobs:
     selected = sweep.select(names)
     states = sweep.STATES if states is None else states
     todo = [(name, str(path), states, seed, None, symbolic) for name, path in selected.items()]
+    if out:  # started longest first by the previous robots.json (kinova, so101: 20 s each, cold)
+        try:
+            kept = json.loads((Path(out) / "robots.json").read_text())["robots"]
+            previous = {r["robot"]: r.get("seconds") for r in kept}
+        except (OSError, ValueError, KeyError, TypeError):
+            previous = {}
+        todo = longest_first(todo, lambda job: previous.get(job[0]))
     finished: dict[str, dict] = {}
     start = time.perf_counter()
 
