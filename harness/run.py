@@ -41,7 +41,8 @@ import numpy as np
 from harness import cluster, profiling
 from harness.errors import EngineError, HarnessError, InputError
 from harness.io import atomic_write_text
-from harness.report.results import check_folder, load_results, read_claims, read_timings, write_claims, write_results
+from harness.report.results import (check_folder, load_results, read_claims, read_timings, write_claims,
+                                    write_results, write_timings)
 from harness.settings import apply_seed, draws_from_seed_only, load_hypothesis_profile
 
 if TYPE_CHECKING:  # the catalogue is handed in; importing it would load the modeling vocabulary (SymPy)
@@ -503,6 +504,7 @@ def classify_system(job: tuple) -> dict:
     from harness.engines import warnings_log
 
     catalogue, name, examples, *profile = job
+    start = time.perf_counter()
     if profile and profile[0]:
         profiling.enable()
         profiling.reset()
@@ -532,7 +534,8 @@ def classify_system(job: tuple) -> dict:
                 out.append({**claim_record(v), **extra})
     failures += [f"{name}: unexplained {w['engine']} warning in {w['where']} ({w['count']}x): {w['message']}"
                  for w in warnings_log.drain(name) if not w["explained"]]
-    return {"system": name, "failure": "; ".join(failures) or None, "records": out, **_profile_snapshot()}
+    return {"system": name, "failure": "; ".join(failures) or None, "records": out,
+            "seconds": round(time.perf_counter() - start, 2), **_profile_snapshot()}
 
 
 def _profile_snapshot() -> dict:
@@ -587,7 +590,9 @@ def claims(catalogue: Catalogue, names=None, examples: int | None = None, jobs: 
     names = _systems(catalogue, names)
     if out:
         check_folder(out)
-    jobs_ = [(catalogue, name, examples, profile) for name in names]
+    previous = read_timings(out) if out else {}
+    jobs_ = longest_first([(catalogue, name, examples, profile) for name in names],
+                          lambda job: previous.get(f"claims/{job[1]}/seconds"))
     finished: dict[str, dict] = {}
     interrupted = parallel(classify_system, jobs_, jobs, lambda result: finished.__setitem__(result["system"], result),
                            lambda job, reason: {"system": job[1], "failure": f"{job[1]}: {reason}", "records": []},
@@ -599,6 +604,8 @@ def claims(catalogue: Catalogue, names=None, examples: int | None = None, jobs: 
     if out:  # merged by system: the classified systems replace their records, the others are kept
         merged = merge_claims(catalogue, read_claims(out), [result["system"] for result in per_system], run.records)
         run.written = write_claims(merged, out)
+        run.written.append(write_timings(out, {f"claims/{r['system']}/seconds": r["seconds"]
+                                               for r in per_system if "seconds" in r}))
     if profile:
         run.profile = _profile_document("claims", profiles, start, cpu, jobs)
         if out:

@@ -71,6 +71,14 @@ def write_results(doc: dict, out: Path | str, timings: dict | None = None) -> li
     return [out / "results.json", out / "timings.json", out / "summary.md"]
 
 
+def write_timings(out: Path | str, values: dict) -> Path:
+    """``values`` (clock values of another command: ``claims/<system>/seconds``) merged into ``out/timings.json``,
+    atomically; what the file held under other keys is kept."""
+    timings = {**read_timings(out), **values}
+    atomic_write_text(Path(out) / "timings.json", dumps(dict(sorted(timings.items()))))
+    return Path(out) / "timings.json"
+
+
 def check_folder(out: Path | str, what: str = "--out") -> Path:
     """The report folder, checked before the work: an existing file in its place, or a folder we cannot write
     into, is bad input (one line, no partial output; :func:`harness.io.writable_folder`)."""
