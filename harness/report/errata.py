@@ -77,7 +77,7 @@ def _solve_power(value, symbol, x):
         replaced = value.subs(x**power, y) if power > 1 else value.xreplace({x: y})
         if x in replaced.free_symbols or not replaced.has(y):
             continue
-        solutions = sp.solve(sp.Eq(replaced, symbol), y)
+        solutions = sp.solve(sp.Eq(replaced, symbol), y, check=False)
         if len(solutions) == 1:
             return power, solutions[0]
     return None
