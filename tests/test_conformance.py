@@ -33,3 +33,13 @@ def test_engine_agrees_with_derivation(system, engine, conformance_run):
     assert any(source == engine for _, source in mine)
     checked = {check for check, _ in mine}
     assert {"M", "Cqd", "g", "qdd", "f_damper", "C (Christoffel)", "Mdot - 2C skew", "M positive definite"} <= checked
+
+
+@pytest.mark.xdist_group("grouping-guard")
+def test_tests_of_one_group_share_a_worker(request):
+    """The engines of a system share one conformance run only if ``--dist loadgroup`` keeps their group on one
+    worker (xdist marks the group in the node id). pytest 9.2.0 with pytest-xdist 3.8.0 dropped the groups without
+    a word (pytest-xdist #1386): every system was checked twice over, once per worker. Outside xdist: nothing to
+    check."""
+    if getattr(request.config.option, "loadgroup", False):  # set on xdist's workers under --dist loadgroup
+        assert request.node.nodeid.endswith("@grouping-guard"), request.node.nodeid
