@@ -335,6 +335,7 @@ CLAIM_ENGINES = ("pinocchio", "mujoco")
 
 
 _EVALUATIONS: dict = {}
+_MODELS: dict = {}
 _EVALUATIONS_KEPT = 4096
 _SHARING = [0]
 
@@ -344,7 +345,7 @@ def shared_evaluations():
     """Within the block, the evaluations at a state (derivation and engines) are kept and shared by the claims
     classified: every printed equation of a system is checked on the same drawn states (the seed derives from
     the check, the same for all), and the numbers at a state do not depend on the claim. The engines must not
-    change within the block; the kept evaluations are dropped at its end."""
+    change within the block; the kept evaluations and engine models are dropped at its end."""
     _SHARING[0] += 1
     try:
         yield
@@ -352,6 +353,7 @@ def shared_evaluations():
         _SHARING[0] -= 1
         if not _SHARING[0]:
             _EVALUATIONS.clear()
+            _MODELS.clear()
 
 
 def _evaluated(state: State) -> dict:
@@ -391,14 +393,14 @@ def _engine_values(claim: Claim, state: State, engines):
     return evaluations, s, kappa
 
 
-_MODELS: dict = {}
-
-
 def _engine_model(name: str, tree):
     """One engine model per tree (:func:`~harness.export.numeric.instantiate` gives one tree per system and
     parameter values): the claims of a system draw the same parameters, and a claim at rest or at an equilibrium
     evaluates another state of the drawn ones. Every evaluation sets the whole state (MuJoCo: ``mj_forward``
-    alone, no step, so no warm start carried from one evaluation to the next)."""
+    alone, no step, so no warm start carried from one evaluation to the next). Kept within
+    :func:`shared_evaluations` (one system's claims), built for the call alone outside it."""
+    if not _SHARING[0]:
+        return ENGINES[name](tree)
     key = (name, id(tree))
     kept = _MODELS.get(key)
     if kept is None or kept[0] is not tree:  # the tree is kept alive with its model: its id is not reused
