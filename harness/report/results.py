@@ -64,17 +64,16 @@ def write_results(doc: dict, out: Path | str, timings: dict | None = None) -> li
     out = check_folder(out)
     clean, found = split_timings(doc)
     fresh = tuple(f"systems/{r.get('system')}/" for r in doc.get("systems", []) if r.get(TIMINGS) is not None)
-    timings = {**{k: v for k, v in (timings or {}).items() if not k.startswith(fresh)}, **found}
     atomic_write_text(out / "results.json", dumps(clean))
-    atomic_write_text(out / "timings.json", dumps(dict(sorted(timings.items()))))
+    write_timings(out, found, kept={k: v for k, v in (timings or {}).items() if not k.startswith(fresh)})
     atomic_write_text(out / "summary.md", summary_markdown(clean))
     return [out / "results.json", out / "timings.json", out / "summary.md"]
 
 
-def write_timings(out: Path | str, values: dict) -> Path:
-    """``values`` (clock values of another command: ``claims/<system>/seconds``) merged into ``out/timings.json``,
-    atomically; what the file held under other keys is kept."""
-    timings = {**read_timings(out), **values}
+def write_timings(out: Path | str, values: dict, kept: dict | None = None) -> Path:
+    """``values`` (clock values by path) written over ``kept`` (default: what ``out/timings.json`` holds) into
+    ``out/timings.json``, atomically, sorted by path."""
+    timings = {**(read_timings(out) if kept is None else kept), **values}
     atomic_write_text(Path(out) / "timings.json", dumps(dict(sorted(timings.items()))))
     return Path(out) / "timings.json"
 
