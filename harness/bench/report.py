@@ -288,9 +288,9 @@ def _pruning(rows: list[dict]) -> list[str]:
                 cells.append(f"not measured: {m['skipped']}")
             else:
                 ratio = m["ratio"]
-                finding = slower_pruned(ratio, repeats_spread(m))
-                mark = "" if not finding else (f" **{finding}**" if finding.startswith("finding") else f" {finding}")
-                mark += _noise(m) if finding else ""
+                finding, mark = slower_pruned(ratio, repeats_spread(m)), ""
+                if finding:  # a finding in bold, either with the noise it was judged against
+                    mark = (f" **{finding}**" if finding.startswith("finding") else f" {finding}") + _noise(m)
                 cells.append(f"{ratio:.2f} × " if ratio >= 1 else f"{ratio:.3f} × ")
                 cells[-1] += (f"({m['idle_seconds'] * 1e3:.1f} / {m['pruned_seconds'] * 1e3:.1f} ms)"
                              f"{mark}")

@@ -294,10 +294,7 @@ _COMPILED_CLAIMS: dict = {}
 
 def _accel_coefficients(system: System, printed: sp.Matrix, key):
     """``∂R/∂q̈`` of a printed residual ``R`` (its 'mass matrix' rows), compiled (differentiated once per key)."""
-    key = ("accel",) + key
-    if key in _COMPILED_CLAIMS:
-        return _COMPILED_CLAIMS[key]
-    return _lambdify(system, printed.jacobian([c.accel for c in system.coordinates]), key=key)
+    return _lambdify(system, lambda: printed.jacobian([c.accel for c in system.coordinates]), key=("accel",) + key)
 
 
 _PRINTED: dict = {}
@@ -317,12 +314,15 @@ def _printed(claim: Claim, substitution: dict | None) -> sp.Matrix:
 
 
 def _lambdify(system: System, expr, key=None):
-    """Compiled once per ``key`` (classification evaluates the same claim hundreds of times)."""
+    """Compiled once per ``key`` (classification evaluates the same claim hundreds of times). ``expr`` may be a
+    function of no arguments building the expression, called only when ``key`` is not compiled yet (a derivative or
+    the terms' sizes: SymPy work that cost 19 CPU s per claims run when built at every evaluation)."""
+    build = expr if callable(expr) and not isinstance(expr, (sp.Basic, sp.MatrixBase)) else lambda: expr
     if key is None:
-        return sp.lambdify(_symbols(system), _as_matrix(expr), modules="numpy")
+        return sp.lambdify(_symbols(system), _as_matrix(build()), modules="numpy")
     if key not in _COMPILED_CLAIMS:
         with profiling.phase("lambdify claims"):
-            _COMPILED_CLAIMS[key] = sp.lambdify(_symbols(system), _as_matrix(expr), modules="numpy")
+            _COMPILED_CLAIMS[key] = sp.lambdify(_symbols(system), _as_matrix(build()), modules="numpy")
     return _COMPILED_CLAIMS[key]
 
 
@@ -417,8 +417,8 @@ def _value_of(claim: Claim, ev):
 def _terms_size(system: System, expr, key, args) -> float:
     """``max Σ |t|`` over the entries of ``expr``, ``t`` the terms of each entry's sum: the scale its round-off is
     relative to."""
-    size = _COMPILED_CLAIMS.get(key) or _lambdify(
-        system, _as_matrix(expr).applyfunc(lambda e: sum(map(abs, sp.Add.make_args(e)))), key=key)
+    size = _lambdify(system, lambda: _as_matrix(expr).applyfunc(lambda e: sum(map(abs, sp.Add.make_args(e)))),
+                     key=key)
     return float(np.max(np.abs(np.asarray(size(*args), dtype=float)), initial=0.0))
 
 
