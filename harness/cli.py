@@ -401,6 +401,9 @@ def main(argv=None) -> int:
     except HarnessError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return getattr(exc, "exit_code", 2)
+    except BrokenPipeError:  # the reader stopped early (`harness list | head`): not an error of ours
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # no second error when stdout is flushed
+        return 1
 
 
 if __name__ == "__main__":

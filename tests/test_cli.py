@@ -23,6 +23,22 @@ def test_list_shows_every_system():
         assert name in out and system.lecture in out
 
 
+def test_a_reader_that_stops_early_gets_no_traceback():
+    """`harness list | head -1`: the closed pipe ends the command quietly (exit 1, as Python's own advice has it).
+    The reading end is closed before the command writes, so its first write meets the closed pipe."""
+    import os
+
+    read_end, write_end = os.pipe()
+    os.close(read_end)
+    try:
+        proc = subprocess.run([sys.executable, "-m", "harness.cli", "list"], stdout=write_end,
+                              stderr=subprocess.PIPE, text=True, timeout=120)
+    finally:
+        os.close(write_end)
+    assert proc.returncode == 1
+    assert "Traceback" not in proc.stderr and "Error" not in proc.stderr
+
+
 def test_eval_planar_manipulator_agrees_across_engines(capsys):
     results = {}
     for engine in SOURCES:
