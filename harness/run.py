@@ -490,7 +490,7 @@ def report(catalogue: Catalogue, out, names=None, jobs: int = 1, examples: int |
         doc = existing
     write_results(doc, out, timings=read_timings(out))  # summary.md from the same writer
     print(f"rendering {out / 'index.html'} …", file=progress, flush=True)
-    site = build_site(out, catalogue, progress=progress)
+    site = build_site(out, catalogue, progress=progress, jobs=jobs)
     shown = [r for r in doc["systems"] if r["system"] in requested]
     return {"passed": all(r["passed"] for r in shown) and not site["failed"], "ran": todo, **site}
 

@@ -91,3 +91,21 @@ def test_cpu_budget_never_raises_inside_a_weak_reference_callback():
          namespace)
     assert _in_collector_callback(namespace["_remove"](sys))
     assert not _in_collector_callback(sys._getframe())
+
+
+def test_equations_simplified_ahead_in_other_processes_are_the_pages_own(monkeypatch, tmp_path):
+    """A cold cache's equations computed in two processes while the pages are built: each system's page gets what
+    it would have computed itself, and the cache then holds it (the next report reads it)."""
+    monkeypatch.setenv("HARNESS_CACHE_DIR", str(tmp_path / "derivations"))
+    names = ["pendulum", "pulley"]
+    ahead = equations.PageEquationsAhead(models.CATALOGUE, names, jobs=2)
+    assert sorted(ahead.futures) == names and ahead.pool is not None
+    try:
+        for name in names:
+            system, claims = models.CATALOGUE.get(name), models.CATALOGUE.claims(name)
+            assert ahead(name) == equations.page_equations(system, claims, use_cache=False)
+            assert equations.cached_page_equations(system, claims) is not None
+    finally:
+        ahead.close()
+    again = equations.PageEquationsAhead(models.CATALOGUE, names, jobs=2)
+    assert again.futures == {} and again.pool is None

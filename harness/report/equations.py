@@ -234,26 +234,84 @@ def _cache_key(system, claims) -> str:
     return f"{system.name}-{digest.hexdigest()[:20]}"
 
 
+def _page_path(system, claims):
+    from harness.derivation.cache import cache_dir
+
+    return cache_dir().parent / "equations" / f"{_cache_key(system, claims)}.json"
+
+
+def cached_page_equations(system, claims) -> dict | None:
+    """What :func:`page_equations` would return, if the cache holds it (else None)."""
+    import json
+
+    try:
+        return json.loads(_page_path(system, claims).read_text())
+    except (OSError, ValueError):
+        return None
+
+
 def page_equations(system, claims, use_cache: bool = True) -> dict:
     """``{"equations": derived_equations(...), "claims": claim_equations(...), "notes": [...]}`` of one system,
     cached on disk (next to the derivation cache) by the model's fingerprint, its claims and this code."""
     import json
 
-    from harness.derivation.cache import cache_dir
     from harness.io import atomic_write_text
 
-    path = cache_dir().parent / "equations" / f"{_cache_key(system, claims)}.json"
-    if use_cache:
-        try:
-            return json.loads(path.read_text())
-        except (OSError, ValueError):
-            pass
+    if use_cache and (page := cached_page_equations(system, claims)) is not None:
+        return page
     budget = Budget()
     out = {"equations": derived_equations(system, claims, budget), "claims": claim_equations(system, claims, budget)}
     out["notes"] = budget.notes()
     if use_cache:
         try:
-            atomic_write_text(path, json.dumps(out))
+            atomic_write_text(_page_path(system, claims), json.dumps(out))
         except OSError:
             pass  # a read-only cache folder costs the speed-up only
     return out
+
+
+def _page_equations_of(job: tuple) -> dict:
+    catalogue, name = job
+    return page_equations(catalogue.get(name), catalogue.claims(name))
+
+
+class PageEquationsAhead:
+    """:func:`page_equations` of the systems ``names``, those the cache does not hold started in ``jobs``
+    processes (a cold cache costs 0.4-4 s of SymPy a system, 32 s for the catalogue) while the caller builds the
+    rest of the pages. ``self(name)`` waits for one system's (computed in this process when it was not started,
+    or its process failed, so that an error is raised where the page is built); ``close()`` ends the processes.
+    The simplification budget is CPU time of the process that simplifies: a page does not depend on where it was
+    computed."""
+
+    def __init__(self, catalogue, names: list[str], jobs: int):
+        from concurrent.futures import ProcessPoolExecutor
+        from multiprocessing import get_context
+
+        self.catalogue, self.futures, self.pool = catalogue, {}, None
+        missing = [n for n in names if self._missing(n)]
+        if jobs > 1 and len(missing) > 1:
+            try:
+                self.pool = ProcessPoolExecutor(min(jobs, len(missing)), mp_context=get_context("spawn"))
+                self.futures = {n: self.pool.submit(_page_equations_of, (catalogue, n)) for n in missing}
+            except Exception:  # noqa: BLE001 - no processes: each page computes its own
+                self.close()
+
+    def _missing(self, name: str) -> bool:
+        try:
+            return cached_page_equations(self.catalogue.get(name), self.catalogue.claims(name)) is None
+        except Exception:  # noqa: BLE001 - a system that does not load: its page says so, when it is built
+            return False
+
+    def __call__(self, name: str) -> dict:
+        future = self.futures.pop(name, None)
+        if future is not None:
+            try:
+                return future.result()
+            except Exception:  # noqa: BLE001 - this process computes it (and raises, if it must)
+                pass
+        return page_equations(self.catalogue.get(name), self.catalogue.claims(name))
+
+    def close(self) -> None:
+        if self.pool is not None:
+            self.pool.shutdown(cancel_futures=True)
+        self.pool, self.futures = None, {}

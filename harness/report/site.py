@@ -172,12 +172,10 @@ def system_view(record: dict, claims: list[dict], out: Path, figures: set, bench
             "claims_other": ", ".join(f"{n} {k}" for k, n in sorted(counts.items())), **NO_PICTURE}
 
 
-def _add_equations(view: dict, model: dict, system, claims) -> None:
-    """The derived equations and each printed equation beside its derived form (harness.report.equations);
-    the classification of claims.json joins by equation and quantity, in order."""
-    from harness.report.equations import page_equations
-
-    page = page_equations(system, claims)
+def _add_equations(view: dict, model: dict, page: dict) -> None:
+    """The derived equations and each printed equation beside its derived form (``page``:
+    harness.report.equations.page_equations); the classification of claims.json joins by equation and quantity,
+    in order."""
     model["equations"] = page["equations"]
     rows = page["claims"]
     records: dict[tuple, list] = {}
@@ -327,11 +325,12 @@ def _stale(folder: Path, keep: set[str], pattern: str) -> None:
                 path.unlink()
 
 
-def build_site(out: Path | str, catalogue=None, progress=None) -> dict:
+def build_site(out: Path | str, catalogue=None, progress=None, jobs: int = 1) -> dict:
     """Render the site from ``out/results.json`` (+ claims.json, hard.json, bench.json, importer.json,
     robots.json); the
     model pages from ``catalogue`` (:class:`harness.catalogue.Catalogue`; without one, the recorded results
-    only). Returns {"pages": [...], "failed": {system: reason}}."""
+    only; ``jobs`` processes simplify the equations the cache lacks). Returns {"pages": [...],
+    "failed": {system: reason}}."""
     progress = sys.stderr if progress is None else progress
     from harness.report.results import load_results, read_timings
 
@@ -371,7 +370,12 @@ def build_site(out: Path | str, catalogue=None, progress=None) -> dict:
                              "scenes": [(sc.get("scene"), sc["series"]) for sc in r.get("scenes") or []
                                         if sc.get("series") and (out / sc["series"]).is_file()]}
                             for r in records if r["system"] in systems])
-    pages = []   # the scene figures are drawn here while the mechanisms render in their own process
+    from harness.report.equations import PageEquationsAhead
+
+    # the scene figures are drawn here while the mechanisms render in their own process and the equations the
+    # cache lacks are simplified in ``jobs`` others
+    equations = PageEquationsAhead(catalogue, [r["system"] for r in records if r["system"] in systems], jobs)
+    pages = []
     for k, record in enumerate(records, 1):
         name = record["system"]
         print(f"[{k}/{len(records)}] page {name}", file=progress, flush=True)
@@ -382,12 +386,13 @@ def build_site(out: Path | str, catalogue=None, progress=None) -> dict:
                 model = model_view(system)
                 model["scene_names"] = [s.name for s in catalogue.scenes(name)]
                 view["title"] = system.title
-                _add_equations(view, model, system, catalogue.claims(name))
+                _add_equations(view, model, equations(name))
             else:
                 view["reason"] = view["reason"] or catalogue_error or f"{name} is not in the catalogue any more"
             pages.append((record, view, model, None))
         except Exception as exc:  # noqa: BLE001 - one system raising never loses the others' pages
             pages.append((record, None, None, exc))
+    equations.close()
     rendered = rendering()
     for record, view, model, error in pages:
         name = record["system"]
