@@ -7,7 +7,7 @@ import pytest
 import sympy as sp
 
 import models
-from harness.derivation.derive import christoffel, derive
+from harness.derivation.derive import SYMBOLIC_FIELDS, christoffel, derive
 from harness.errors import ModelError
 from harness.export.numeric import check_inertia
 from harness.derivation.kinematics import rotation, rpy_rotation
@@ -112,10 +112,42 @@ def test_per_body_derivation_is_cached_as_a_graph(tmp_path, monkeypatch):
     assert doc["replacements"] and all(name.startswith("_cse_") for name, _ in doc["replacements"])
     second = derive(s)
     assert second.from_cache and second.M == first.M and second.C == first.C and second.g == first.g
+    _compiled_from_the_stored_graph_equals_compiled_from_the_trees(s, second)
     doc["replacements"][0][1] = doc["replacements"][0][1].replace("1", "2", 1)  # damage, checksum kept
     entry.write_text(json.dumps(doc))
     third = derive(s)
     assert not third.from_cache and third.M == first.M
+
+
+def _compiled_from_the_stored_graph_equals_compiled_from_the_trees(system, derivation):
+    """The compiler takes a cached per-body derivation in its stored form (the common subexpressions found when it
+    was stored, not searched again in the trees: harness.derivation.cache.Graph): the same numbers as the trees
+    compiled with their own common subexpressions, to round-off; each function computes only the replacements
+    its quantities need, in their stored order."""
+    import dataclasses
+
+    from harness.derivation.compile import CompiledModel
+
+    graph = derivation.graph
+    assert graph is not None and set(graph.reduced) == set(SYMBOLIC_FIELDS)
+    needed, exprs = graph.cse(list(graph.reduced["g"]))
+    assert 0 < len(needed) < len(graph.replacements) and exprs == list(graph.reduced["g"])
+    order = {symbol: k for k, (symbol, _) in enumerate(graph.replacements)}
+    assert [order[symbol] for symbol, _ in needed] == sorted(order[symbol] for symbol, _ in needed)
+    stored = CompiledModel(system, derivation)
+    searched = CompiledModel(system, dataclasses.replace(derivation, graph=None))
+    rng = np.random.default_rng(3)
+    p = list(system.default_parameters().values())
+    for _ in range(5):
+        q, qd = rng.uniform(-2, 2, len(system.q)), rng.uniform(-3, 3, len(system.q))
+        for a, b in zip(stored.terms(q, qd, p, []), searched.terms(q, qd, p, [])):
+            np.testing.assert_allclose(a, b, rtol=1e-13, atol=1e-13 * np.max(np.abs(b)))
+        for quantity in ("M", "C", "g", "M_dot"):
+            np.testing.assert_allclose(stored(quantity, q, qd, p), searched(quantity, q, qd, p), rtol=1e-13,
+                                       atol=1e-13 * np.max(np.abs(searched(quantity, q, qd, p))))
+            np.testing.assert_allclose(stored.batched(quantity, [q, -q], [qd, qd], p),
+                                       searched.batched(quantity, [q, -q], [qd, qd], p), rtol=1e-13,
+                                       atol=1e-13 * np.max(np.abs(searched(quantity, q, qd, p))))
 
 
 def test_cache_key_changes_with_the_model():

@@ -23,6 +23,7 @@ import hashlib
 import json
 import os
 import re
+from dataclasses import dataclass
 from pathlib import Path
 
 import sympy as sp
@@ -53,6 +54,14 @@ def _checksum(entries: dict[str, str]) -> str:
 
 
 def load(key: str) -> dict | None:
+    """The stored values of ``key`` (None when absent or not trusted)."""
+    loaded = load_graph(key)
+    return None if loaded is None else loaded[0]
+
+
+def load_graph(key: str) -> tuple[dict, Graph | None] | None:
+    """``(values, graph)`` of ``key``: the stored values, and for an entry stored as a graph the same in its
+    stored form (:class:`Graph`), else None; None when absent or not trusted."""
     path = cache_dir() / f"{key}.json"
     if not path.exists():
         return None
@@ -63,13 +72,45 @@ def load(key: str) -> dict | None:
         if doc["sha256"] != _checksum({"entries": entries, "replacements": replacements} if replacements
                                       else entries):
             raise ValueError("checksum mismatch")
-        shared: dict = {}
+        shared: dict = {}      # a replacement symbol's name -> its expression, built once
+        symbols: dict = {}     # a replacement symbol's name -> the symbol
+        reduced_replacements = []
         for symbol, text in replacements:  # in order: each refers to earlier ones only
-            shared[symbol] = _build(text, shared)
-        return {name: _build(text, shared) for name, text in entries.items()}
+            code = _code(text, shared)
+            shared[symbol] = _evaluate(code, shared)
+            reduced_replacements.append((sp.Symbol(symbol), _evaluate(code, symbols)))
+            symbols[symbol] = sp.Symbol(symbol)
+        codes = {name: _code(text, shared) for name, text in entries.items()}
+        values = {name: _evaluate(code, shared) for name, code in codes.items()}
+        if not replacements:
+            return values, None
+        reduced = {name: _evaluate(code, symbols) for name, code in codes.items()}
+        return values, Graph(tuple(reduced_replacements), reduced)
     except Exception:  # noqa: BLE001 - any damage means: do not trust, rebuild
         path.unlink(missing_ok=True)
         return None
+
+
+@dataclass(frozen=True, eq=False)
+class Graph:
+    """Values stored as a graph (``store(..., graph=True)``), in the form a compiler takes them: ``replacements``
+    ``((symbol, value), …)``, each value in the symbols of earlier ones, and each entry ``reduced`` in those symbols.
+    Compiling the values themselves would search the huge trees for their common subexpressions once more
+    (SymPy's ``cse`` comparing equal sub-trees node by node: 10 s of the 6-DoF so101's 17)."""
+
+    replacements: tuple
+    reduced: dict
+
+    def cse(self, exprs):
+        """``lambdify``'s ``cse`` of expressions in this graph's symbols: the replacements they need, in order,
+        and the expressions as they are."""
+        needed = set().union(*(getattr(e, "free_symbols", ()) for e in exprs))
+        kept = []
+        for symbol, value in reversed(self.replacements):
+            if symbol in needed:
+                kept.append((symbol, value))
+                needed |= value.free_symbols
+        return kept[::-1], exprs
 
 
 GRAPH_SYMBOLS = "_cse_"  # names of the stored replacements (no model symbol starts with an underscore)
@@ -119,15 +160,22 @@ def _validate(node: ast.AST, shared: dict) -> None:
     raise UnsafeEntry(f"{type(node).__name__} node")
 
 
-def _build(text: str, shared: dict):
-    """The expression of an ``srepr`` text whose replacement symbols stand for the expressions in ``shared``,
-    built once: its syntax tree is checked (:func:`_validate`), then evaluated without builtins in a namespace of
-    SymPy's expression classes — faster than ``sympify``, whose tokenizer was 3.8 of the 6.2 s of the 7-DoF arm's
+def _code(text: str, shared: dict):
+    """The compiled expression of an ``srepr`` text whose replacement symbols are the names in ``shared``: its
+    syntax tree is checked (:func:`_validate`) first. Evaluated by :func:`_evaluate` without builtins in a namespace
+    of SymPy's expression classes — faster than ``sympify``, whose tokenizer was 3.8 of the 6.2 s of the 7-DoF arm's
     entry, and with no way to reach anything but those classes."""
     tree = ast.parse(_REPLACEMENT.sub(r"\1", text), mode="eval")
     _validate(tree, shared)
-    return eval(compile(tree, "<cache entry>", "eval"), {"__builtins__": {}, **_CLASSES, **_CONSTANTS},  # noqa: S307
-                shared)
+    return compile(tree, "<cache entry>", "eval")
+
+
+_GLOBALS = {"__builtins__": {}, **_CLASSES, **_CONSTANTS}
+
+
+def _evaluate(code, shared: dict):
+    """The expression of :func:`_code`'s ``code``, its replacement symbols standing for the values in ``shared``."""
+    return eval(code, _GLOBALS, shared)  # noqa: S307
 
 
 def store(key: str, values: dict, graph: bool = False) -> None:

@@ -48,30 +48,31 @@ class CompiledModel:
             return self._lambdified()
 
     def _lambdified(self):
-        s = self.system
+        s, d = self.system, self.derivation
         args = [s.q, s.qd, s.p, s.u]
         out = {}
         graph = is_per_body(s)
         for name in QUANTITIES:
-            expr = getattr(self.derivation, name)
             if graph:
-                out[name] = _lambdify_graph(args, expr)
+                out[name] = _lambdify_graph(args, _compiled_form(d, name), d.graph)
             else:
-                out[name] = sp.lambdify(args, expr, modules="numpy", cse=True, docstring_limit=0)
+                out[name] = sp.lambdify(args, getattr(d, name), modules="numpy", cse=True, docstring_limit=0)
         return out
 
     @cached_property
     def _terms_function(self):
         """The entries of ``M``, ``C q̇``, ``g``, ``f_np`` (row-major) as one function of floats."""
         s, d = self.system, self.derivation
+        M, C, g, f_np = (_compiled_form(d, name) for name in ("M", "C", "g", "f_np"))
         with profiling.phase("lambdify terms of (5.93)"):
-            return _float_function(s, [*d.M, *matrix_vector(d.C, s.qd), *d.g, *d.f_np])
+            return _float_function(s, [*M, *matrix_vector(C, s.qd), *g, *f_np], d.graph)
 
     @cached_property
     def _map_function(self):
         """The entries of ``θ = φ(q)``, ``J = ∂φ/∂q``, ``J̇`` as one function of floats."""
         s, d = self.system, self.derivation
-        return _float_function(s, [*d.phi, *d.J_phi, *d.J_phi_dot])
+        phi, J_phi, J_phi_dot = (_compiled_form(d, name) for name in ("phi", "J_phi", "J_phi_dot"))
+        return _float_function(s, [*phi, *J_phi, *J_phi_dot], d.graph)
 
     @cached_property
     def dof(self) -> int:
@@ -197,12 +198,13 @@ class CompiledModel:
         QD = np.zeros_like(Q) if QD is None else np.asarray(QD, dtype=float)
         U = np.zeros((N, len(s.u))) if U is None else np.asarray(U, dtype=float)
         p = list(s.default_parameters().values()) if p is None else p
-        expr = getattr(self.derivation, name)
+        expr = _compiled_form(self.derivation, name)
         shape = expr.shape if isinstance(expr, sp.MatrixBase) else ()
         if name not in self._batched_functions:
             flat = list(expr) if shape else [expr]
             self._batched_functions[name] = sp.lambdify([s.q, s.qd, s.p, s.u], flat, modules="numpy",
-                                                        docstring_limit=0, **_lambdify_options(s))
+                                                        docstring_limit=0,
+                                                        **_lambdify_options(s, self.derivation.graph))
         values = self._batched_functions[name](Q.T, QD.T, p, U.T)
         out = np.empty((len(values), N))
         for k, v in enumerate(values):
@@ -280,12 +282,20 @@ def check_regular(system: System, M, q) -> None:
                      f"(eigenvalues {w[0]:.2g} … {w[-1]:.2g}); a rate of {', '.join(idle)} moves no mass")
 
 
-def _float_function(system: System, exprs: list):
+def _float_function(system: System, exprs: list, graph=None):
     """``exprs`` as one function of four lists of floats ``(q, q̇, p, u)`` returning a list of floats, printed with
     Python's ``math`` (``sin`` of a float: 50 ns; ``numpy.sin`` of a NumPy scalar: 1 µs), shared subexpressions
-    computed once."""
+    computed once (those of ``graph`` when the expressions are in its symbols: :func:`_compiled_form`)."""
     return sp.lambdify([system.q, system.qd, system.p, system.u], exprs, modules="math", docstring_limit=0,
-                       **_lambdify_options(system))
+                       **_lambdify_options(system, graph))
+
+
+def _compiled_form(derivation: Derivation, name: str):
+    """The quantity ``name`` of ``derivation`` as it is compiled: in the symbols of its stored common
+    subexpressions when it was stored as a graph (``derivation.graph``), else as derived."""
+    if derivation.graph is not None:
+        return derivation.graph.reduced[name]
+    return getattr(derivation, name)
 
 
 def _floats(x) -> list:
@@ -300,24 +310,30 @@ def _call(fn, size: int, q, qd, p, u) -> list:
         return [math.nan] * size
 
 
-def _lambdify_options(system: System) -> dict:
+def _lambdify_options(system: System, graph=None) -> dict:
     """Options of ``lambdify`` for a list of expressions: a per-body derivation is walked as a graph
     (:func:`_lambdify_graph`)."""
-    if is_per_body(system):
-        return {"use_imps": False, "cse": lambda exprs: sp.cse(exprs, order="none")}
+    if graph is not None or is_per_body(system):
+        return _graph_options(graph)
     return {"cse": True}
 
 
-def _lambdify_graph(args, expr):
+def _graph_options(graph) -> dict:
+    """``lambdify``'s options for the expressions of a per-body derivation (:func:`_lambdify_graph`)."""
+    return {"use_imps": False, "cse": graph.cse if graph is not None else lambda exprs: sp.cse(exprs, order="none")}
+
+
+def _lambdify_graph(args, expr, graph=None):
     """``lambdify`` of a per-body derivation (:func:`harness.derivation.derive._per_body`), whose expressions are small graphs
     but huge trees. Every step that walks the tree is avoided (measured on the 7-DoF arm): ``lambdify`` collects
     the symbols of a Matrix or expression with ``expr.atoms`` (skipped for a plain list) and searches it for
-    implemented functions (``use_imps``, 29 s of 52 s for C); ``cse`` orders canonically by counting nodes
-    (``order="none"``). Common-subexpression elimination itself visits every shared sub-expression once.
-    Returns the same shapes as ``lambdify`` of the Matrix / expression."""
+    implemented functions (``use_imps``, 29 s of 52 s for C). The common subexpressions are the ones stored with
+    the derivation (``graph``: ``expr`` is in its symbols, :func:`_compiled_form`); without a stored graph (a
+    derivation not cached), ``cse`` orders canonically by counting nodes (``order="none"``) and visits every
+    shared sub-expression once. Returns the same shapes as ``lambdify`` of the Matrix / expression."""
     shape = expr.shape if isinstance(expr, sp.MatrixBase) else None
     fn = sp.lambdify(args, list(expr) if shape else [expr], modules="numpy", docstring_limit=0,
-                     use_imps=False, cse=lambda exprs: sp.cse(exprs, order="none"))
+                     **_graph_options(graph))
     if shape is None:
         return lambda *a: fn(*a)[0]
     return lambda *a: np.asarray(fn(*a), dtype=float).reshape(shape)

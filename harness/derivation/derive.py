@@ -9,7 +9,7 @@
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, field, fields
 
 import sympy as sp
 
@@ -40,6 +40,8 @@ class Derivation:
     J_phi_dot: sp.Matrix    # d/dt ∂phi/∂q along q̇
     seconds: float = 0.0    # wall time of the derivation (0 when loaded from the cache)
     from_cache: bool = False
+    graph: cache.Graph | None = field(default=None, repr=False, compare=False)  # a per-body derivation's stored
+    # form: the same quantities in the symbols of their common subexpressions, as the compiler takes them
 
     def christoffel(self, q, i: int, j: int, k: int) -> sp.Expr:
         """Christoffel symbol of the first kind ``c_ijk`` (5.95)."""
@@ -316,21 +318,21 @@ def _difference(poses, a, b, in_q, q) -> tuple[sp.Matrix, sp.Matrix, sp.Expr]:
     return r, J_r, sp.sqrt(sum(x ** 2 for x in r))
 
 
-SYMBOLIC_FIELDS = [f.name for f in fields(Derivation) if f.name not in ("seconds", "from_cache")]
+SYMBOLIC_FIELDS = [f.name for f in fields(Derivation) if f.name not in ("seconds", "from_cache", "graph")]
 
 
 def derive(system: System, use_cache: bool = True) -> Derivation:
     """Derive (or load from the on-disk cache keyed by the model's fingerprint)."""
     key = f"{system.name}-{system.fingerprint()}-{cache.code_version()}"
     if use_cache:
-        stored = cache.load(key)
-        if stored is not None and sorted(stored) == sorted(SYMBOLIC_FIELDS):
-            return Derivation(**stored, from_cache=True)
+        stored = cache.load_graph(key)
+        if stored is not None and sorted(stored[0]) == sorted(SYMBOLIC_FIELDS):
+            return Derivation(**stored[0], graph=stored[1], from_cache=True)
     derivation = derive_uncached(system)
     if use_cache:  # a per-body derivation as a graph: srepr would write out its trees
         graph = is_per_body(system)
         cache.store(key, {name: getattr(derivation, name) for name in SYMBOLIC_FIELDS}, graph=graph)
-        stored = cache.load(key) if graph else None
+        stored = cache.load_graph(key) if graph else None
         if stored is not None:  # the graph read back differs in round-off: cold and cached runs use the same one
-            derivation = Derivation(**stored, seconds=derivation.seconds)
+            derivation = Derivation(**stored[0], graph=stored[1], seconds=derivation.seconds)
     return derivation
