@@ -58,13 +58,12 @@ def test_results_follow_the_documented_schema(two_runs):
 
 
 def test_timings_are_the_records_typed_field():
-    """Clock values are in each record's ``timings`` (not found by their names): the writer moves them out."""
+    """Clock values are in each system record's ``timings`` (not found by their names): the writer moves them out;
+    a scene's measured numbers stay in its notes."""
     doc = {"schema": {}, "systems": [{"system": "p", "timings": {"seconds": 1.5}, "scenes": [
-        {"scene": "s", "notes": {"mj_step RK4 error ratio": 16.0, "wall seconds of nothing": 2.0},
-         "timings": {"pruning time ratio (idle / pruned), symbolic": 1.2}}]}]}
+        {"scene": "s", "notes": {"mj_step RK4 error ratio": 16.0, "wall seconds of nothing": 2.0}}]}]}
     clean, timings = split_timings(doc)
-    assert timings == {"systems/p/seconds": 1.5,
-                       "systems/p/scenes/s/notes/pruning time ratio (idle / pruned), symbolic": 1.2}
+    assert timings == {"systems/p/seconds": 1.5}
     assert clean["systems"][0]["scenes"][0] == {"scene": "s", "notes": {"mj_step RK4 error ratio": 16.0,
                                                                            "wall seconds of nothing": 2.0}}
     assert list(clean) == ["schema", "systems"] and "timings" not in clean["systems"][0]
@@ -124,25 +123,30 @@ def test_a_scene_shows_the_work_precision_the_bench_measured(tmp_path):
 
 def test_a_system_page_shows_each_scenes_effects_and_pruning_ratios(tmp_path):
     """Per scene of a system page: the declared effects, the effects and force elements inferred idle with their
-    reasons, and the idle / pruned time ratio per source from timings.json (the quarter car on a smooth road:
-    its road force and tyre damper left out), or "nothing to prune" (the bump calls for every effect); a stale
-    ratio of an earlier run is dropped when the system is checked again."""
+    reasons, the check's pruned = idle proof and the idle / pruned time ratio per source that the bench measured
+    (bench.json's ``pruning``, here one run of each: the quarter car on a smooth road, its road force and tyre
+    damper left out), or "nothing to prune" (the bump calls for every effect); pruning ratios that earlier
+    versions kept in timings.json are dropped when the system is checked again."""
     import re
 
+    from harness.bench.workprecision import pruning_task
     from harness.report.results import write_results
     from harness.scenes.trajectories import scene_record
 
     system = models.get("quarter_car")
     scenes = [scene_record(system, sc, models.CATALOGUE)[0] for sc in models.scenes("quarter_car")
               if sc.name in ("smooth_road", "bump")]
+    assert all("timings" not in sc for sc in scenes)  # the check measures no time ratio
     stale = {"systems/quarter_car/scenes/bump/notes/pruning time ratio (idle / pruned), symbolic": 1.0}
     doc = {"systems": [{"system": "quarter_car", "lecture": "Ex. A.4", "passed": True, "checks": [],
                         "scenes": scenes, "timings": {"seconds": 1.0}}], "versions": {}}
     write_results(doc, tmp_path, timings=stale)
-    timings = json.loads((tmp_path / "timings.json").read_text())
-    assert not set(stale) & set(timings)
-    key = "systems/quarter_car/scenes/smooth_road/notes/pruning time ratio (idle / pruned), {}"
-    ratios = {s: timings[key.format(s)] for s in ("symbolic", "pinocchio", "mujoco")}
+    assert not set(stale) & set(json.loads((tmp_path / "timings.json").read_text()))
+    measured = pruning_task(models.CATALOGUE, "quarter_car", "smooth_road", repeats=1)
+    (tmp_path / "bench.json").write_text(json.dumps({"command": "harness bench --parts pruning",
+                                                     "generated": "2026-11-24T00:00:00+00:00",
+                                                     "pruning": [measured]}))
+    ratios = {s: measured["sources"][s]["ratio"] for s in ("symbolic", "pinocchio", "mujoco")}
     assert build_site(tmp_path, models.CATALOGUE, progress=open("/dev/null", "w"))["failed"] == {}
     page = (tmp_path / "systems" / "quarter_car.html").read_text()
     tables = [re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", t))
@@ -152,5 +156,6 @@ def test_a_system_page_shows_each_scenes_effects_and_pruning_ratios(tmp_path):
     assert "declared dampers, gravity, springs" in smooth
     assert "external: road: 0: v_U, x_U ≡ 0 over [0, 2] s" in smooth and "tyre_damper: d_R = 0" in smooth
     assert "left out when pruned external; force elements tyre_damper" in smooth
+    assert "harness bench --parts pruning (2026-11-24T00:00:00+00:00)" in page
     for source, ratio in ratios.items():
         assert f"time idle / pruned, {source} {ratio:.3g} ×" in smooth

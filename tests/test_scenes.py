@@ -22,13 +22,12 @@ def _check(name, scene):
     failed = [c for c in result.checks if not c.passed]
     assert not failed, failed
     assert any(c.name.startswith("trajectory") for c in result.checks) or "contact" in scene.effects
-    if result.notes.get("pruning", "").startswith("nothing to prune"):  # no ratio "by construction"
-        assert not [k for k in result.timings if k.startswith("pruning time ratio")]
-    else:  # a ratio for the symbolic path, unless what is pruned adds no term there (said, not measured)
-        assert ("pruning time ratio (idle / pruned), symbolic" in result.timings) != (
-            "nothing is pruned in this source" in result.notes.get("pruning, symbolic", ""))
-        assert any(c.name == "pruned = all effects present but idle" and c.source == "pinocchio"
-                   for c in result.checks)
+    proofs = {c.source for c in result.checks if c.name == "pruned = all effects present but idle"}
+    if result.notes.get("pruning", "").startswith("nothing to prune"):  # no proof (and no ratio) "by construction"
+        assert not proofs
+    else:  # a proof for the symbolic path, unless what is pruned adds no term there (said, not measured)
+        assert ("symbolic" in proofs) != ("nothing is pruned in this source" in result.notes.get("pruning, symbolic", ""))
+        assert "pinocchio" in proofs
     assert "effects inferred to act" in result.notes
     return result
 

@@ -3,9 +3,8 @@
 The document itself is assembled by the application layer (:mod:`harness.run`).
 
 Determinism: the same seed (or the fixed-seed ``ci`` profile) gives a byte-identical ``results.json``. Nothing
-measured by a clock goes into it: a record carries its clock values in its typed field ``timings`` (a system
-record: ``seconds``; a scene record: the pruning time ratio), which :func:`split_timings` moves to
-``timings.json``.
+measured by a clock goes into it: a system record carries its clock values in its typed field ``timings`` (``seconds``), which
+:func:`split_timings` moves to ``timings.json``.
 """
 
 from __future__ import annotations
@@ -22,22 +21,13 @@ TIMINGS = "timings"
 
 
 def split_timings(doc: dict) -> tuple[dict, dict]:
-    """``doc`` without the records' :data:`TIMINGS` fields, and their values by path: a system's
-    ``systems/<system>/<name>``, a scene's ``systems/<system>/scenes/<scene>/notes/<name>`` (under ``notes/``,
-    beside the scene's other measured numbers, as earlier versions keyed them)."""
+    """``doc`` without the system records' :data:`TIMINGS` fields, and their values by path
+    ``systems/<system>/<name>``."""
     timings, systems = {}, []
     for record in doc.get("systems", []):
         record = dict(record)
         where = f"systems/{record.get('system')}"
         timings.update({f"{where}/{k}": v for k, v in (record.pop(TIMINGS, None) or {}).items()})
-        if isinstance(record.get("scenes"), list):
-            scenes = []
-            for scene in record["scenes"]:
-                scene = dict(scene)
-                at = f"{where}/scenes/{scene.get('scene')}/notes"
-                timings.update({f"{at}/{k}": v for k, v in (scene.pop(TIMINGS, None) or {}).items()})
-                scenes.append(scene)
-            record["scenes"] = scenes
         systems.append(record)
     return {**doc, "systems": systems} if "systems" in doc else dict(doc), timings
 
@@ -59,8 +49,8 @@ def read_timings(out: Path | str) -> dict:
 def write_results(doc: dict, out: Path | str, timings: dict | None = None) -> list[Path]:
     """Write ``results.json`` (deterministic), ``timings.json`` (``timings`` plus the records' clock values) and
     ``summary.md`` into ``out``; every file atomically. A system whose record carries clock values replaces all
-    of its earlier ones in ``timings`` (a scene with nothing to prune any more keeps no old ratio). Returns the
-    paths written."""
+    of its earlier ones in ``timings`` (including the scenes' pruning ratios that earlier versions kept there).
+    Returns the paths written."""
     out = check_folder(out)
     clean, found = split_timings(doc)
     fresh = tuple(f"systems/{r.get('system')}/" for r in doc.get("systems", []) if r.get(TIMINGS) is not None)

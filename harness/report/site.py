@@ -97,40 +97,49 @@ _PRUNING_NOTES = {"effects declared": "declared", "effects inferred to act": "ac
                   "pruning: force elements left out": "left_out_elements"}
 
 
-def pruning_view(system: str, scene: dict, timings: dict) -> dict | None:
+def pruning_view(system: str, scene: dict, bench: dict | None) -> dict | None:
     """A scene's effects and their pruning: declared, inferred idle effects and force elements with their reasons
-    and the disagreements (its notes), and the idle / pruned time ratio per source (``timings``: timings.json;
-    only where the scene has the pruned = idle check of that source, else why not) or "nothing to prune"."""
-    from harness.scenes.phenomena.pruning import CHECK, KEY, PRUNING_REPEATS, SOURCES, SPREAD, slower_pruned
+    and the disagreements (its notes), and per source the idle / pruned time ratio that ``harness bench --parts
+    pruning`` measured (``bench``: bench.json; only where the scene has the check's pruned = idle proof of that
+    source, else why not) or "nothing to prune"."""
+    from harness.scenes.phenomena.pruning import CHECK, SOURCES, repeats_spread, slower_pruned
 
     notes = scene.get("notes") or {}
     if "effects declared" not in notes:
         return None
     view = {field: notes.get(key, "") for key, field in _PRUNING_NOTES.items()}
     view["disagreements"] = {k.split(": ", 1)[1]: v for k, v in notes.items() if k.startswith("effects disagreement")}
-    view["ratios"], view["repeats"] = [], PRUNING_REPEATS
+    measured = next((m for m in (bench or {}).get("pruning") or []
+                     if m.get("system") == system and m.get("scene") == scene.get("scene")), None)
+    view["ratios"], view["repeats"], view["measured"] = [], (measured or {}).get("repeats"), _bench_run(bench, "pruning")
     if view["nothing"]:
         return view
     checked = {c.get("source") for c in scene.get("checks") or [] if c.get("check") == CHECK}
-    at = f"systems/{system}/scenes/{scene.get('scene')}/notes/"
     for source in SOURCES:
-        ratio = timings.get(at + KEY.format(source)) if source in checked else None
-        if isinstance(ratio, (int, float)):
-            finding = slower_pruned(ratio, timings.get(at + SPREAD.format(source)) or 0.0)
-            shown = f"{ratio:.3g} ×" + (f" ({finding})" if finding else "")
+        m = ((measured or {}).get("sources") or {}).get(source) or {}
+        if source in checked and isinstance(m.get("ratio"), (int, float)):
+            finding = slower_pruned(m["ratio"], repeats_spread(m))
+            shown = f"{m['ratio']:.3g} ×" + (f" ({finding})" if finding else "")
         elif source in checked:
-            shown = "not in timings.json"
+            shown = m.get("skipped") or "not measured by the bench yet (harness bench --parts pruning)"
         else:
             shown = notes.get(f"pruning, {source}", "not run")
         view["ratios"].append({"source": source, "ratio": shown})
     return view
 
 
-def system_view(record: dict, claims: list[dict], out: Path, figures: set, bench: dict | None = None,
-                timings: dict | None = None) -> dict:
+def _bench_run(bench: dict | None, part: str) -> str:
+    """When and by which command ``bench`` measured ``part`` (its latest run of that part)."""
+    if not bench:
+        return ""
+    runs = [u for u in bench.get("updates") or [] if part in (u.get("parts") or [])]
+    run = runs[-1] if runs else bench
+    return f"{run.get('command', 'harness bench')} ({run.get('generated', '?')})"
+
+
+def system_view(record: dict, claims: list[dict], out: Path, figures: set, bench: dict | None = None) -> dict:
     """What the index and the system page show of one record; figures are rendered into ``out/figures``; the
-    scenes' work-precision comes from ``bench`` (``out/bench.json``) where it has them, the pruning time ratios
-    from ``timings`` (``out/timings.json``)."""
+    scenes' work-precision and pruning time ratios come from ``bench`` (``out/bench.json``) where it has them."""
     from harness.report.figures import render_scene_figure
 
     name = record["system"]
@@ -145,7 +154,7 @@ def system_view(record: dict, claims: list[dict], out: Path, figures: set, bench
                 "passed": bool(sc.get("passed")),
                 "notes": {k: v for k, v in (sc.get("notes") or {}).items()
                           if k not in _PRUNING_NOTES and not k.startswith(("effects disagreement", "pruning, "))},
-                "pruning": pruning_view(name, sc, timings or {}),
+                "pruning": pruning_view(name, sc, bench),
                 "checks": [_check_view(c) for c in sc.get("checks", [])], "figure": None,
                 "figure_note": "", "series": sc.get("series"), "strip": None, "strip_size": (0, 0),
                 "strip_sources": [], "strip_note": "",
@@ -332,13 +341,12 @@ def build_site(out: Path | str, catalogue=None, progress=None, jobs: int = 1) ->
     only; ``jobs`` processes simplify the equations the cache lacks). Returns {"pages": [...],
     "failed": {system: reason}}."""
     progress = sys.stderr if progress is None else progress
-    from harness.report.results import load_results, read_timings
+    from harness.report.results import load_results
 
     out = Path(out)
     doc = load_results(out) or {"systems": [], "versions": {}, "tolerance_policy": "", "passed": False}
     claims_doc = _read_json(out / "claims.json")
     bench = _read_json(out / "bench.json")
-    timings = read_timings(out)
     claims = claims_doc if isinstance(claims_doc, list) else []
     by_system: dict[str, list] = {}
     for c in claims:
@@ -380,7 +388,7 @@ def build_site(out: Path | str, catalogue=None, progress=None, jobs: int = 1) ->
         name = record["system"]
         print(f"[{k}/{len(records)}] page {name}", file=progress, flush=True)
         try:
-            view, model = system_view(record, by_system.get(name, []), out, figures, bench, timings), None
+            view, model = system_view(record, by_system.get(name, []), out, figures, bench), None
             if name in systems:
                 system = systems[name]
                 model = model_view(system)

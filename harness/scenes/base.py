@@ -88,7 +88,6 @@ class SceneResult:
     checks: list[Check] = field(default_factory=list)
     notes: dict = field(default_factory=dict)
     trajectories: dict = field(default_factory=dict)
-    timings: dict = field(default_factory=dict)   # clock values (the pruning time ratio): timings.json
 
     def add(self, check: Check) -> None:
         self.checks.append(check)

@@ -60,8 +60,7 @@ def series(system: System, scene: Scene, result: SceneResult) -> dict:
 
 
 def scene_record(system: System, scene: Scene, catalogue=None) -> tuple[dict, dict]:
-    """One scene's checks as a results.json record (its clock values in ``timings``), and its series (written
-    to ``series`` by the caller)."""
+    """One scene's checks as a results.json record, and its series (written to ``series`` by the caller)."""
     record = {"scene": scene.name, "description": scene.description, "effects": sorted(scene.effects),
               "horizon": scene.horizon, "series": f"trajectories/{system.name}.{scene.name}.json"}
     try:
@@ -72,6 +71,5 @@ def scene_record(system: System, scene: Scene, catalogue=None) -> tuple[dict, di
     record.update(passed=result.passed, failure=None,
                   checks=[c.record() for c in result.checks],
                   notes={k: (float(v) if isinstance(v, (float, np.floating)) else str(v))
-                         for k, v in result.notes.items()},
-                  timings={k: float(v) for k, v in result.timings.items()})
+                         for k, v in result.notes.items()})
     return record, series(system, scene, result)

@@ -19,11 +19,12 @@ damper); the pruned run equal to the idle one checks that inference.
   nothing saved (the quarter car's tyre damper). The idle model's loads and inputs are evaluated and applied at
   every step (held over the step from its start), the pruned one's only where called for and not idle.
 
-Each source: the same trajectory (``ENGINE``, :mod:`harness.scenes.base`) and the time ratio idle / pruned, the
-fastest of ``repeats`` runs of each in one process, alternating (a single timing on a shared machine is noise).
-A scene that calls for every effect of its system, each able to act, has nothing to prune: no ratio is reported.
-Ratios are clock values: they go to ``timings.json`` (never into a verdict) and the system's report page;
-``harness bench --parts pruning`` reports them, and a ratio below 1 there as a finding.
+Each source: the same trajectory (``ENGINE``, :mod:`harness.scenes.base`), checked by ``harness check`` from one
+run of each (the proof), and the time ratio idle / pruned, measured by ``harness bench --parts pruning`` (the price):
+the fastest of ``repeats`` runs of each in one process, alternating, one worker on the machine (a single timing,
+or one taken while the check's other workers run, is noise). The system pages show the bench's ratios
+(``bench.json``) beside the check's proof; a ratio below 1 beyond its noise is a finding. A scene that calls for
+every effect of its system, each able to act, has nothing to prune: no ratio is reported.
 """
 
 from __future__ import annotations
@@ -40,11 +41,8 @@ from harness.scenes import simulate as sim
 from harness.scenes.base import ENGINE, Phenomenon, SceneRun
 from harness.scenes.effects import infer
 
-PRUNING_REPEATS = 3
 SOURCES = (SYMBOLIC, "pinocchio", "mujoco")
 MUJOCO_STEPS = 2000        # RK4 steps of MuJoCo's own runs (at least; on the scene's grid, simulate.grid_steps)
-KEY = "pruning time ratio (idle / pruned), {}"     # a scene's timings (timings.json), per source
-SPREAD = "pruning time spread of the repeats, {}"  # beside it: how far a ratio of 1 may be off by timing noise
 CHECK = "pruned = all effects present but idle"
 
 
@@ -126,13 +124,13 @@ class MujocoStepper:
 
 
 # --------------------------------------------------------------------------- the measurement
-def measure(system, scene, motion, event, catalogue=None, sources=SOURCES, repeats: int = PRUNING_REPEATS,
+def measure(system, scene, motion, event, catalogue=None, sources=SOURCES, repeats: int = 1,
             found=None) -> dict:
     """Idle against pruned by each of ``sources``: ``{"left_out": [effect], "left_out_elements": [force element],
     "sources": {source: {"pruned_seconds", "idle_seconds", "ratio", "error", "evaluations", "method"} |
     {"skipped": why}}}``, or ``{"nothing": why}`` when the scene calls for every effect of its system and none of
     them, nor any force element, is found idle (``found``: :func:`~harness.scenes.effects.infer`). Runs
-    alternate pruned, idle; the fastest of each."""
+    alternate pruned, idle; the fastest of each (``repeats`` 1: the proof alone, its ratio a single timing)."""
     found = found or infer(system, scene)
     idle_system, idle_scene = with_idle_effects(system, scene)
     lean_system, lean_scene = found.pruned(system, scene)
@@ -223,7 +221,7 @@ class Pruning(Phenomenon):
 
     def check(self, run: SceneRun) -> None:
         """The effects inferred beside the declared ones (notes; a disagreement is a note, not fixed); idle against
-        pruned by every source: the same trajectory (``ENGINE``) and the time ratio (``timings``)."""
+        pruned by every source, one run each: the same trajectory (``ENGINE``). The time ratio is the bench's."""
         system, scene, result = run.system, run.scene, run.result
         found = infer(system, scene)
         result.notes.update(found.notes())
@@ -239,10 +237,7 @@ class Pruning(Phenomenon):
             if "skipped" in m:
                 result.notes[f"pruning, {source}"] = f"not measured: {m['skipped']}"
                 continue
-            result.add(ENGINE.check(CHECK, source, m["error"],
-                                    detail=m["method"]))
-            result.timings[KEY.format(source)] = m["ratio"]
-            result.timings[SPREAD.format(source)] = repeats_spread(m)
+            result.add(ENGINE.check(CHECK, source, m["error"], detail=m["method"]))
 
 
 PLUGIN = Pruning()
