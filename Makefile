@@ -19,14 +19,21 @@ $(GL_MARKER):
 	apt-get update && apt-get install -y --no-install-recommends libosmesa6 libegl1 libegl-mesa0 libgl1-mesa-dri
 
 # The pinned packages are installed by uv (from the same registry as pip, pinned itself): it fetches and unpacks
-# the wheels in parallel, 22-26 s on a fresh machine against pip's 68-81 s (drake, pinocchio, mujoco, scipy …).
-# Bytecode is compiled at install: where PYTHONDONTWRITEBYTECODE is set, every process would compile what it imports.
+# the wheels in parallel, 22-26 s on a fresh machine against pip's 68-81 s (drake, pinocchio, mujoco, scipy …);
+# pip installs them when uv cannot (the same pins, slower).
 UV_VERSION := 0.13.8
+
+# Bytecode is written when a module is first imported: the project's commands run without PYTHONDONTWRITEBYTECODE
+# (set on some machines), under which every process would compile again what it imports (3.7 s of a one-system
+# check). Compiling everything at install instead took 15 s of the set-up, mostly for modules no command imports.
+unexport PYTHONDONTWRITEBYTECODE
 
 $(VENV)/.installed: pyproject.toml
 	python3 -m venv $(VENV)
 	$(PYTHON) -m pip install --quiet --quiet --disable-pip-version-check uv==$(UV_VERSION)
-	$(VENV)/bin/uv pip install --quiet --python $(PYTHON) --compile-bytecode -e .
+	$(VENV)/bin/uv pip install --quiet --python $(PYTHON) -e . || { \
+	  echo "set-up: uv could not install the packages; installing them with pip instead" >&2; \
+	  $(PYTHON) -m pip install --quiet --quiet --disable-pip-version-check --no-compile -e .; }
 	touch $@
 
 # main job: exported files current, conformance of every system against both engines, the lecture's
