@@ -207,6 +207,9 @@ def test_unwritable_cache_folder_is_refused_before_the_work(capfd, tmp_path, mon
 FULL_DISK = textwrap.dedent("""
     import resource, signal, sys
     signal.signal(signal.SIGXFSZ, signal.SIG_IGN)  # writing past the limit fails with EFBIG, as on a full disk
+    # no bytecode from this process: CPython writes a .pyc with one unchecked write, so under the limit a module
+    # imported here for the first time would leave a truncated .pyc that breaks every later import of it
+    sys.dont_write_bytecode = True
     resource.setrlimit(resource.RLIMIT_FSIZE, (64, 64))
     from harness import cli
     sys.exit(cli.main(sys.argv[1:]))
