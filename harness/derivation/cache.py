@@ -72,23 +72,28 @@ def load_graph(key: str) -> tuple[dict, Graph | None] | None:
         if doc["sha256"] != _checksum({"entries": entries, "replacements": replacements} if replacements
                                       else entries):
             raise ValueError("checksum mismatch")
-        shared: dict = {}      # a replacement symbol's name -> its expression, built once
-        symbols: dict = {}     # a replacement symbol's name -> the symbol
-        reduced_replacements = []
-        for symbol, text in replacements:  # in order: each refers to earlier ones only
-            code = _code(text, shared)
-            shared[symbol] = _evaluate(code, shared)
-            reduced_replacements.append((sp.Symbol(symbol), _evaluate(code, symbols)))
-            symbols[symbol] = sp.Symbol(symbol)
-        codes = {name: _code(text, shared) for name, text in entries.items()}
-        values = {name: _evaluate(code, shared) for name, code in codes.items()}
-        if not replacements:
-            return values, None
-        reduced = {name: _evaluate(code, symbols) for name, code in codes.items()}
-        return values, Graph(tuple(reduced_replacements), reduced)
+        return _read(entries, replacements)
     except Exception:  # noqa: BLE001 - any damage means: do not trust, rebuild
         path.unlink(missing_ok=True)
         return None
+
+
+def _read(entries: dict, replacements: list) -> tuple[dict, Graph | None]:
+    """The values of an entry's texts (and its :class:`Graph` when it has replacements)."""
+    shared: dict = {}      # a replacement symbol's name -> its expression, built once
+    symbols: dict = {}     # a replacement symbol's name -> the symbol
+    reduced_replacements = []
+    for symbol, text in replacements:  # in order: each refers to earlier ones only
+        code = _code(text, shared)
+        shared[symbol] = _evaluate(code, shared)
+        reduced_replacements.append((sp.Symbol(symbol), _evaluate(code, symbols)))
+        symbols[symbol] = sp.Symbol(symbol)
+    codes = {name: _code(text, shared) for name, text in entries.items()}
+    values = {name: _evaluate(code, shared) for name, code in codes.items()}
+    if not replacements:
+        return values, None
+    reduced = {name: _evaluate(code, symbols) for name, code in codes.items()}
+    return values, Graph(tuple(reduced_replacements), reduced)
 
 
 @dataclass(frozen=True, eq=False)
@@ -178,7 +183,11 @@ def _evaluate(code, shared: dict):
     return eval(code, _GLOBALS, shared)  # noqa: S307
 
 
-def store(key: str, values: dict, graph: bool = False) -> None:
+def store(key: str, values: dict, graph: bool = False) -> tuple[dict, Graph | None]:
+    """Store ``values`` under ``key`` (as a graph: their common subexpressions written once) and return them as
+    every later :func:`load_graph` reads them. The texts do not always read back to the same trees (``srepr`` of
+    ``factor_terms``' ``Mul(1/8, Add(…))`` reads back distributed, as SymPy evaluates it): a run that derives and
+    one that loads compile the same expressions, so that their results are the same to the last bit."""
     if graph:
         reduced_names = list(values)
         replacements, reduced = sp.cse([values[name] for name in reduced_names], order="none",
@@ -188,9 +197,10 @@ def store(key: str, values: dict, graph: bool = False) -> None:
         doc = {"sha256": _checksum({"entries": entries, "replacements": pairs}), "entries": entries,
                "replacements": pairs}
     else:
-        entries = {name: sp.srepr(value) for name, value in values.items()}
+        entries, pairs = {name: sp.srepr(value) for name, value in values.items()}, []
         doc = {"sha256": _checksum(entries), "entries": entries}
     try:
         atomic_write_text(cache_dir() / f"{key}.json", json.dumps(doc))
     except OutputError:  # a full disk or a folder gone read-only: the derivation in memory is still good
         pass
+    return _read(entries, pairs)

@@ -8,6 +8,7 @@
 
 from __future__ import annotations
 
+import functools
 import time
 from dataclasses import dataclass, field, fields
 
@@ -66,7 +67,11 @@ def coriolis_matrix(M: sp.Matrix, q, qd) -> sp.Matrix:
 SIMPLIFY_MAX_OPS = 150
 
 
+@functools.lru_cache(maxsize=16384)
 def _simplify(expr):
+    """``expr`` expanded, trigsimp'd and its common factors taken out (as derived when too large). Remembered per
+    process: a scene's pruned and idle variants of a system derive mostly the same expressions again (the same
+    ``M`` and Christoffel sums), and the same input gives the same output."""
     if sp.count_ops(expr) > SIMPLIFY_MAX_OPS:
         return expr
     expr = sp.expand(expr)
@@ -330,9 +335,7 @@ def derive(system: System, use_cache: bool = True) -> Derivation:
             return Derivation(**stored[0], graph=stored[1], from_cache=True)
     derivation = derive_uncached(system)
     if use_cache:  # a per-body derivation as a graph: srepr would write out its trees
-        graph = is_per_body(system)
-        cache.store(key, {name: getattr(derivation, name) for name in SYMBOLIC_FIELDS}, graph=graph)
-        stored = cache.load_graph(key) if graph else None
-        if stored is not None:  # the graph read back differs in round-off: cold and cached runs use the same one
-            derivation = Derivation(**stored[0], graph=stored[1], seconds=derivation.seconds)
+        values, graph = cache.store(key, {name: getattr(derivation, name) for name in SYMBOLIC_FIELDS},
+                                    graph=is_per_body(system))
+        derivation = Derivation(**values, graph=graph, seconds=derivation.seconds)  # as a cached run reads it
     return derivation
