@@ -280,8 +280,8 @@ class PageEquationsAhead:
     processes (a cold cache costs 0.4-4 s of SymPy a system, 32 s for the catalogue) while the caller builds the
     rest of the pages. ``self(name)`` waits for one system's (computed in this process when it was not started,
     or its process failed, so that an error is raised where the page is built); ``close()`` ends the processes.
-    The simplification budget is CPU time of the process that simplifies: a page does not depend on where it was
-    computed."""
+    The simplification budget is CPU time of the process that simplifies, not wall time; a system whose budget
+    runs out (euler_top) still gets its last simplified entry from the machine's speed, wherever it runs."""
 
     def __init__(self, catalogue, names: list[str], jobs: int):
         from concurrent.futures import ProcessPoolExecutor
