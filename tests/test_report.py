@@ -103,7 +103,8 @@ def test_markdown_bold_and_italic_beside_links():
 
 def test_a_scene_shows_the_work_precision_the_bench_measured(tmp_path):
     """The system page's work-precision of a scene: the bench's diagram (inside the report folder only) and the
-    fastest configuration per source at the bench's accuracy; nothing where the bench has not run the scene."""
+    fastest configuration per source at the bench's accuracy, with the command and date of the run that measured
+    them; nothing where the bench has not run the scene."""
     from harness.report.site import work_precision
 
     (tmp_path / "bench").mkdir()
@@ -119,6 +120,14 @@ def test_a_scene_shows_the_work_precision_the_bench_measured(tmp_path):
     assert [r["source"] for r in view["fastest"]] == ["symbolic"] and view["fastest"][0]["seconds"] == "0.01235"
     assert work_precision(bench, tmp_path, "pendulum", "outside")["figure"] is None
     assert work_precision(bench, tmp_path, "pendulum", "unknown") is None and work_precision(None, tmp_path, "p", "s") is None
+    assert (view["command"], view["generated"]) == ("harness bench --out reports", "2026-01-01")
+    # a merge replaces the whole part: its numbers are the merged run's, and so are the command and date shown
+    bench["updates"] = [{"parts": ["workprecision"], "command": "harness bench --parts workprecision --out x",
+                         "generated": "2026-02-02", "machine": {"cpus": 4}},
+                        {"parts": ["pruning"], "command": "harness bench --parts pruning --out y", "generated": "2026-03-03"}]
+    view = work_precision(bench, tmp_path, "pendulum", "swing")
+    assert (view["command"], view["generated"]) == ("harness bench --parts workprecision --out x", "2026-02-02")
+    assert view["machine"].startswith("4 CPUs")
 
 
 def test_a_system_page_shows_each_scenes_effects_and_pruning_ratios(tmp_path):

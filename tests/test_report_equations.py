@@ -95,7 +95,7 @@ def test_cpu_budget_never_raises_inside_a_weak_reference_callback():
 
 def test_equations_simplified_ahead_in_other_processes_are_the_pages_own(monkeypatch, tmp_path):
     """A cold cache's equations computed in two processes while the pages are built: each system's page gets what
-    it would have computed itself, and the cache then holds it (the next report reads it)."""
+    it would have computed itself, and the cache then holds it (the next report reads it, once)."""
     monkeypatch.setenv("HARNESS_CACHE_DIR", str(tmp_path / "derivations"))
     names = ["pendulum", "pulley"]
     ahead = equations.PageEquationsAhead(models.CATALOGUE, names, jobs=2)
@@ -108,4 +108,6 @@ def test_equations_simplified_ahead_in_other_processes_are_the_pages_own(monkeyp
     finally:
         ahead.close()
     again = equations.PageEquationsAhead(models.CATALOGUE, names, jobs=2)
-    assert again.futures == {} and again.pool is None
+    assert again.futures == {} and again.pool is None and sorted(again.read) == names  # each read once
+    assert again("pulley") == equations.page_equations(models.CATALOGUE.get("pulley"),
+                                                       models.CATALOGUE.claims("pulley"), use_cache=False)

@@ -276,19 +276,27 @@ def _page_equations_of(job: tuple) -> dict:
 
 
 class PageEquationsAhead:
-    """:func:`page_equations` of the systems ``names``, those the cache does not hold started in ``jobs``
-    processes (a cold cache costs 0.4-4 s of SymPy a system, 32 s for the catalogue) while the caller builds the
-    rest of the pages. ``self(name)`` waits for one system's (computed in this process when it was not started,
-    or its process failed, so that an error is raised where the page is built); ``close()`` ends the processes.
-    The simplification budget is CPU time of the process that simplifies, not wall time; a system whose budget
-    runs out (euler_top) still gets its last simplified entry from the machine's speed, wherever it runs."""
+    """:func:`page_equations` of the systems ``names``: those the cache holds read once here, the others started in
+    ``jobs`` processes (a cold cache costs 0.4-4 s of SymPy a system, 32 s for the catalogue) while the caller builds
+    the rest of the pages. ``self(name)`` returns one system's, waiting for it if it is being computed (computed in
+    this process when it was not started, or its process failed, so that an error is raised where the page is
+    built); ``close()`` ends the processes. The simplification budget is CPU time of the process that simplifies,
+    not wall time; a system whose budget runs out (euler_top) still gets its last simplified entry from the
+    machine's speed, wherever it runs."""
 
     def __init__(self, catalogue, names: list[str], jobs: int):
         from concurrent.futures import ProcessPoolExecutor
         from multiprocessing import get_context
 
-        self.catalogue, self.futures, self.pool = catalogue, {}, None
-        missing = [n for n in names if self._missing(n)]
+        self.catalogue, self.futures, self.pool, self.read = catalogue, {}, None, {}
+        for name in names:
+            try:
+                page = cached_page_equations(catalogue.get(name), catalogue.claims(name))
+            except Exception:  # noqa: BLE001 - a system that does not load: its page says so, when it is built
+                continue
+            if page is not None:
+                self.read[name] = page
+        missing = [n for n in names if n not in self.read]
         if jobs > 1 and len(missing) > 1:
             try:
                 self.pool = ProcessPoolExecutor(min(jobs, len(missing)), mp_context=get_context("spawn"))
@@ -296,13 +304,9 @@ class PageEquationsAhead:
             except Exception:  # noqa: BLE001 - no processes: each page computes its own
                 self.close()
 
-    def _missing(self, name: str) -> bool:
-        try:
-            return cached_page_equations(self.catalogue.get(name), self.catalogue.claims(name)) is None
-        except Exception:  # noqa: BLE001 - a system that does not load: its page says so, when it is built
-            return False
-
     def __call__(self, name: str) -> dict:
+        if name in self.read:
+            return self.read.pop(name)
         future = self.futures.pop(name, None)
         if future is not None:
             try:

@@ -82,11 +82,19 @@ def work_precision(bench: dict | None, out: Path, system: str, scene: str) -> di
     fastest = [{"source": source, "configuration": row["configuration"], "error": _scalar(row["error"]),
                 "seconds": _scalar(row["seconds"]), "evaluations": row.get("evaluations", "")}
                for source, row in ((found.get("summary") or {}).get("fastest_at_accuracy") or {}).items() if row]
-    machine = bench.get("machine") or {}
+    run = _bench_run(bench, "workprecision")
+    machine = run.get("machine") or {}
     return {"figure": figure if figure and _inside(out, figure) and (out / figure).is_file() else None,
-            "fastest": fastest, "accuracy": study.get("accuracy"), "command": bench.get("command", "harness bench"),
-            "generated": bench.get("generated", "?"),
+            "fastest": fastest, "accuracy": study.get("accuracy"), "command": run.get("command", "harness bench"),
+            "generated": run.get("generated", "?"),
             "machine": f"{machine.get('cpus', '?')} CPUs, {machine.get('platform', '?')}"}
+
+
+def _bench_run(bench: dict, part: str) -> dict:
+    """The run of ``harness bench`` that measured ``part`` last: the latest merged update of it (``updates``: its
+    command, time and machine), else the bench's own run."""
+    runs = [u for u in bench.get("updates") or [] if part in (u.get("parts") or [])]
+    return runs[-1] if runs else bench
 
 
 # the scene notes the pruning block shows (harness.scenes.effects.Inferred.notes, harness.scenes.phenomena.pruning)
@@ -111,7 +119,9 @@ def pruning_view(system: str, scene: dict, bench: dict | None) -> dict | None:
     view["disagreements"] = {k.split(": ", 1)[1]: v for k, v in notes.items() if k.startswith("effects disagreement")}
     measured = next((m for m in (bench or {}).get("pruning") or []
                      if m.get("system") == system and m.get("scene") == scene.get("scene")), None)
-    view["ratios"], view["repeats"], view["measured"] = [], (measured or {}).get("repeats"), _bench_run(bench, "pruning")
+    run = _bench_run(bench, "pruning") if bench else {}
+    view["ratios"], view["repeats"] = [], (measured or {}).get("repeats")
+    view["measured"] = f"{run['command']} ({run.get('generated', '?')})" if run.get("command") else ""
     if view["nothing"]:
         return view
     checked = {c.get("source") for c in scene.get("checks") or [] if c.get("check") == CHECK}
@@ -126,15 +136,6 @@ def pruning_view(system: str, scene: dict, bench: dict | None) -> dict | None:
             shown = notes.get(f"pruning, {source}", "not run")
         view["ratios"].append({"source": source, "ratio": shown})
     return view
-
-
-def _bench_run(bench: dict | None, part: str) -> str:
-    """When and by which command ``bench`` measured ``part`` (its latest run of that part)."""
-    if not bench:
-        return ""
-    runs = [u for u in bench.get("updates") or [] if part in (u.get("parts") or [])]
-    run = runs[-1] if runs else bench
-    return f"{run.get('command', 'harness bench')} ({run.get('generated', '?')})"
 
 
 def system_view(record: dict, claims: list[dict], out: Path, figures: set, bench: dict | None = None) -> dict:
