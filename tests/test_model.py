@@ -1,6 +1,7 @@
 """Unit tests of the modeling core: validation, kinematics (chapter 4), derivation (chapter 5), cache."""
 
 import json
+import pickle
 
 import numpy as np
 import pytest
@@ -96,6 +97,35 @@ def test_a_forged_cache_entry_runs_no_code(tmp_path, monkeypatch, payload):
     assert not again.from_cache and again.M == first.M
 
 
+def test_a_symbolic_result_is_remembered_as_computed(tmp_path, monkeypatch):
+    """cache.remembered: computed once, read back by later calls as the same tree (a lecture-notation name, the
+    factored form ``factor_terms`` gave, ``−2 x`` which srepr writes as ``Mul(-1, 2, x)``), keyed by the code that
+    computes it; a damaged entry is computed again."""
+    from harness.derivation import cache
+
+    monkeypatch.setenv("HARNESS_CACHE_DIR", str(tmp_path))
+    x, inertia = sp.Symbol("x", real=True), sp.Symbol("I_zz^S", real=True)
+    value = sp.Tuple(sp.Matrix([sp.factor_terms(x / 8 + inertia / 8), -2 * x]), sp.true)
+    calls = []
+    code = tmp_path / "code.py"
+    code.write_text("one")
+
+    def compute():
+        calls.append(1)
+        return value
+    first = cache.remembered("demo", (code,), (x,), compute)
+    second = cache.remembered("demo", (code,), (x,), compute)
+    assert len(calls) == 1 and sp.srepr(first) == sp.srepr(second) == sp.srepr(value)
+    cache.remembered("demo", (code,), (inertia,), compute)
+    assert len(calls) == 2  # other inputs
+    code.write_text("two")
+    cache.remembered("demo", (code,), (x,), compute)
+    assert len(calls) == 3  # other code
+    for entry in tmp_path.glob("demo-*.json"):
+        entry.write_text(entry.read_text().replace("Rational", "Integer"))
+    assert cache.remembered("demo", (code,), (x,), compute) == value and len(calls) == 4
+
+
 def test_per_body_derivation_is_cached_as_a_graph(tmp_path, monkeypatch):
     """A tree derived body by body (>= 6 DoF) is stored as its shared subexpressions and read back to the same
     expressions the cold run uses; a damaged replacement is detected and the derivation rebuilt."""
@@ -110,8 +140,11 @@ def test_per_body_derivation_is_cached_as_a_graph(tmp_path, monkeypatch):
     (entry,) = tmp_path.glob("*.json")
     doc = json.loads(entry.read_text())
     assert doc["replacements"] and all(name.startswith("_cse_") for name, _ in doc["replacements"])
+    lazy = derive(s)  # the trees are built when first read: θ = q needs none of the replacements
+    assert lazy.from_cache and "M" not in vars(lazy) and list(lazy.phi) == list(s.q) and not lazy._trees._shared
     second = derive(s)
     assert second.from_cache and second.M == first.M and second.C == first.C and second.g == first.g
+    assert pickle.loads(pickle.dumps(lazy)).M_dot == first.M_dot
     _compiled_from_the_stored_graph_equals_compiled_from_the_trees(s, second)
     doc["replacements"][0][1] = doc["replacements"][0][1].replace("1", "2", 1)  # damage, checksum kept
     entry.write_text(json.dumps(doc))

@@ -710,7 +710,8 @@ def record_fields(system: System, verdict: Classification, claims) -> dict:
     out = {"decided_by": verdict.decided_by, "renaming": verdict.renaming, "blame": verdict.blame,
            "ingredients": list(verdict.claim.ingredients), "where": verdict.claim.where}
     if verdict.classification not in ("confirmed", "C differs, C·q̇ agrees"):
-        out.update(finding(system, verdict, claims))
+        with profiling.phase("errata sheet"):
+            out.update(finding(system, verdict, claims))
     return out
 
 

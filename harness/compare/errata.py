@@ -12,7 +12,9 @@
 * **Decided.** Besides the hypothesis states, ``printed − derived`` is reduced symbolically by a cascade of cheap
   steps (expand, trigonometric expansion, trigsimp, simplify) of bounded size under a budget of this process's CPU
   time (so a loaded machine decides the same; a slower CPU may decide fewer): a claim the cascade reduces to zero
-  is ``decided_by: "symbolic"``, else ``"numeric only"``. The classification never depends on it.
+  is ``decided_by: "symbolic"``, else ``"numeric only"``. The classification never depends on it. The answer is
+  remembered on disk with the derivations (:func:`harness.derivation.cache.remembered`), keyed by the expression
+  and this module's code: 35 of the 160 CPU s of a claims run were spent deciding again what the last run decided.
 
 Classifications: ``confirmed``, ``C differs, C·q̇ agrees``, ``convention-dependent``, ``notation typo``,
 ``follows from erratum``, ``erratum`` (substantive), ``engines disagree``.
@@ -23,9 +25,12 @@ from __future__ import annotations
 import difflib
 import itertools
 import time
+from pathlib import Path
 
 import sympy as sp
 
+from harness import limits, profiling
+from harness.derivation import cache
 from harness.derivation.bodies import element_generalized_force
 from harness.limits import OutOfTime, cpu_budget
 from harness.modeling.claims import Claim, as_matrix
@@ -241,9 +246,20 @@ def reduce(expr, seconds: float = SYMBOLIC_BUDGET):
     return best, False
 
 
+REDUCTION_CODE = (Path(__file__), Path(limits.__file__))
+"""The modules whose code decides a reduction: part of the key under which its result is remembered."""
+
+
 def is_zero(matrix, seconds: float = SYMBOLIC_BUDGET) -> bool:
     """Whether every entry reduces to 0 within ``seconds`` of CPU for the whole matrix (a pool, not a share per
-    entry: one slow entry of a 3×3 matrix does not run out of a ninth of the budget)."""
+    entry: one slow entry of a 3×3 matrix does not run out of a ninth of the budget). Remembered on disk
+    (:func:`harness.derivation.cache.remembered`): a later run reads the answer instead of reducing again."""
+    matrix = as_matrix(matrix)
+    return cache.remembered("is-zero", REDUCTION_CODE, (matrix, sp.Float(seconds)),
+                            lambda: sp.true if _is_zero(matrix, seconds) else sp.false) is sp.true
+
+
+def _is_zero(matrix, seconds: float) -> bool:
     deadline = time.process_time() + seconds
     for e in as_matrix(matrix):
         left = deadline - time.process_time()
@@ -302,6 +318,7 @@ def row_factor(system: System, printed_row, derived_row):
     return 1
 
 
+@profiling.timed("symbolic decision")
 def decide(system: System, claim: Claim, subst: dict | None) -> str:
     try:
         diff = difference(system, claim, subst)

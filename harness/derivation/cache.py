@@ -1,4 +1,5 @@
-"""On-disk cache of symbolic derivations, keyed by a hash of the model.
+"""On-disk cache of symbolic derivations, keyed by a hash of the model, and of other symbolic results that are
+functions of their inputs (:func:`remembered`).
 
 Entries are JSON files of ``srepr`` strings with a SHA-256 checksum of their content. An entry that does
 not parse or whose checksum does not match is not trusted: it is discarded and the derivation rebuilt.
@@ -10,7 +11,7 @@ Set ``HARNESS_CACHE_DIR`` to move the cache (default: ``.cache/derivations`` in 
 Nothing read from the cache can run code. The checksum detects damage, not tampering (anyone who can write an
 entry can recompute it), so an entry is read by a parser that accepts only what ``srepr`` writes: calls of SymPy
 expression classes (``Add``, ``Symbol``, ``sin``, the dense matrix classes …) whose arguments are such calls,
-lists, integers and the few named constants; a string only as the name of a ``Symbol`` (an identifier) or the
+lists, integers and the few named constants; a string only as the name of a ``Symbol`` (printable text) or the
 digits of a ``Float``; keyword arguments only with ``True``/``False``/integer values. Anything else — an
 attribute, a subscript, any other name, a string where SymPy would ``sympify`` it — rejects the entry, which is
 then rebuilt. The accepted syntax tree is evaluated without builtins.
@@ -23,10 +24,12 @@ import hashlib
 import json
 import os
 import re
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
 import sympy as sp
+from sympy.core.parameters import distribute
 
 from harness.errors import OutputError
 from harness.io import atomic_write_text
@@ -79,21 +82,49 @@ def load_graph(key: str) -> tuple[dict, Graph | None] | None:
 
 
 def _read(entries: dict, replacements: list) -> tuple[dict, Graph | None]:
-    """The values of an entry's texts (and its :class:`Graph` when it has replacements)."""
-    shared: dict = {}      # a replacement symbol's name -> its expression, built once
-    symbols: dict = {}     # a replacement symbol's name -> the symbol
-    reduced_replacements = []
-    for symbol, text in replacements:  # in order: each refers to earlier ones only
-        code = _code(text, shared)
-        shared[symbol] = _evaluate(code, shared)
-        reduced_replacements.append((sp.Symbol(symbol), _evaluate(code, symbols)))
-        symbols[symbol] = sp.Symbol(symbol)
-    codes = {name: _code(text, shared) for name, text in entries.items()}
-    values = {name: _evaluate(code, shared) for name, code in codes.items()}
+    """The values of an entry's texts (and its :class:`Graph` when it has replacements); an entry stored as a graph
+    gives its values as :class:`Trees`, each built when first read."""
+    names: set = set()     # the replacement symbols defined so far (each text refers to earlier ones only)
+    codes = []
+    for symbol, text in replacements:
+        codes.append((symbol, _code(text, names)))
+        names.add(symbol)
+    entry_codes = {name: _code(text, names) for name, text in entries.items()}
     if not replacements:
-        return values, None
-    reduced = {name: _evaluate(code, symbols) for name, code in codes.items()}
-    return values, Graph(tuple(reduced_replacements), reduced)
+        return {name: _evaluate(code, {}) for name, code in entry_codes.items()}, None
+    symbols = {symbol: sp.Symbol(symbol) for symbol in names}
+    reduced_replacements = tuple((symbols[symbol], _evaluate(code, symbols)) for symbol, code in codes)
+    reduced = {name: _evaluate(code, symbols) for name, code in entry_codes.items()}
+    return Trees(entry_codes, codes), Graph(reduced_replacements, reduced)
+
+
+class Trees(Mapping):
+    """The values of an entry stored as a graph, each built when first read: its stored form with every
+    replacement symbol standing for that replacement's tree, the replacements built in stored order, each once.
+    A compiler takes the stored form (:class:`Graph`); only what reads a tree (a claim, the report's equations)
+    pays for building them: SymPy's evaluation of the trees was 2.8 s of each load of a 6-DoF arm (example-robot-data's
+    kinova, loaded twice by ``harness robots --symbolic``: 7.3 → 1.7 s), where ``θ = φ(q)`` needs none of them."""
+
+    def __init__(self, entries: dict, replacements: list):
+        self._entries, self._replacements = entries, replacements
+        self._shared: dict = {}   # a replacement symbol's name -> its tree
+        self._values: dict = {}
+
+    def __getitem__(self, name: str):
+        if name not in self._values:
+            code = self._entries[name]
+            names = set(code.co_names)
+            used = [k for k, (symbol, _) in enumerate(self._replacements) if symbol in names]
+            for symbol, text in self._replacements[len(self._shared):max(used, default=-1) + 1]:
+                self._shared[symbol] = _evaluate(text, self._shared)
+            self._values[name] = _evaluate(code, self._shared)
+        return self._values[name]
+
+    def __iter__(self):
+        return iter(self._entries)
+
+    def __len__(self) -> int:
+        return len(self._entries)
 
 
 @dataclass(frozen=True, eq=False)
@@ -125,8 +156,12 @@ _CLASSES = {name: obj for name in dir(sp) if not name.startswith("_")
             if isinstance(obj, type) and issubclass(obj, (sp.Basic, sp.MatrixBase))}
 _CONSTANTS = {name: getattr(sp, name) for name in ("pi", "E", "I", "oo", "zoo", "nan", "true", "false")}
 _NAMED_BY_STRING = {"Symbol", "Dummy", "Wild", "Function", "Float"}
-_IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 _FLOAT = re.compile(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?\Z")
+
+
+def _is_name(text: str) -> bool:
+    """A symbol's name: printable text (the lecture's ``I_zz^S``); a name is never evaluated, only held."""
+    return 0 < len(text) <= 200 and text.isprintable()
 
 
 class UnsafeEntry(ValueError):
@@ -142,8 +177,8 @@ def _validate(node: ast.AST, shared: dict) -> None:
             raise UnsafeEntry(f"call of {ast.dump(node.func)[:60]}")
         for k, arg in enumerate(node.args):
             if isinstance(arg, ast.Constant) and isinstance(arg.value, str):
-                pattern = _FLOAT if node.func.id == "Float" else _IDENTIFIER
-                if k != 0 or node.func.id not in _NAMED_BY_STRING or not pattern.match(arg.value):
+                valid = _FLOAT.match(arg.value) if node.func.id == "Float" else _is_name(arg.value)
+                if k != 0 or node.func.id not in _NAMED_BY_STRING or not valid:
                     raise UnsafeEntry(f"string {arg.value[:40]!r} in {node.func.id}")
             else:
                 _validate(arg, shared)
@@ -181,6 +216,43 @@ _GLOBALS = {"__builtins__": {}, **_CLASSES, **_CONSTANTS}
 def _evaluate(code, shared: dict):
     """The expression of :func:`_code`'s ``code``, its replacement symbols standing for the values in ``shared``."""
     return eval(code, _GLOBALS, shared)  # noqa: S307
+
+
+def remembered(kind: str, code: tuple[Path, ...], inputs: tuple, compute):
+    """The SymPy value of ``compute()``, remembered on disk under a hash of ``kind``, the source of the modules that
+    compute it (``code``), SymPy's version and the ``srepr`` of ``inputs``: a symbolic result that is a function of
+    these (a reduction of a printed equation to zero, its lecture form) is computed once and read back by later
+    runs, as a derivation is. It is read back as computed (:func:`_as_computed`), and the value returned is always
+    the one read back, so a run that computes it and one that reads it give the same result. A computation under a
+    CPU-time budget (:func:`harness.limits.cpu_budget`) is remembered as the machine that first ran it reached it."""
+    digest = hashlib.sha256()
+    for part in (kind, sp.__version__, *(path.read_bytes() for path in code), *(sp.srepr(x) for x in inputs)):
+        digest.update(part if isinstance(part, bytes) else part.encode())
+        digest.update(b"\0")
+    path = cache_dir() / f"{kind}-{digest.hexdigest()[:24]}.json"
+    try:
+        doc = json.loads(path.read_text())
+        if doc["sha256"] != _checksum({"value": doc["value"]}):
+            raise ValueError("checksum mismatch")
+        return _as_computed(doc["value"])
+    except FileNotFoundError:
+        pass
+    except Exception:  # noqa: BLE001 - any damage means: do not trust, compute again
+        path.unlink(missing_ok=True)
+    text = sp.srepr(compute())
+    try:
+        atomic_write_text(path, json.dumps({"sha256": _checksum({"value": text}), "value": text}))
+    except OutputError:  # a full disk or a folder gone read-only: the value is still good
+        pass
+    return _as_computed(text)
+
+
+def _as_computed(text: str):
+    """The tree ``srepr`` wrote, evaluated as SymPy builds it but without distributing a number over a sum (the
+    ``Mul(1/8, Add(…))`` of ``factor_terms`` stays factored: ``srepr`` does not write unevaluated trees, e.g.
+    ``−2 c`` as ``Mul(-1, 2, c)``)."""
+    with distribute(False):
+        return _evaluate(_code(text, set()), {})
 
 
 def store(key: str, values: dict, graph: bool = False) -> tuple[dict, Graph | None]:

@@ -48,6 +48,26 @@ class Derivation:
         """Christoffel symbol of the first kind ``c_ijk`` (5.95)."""
         return christoffel(self.M, q, i, j, k)
 
+    @classmethod
+    def stored(cls, trees, graph: cache.Graph, seconds: float = 0.0, from_cache: bool = True) -> "Derivation":
+        """A derivation read from the cache as a graph: each quantity's tree is built from ``trees``
+        (:class:`~harness.derivation.cache.Trees`) when first read; the compiler takes ``graph``."""
+        self = cls.__new__(cls)
+        self.__dict__.update(seconds=seconds, from_cache=from_cache, graph=graph, _trees=trees)
+        return self
+
+    def __getattr__(self, name: str):
+        """A quantity of a :meth:`stored` derivation not read before (called only for an attribute not set)."""
+        trees = self.__dict__.get("_trees")
+        if trees is None or name not in trees:
+            raise AttributeError(name)
+        value = trees[name]
+        setattr(self, name, value)
+        return value
+
+    def __getstate__(self) -> dict:  # every tree built: a stored graph's compiled texts do not pickle
+        return {name: getattr(self, name) for name in (f.name for f in fields(self))}
+
 
 def christoffel(M: sp.Matrix, q, i: int, j: int, k: int) -> sp.Expr:
     """``c_ijk = ½ (∂M_kj/∂q_i + ∂M_ki/∂q_j − ∂M_ij/∂q_k)`` (5.95)."""
@@ -332,10 +352,14 @@ def derive(system: System, use_cache: bool = True) -> Derivation:
     if use_cache:
         stored = cache.load_graph(key)
         if stored is not None and sorted(stored[0]) == sorted(SYMBOLIC_FIELDS):
-            return Derivation(**stored[0], graph=stored[1], from_cache=True)
+            if stored[1] is not None:
+                return Derivation.stored(*stored)
+            return Derivation(**stored[0], from_cache=True)
     derivation = derive_uncached(system)
     if use_cache:  # a per-body derivation as a graph: srepr would write out its trees
         values, graph = cache.store(key, {name: getattr(derivation, name) for name in SYMBOLIC_FIELDS},
                                     graph=is_per_body(system))
-        derivation = Derivation(**values, graph=graph, seconds=derivation.seconds)  # as a cached run reads it
+        if graph is not None:  # as a cached run reads it
+            return Derivation.stored(values, graph, derivation.seconds, from_cache=False)
+        derivation = Derivation(**values, seconds=derivation.seconds)
     return derivation

@@ -41,12 +41,17 @@ def lecture_form(expr, keep: set, relations) -> sp.Matrix:
     """``expr`` with the model's symbols that the printed equation does not use eliminated through the declared
     relations (``rho_S → m_S/(l_S b_S h_S)``, then ``b_S² → 12 I_zz^S/m_S − l_S²``), simplified within a budget.
     Which symbol each relation eliminates is searched: the choice that leaves fewest foreign symbols wins."""
-    from harness.compare.errata import reduce
+    from harness.compare.errata import REDUCTION_CODE, reduce
+    from harness.derivation import cache
 
-    expr = as_matrix(expr).applyfunc(sp.expand)
+    expr = as_matrix(expr)
     relations = [(s, sp.sympify(v)) for s, v in relations if s in keep]
-    best = _eliminate(expr, keep, relations)
-    return best.applyfunc(lambda e: _tidy(e, reduce))
+
+    def compute():
+        best = _eliminate(expr.applyfunc(sp.expand), keep, relations)
+        return best.applyfunc(lambda e: _tidy(e, reduce))
+    return cache.remembered("lecture-form", (Path(__file__), *REDUCTION_CODE),
+                            (expr, sorted(keep, key=sp.default_sort_key), relations), compute)
 
 
 def _foreign(expr, keep) -> int:
