@@ -1,5 +1,6 @@
 """Test configuration: hypothesis runs the fixed-seed ``ci`` profile unless HYPOTHESIS_PROFILE says otherwise,
-and the derivation cache lives in a per-run folder so tests never depend on a developer's cache."""
+and the derivation cache lives in a per-run folder, seeded with a copy of the project's, so tests never write to a
+developer's cache."""
 
 import pytest
 
@@ -20,13 +21,38 @@ def _seed_only_examples():
 
 @pytest.fixture(scope="session", autouse=True)
 def _isolated_cache(tmp_path_factory):
-    # one folder per test run, shared by the xdist workers (entries are written atomically)
+    """One cache folder per test run, shared by the xdist workers (entries are written atomically), seeded with a
+    copy of the project's cache (:func:`_seed`): the tests do not derive again what the main job derived, and no
+    test writes to the project's cache."""
+    from harness.derivation.cache import cache_dir
+
     root = tmp_path_factory.getbasetemp()
     shared = root.parent if root.name.startswith("popen-gw") else root
+    project = cache_dir()  # before it is moved: the project's folder, or the one HARNESS_CACHE_DIR names
+    _seed(project, shared / "derivations")
+    _seed(project.parent / "equations", shared / "equations")  # the report's page equations (harness.report)
     mp = pytest.MonkeyPatch()
     mp.setenv("HARNESS_CACHE_DIR", str(shared / "derivations"))
     yield
     mp.undo()
+
+
+def _seed(source, target) -> None:
+    """Copy the entries of ``source`` to ``target`` (each by a rename, so that a worker reading an entry the other
+    is copying sees all of it or none). An entry is keyed by a hash of what it is computed from (the model and the
+    code that derives it) and checked when read (checksum, a parser that runs no code), as in every run of the
+    harness; tests of the cache itself use folders of their own."""
+    import os
+    import shutil
+
+    if not source.is_dir():
+        return
+    target.mkdir(parents=True, exist_ok=True)
+    for entry in source.glob("*.json"):
+        if not (target / entry.name).exists():
+            part = target / f".{entry.name}.{os.getpid()}"
+            shutil.copyfile(entry, part)
+            os.replace(part, target / entry.name)
 
 
 @pytest.fixture

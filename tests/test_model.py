@@ -326,3 +326,24 @@ def test_joint_loop_is_caught():
         _pendulum(links=(Link("bob", 1.0, (0, 0, -1)), Link("a", 1.0), Link("b", 1.0)),
                   joints=(Joint("phi", "revolute", "world", "bob", axis="x"),
                           Joint("ja", "revolute", "b", "a", phi=0), Joint("jb", "revolute", "a", "b", phi=0)))
+
+
+def test_the_tests_cache_is_a_copy_of_the_projects(tmp_path):
+    """The test run's cache folder is seeded with a copy of the project's (tests/conftest.py): each entry copied
+    whole, an entry the run already holds kept, the project's folder never the one the tests write to."""
+    from conftest import _seed
+
+    from harness.derivation.cache import PROJECT_ROOT, cache_dir
+
+    assert cache_dir() != PROJECT_ROOT / ".cache" / "derivations"
+    source, target = tmp_path / "project", tmp_path / "run"
+    source.mkdir()
+    (source / "a.json").write_text("{\"a\": 1}")
+    (source / "b.json").write_text("{\"b\": 1}")
+    target.mkdir()
+    (target / "b.json").write_text("{\"b\": 2}")
+    _seed(source, target)
+    assert sorted(p.name for p in target.iterdir()) == ["a.json", "b.json"]
+    assert (target / "a.json").read_text() == "{\"a\": 1}" and (target / "b.json").read_text() == "{\"b\": 2}"
+    _seed(tmp_path / "absent", tmp_path / "elsewhere")
+    assert not (tmp_path / "elsewhere").exists()
