@@ -142,6 +142,7 @@ def test_per_body_derivation_is_cached_as_a_graph(tmp_path, monkeypatch):
     assert doc["replacements"] and all(name.startswith("_cse_") for name, _ in doc["replacements"])
     lazy = derive(s)  # the trees are built when first read: θ = q needs none of the replacements
     assert lazy.from_cache and "M" not in vars(lazy) and list(lazy.phi) == list(s.q) and not lazy._trees._shared
+    assert "M" in lazy._trees and not hasattr(lazy, "N") and "M" not in vars(lazy)
     second = derive(s)
     assert second.from_cache and second.M == first.M and second.C == first.C and second.g == first.g
     assert pickle.loads(pickle.dumps(lazy)).M_dot == first.M_dot

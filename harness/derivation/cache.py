@@ -120,6 +120,9 @@ class Trees(Mapping):
             self._values[name] = _evaluate(code, self._shared)
         return self._values[name]
 
+    def __contains__(self, name) -> bool:  # without building the tree (Mapping's would read it)
+        return name in self._entries
+
     def __iter__(self):
         return iter(self._entries)
 
