@@ -25,6 +25,7 @@ import json
 import os
 import re
 from collections.abc import Mapping
+from contextlib import nullcontext
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -56,13 +57,13 @@ def _checksum(entries: dict[str, str]) -> str:
     return hashlib.sha256(json.dumps(entries, sort_keys=True).encode()).hexdigest()
 
 
-def load(key: str) -> dict | None:
-    """The stored values of ``key`` (None when absent or not trusted)."""
-    loaded = load_graph(key)
+def load(key: str, as_computed: bool = False) -> dict | None:
+    """The stored values of ``key`` (None when absent or not trusted); ``as_computed``: see :func:`_read`."""
+    loaded = load_graph(key, as_computed)
     return None if loaded is None else loaded[0]
 
 
-def load_graph(key: str) -> tuple[dict, Graph | None] | None:
+def load_graph(key: str, as_computed: bool = False) -> tuple[dict, Graph | None] | None:
     """``(values, graph)`` of ``key``: the stored values, and for an entry stored as a graph the same in its
     stored form (:class:`Graph`), else None; None when absent or not trusted."""
     path = cache_dir() / f"{key}.json"
@@ -75,15 +76,18 @@ def load_graph(key: str) -> tuple[dict, Graph | None] | None:
         if doc["sha256"] != _checksum({"entries": entries, "replacements": replacements} if replacements
                                       else entries):
             raise ValueError("checksum mismatch")
-        return _read(entries, replacements)
+        return _read(entries, replacements, as_computed)
     except Exception:  # noqa: BLE001 - any damage means: do not trust, rebuild
         path.unlink(missing_ok=True)
         return None
 
 
-def _read(entries: dict, replacements: list) -> tuple[dict, Graph | None]:
+def _read(entries: dict, replacements: list, as_computed: bool = False) -> tuple[dict, Graph | None]:
     """The values of an entry's texts (and its :class:`Graph` when it has replacements); an entry stored as a graph
-    gives its values as :class:`Trees`, each built when first read."""
+    gives its values as :class:`Trees`, each built when first read. ``as_computed`` (an entry without replacements):
+    evaluated as SymPy builds a tree but without distributing a number over a sum, which gives back the tree
+    ``srepr`` wrote (``factor_terms``' ``Mul(1/8, Add(…))`` stays factored; evaluation off altogether would keep
+    ``srepr``'s ``Mul(-1, 2, c)`` for ``−2 c``); the derivations are read evaluated, as they always were."""
     names: set = set()     # the replacement symbols defined so far (each text refers to earlier ones only)
     codes = []
     for symbol, text in replacements:
@@ -91,7 +95,8 @@ def _read(entries: dict, replacements: list) -> tuple[dict, Graph | None]:
         names.add(symbol)
     entry_codes = {name: _code(text, names) for name, text in entries.items()}
     if not replacements:
-        return {name: _evaluate(code, {}) for name, code in entry_codes.items()}, None
+        with distribute(False) if as_computed else nullcontext():
+            return {name: _evaluate(code, {}) for name, code in entry_codes.items()}, None
     symbols = {symbol: sp.Symbol(symbol) for symbol in names}
     reduced_replacements = tuple((symbols[symbol], _evaluate(code, symbols)) for symbol, code in codes)
     reduced = {name: _evaluate(code, symbols) for name, code in entry_codes.items()}
@@ -225,40 +230,22 @@ def remembered(kind: str, code: tuple[Path, ...], inputs: tuple, compute):
     """The SymPy value of ``compute()``, remembered on disk under a hash of ``kind``, the source of the modules that
     compute it (``code``), SymPy's version and the ``srepr`` of ``inputs``: a symbolic result that is a function of
     these (a reduction of a printed equation to zero, its lecture form) is computed once and read back by later
-    runs, as a derivation is. It is read back as computed (:func:`_as_computed`), and the value returned is always
-    the one read back, so a run that computes it and one that reads it give the same result. A computation under a
-    CPU-time budget (:func:`harness.limits.cpu_budget`) is remembered as the machine that first ran it reached it."""
+    runs, as a derivation is. It is read back as computed (``as_computed``, :func:`_read`), and the value returned is
+    always the one read back, so a run that computes it and one that reads it give the same result. A computation
+    under a CPU-time budget (:func:`harness.limits.cpu_budget`) is remembered as the machine that first ran it
+    reached it."""
     digest = hashlib.sha256()
-    for part in (kind, sp.__version__, *(path.read_bytes() for path in code), *(sp.srepr(x) for x in inputs)):
-        digest.update(part if isinstance(part, bytes) else part.encode())
-        digest.update(b"\0")
-    path = cache_dir() / f"{kind}-{digest.hexdigest()[:24]}.json"
-    try:
-        doc = json.loads(path.read_text())
-        if doc["sha256"] != _checksum({"value": doc["value"]}):
-            raise ValueError("checksum mismatch")
-        return _as_computed(doc["value"])
-    except FileNotFoundError:
-        pass
-    except Exception:  # noqa: BLE001 - any damage means: do not trust, compute again
-        path.unlink(missing_ok=True)
-    text = sp.srepr(compute())
-    try:
-        atomic_write_text(path, json.dumps({"sha256": _checksum({"value": text}), "value": text}))
-    except OutputError:  # a full disk or a folder gone read-only: the value is still good
-        pass
-    return _as_computed(text)
+    for part in (kind.encode(), sp.__version__.encode(), *(path.read_bytes() for path in code),
+                 *(sp.srepr(x).encode() for x in inputs)):
+        digest.update(part + b"\0")
+    key = f"{kind}-{digest.hexdigest()[:24]}"
+    stored = load(key, as_computed=True)
+    if stored is None:
+        stored, _ = store(key, {"value": compute()}, as_computed=True)
+    return stored["value"]
 
 
-def _as_computed(text: str):
-    """The tree ``srepr`` wrote, evaluated as SymPy builds it but without distributing a number over a sum (the
-    ``Mul(1/8, Add(…))`` of ``factor_terms`` stays factored: ``srepr`` does not write unevaluated trees, e.g.
-    ``−2 c`` as ``Mul(-1, 2, c)``)."""
-    with distribute(False):
-        return _evaluate(_code(text, set()), {})
-
-
-def store(key: str, values: dict, graph: bool = False) -> tuple[dict, Graph | None]:
+def store(key: str, values: dict, graph: bool = False, as_computed: bool = False) -> tuple[dict, Graph | None]:
     """Store ``values`` under ``key`` (as a graph: their common subexpressions written once) and return them as
     every later :func:`load_graph` reads them. The texts do not always read back to the same trees (``srepr`` of
     ``factor_terms``' ``Mul(1/8, Add(…))`` reads back distributed, as SymPy evaluates it): a run that derives and
@@ -278,4 +265,4 @@ def store(key: str, values: dict, graph: bool = False) -> tuple[dict, Graph | No
         atomic_write_text(cache_dir() / f"{key}.json", json.dumps(doc))
     except OutputError:  # a full disk or a folder gone read-only: the derivation in memory is still good
         pass
-    return _read(entries, pairs)
+    return _read(entries, pairs, as_computed)
