@@ -78,7 +78,7 @@ class State:
 
     @cached_property
     def tree(self) -> NumericTree:
-        return _instantiate(self.system, self.params)
+        return instantiate(self.system, self.params)
 
     @cached_property
     def key(self) -> tuple:
@@ -120,22 +120,6 @@ class State:
                 for kind, where, frame, fn in load_functions(self.system)]
 
 
-_TREES: dict = {}
-_TREES_KEPT = 4096
-
-
-def _instantiate(system: System, params: dict) -> NumericTree:
-    """:func:`instantiate`, once per system and parameter values (the printed equations of a system are classified
-    on the same drawn states, each of which instantiates its tree; 0.5–12 ms each)."""
-    key = (id(system), tuple((k, float(v).hex()) for k, v in params.items()))
-    kept = _TREES.get(key)
-    if kept is not None and kept[0] is system:  # the system is kept alive with its tree: its id is not reused
-        return kept[1]
-    tree = instantiate(system, params)
-    if len(_TREES) >= _TREES_KEPT:
-        _TREES.clear()
-    _TREES[key] = (system, tree)
-    return tree
 
 
 @cache

@@ -65,13 +65,6 @@ class NumericTree:
     actuators: tuple           # (input name, joint)
 
 
-def _value(expr, subs) -> float:
-    value = sp.sympify(expr).xreplace(subs)
-    if not value.is_number:
-        raise ModelError(f"cannot evaluate {expr} numerically (free symbols {value.free_symbols})")
-    return float(value)
-
-
 def lump(parts) -> tuple[float, np.ndarray, np.ndarray]:
     """Steiner's theorem (3.133): one rigid body from ``(m, c, I_c)`` parts given in common axes — its mass,
     centre of mass and (symmetric) inertia tensor about it. Parts without mass or inertia are left out; one
@@ -96,41 +89,76 @@ def point_name(point: Point) -> str:
 
 
 class _Values:
-    """The numbers of a system's expressions at parameter values ``subs``, each as :func:`_value` (and the inertia
-    matrix as ``Matrix.evalf``) gives it — bit for bit: a parameter is its value (``float(Float(v)) == v``),
-    anything else is substituted and evaluated as before. The model's vectors and matrices (SymPy matrices built
-    at every access: most of the time of an instantiation) are read once per model object."""
+    """The numbers of a system's expressions at parameter values ``params``: each scalar, vector and matrix of the
+    model compiled once (per expression, or per model object and attribute) into one Python function of the
+    parameters it contains (``lambdify`` with ``math``, shared subexpressions computed once), so an instantiation
+    calls a few functions instead of substituting into SymPy trees (a lumped body's Steiner terms: 43 ms for the
+    tower crane). A parameter is its value, a number its float."""
 
+    _scalars: dict = {}
     _entries: dict = {}
 
-    def __init__(self, subs: dict):
-        self.subs = subs
+    def __init__(self, system: System, params: dict[str, float]):
+        self.system = system
+        self.values = {system.parameter(k).symbol: float(v) for k, v in params.items()}
 
     def __call__(self, expr) -> float:
-        if isinstance(expr, sp.Symbol) and expr in self.subs:
-            return float(self.subs[expr])
-        return _value(expr, self.subs)
+        expr = sp.sympify(expr)
+        if expr.is_Number:
+            return float(expr)
+        if expr in self.values:
+            return self.values[expr]
+        kept = self._scalars.get(expr)
+        if kept is None:
+            kept = self._scalars[expr] = _compiled(self.system, (expr,))
+        return self._call(kept, (expr,))[0]
 
-    @classmethod
-    def entries(cls, owner, attribute: str) -> tuple:
-        """The entries of ``owner.<attribute>`` (a vector or matrix property of a frozen model object), once."""
+    def entries(self, owner, attribute: str) -> np.ndarray:
+        """The entries of ``owner.<attribute>`` (a vector or matrix property of a frozen model object), as floats
+        (the SymPy matrix is built and compiled once per owner: it is built at every access)."""
         key = (id(owner), attribute)
-        kept = cls._entries.get(key)
-        if kept is None or kept[0] is not owner:  # the owner is kept alive with its entries: its id is not reused
-            value = getattr(owner, attribute)
-            kept = cls._entries[key] = (owner, tuple(sp.sympify(v) for v in value))
-        return kept[1]
+        kept = self._entries.get(key)
+        if kept is None or kept[0] is not owner:  # the owner is kept alive with its function: its id is not reused
+            exprs = tuple(sp.sympify(v) for v in getattr(owner, attribute))
+            kept = self._entries[key] = (owner, exprs, _compiled(self.system, exprs))
+        return np.array(self._call(kept[2], kept[1]), dtype=float)
+
+    def _call(self, compiled, exprs) -> list[float]:
+        symbols, fn = compiled
+        try:
+            args = [self.values[s] for s in symbols]
+        except KeyError:
+            missing = {s for s in symbols if s not in self.values}
+            expr = next(e for e in exprs if e.free_symbols & missing)
+            raise ModelError(f"cannot evaluate {expr} numerically (free symbols {missing})") from None
+        try:
+            return [float(v) for v in fn(*args)]
+        except (ArithmeticError, ValueError) as exc:
+            raise ModelError(f"{self.system.name}: cannot evaluate the model at these parameter values "
+                             f"({type(exc).__name__}: {exc})") from None
+
+
+def _compiled(system: System, exprs: tuple) -> tuple[list, object]:
+    """``(parameter symbols, function of their values returning the values of exprs)``; an expression in other
+    symbols than the system's parameters is refused here."""
+    parameters = [p.symbol for p in system.parameters]
+    free = set().union(*(e.free_symbols for e in exprs))
+    if free - set(parameters):
+        expr = next(e for e in exprs if e.free_symbols - set(parameters))
+        raise ModelError(f"cannot evaluate {expr} numerically (free symbols {expr.free_symbols - set(parameters)})")
+    symbols = [s for s in parameters if s in free]
+    return symbols, sp.lambdify(symbols, list(exprs), modules="math", cse=True, docstring_limit=0)
 
 
 _TREES: dict = {}
-_TREES_KEPT = 1024
+_TREES_KEPT = 4096
 
 
 def instantiate(system: System, params: dict[str, float]) -> NumericTree:
     """Substitute parameter values into the tree; checks that the inertia tensors are physical. Once per system
-    and parameter values (2 ms of SymPy each: the claims of a system draw the same parameters, and a claim at
-    rest or at an equilibrium instantiates the drawn ones again)."""
-    key = (id(system), tuple((k, float(v)) for k, v in params.items()))
+    and parameter values (0.2-0.7 ms each, compiled: the claims of a system draw the same parameters, and a claim
+    at rest or at an equilibrium instantiates the drawn ones again)."""
+    key = (id(system), tuple((k, float(v).hex()) for k, v in params.items()))  # -0.0 is not 0.0
     kept = _TREES.get(key)
     if kept is not None and kept[0] is system:  # the system is kept alive with its tree: its id is not reused
         return kept[1]
@@ -142,18 +170,17 @@ def instantiate(system: System, params: dict[str, float]) -> NumericTree:
 
 
 def _instantiate(system: System, params: dict[str, float]) -> NumericTree:
-    subs = {system.parameter(k).symbol: sp.Float(v) for k, v in params.items()}
-    value = _Values(subs)
+    value = _Values(system, params)
     links = []
     for link in system.links:
         mass = value(link.mass)
-        com = np.array([value(v) for v in _Values.entries(link, "com_vector")])
-        inertia = np.array([value(v) for v in _Values.entries(link.inertia, "matrix")], dtype=float).reshape(3, 3)
+        com = value.entries(link, "com_vector")
+        inertia = value.entries(link.inertia, "matrix").reshape(3, 3)
         check_inertia(f"{system.name}: link {link.name}", mass, inertia)
         links.append(NumericLink(link.name, mass, com, inertia))
     joints = tuple(NumericJoint(j.name, j.type, j.parent, j.child, np.array(j.axis, dtype=float),
-                                np.array([value(v) for v in _Values.entries(j, "origin_vector")]),
-                                np.array([value(v) for v in _Values.entries(j, "rpy")]), value(j.armature))
+                                value.entries(j, "origin_vector"),
+                                value.entries(j, "rpy"), value(j.armature))
                    for j in system.joints)
     points: dict[str, NumericPoint] = {}
     tendons: dict[tuple, list] = {}
@@ -162,26 +189,26 @@ def _instantiate(system: System, params: dict[str, float]) -> NumericTree:
         for pt in (getattr(f, "a", None), getattr(f, "b", None), getattr(f, "point", None)):
             if pt is not None:
                 points[point_name(pt)] = NumericPoint(point_name(pt), pt.link,
-                                                      np.array([value(v) for v in _Values.entries(pt, "vector")]))
+                                                      value.entries(pt, "vector"))
         if isinstance(f, (Spring, Damper)):
             key = (point_name(f.a), point_name(f.b))
             entry = tendons.setdefault(key, [f.name, key[0], key[1], 0.0, 0.0, 0.0])
             if isinstance(f, Spring):
-                entry[3], entry[4] = _value(f.stiffness, subs), _value(f.rest_length, subs)
+                entry[3], entry[4] = value(f.stiffness), value(f.rest_length)
             else:
-                entry[5] = _value(f.damping, subs)
+                entry[5] = value(f.damping)
         elif isinstance(f, JointSpring):
-            joint_stiffness[f.joint] = (_value(f.stiffness, subs), _value(f.rest, subs))
+            joint_stiffness[f.joint] = (value(f.stiffness), value(f.rest))
         elif isinstance(f, JointDamper):
-            joint_damping[f.joint] = _value(f.damping, subs)
+            joint_damping[f.joint] = value(f.damping)
         elif isinstance(f, JointInput):
             actuators.append((f.input, f.joint))
     for closure in system.closures:  # the guided point: a site/frame the engines constrain
         pt = closure.point
         points[point_name(pt)] = NumericPoint(point_name(pt), pt.link,
-                                              np.array([value(v) for v in _Values.entries(pt, "vector")]))
+                                              value.entries(pt, "vector"))
     gravity = np.zeros(3)
     if system.gravity is not None:
-        gravity = _value(system.gravity.g, subs) * np.array(system.gravity.direction, dtype=float)
+        gravity = value(system.gravity.g) * np.array(system.gravity.direction, dtype=float)
     return NumericTree(system.name, tuple(links), joints, tuple(points.values()), gravity, joint_stiffness,
                        joint_damping, tuple(tuple(t) for t in tendons.values()), tuple(actuators))
