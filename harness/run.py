@@ -203,10 +203,10 @@ def check_record(catalogue: Catalogue, system, examples: int | None = None, scen
     """The conformance record of one system; a system raising gives a failed record with the reason. With
     ``scenes``, the trajectory checks of its scenes too (their series written into ``series_dir``, or stored in
     ``collected``: :func:`scene_records`)."""
-    from harness.compare import conformance
+    from harness.compare import remembered
 
     try:
-        summary = conformance.run(system, examples=examples)
+        summary = remembered.run(catalogue, system, examples, read=False)  # computed, and stored for the tests
         record = {"system": system.name, "passed": summary.passed, "examples": summary.examples,
                   "failure": summary.failure, "not_applicable": summary.not_applicable,
                   "checks": [c.record() for c in sorted(summary.worst.values(), key=lambda c: (c.name, c.source))]}

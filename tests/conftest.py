@@ -31,6 +31,7 @@ def _isolated_cache(tmp_path_factory):
     project = cache_dir()  # before it is moved: the project's folder, or the one HARNESS_CACHE_DIR names
     _seed(project, shared / "derivations")
     _seed(project.parent / "equations", shared / "equations")  # the report's page equations (harness.report)
+    _seed(project.parent / "results", shared / "results")  # the main job's conformance summaries (remembered)
     mp = pytest.MonkeyPatch()
     mp.setenv("HARNESS_CACHE_DIR", str(shared / "derivations"))
     yield
@@ -78,15 +79,16 @@ def user_models(tmp_path, monkeypatch):
 def conformance_run():
     """``conformance_run(name)``: the conformance summary of catalogued system ``name`` against every engine that
     applies (:func:`harness.compare.conformance.run`, what ``harness check`` computes), run once per test
-    session (per xdist worker) and shared by the tests that read it."""
+    session (per xdist worker) and shared by the tests that read it; read back where the main job computed it with
+    the same code, models, packages and settings (:mod:`harness.compare.remembered`)."""
     import models
-    from harness.compare import conformance
+    from harness.compare import remembered
 
     runs: dict = {}
 
     def run(name: str):
         if name not in runs:
-            runs[name] = conformance.run(models.get(name))
+            runs[name] = remembered.run(models.CATALOGUE, models.get(name))
         return runs[name]
 
     return run

@@ -43,3 +43,58 @@ def test_tests_of_one_group_share_a_worker(request):
     check."""
     if getattr(request.config.option, "loadgroup", False):  # set on xdist's workers under --dist loadgroup
         assert request.node.nodeid.endswith("@grouping-guard"), request.node.nodeid
+
+
+def test_a_remembered_summary_is_the_one_computed(tmp_path, monkeypatch):
+    """The test suite reads the summary the main job computed (:mod:`harness.compare.remembered`): read back, it is
+    the computed one check for check; a damaged entry is computed again; another numeric environment (BLAS
+    kernels) or other settings is another key."""
+    from hypothesis import settings
+
+    from harness.compare import remembered
+    from harness.settings import load_hypothesis_profile
+
+    monkeypatch.setenv("HARNESS_CACHE_DIR", str(tmp_path / "derivations"))
+    system = models.get("pendulum")
+    computed = remembered.run(models.CATALOGUE, system, read=False)
+    entry = remembered.key(models.CATALOGUE, "pendulum", None)
+    stored = remembered.folder() / f"{entry}.json"
+    assert stored.is_file()
+    read = remembered.run(models.CATALOGUE, system)
+    assert read is not computed
+    assert (read.system, read.examples, read.failure, read.not_applicable) == \
+        (computed.system, computed.examples, computed.failure, computed.not_applicable)
+    assert {k: c.record() for k, c in read.worst.items()} == {k: c.record() for k, c in computed.worst.items()}
+
+    stored.write_text(stored.read_text().replace('"examples": 200', '"examples": 2000'))
+    assert remembered._load(stored) is None  # the checksum no longer matches: computed again
+
+    monkeypatch.setenv("OPENBLAS_CORETYPE", "Prescott")
+    assert remembered.key(models.CATALOGUE, "pendulum", None) != entry
+    monkeypatch.delenv("OPENBLAS_CORETYPE")
+    assert remembered.key(models.CATALOGUE, "pendulum", 10) != entry
+    settings.register_profile("random draws", settings.get_profile("ci"), derandomize=False, database=None)
+    settings.load_profile("random draws")
+    try:
+        assert remembered.key(models.CATALOGUE, "pendulum", None) is None  # examples not fixed: nothing kept
+    finally:
+        load_hypothesis_profile()
+
+
+def test_the_main_job_stores_what_the_tests_read(tmp_path):
+    """``harness check`` (a worker process of its own, started from the command line) stores a summary under the
+    key the test suite looks for: a key that depended on the process (the working directory on ``sys.path`` found
+    the project's metadata twice) made the tests compute everything again without a word."""
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    from harness.compare import remembered
+
+    harness_cli = Path(sys.executable).with_name("harness")
+    env = {**os.environ, "HARNESS_CACHE_DIR": str(tmp_path / "derivations")}
+    subprocess.run([str(harness_cli), "check", "pendulum", "--jobs", "2", "--no-scenes", "--out", str(tmp_path / "out")],
+                   check=True, capture_output=True, env=env, cwd=tmp_path)
+    entry = remembered.key(models.CATALOGUE, "pendulum", None)
+    assert (tmp_path / "results" / f"{entry}.json").is_file(), sorted(p.name for p in (tmp_path / "results").iterdir())

@@ -1,0 +1,122 @@
+"""A system's conformance summary remembered on disk under a hash of everything that determines it, so that the
+test suite reads what the main job computed instead of computing it again (``make check`` then ``make test``).
+
+The examples of a conformance run are fixed by the hypothesis settings (derandomized, no example database, drawn
+from the seed only: :func:`harness.settings.draws_from_seed_only`); its numbers by our code, the model files, the
+installed packages, Python and the environment variables that change NumPy's or BLAS's kernels. The key hashes all
+of them: every file under ``harness/`` and on the catalogue's search path, every installed distribution with its
+version, Python's version, the ``OPENBLAS_*``, ``NPY_*``, ``OMP_*``, ``MKL_*`` and ``HYPOTHESIS_*`` variables, the
+settings and the run's arguments. A change to any of them computes the summary again. Where the examples are not
+fixed by the settings (a random seed, an example database) nothing is remembered. An entry carries a checksum; a
+damaged one is computed again. The folder is ``results/`` beside the derivation cache; the tests read a copy of
+the project's (``tests/conftest.py``)."""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import importlib.metadata
+import json
+import os
+import sys
+from pathlib import Path
+
+import harness
+from harness import profiling
+from harness.checks import Check
+from harness.compare import conformance
+from harness.errors import OutputError
+from harness.io import atomic_write_text
+
+NUMERIC_ENVIRONMENT = ("OPENBLAS", "NPY_", "OMP_", "MKL_", "HYPOTHESIS")
+"""Prefixes of the environment variables that can change a run's numbers or examples."""
+
+
+def folder() -> Path:
+    from harness.derivation.cache import cache_dir
+
+    return cache_dir().parent / "results"
+
+
+def _files_digest(folders) -> str:
+    digest = hashlib.sha256()
+    for root in folders:
+        root = Path(root)
+        for path in sorted(p for p in root.rglob("*") if p.is_file() and "__pycache__" not in p.parts):
+            digest.update(str(path.relative_to(root)).encode() + b"\0" + path.read_bytes() + b"\0")
+    return digest.hexdigest()
+
+
+@functools.cache
+def _installation() -> str:
+    """Our code (every file under ``harness/``), the installed distributions and Python: once per process."""
+    # a set: the project's own metadata is found twice when the working directory is on sys.path
+    dists = sorted({f"{d.metadata['Name']}=={d.version}" for d in importlib.metadata.distributions()})
+    return hashlib.sha256("\n".join([_files_digest([Path(harness.__file__).parent]), sys.version, *dists])
+                          .encode()).hexdigest()
+
+
+def key(catalogue, name: str, examples: int | None) -> str | None:
+    """The entry's name, or None when the examples are not fixed by the settings."""
+    import hypothesis.core
+    from hypothesis import settings
+
+    from harness.settings import seed_only
+
+    current = settings.default
+    if not seed_only() or not (current.derandomize or hypothesis.core.global_force_seed is not None) \
+            or current.database is not None:
+        return None
+    variables = sorted((k, v) for k, v in os.environ.items() if k.startswith(NUMERIC_ENVIRONMENT))
+    parts = [_installation(), _files_digest(catalogue.path), repr(variables), name, repr(examples),
+             repr(hypothesis.core.global_force_seed), repr(current.max_examples), repr(current.derandomize),
+             repr(tuple(current.phases))]
+    return f"conformance-{name}-{hashlib.sha256(chr(0).join(parts).encode()).hexdigest()[:24]}"
+
+
+def _checksum(doc: dict) -> str:
+    return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()
+
+
+def _load(path: Path) -> conformance.Summary | None:
+    try:
+        entry = json.loads(path.read_text())
+        doc = entry["summary"]
+        if entry["sha256"] != _checksum(doc):
+            return None
+        summary = conformance.Summary(doc["system"], doc["examples"], failure=doc["failure"],
+                                      not_applicable=dict(doc["not_applicable"]))
+        for fields in doc["worst"]:
+            check = Check(**fields)
+            summary.worst[check.name, check.source] = check
+        return summary
+    except (OSError, ValueError, KeyError, TypeError):  # missing or damaged: computed again
+        return None
+
+
+def _store(path: Path, summary: conformance.Summary) -> None:
+    worst = [{"name": c.name, "source": c.source, "value": c.value, "bound": c.bound, "basis": c.basis,
+              "detail": c.detail} for c in summary.worst.values()]
+    doc = {"system": summary.system, "examples": summary.examples, "failure": summary.failure,
+           "not_applicable": summary.not_applicable, "worst": worst}
+    try:
+        atomic_write_text(path, json.dumps({"sha256": _checksum(doc), "summary": doc}))
+    except OutputError:  # a full disk or a read-only folder: the summary in memory is still good
+        pass
+
+
+def run(catalogue, system, examples: int | None = None, read: bool = True) -> conformance.Summary:
+    """:func:`harness.compare.conformance.run` of catalogued ``system`` against every engine that applies, stored
+    under its key; with ``read``, read back instead where a run with the same key stored it. The main job computes
+    (``harness check``: ``read=False``); the test suite reads what it computed."""
+    entry = key(catalogue, system.name, examples)
+    path = None if entry is None else folder() / f"{entry}.json"
+    if read and path is not None:
+        summary = _load(path)
+        if summary is not None:
+            profiling.count("conformance summary read back")
+            return summary
+    summary = conformance.run(system, examples=examples)
+    if path is not None:
+        _store(path, summary)
+    return summary
