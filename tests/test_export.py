@@ -1,9 +1,18 @@
-"""The committed urdf/ folder is what `harness export` writes now."""
+"""The committed urdf/ folder is what `harness export` writes now; the numeric tree it is written from."""
 
 from pathlib import Path
 
+import numpy as np
+import pytest
+import sympy as sp
+from hypothesis import given, settings, strategies as st
+
 import models
+from harness.compare.strategies import parameters
+from harness.errors import ModelError
 from harness.export.files import export_files
+from harness.export.numeric import instantiate
+from harness.modeling.system import Coordinate, Joint, Link, Parameter, System
 
 URDF_DIR = Path(__file__).resolve().parent.parent / "urdf"
 
@@ -18,15 +27,6 @@ def test_committed_exports_are_current():
 
 
 # ----------------------------------------------------------------------- the numeric tree (instantiate)
-import numpy as np  # noqa: E402
-import pytest  # noqa: E402
-import sympy as sp  # noqa: E402
-from hypothesis import given, settings, strategies as st  # noqa: E402
-
-from harness.compare.strategies import parameters  # noqa: E402
-from harness.errors import ModelError  # noqa: E402
-from harness.export.numeric import instantiate  # noqa: E402
-from harness.modeling.system import Coordinate, Joint, Link, Parameter, System  # noqa: E402
 
 
 def _substituted(system, params) -> list[tuple[str, float, float]]:
