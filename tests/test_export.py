@@ -29,37 +29,58 @@ def test_committed_exports_are_current():
 # ----------------------------------------------------------------------- the numeric tree (instantiate)
 
 
-def _substituted(system, params) -> list[tuple[str, float, float]]:
-    """``(what, compiled number, SymPy's number)`` of each link's and joint's entries: SymPy substitutes the
-    values into the model's expressions and evaluates them with 30 digits."""
+def _substituted(system, params) -> list[tuple[str, float, float, float]]:
+    """``(what, compiled number, SymPy's number, bound)`` of each link's and joint's entries: SymPy substitutes the
+    values into the model's expression and evaluates it with 30 digits (then rounded to float64: half an ulp);
+    ``bound`` is that half ulp plus the forward error bound of evaluating the expression in float64,
+    ``k ε · magnitude`` (:func:`_magnitude`, ``k`` its operations plus one)."""
     tree = instantiate(system, params)
     subs = {system.parameter(k).symbol: sp.Float(v, 30) for k, v in params.items()}
 
-    def exact(expr):
-        return float(sp.sympify(expr).xreplace(subs).evalf(30))
+    def entry(what, number, expr):
+        expr = sp.sympify(expr)
+        value = float(expr.xreplace(subs).evalf(30))
+        bound = np.finfo(float).eps * ((sp.count_ops(expr) + 1) * _magnitude(expr, subs) + abs(value) / 2)
+        return what, number, value, bound
 
     out = []
     for link, numeric in zip(system.links, tree.links):
-        out += [(f"{link.name} mass", numeric.mass, exact(link.mass))]
-        out += [(f"{link.name} com", a, exact(e)) for a, e in zip(numeric.com, link.com_vector)]
-        out += [(f"{link.name} inertia", a, exact(e)) for a, e in zip(numeric.inertia.ravel(), link.inertia.matrix)]
+        out += [entry(f"{link.name} mass", numeric.mass, link.mass)]
+        out += [entry(f"{link.name} com", a, e) for a, e in zip(numeric.com, link.com_vector)]
+        out += [entry(f"{link.name} inertia", a, e) for a, e in zip(numeric.inertia.ravel(), link.inertia.matrix)]
     for joint, numeric in zip(system.joints, tree.joints):
-        out += [(f"{joint.name} origin", a, exact(e)) for a, e in zip(numeric.origin, joint.origin_vector)]
-        out += [(f"{joint.name} rpy", a, exact(e)) for a, e in zip(numeric.rpy, joint.rpy)]
+        out += [entry(f"{joint.name} origin", a, e) for a, e in zip(numeric.origin, joint.origin_vector)]
+        out += [entry(f"{joint.name} rpy", a, e) for a, e in zip(numeric.rpy, joint.rpy)]
     return out
+
+
+def _magnitude(expr, subs) -> float:
+    """The magnitude of the terms ``expr`` is made of, to which the rounding error of its float evaluation is
+    relative (Higham, *Accuracy and Stability*, §3.1: a sum or product of ``k`` operations is off by at most
+    ``γ_k`` times the same evaluated with every term's absolute value): a sum's terms add up in absolute value, a
+    product's factors multiply; a quotient, a power or a function is taken at its value (each one rounding, counted
+    in ``k``). Where a lumped body's Steiner terms cancel (the Panda's hand: link 7's inertia), its value is far
+    below this magnitude, and so is its precision relative to the value."""
+    if expr.is_Add:
+        return sum(_magnitude(a, subs) for a in expr.args)
+    if expr.is_Mul:
+        return float(np.prod([_magnitude(a, subs) for a in expr.args]))
+    if expr.is_Pow and expr.exp.is_Integer and expr.exp > 0:
+        return _magnitude(expr.base, subs) ** int(expr.exp)
+    return abs(float(expr.xreplace(subs).evalf(30)))
 
 
 @settings(max_examples=5)
 @given(st.data())
 def test_the_compiled_tree_is_sympys_substitution(data):
     """instantiate evaluates compiled functions of the parameters (float arithmetic, in another order than
-    SymPy's): each number is SymPy's 30-digit value to a few units in the last place, the lumped bodies' Steiner
-    terms included (the tower crane's tower, the rotating body)."""
+    SymPy's): each number is SymPy's 30-digit value within the forward error bound of float64 arithmetic, the
+    lumped bodies' Steiner terms included (the tower crane's tower, the rotating body, the Panda's hand). Measured
+    over 40 draws of every system: at most 0.36 of the bound (planar_robot, a centre of mass)."""
     for system in models.catalogue().values():
         params = data.draw(parameters(system))
-        for what, number, value in _substituted(system, params):
-            scale = max(abs(value), 1e-300)
-            assert abs(number - value) <= 16 * np.finfo(float).eps * scale, (system.name, what, number, value)
+        for what, number, value, bound in _substituted(system, params):
+            assert abs(number - value) <= bound, (system.name, what, number, value, bound)
 
 
 def test_a_model_that_cannot_be_evaluated_at_its_parameters_is_one_clear_error():

@@ -25,6 +25,7 @@ import harness
 from harness import profiling
 from harness.checks import Check
 from harness.compare import conformance
+from harness.derivation.cache import _checksum  # the derivation cache's entry checksum
 from harness.errors import OutputError
 from harness.io import atomic_write_text
 
@@ -74,10 +75,6 @@ def key(catalogue, name: str, examples: int | None) -> str | None:
     return f"conformance-{name}-{hashlib.sha256(chr(0).join(parts).encode()).hexdigest()[:24]}"
 
 
-def _checksum(doc: dict) -> str:
-    return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()
-
-
 def _load(path: Path) -> conformance.Summary | None:
     try:
         entry = json.loads(path.read_text())
@@ -86,8 +83,9 @@ def _load(path: Path) -> conformance.Summary | None:
             return None
         summary = conformance.Summary(doc["system"], doc["examples"], failure=doc["failure"],
                                       not_applicable=dict(doc["not_applicable"]))
-        for fields in doc["worst"]:
-            check = Check(**fields)
+        for record in doc["worst"]:  # Check.record()'s fields, as results.json holds them
+            check = Check(record["check"], record["source"], record["value"], record["bound"], record["basis"],
+                          record.get("detail", ""))
             summary.worst[check.name, check.source] = check
         return summary
     except (OSError, ValueError, KeyError, TypeError):  # missing or damaged: computed again
@@ -95,10 +93,8 @@ def _load(path: Path) -> conformance.Summary | None:
 
 
 def _store(path: Path, summary: conformance.Summary) -> None:
-    worst = [{"name": c.name, "source": c.source, "value": c.value, "bound": c.bound, "basis": c.basis,
-              "detail": c.detail} for c in summary.worst.values()]
     doc = {"system": summary.system, "examples": summary.examples, "failure": summary.failure,
-           "not_applicable": summary.not_applicable, "worst": worst}
+           "not_applicable": summary.not_applicable, "worst": [c.record() for c in summary.worst.values()]}
     try:
         atomic_write_text(path, json.dumps({"sha256": _checksum(doc), "summary": doc}))
     except OutputError:  # a full disk or a read-only folder: the summary in memory is still good
