@@ -6,6 +6,7 @@ reach our symbolic side, the integrators and the input data of every source.)"""
 
 import json
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -44,3 +45,26 @@ def test_no_verdict_flips_under_perturbation(runs):
         assert checks.keys() == baseline.keys(), (name, sorted(checks.keys() ^ baseline.keys()))
         flipped = {k: (baseline[k], v) for k, v in checks.items() if v[0] != baseline[k][0]}
         assert not flipped, (name, flipped)
+
+
+def _kernels() -> list[dict]:
+    """Environments selecting the OpenBLAS kernels (and NumPy SIMD paths) this CPU can run: forcing a kernel whose
+    instructions it lacks would stop the process."""
+    flags = set(re.search(r"^flags\s*:(.*)$", Path("/proc/cpuinfo").read_text(), re.M).group(1).split())
+    out = [{"OPENBLAS_CORETYPE": "Prescott", "NPY_DISABLE_CPU_FEATURES": "X86_V3"}]   # no FMA, no AVX
+    if {"avx2", "fma"} <= flags:
+        out += [{"OPENBLAS_CORETYPE": "Haswell"}, {"OPENBLAS_CORETYPE": "Zen"}]
+    if {"avx512f", "avx512bw", "avx512vl", "avx512dq", "avx512cd"} <= flags:
+        out.append({"OPENBLAS_CORETYPE": "SkylakeX"})
+    return out
+
+
+def test_the_exported_files_are_the_same_on_every_kernel():
+    """The committed urdf/ is checked digit for digit (``harness export --check``): what it is made of must not
+    depend on the CPU. It did: the Panda's visual boxes (NumPy's ``eigh``) and a lumped inertia (``@``) came out
+    with other last digits under OpenBLAS's AVX-512 and SSE3 kernels than under its AVX2 ones."""
+    urdf = Path(__file__).resolve().parent.parent / "urdf"
+    for env in _kernels():
+        proc = subprocess.run([sys.executable, "-m", "harness.cli", "export", "--check", "--dir", str(urdf)],
+                              capture_output=True, text=True, timeout=300, env={**os.environ, **env})
+        assert proc.returncode == 0, (env, proc.stdout[-2000:] + proc.stderr[-2000:])

@@ -60,6 +60,7 @@ from hypothesis.errors import UnsatisfiedAssumption
 from harness import profiling
 from harness.checks import Bound, Check, relative_error
 from harness.derivation.compile import compiled
+from harness.derivation.lambdified import lambdify
 from harness.derivation.derive import SIMPLIFY_MAX_OPS
 from harness.compare.conformance import FLOAT64_RTOL, scales
 from harness.engines import ENGINES, symbolic
@@ -319,10 +320,10 @@ def _lambdify(system: System, expr, key=None):
     the terms' sizes: SymPy work that cost 19 CPU s per claims run when built at every evaluation)."""
     build = expr if callable(expr) and not isinstance(expr, (sp.Basic, sp.MatrixBase)) else lambda: expr
     if key is None:
-        return sp.lambdify(_symbols(system), _as_matrix(build()), modules="numpy")
+        return lambdify(_symbols(system), _as_matrix(build()), modules="numpy")
     if key not in _COMPILED_CLAIMS:
         with profiling.phase("lambdify claims"):
-            _COMPILED_CLAIMS[key] = sp.lambdify(_symbols(system), _as_matrix(build()), modules="numpy")
+            _COMPILED_CLAIMS[key] = lambdify(_symbols(system), _as_matrix(build()), modules="numpy")
     return _COMPILED_CLAIMS[key]
 
 

@@ -20,6 +20,7 @@ import numpy as np
 import sympy as sp
 
 from harness import profiling
+from harness.derivation.lambdified import lambdify
 from harness.derivation.derive import Derivation, derive, is_per_body, matrix_vector
 from harness.errors import ModelError
 from harness.modeling.system import System
@@ -56,7 +57,7 @@ class CompiledModel:
             if graph:
                 out[name] = _lambdify_graph(args, _compiled_form(d, name), d.graph)
             else:
-                out[name] = sp.lambdify(args, getattr(d, name), modules="numpy", cse=True, docstring_limit=0)
+                out[name] = lambdify(args, getattr(d, name), modules="numpy", cse=True, docstring_limit=0)
         return out
 
     @cached_property
@@ -202,7 +203,7 @@ class CompiledModel:
         shape = expr.shape if isinstance(expr, sp.MatrixBase) else ()
         if name not in self._batched_functions:
             flat = list(expr) if shape else [expr]
-            self._batched_functions[name] = sp.lambdify([s.q, s.qd, s.p, s.u], flat, modules="numpy",
+            self._batched_functions[name] = lambdify([s.q, s.qd, s.p, s.u], flat, modules="numpy",
                                                         docstring_limit=0,
                                                         **_lambdify_options(s, self.derivation.graph))
         values = self._batched_functions[name](Q.T, QD.T, p, U.T)
@@ -286,7 +287,7 @@ def _float_function(system: System, exprs: list, graph=None):
     """``exprs`` as one function of four lists of floats ``(q, q̇, p, u)`` returning a list of floats, printed with
     Python's ``math`` (``sin`` of a float: 50 ns; ``numpy.sin`` of a NumPy scalar: 1 µs), shared subexpressions
     computed once (those of ``graph`` when the expressions are in its symbols: :func:`_compiled_form`)."""
-    return sp.lambdify([system.q, system.qd, system.p, system.u], exprs, modules="math", docstring_limit=0,
+    return lambdify([system.q, system.qd, system.p, system.u], exprs, modules="math", docstring_limit=0,
                        **_lambdify_options(system, graph))
 
 
@@ -332,7 +333,7 @@ def _lambdify_graph(args, expr, graph=None):
     derivation not cached), ``cse`` orders canonically by counting nodes (``order="none"``) and visits every
     shared sub-expression once. Returns the same shapes as ``lambdify`` of the Matrix / expression."""
     shape = expr.shape if isinstance(expr, sp.MatrixBase) else None
-    fn = sp.lambdify(args, list(expr) if shape else [expr], modules="numpy", docstring_limit=0,
+    fn = lambdify(args, list(expr) if shape else [expr], modules="numpy", docstring_limit=0,
                      **_graph_options(graph))
     if shape is None:
         return lambda *a: fn(*a)[0]

@@ -17,6 +17,7 @@ import numpy as np
 import sympy as sp
 
 from harness import limits
+from harness.derivation.lambdified import lambdify
 from harness.derivation.compile import compiled
 from harness.errors import InputError
 from harness.export.numeric import NumericTree, instantiate
@@ -132,9 +133,9 @@ def load_functions(system: System) -> list:
     out = []
     for f in system.forces:
         if isinstance(f, PointForce):
-            out.append(("force", point_name(f.point), f.frame, sp.lambdify(args, sp.Matrix(f.force), "numpy")))
+            out.append(("force", point_name(f.point), f.frame, lambdify(args, sp.Matrix(f.force), "numpy")))
         elif isinstance(f, BodyTorque):
-            out.append(("torque", f.link, f.frame, sp.lambdify(args, sp.Matrix(f.torque), "numpy")))
+            out.append(("torque", f.link, f.frame, lambdify(args, sp.Matrix(f.torque), "numpy")))
     return out
 
 

@@ -9,6 +9,8 @@ joint springs/viscous friction are joint ``stiffness``/``springref``/``damping``
 
 from __future__ import annotations
 
+import math
+
 import mujoco
 import numpy as np
 from lxml import etree
@@ -139,28 +141,46 @@ _COLOURS = ((0.20, 0.45, 0.75, 1.0), (0.85, 0.45, 0.15, 1.0), (0.25, 0.6, 0.3, 1
 
 def model_scale(tree: NumericTree) -> float:
     """The size of the mechanism: the largest joint offset, centre of mass or attachment point (1 m if none)."""
-    lengths = [np.linalg.norm(j.origin) for j in tree.joints] + [np.linalg.norm(k.com) for k in tree.links]
-    lengths += [np.linalg.norm(p.position) for p in tree.points]
+    lengths = [_length(j.origin) for j in tree.joints] + [_length(k.com) for k in tree.links]
+    lengths += [_length(p.position) for p in tree.points]
     return max([v for v in lengths if np.isfinite(v)] + [0.0]) or 1.0
+
+
+def _length(v) -> float:
+    """Euclidean length by ``math.hypot`` (NumPy's ``norm`` is a BLAS dot product, whose kernel is chosen per CPU)."""
+    return math.hypot(*(float(x) for x in v))
+
+
+def principal_axes(inertia: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Principal moments of a symmetric inertia tensor and the orientation (quaternion) of the axes they belong to:
+    a diagonal tensor as it is, in the body's axes; a full one by MuJoCo's ``mju_eig3`` (the decomposition its
+    compiler applies to ``fullinertia``). NumPy's ``eigh`` goes through the LAPACK/BLAS kernels OpenBLAS picks for
+    the CPU: the Panda's boxes came out with other last digits under its AVX-512 kernels than under its AVX2 ones,
+    so ``harness export --check`` called the committed MJCF stale on one machine and current on another
+    (``OPENBLAS_CORETYPE=SkylakeX`` against ``Haswell``). ``mju_eig3`` is plain C arithmetic; its residual
+    ``|V diag(w) Vᵀ − I| / |I|`` was at most 8.7e-15 over 20 000 random tensors (NumPy's ~1e-15): these numbers
+    size the visual geoms only."""
+    tensor = 0.5 * (np.asarray(inertia, dtype=float) + np.asarray(inertia, dtype=float).T)
+    if not np.any(tensor - np.diag(np.diag(tensor))):
+        return np.diag(tensor).copy(), np.array([1.0, 0.0, 0.0, 0.0])
+    moments, axes, quat = np.zeros(3), np.zeros(9), np.zeros(4)
+    mujoco.mju_eig3(moments, axes, quat, np.ascontiguousarray(tensor).ravel())
+    return moments, quat
 
 
 def equivalent_box(mass: float, inertia: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Half edge lengths and orientation (quaternion) of the homogeneous cuboid with this mass and inertia tensor
     about its centre (3.128) — the body's size as the model states it: edges ``a_i² = 6 (I_j + I_k − I_i) / m``
     along the principal axes."""
-    moments, axes = np.linalg.eigh(0.5 * (inertia + inertia.T))
-    if np.linalg.det(axes) < 0:
-        axes[:, 2] *= -1
+    moments, quat = principal_axes(inertia)
     total = moments.sum()
     edges = np.sqrt(np.maximum(6.0 * (total - 2.0 * moments) / mass, 0.0))
-    quat = np.zeros(4)
-    mujoco.mju_mat2Quat(quat, axes.ravel())
     return edges / 2.0, quat
 
 
 def _capsule(body, name: str, a: np.ndarray, b: np.ndarray, radius: float, rgba) -> None:
     d = np.asarray(b, dtype=float) - np.asarray(a, dtype=float)
-    length = float(np.linalg.norm(d))
+    length = _length(d)
     if length < 1e-9:
         return
     quat = np.zeros(4)
@@ -195,9 +215,9 @@ def add_visuals(tree: NumericTree, bodies: dict, fused: set) -> None:
                           size=[0.06 * scale, 0.0, 0.0], rgba=rgba, contype=0, conaffinity=0, group=VISUAL_GROUP,
                           mass=0.0)
             continue
-        moments = np.linalg.eigvalsh(0.5 * (link.inertia + link.inertia.T))
-        if moments[-1] - moments[0] <= 1e-9 * moments[-1]:  # isotropic: the homogeneous sphere, I = 2/5 m r² (3.16)
-            radius_s = float(np.clip(np.sqrt(2.5 * moments[0] / link.mass), 0.01 * scale, 2.0 * scale))
+        moments, _ = principal_axes(link.inertia)
+        if moments.max() - moments.min() <= 1e-9 * moments.max():  # isotropic: the homogeneous sphere, I = 2/5 m r² (3.16)
+            radius_s = float(np.clip(np.sqrt(2.5 * moments.min() / link.mass), 0.01 * scale, 2.0 * scale))
             body.add_geom(name=f"visual_{link.name}_body", type=mujoco.mjtGeom.mjGEOM_SPHERE, pos=link.com,
                           size=[radius_s, 0.0, 0.0], rgba=rgba, contype=0, conaffinity=0, group=VISUAL_GROUP, mass=0.0)
             continue

@@ -5,12 +5,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import math
-
 import numpy as np
 import sympy as sp
-from sympy.printing.pycode import PythonCodePrinter
 
+from harness.derivation.lambdified import lambdify
 from harness.errors import ModelError
 from harness.modeling.system import Damper, JointDamper, JointInput, JointSpring, Point, Spring, System
 from harness.modeling.system import check_inertia  # noqa: F401  (re-exported: the physical-inertia check lives with the model)
@@ -83,7 +81,7 @@ def lump(parts) -> tuple[float, np.ndarray, np.ndarray]:
     inertia = np.zeros((3, 3))
     for m, c, I in parts:
         d = c - com
-        inertia += I + m * (d @ d * np.eye(3) - np.outer(d, d))
+        inertia += I + m * (sum(x * x for x in d.tolist()) * np.eye(3) - np.outer(d, d))  # no BLAS dot: its kernel is per CPU
     return mass, com, 0.5 * (inertia + inertia.T)
 
 
@@ -150,20 +148,7 @@ def _compiled(system: System, exprs: tuple) -> tuple[list, object]:
         expr = next(e for e in exprs if e.free_symbols - set(parameters))
         raise ModelError(f"cannot evaluate {expr} numerically (free symbols {expr.free_symbols - set(parameters)})")
     symbols = [s for s in parameters if s in free]
-    return symbols, sp.lambdify(symbols, list(exprs), modules="math", cse=True, docstring_limit=0,
-                                printer=_ExactFloats({"fully_qualified_modules": False, "inline": True,
-                                                      "allow_unknown_functions": True, "user_functions": {}}))
-
-
-class _ExactFloats(PythonCodePrinter):
-    """``lambdify``'s printer for ``math`` (its settings), writing each ``Float`` as the shortest text of its
-    float64 (``repr``). SymPy 1.14 prints a Float of 53-bit precision with 15 significant digits: the constants of
-    a model read from a URDF (the Panda's inertias) lost up to 5e-16 relative, 12 ulp of link 7's inertia
-    (``lambdify([], Float(0.014107263642161838))`` returns 0.0141072636421618)."""
-
-    def _print_Float(self, expr):
-        value = float(expr)
-        return repr(value) if math.isfinite(value) else super()._print_Float(expr)
+    return symbols, lambdify(symbols, list(exprs), modules="math", cse=True, docstring_limit=0)
 
 
 _TREES: dict = {}

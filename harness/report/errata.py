@@ -254,6 +254,7 @@ def reduced_counterexample(system, claim, verdict, delta, relations) -> dict:
     """The counterexample state restricted to what the difference depends on, with the printed and the derived
     value of the claimed quantity there."""
     from harness.compare.claims import _derived, _lambdify
+    from harness.derivation.lambdified import lambdify
     from harness.engines import symbolic
     from harness.modeling.claims import symbols
 
@@ -274,7 +275,7 @@ def reduced_counterexample(system, claim, verdict, delta, relations) -> dict:
         args = (state.q, state.qd, ref.qdd, state.p, state.u_vec)
         if claim.quantity == "eom":
             out["accelerations (derived)"] = {c.accel.name: _g(a) for c, a in zip(system.coordinates, ref.qdd)}
-        printed = sp.lambdify(symbols(system), as_matrix(claim.printed).xreplace(verdict.substitution or {}))
+        printed = lambdify(symbols(system), as_matrix(claim.printed).xreplace(verdict.substitution or {}))
         derived = _lambdify(system, _derived(system, claim))
         out["printed value"] = [_g(float(x)) for x in np.asarray(printed(*args), float).ravel()]
         out["derived value"] = [_g(float(x)) for x in np.asarray(derived(*args), float).ravel()]

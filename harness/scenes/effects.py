@@ -40,6 +40,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
+from harness.derivation.lambdified import lambdify
 from harness.modeling.events import RollSlip, StickSlip
 from harness.modeling.scenes import _EFFECT_OF, EFFECTS, Bump, Constant, Scene, Sine, Step, effects_of, pruned
 from harness.modeling.system import Damper, JointDamper, JointInput, JointSpring, PointForce, Spring, System
@@ -237,7 +238,7 @@ def gravity_idle(system: System, params: dict, samples: int = 3, seed: int = 0) 
     gq = sp.Matrix([_substituted(e, params, set()) for e in gq])
     free = sorted(gq.free_symbols, key=lambda s: s.name)
     rng = np.random.default_rng(seed)
-    fn = sp.lambdify(free, list(gq), modules="numpy", cse=True)
+    fn = lambdify(free, list(gq), modules="numpy", cse=True)
     for _ in range(samples):
         value = np.asarray(fn(*rng.uniform(-1.0, 1.0, len(free))), dtype=float)
         if np.any(np.abs(value) > 1e-12):

@@ -16,6 +16,7 @@ import numpy as np
 import sympy as sp
 from scipy.integrate import solve_ivp
 
+from harness.derivation.lambdified import lambdify
 from harness.errors import ModelError
 from harness.modeling.events import LiftOff
 from harness.scenes import simulate as sim
@@ -43,8 +44,8 @@ class _LiftOffDynamics:
         J_dot = sp.Matrix(J.shape[0], J.shape[1], lambda i, j: sum(sp.diff(J[i, j], a) * b for a, b in zip(q1, qd1)))
         height_gradient = sp.Matrix([event.height]).jacobian(q2)
         p2 = [p.symbol for p in self.free_system.parameters]
-        self._map = sp.lambdify([q1, qd1, params], [to_free, J, J_dot], "numpy")
-        self._G = sp.lambdify([q2, p2], height_gradient, "numpy")
+        self._map = lambdify([q1, qd1, params], [to_free, J, J_dot], "numpy")
+        self._G = lambdify([q2, p2], height_gradient, "numpy")
 
     def to_free(self, y):
         n = len(self.one.system.coordinates)
