@@ -201,3 +201,32 @@ def test_adapters_from_a_loaded_model_read_other_files():
     assert relative_error(M_p, M_m) <= conformance.ROUND_OFF.value
     assert relative_error(b_p, b_m, 1.0) <= conformance.ROUND_OFF.value
     assert set(pin_view.subtree_parts(theta)) == set(joints) == set(mj_view.subtree_parts(theta))
+
+
+@pytest.mark.parametrize("name", ["tower_crane", "governor", "lightweight_robot"])
+def test_a_kept_model_gives_the_numbers_of_a_new_one(name):
+    """``models_kept``: one model per engine and numeric tree, handed out again within the block; evaluated at
+    one state after another, it gives every number a model built for that state alone gives, bit for bit (an
+    evaluation sets the whole state: nothing carries over)."""
+    from harness.engines import model, models_kept
+
+    system = models.catalogue().get(name)
+    params = system.default_parameters()
+    rng = np.random.default_rng(7)
+    n = len(system.coordinates)
+    first, second = (State.make(system, rng.uniform(0.2, 0.6, n), rng.normal(size=n), params) for _ in range(2))
+    assert first.tree is second.tree  # one tree per system and parameter values
+    fields = ("M", "Cqd", "g", "g_gravity", "g_spring", "f_damper", "qdd", "C")
+    for engine_name in ENGINES:
+        if ENGINES[engine_name].applies(system):
+            continue
+        with models_kept():
+            kept = model(engine_name, first.tree)
+            kept.evaluate(first)
+            assert model(engine_name, second.tree) is kept
+            again = kept.evaluate(second)
+        alone = ENGINES[engine_name](second.tree).evaluate(second)
+        for f in fields:
+            a, b = getattr(again, f), getattr(alone, f)
+            assert (a is None and b is None) or np.array_equal(a, b), (engine_name, f)
+        assert model(engine_name, first.tree) is not kept  # outside the block: built for the call alone

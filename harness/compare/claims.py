@@ -63,7 +63,8 @@ from harness.derivation.compile import compiled
 from harness.derivation.lambdified import lambdify
 from harness.derivation.derive import SIMPLIFY_MAX_OPS
 from harness.compare.conformance import FLOAT64_RTOL, scales
-from harness.engines import ENGINES, symbolic
+from harness.engines import ENGINES, models_kept, symbolic
+from harness.engines import model as engine_model
 from harness.engines.base import State
 from harness.derivation import bodies
 from harness.derivation.bodies import element_force, element_generalized_force, point_in_q, rotational_jacobian
@@ -336,7 +337,6 @@ CLAIM_ENGINES = ("pinocchio", "mujoco")
 
 
 _EVALUATIONS: dict = {}
-_MODELS: dict = {}
 _EVALUATIONS_KEPT = 4096
 _SHARING = [0]
 
@@ -349,12 +349,12 @@ def shared_evaluations():
     change within the block; the kept evaluations and engine models are dropped at its end."""
     _SHARING[0] += 1
     try:
-        yield
+        with models_kept():
+            yield
     finally:
         _SHARING[0] -= 1
         if not _SHARING[0]:
             _EVALUATIONS.clear()
-            _MODELS.clear()
 
 
 def _evaluated(state: State) -> dict:
@@ -387,28 +387,11 @@ def _engine_values(claim: Claim, state: State, engines):
             if name not in kept:
                 with profiling.phase(f"engine {name}"):
                     with profiling.phase("model"):
-                        model = _engine_model(name, state.tree)
+                        model = engine_model(name, state.tree)
                     with profiling.phase("evaluate"):
                         kept[name] = model.evaluate(state)
             evaluations[name] = kept[name]
     return evaluations, s, kappa
-
-
-def _engine_model(name: str, tree):
-    """One engine model per tree (:func:`~harness.export.numeric.instantiate` gives one tree per system and
-    parameter values): the claims of a system draw the same parameters, and a claim at rest or at an equilibrium
-    evaluates another state of the drawn ones. Every evaluation sets the whole state (MuJoCo: ``mj_forward``
-    alone, no step, so no warm start carried from one evaluation to the next). Kept within
-    :func:`shared_evaluations` (one system's claims), built for the call alone outside it."""
-    if not _SHARING[0]:
-        return ENGINES[name](tree)
-    key = (name, id(tree))
-    kept = _MODELS.get(key)
-    if kept is None or kept[0] is not tree:  # the tree is kept alive with its model: its id is not reused
-        if len(_MODELS) >= _EVALUATIONS_KEPT:
-            _MODELS.clear()
-        kept = _MODELS[key] = (tree, ENGINES[name](tree))
-    return kept[1]
 
 
 def _value_of(claim: Claim, ev):

@@ -10,6 +10,7 @@ coordinates from any source."""
 from __future__ import annotations
 
 from collections.abc import Mapping
+from contextlib import contextmanager
 from importlib import import_module
 
 from harness.errors import InputError
@@ -48,6 +49,40 @@ def engine(name: str):
     if name not in ENGINES:
         raise InputError(f"unknown engine {name!r}; choose one of {', '.join(SOURCES)}")
     return ENGINES[name]
+
+
+_KEPT: list[dict] = []   # the models of the innermost :func:`models_kept` block (nested blocks share one)
+KEPT_MODELS = 4096       # models kept at most in a block (then it starts empty again)
+
+
+@contextmanager
+def models_kept():
+    """Within the block, :func:`model` builds each engine's model of a numeric tree once and hands it out again:
+    :func:`~harness.export.numeric.instantiate` gives one tree per system and parameter values, and the states
+    hypothesis draws repeat parameter values (111 to 171 distinct of 200 in a conformance run, measured over five
+    systems). Every evaluation sets the whole state (MuJoCo: ``mj_forward`` alone, no step, so no warm start
+    carried from one evaluation to the next), so a kept model gives the numbers a new one gives. The models are
+    dropped at the end of the outermost block. One block at a time per process (the CLI's and the cluster's
+    workers run one system at a time)."""
+    _KEPT.append(_KEPT[-1] if _KEPT else {})
+    try:
+        yield
+    finally:
+        _KEPT.pop()
+
+
+def model(name: str, tree):
+    """Engine ``name``'s model of ``tree`` from our exported text: kept within :func:`models_kept`, built for the
+    call alone outside it."""
+    if not _KEPT:
+        return ENGINES[name](tree)
+    kept = _KEPT[-1]
+    hit = kept.get((name, id(tree)))
+    if hit is None or hit[0] is not tree:  # the tree is kept alive with its model: its id is not reused
+        if len(kept) >= KEPT_MODELS:
+            kept.clear()
+        hit = kept[name, id(tree)] = (tree, ENGINES[name](tree))
+    return hit[1]
 
 
 def evaluate(source: str, state):
