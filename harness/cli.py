@@ -186,7 +186,7 @@ def cmd_scenes(args) -> int:
         for c in result.checks:
             print(f"    {c.name:45s} {c.source:10s} {c.value:.2e} / {c.bound:.0e}  "
                   f"ratio {c.ratio:.2g}  {'ok' if c.passed else 'FAIL'}")
-        for key, value in {**result.notes, **result.timings}.items():
+        for key, value in result.notes.items():
             print(f"    {key}: {value:.3g}" if isinstance(value, float) else f"    {key}: {value}")
         failed |= not result.passed
     return 1 if failed else 0

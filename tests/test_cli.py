@@ -2,6 +2,7 @@
 line on stderr with exit 2 and no traceback."""
 
 import json
+import re
 import subprocess
 import sys
 
@@ -113,3 +114,11 @@ def test_profile_says_where_the_time_goes_and_changes_no_result(capsys, tmp_path
     sections = json.loads((profiled / "profile.json").read_text())
     assert set(sections) == {"check", "claims"}
     assert "harness claims" in (profiled / "profile.md").read_text()
+
+
+def test_scenes_run_simulates_and_prints_each_check():
+    """``harness scenes NAME --run``, the step the scaffold's checklist names: every check with its ratio."""
+    proc = run("scenes", "pendulum", "--run")
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    verdicts = re.findall(r" ratio \S+\s+(ok|FAIL)$", proc.stdout, re.M)
+    assert len(verdicts) >= 5 and set(verdicts) == {"ok"}, proc.stdout
