@@ -286,6 +286,8 @@ def _pruning(rows: list[dict]) -> list[str]:
                 cells.append("—")
             elif "skipped" in m:
                 cells.append(f"not measured: {m['skipped']}")
+                if "error" in m:  # the proof was run
+                    errors.append(m["error"])
             else:
                 ratio = m["ratio"]
                 finding, mark = slower_pruned(ratio, repeats_spread(m)), ""

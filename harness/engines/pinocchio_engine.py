@@ -187,20 +187,29 @@ class PinocchioModel(TreeEngine):
         return np.asarray(pin.getFrameJacobian(self.model, self.data, frame, LWA)).reshape(6, self.model.nv)
 
     # ----- forces from Pinocchio's frames and Jacobians
+    def _frames(self, q) -> None:
+        """The frames' placements and Jacobians at ``q`` (``computeJointJacobians``, ``framesForwardKinematics``):
+        what a force acting at a point needs, a tendon or an external load."""
+        pin.computeJointJacobians(self.model, self.data, q)
+        pin.framesForwardKinematics(self.model, self.data, q)
+
     def point_forces(self, q, v):
         """Generalized forces of tendons (springs/dampers between points) and joint springs/dampers,
-        from Pinocchio's frame placements and frame Jacobians: ``Σ J_bᵀ f − J_aᵀ f``."""
+        from Pinocchio's frame placements and frame Jacobians: ``Σ J_bᵀ f − J_aᵀ f``. The frames are computed
+        only for a tree with tendons (joint springs and dampers act on ``q``, ``v`` alone)."""
         model, data = self.model, self.data
-        pin.computeJointJacobians(model, data, q)
-        pin.framesForwardKinematics(model, data, q)
+        if self.tree.tendons:
+            self._frames(q)
         return spring_damper_forces(self.tree, model.nv, q, v,
                                     lambda p: data.oMf[self.frames[p]].translation,
                                     lambda p: self.frame_jacobian(self.frames[p])[:3], self.v_index, self.v_index)
 
     def input_forces(self, q, u: dict, loads=()):
         """Inputs on joints, and external forces/torques by (5.73) with Pinocchio's frame Jacobians
-        (call after :meth:`point_forces`, which computes the kinematics at ``q``)."""
+        (call after :meth:`point_forces`, which computes the frames at ``q`` of a tree with tendons)."""
         model, data = self.model, self.data
+        if loads and not self.tree.tendons:
+            self._frames(q)
         return input_forces(self.tree, model.nv, u, loads, self.v_index,
                             lambda link: data.oMf[model.getFrameId(link)].rotation,
                             lambda p: self.frame_jacobian(self.frames[p])[:3],
