@@ -26,7 +26,9 @@ def rpy_quat(rpy) -> np.ndarray:
     quat = np.zeros(4)
     mat = np.zeros(9)
     r, p, y = rpy
-    cr, sr, cp, sp_, cy, sy = np.cos(r), np.sin(r), np.cos(p), np.sin(p), np.cos(y), np.sin(y)
+    # the C library's sine and cosine (NumPy's may take a SIMD path chosen per CPU): the exported numbers
+    cr, sr, cp, sp_ = math.cos(r), math.sin(r), math.cos(p), math.sin(p)
+    cy, sy = math.cos(y), math.sin(y)
     R = np.array([[cy * cp, cy * sp_ * sr - sy * cr, cy * sp_ * cr + sy * sr],
                   [sy * cp, sy * sp_ * sr + cy * cr, sy * sp_ * cr - cy * sr],
                   [-sp_, cp * sr, cp * cr]])
