@@ -9,6 +9,7 @@ coordinates from any source."""
 
 from __future__ import annotations
 
+from collections import OrderedDict
 from collections.abc import Mapping
 from contextlib import contextmanager
 from importlib import import_module
@@ -51,20 +52,21 @@ def engine(name: str):
     return ENGINES[name]
 
 
-_KEPT: list[dict] = []   # the models of the innermost :func:`models_kept` block (nested blocks share one)
-KEPT_MODELS = 4096       # models kept at most in a block (then it starts empty again)
+_KEPT: list = []   # (models, how many) of the innermost :func:`models_kept` block (nested blocks share one)
 
 
 @contextmanager
-def models_kept():
-    """Within the block, :func:`model` builds each engine's model of a numeric tree once and hands it out again:
-    :func:`~harness.export.numeric.instantiate` gives one tree per system and parameter values, and the states
-    hypothesis draws repeat parameter values (111 to 171 distinct of 200 in a conformance run, measured over five
-    systems). Every evaluation sets the whole state (MuJoCo: ``mj_forward`` alone, no step, so no warm start
-    carried from one evaluation to the next), so a kept model gives the numbers a new one gives. The models are
-    dropped at the end of the outermost block. One block at a time per process (the CLI's and the cluster's
-    workers run one system at a time)."""
-    _KEPT.append(_KEPT[-1] if _KEPT else {})
+def models_kept(kept: int = 4096):
+    """Within the block, :func:`model` builds each engine's model of a numeric tree once and hands it out again,
+    the ``kept`` most recently used (then the least recently used is dropped; a model with its two ``MjData``
+    holds megabytes): :func:`~harness.export.numeric.instantiate` gives one tree per system and parameter values,
+    and the states hypothesis draws repeat parameter values (111 to 171 distinct of 200 in a conformance run,
+    measured over five systems; mostly in a row: 8 trees kept catch all but 0-3 of the repeats). Every evaluation
+    sets the whole state (MuJoCo: ``mj_forward`` alone, no step, so no warm start carried from one evaluation to
+    the next), so a kept model gives the numbers a new one gives. The models are dropped at the end of the
+    outermost block. One block at a time per process (the CLI's and the cluster's workers run one system at a
+    time)."""
+    _KEPT.append(_KEPT[-1] if _KEPT else (OrderedDict(), kept))
     try:
         yield
     finally:
@@ -76,12 +78,14 @@ def model(name: str, tree):
     call alone outside it."""
     if not _KEPT:
         return ENGINES[name](tree)
-    kept = _KEPT[-1]
-    hit = kept.get((name, id(tree)))
+    kept, size = _KEPT[-1]
+    key = (name, id(tree))
+    hit = kept.get(key)
     if hit is None or hit[0] is not tree:  # the tree is kept alive with its model: its id is not reused
-        if len(kept) >= KEPT_MODELS:
-            kept.clear()
-        hit = kept[name, id(tree)] = (tree, ENGINES[name](tree))
+        hit = kept[key] = (tree, ENGINES[name](tree))
+        while len(kept) > size:
+            kept.popitem(last=False)
+    kept.move_to_end(key)
     return hit[1]
 
 
