@@ -93,3 +93,17 @@ _SEED_ONLY = 0
 def seed_only() -> bool:
     """Whether the examples drawn now depend on the seed only (inside :func:`draws_from_seed_only`)."""
     return _SEED_ONLY > 0
+
+
+def fixed_examples() -> tuple | None:
+    """What, besides the test itself, decides the examples hypothesis draws now: ``(forced seed, max_examples,
+    derandomize, phases)``; None when the settings do not fix them (a random seed per run, an example database,
+    or constants mined from our modules' source: outside :func:`draws_from_seed_only`). The key of anything kept
+    from one run for the next (the claims' replayed states, the remembered conformance summaries)."""
+    import hypothesis.core
+    from hypothesis import settings
+
+    current, force = settings.default, hypothesis.core.global_force_seed
+    if not seed_only() or not (current.derandomize or force is not None) or current.database is not None:
+        return None
+    return force, current.max_examples, current.derandomize, tuple(current.phases)

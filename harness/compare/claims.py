@@ -657,18 +657,12 @@ _PASSED: dict = {}
 def _replay_key(system: System, check, examples, shrink: bool):
     """What decides the states of a run, or None when they are not determined by it (a random seed per run, or
     hypothesis drawing constants from our modules' source: outside :func:`harness.settings.draws_from_seed_only`)."""
-    import hypothesis.core
-    from hypothesis import settings
     from hypothesis.internal.reflection import function_digest
 
-    from harness.settings import seed_only
+    from harness.settings import fixed_examples
 
-    current = settings.default
-    force = hypothesis.core.global_force_seed
-    if not seed_only() or not (current.derandomize or force is not None) or current.database is not None:
-        return None
-    return (id(system), function_digest(check), examples, shrink, force, current.max_examples,
-            current.derandomize, tuple(current.phases))
+    fixed = fixed_examples()
+    return None if fixed is None else (id(system), function_digest(check), examples, shrink, *fixed)
 
 
 def _undo(check):

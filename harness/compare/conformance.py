@@ -133,7 +133,7 @@ def evaluate_all(state: State, engines=None, pin_urdf=None, mj_xml=None) -> list
             with profiling.phase("compare"):
                 findings += compare(state, ref, evaluation)
             with profiling.phase("round trip"):
-                worst = _worst_round_trip(state.tree, model)
+                worst = _worst_round_trip(model)
                 findings.append(EXPORT.check("export round trip", name, worst.error, detail=worst.item))
     return findings
 
@@ -146,13 +146,13 @@ keeping, 580 MB keeping every draw's, measured)."""
 _ROUND_TRIPS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
-def _worst_round_trip(tree, model):
-    """The item of ``tree`` the engine ``model`` loaded farthest from it: once per model (a kept model,
+def _worst_round_trip(model):
+    """The item of its tree the engine ``model`` loaded farthest from it: once per model (a kept model,
     :func:`harness.engines.models_kept`, is the same file read by the same engine)."""
     worst = _ROUND_TRIPS.get(model)
-    if worst is None or worst[0] is not tree:
-        worst = _ROUND_TRIPS[model] = (tree, max(roundtrip.items(tree, model), key=lambda item: item.error))
-    return worst[1]
+    if worst is None:
+        worst = _ROUND_TRIPS[model] = max(roundtrip.items(model.tree, model), key=lambda item: item.error)
+    return worst
 
 
 @dataclass

@@ -59,19 +59,13 @@ def _installation() -> str:
 
 def key(catalogue, name: str, examples: int | None) -> str | None:
     """The entry's name, or None when the examples are not fixed by the settings."""
-    import hypothesis.core
-    from hypothesis import settings
+    from harness.settings import fixed_examples
 
-    from harness.settings import seed_only
-
-    current = settings.default
-    if not seed_only() or not (current.derandomize or hypothesis.core.global_force_seed is not None) \
-            or current.database is not None:
+    fixed = fixed_examples()
+    if fixed is None:
         return None
     variables = sorted((k, v) for k, v in os.environ.items() if k.startswith(NUMERIC_ENVIRONMENT))
-    parts = [_installation(), _files_digest(catalogue.path), repr(variables), name, repr(examples),
-             repr(hypothesis.core.global_force_seed), repr(current.max_examples), repr(current.derandomize),
-             repr(tuple(current.phases))]
+    parts = [_installation(), _files_digest(catalogue.path), repr(variables), name, repr(examples), repr(fixed)]
     return f"conformance-{name}-{hashlib.sha256(chr(0).join(parts).encode()).hexdigest()[:24]}"
 
 

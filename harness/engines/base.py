@@ -121,8 +121,6 @@ class State:
                 for kind, where, frame, fn in load_functions(self.system)]
 
 
-
-
 @cache
 def load_functions(system: System) -> list:
     """``(kind, point or link, frame, compiled components)`` of each external load, compiled once."""
