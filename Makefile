@@ -38,18 +38,13 @@ $(VENV)/.installed: pyproject.toml
 
 # main job: exported files current, conformance of every system against both engines, the lecture's
 # printed equations classified (errata report), every robot of example-robot-data in Pinocchio, MuJoCo and Drake,
-# and our derivation of every fixed-base tree up to 7 DoF (fails on a disagreement without a proven cause); results written to reports/, readable from reports/index.html.
-# A failed check still gets its report built (the report shows the failure); the job then exits non-zero. The
-# exported files are checked while the conformance check starts (one process, 5-15 s, beside its two workers).
+# and our derivation of every fixed-base tree up to 7 DoF (fails on a disagreement without a proven cause); results
+# written to reports/, readable from reports/index.html. `harness main` runs `export --check`, `check`, `claims`,
+# `robots --symbolic` and `report` as those commands do, on one pool of two worker processes kept for all of them
+# (harness.pool.workers_kept: no phase starts its own processes or loads and compiles again what the previous one
+# had). A failed check still gets its report built (the report shows the failure); the job then exits non-zero.
 check: setup
-	status=0; \
-	$(VENV)/bin/harness export --check & exported=$$!; \
-	$(VENV)/bin/harness check --jobs 2 --out reports || status=$$?; \
-	wait $$exported || status=$$?; \
-	$(VENV)/bin/harness claims --out reports || status=$$?; \
-	$(VENV)/bin/harness robots --symbolic --jobs 2 --out reports || status=$$?; \
-	$(VENV)/bin/harness report --out reports || status=$$?; \
-	exit $$status
+	$(VENV)/bin/harness main --jobs 2 --out reports
 
 # the test suite (fixed-seed hypothesis profile `ci`; HYPOTHESIS_PROFILE=long for the randomized one)
 test: setup

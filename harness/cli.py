@@ -1,4 +1,4 @@
-"""The ``harness`` command: ``list``, ``eval``, ``check``, ``claims``, ``export``.
+"""The ``harness`` command: ``list``, ``eval``, ``check``, ``claims``, ``export``, ``main`` (all of the main job), ….
 
 Exit codes: 0 success, 1 a check failed (or exported files are stale), 2 bad input (one line on stderr).
 """
@@ -6,6 +6,7 @@ Exit codes: 0 success, 1 a check failed (or exported files are stale), 2 bad inp
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import os
 import sys
@@ -13,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from harness import limits, profiling, run
+from harness import limits, pool, profiling, run
 from harness.engines import SOURCES
 from harness.errors import HarnessError, InputError
 from harness.io import writable_folder
@@ -192,14 +193,51 @@ def cmd_scenes(args) -> int:
     return 1 if failed else 0
 
 
+def _stale(folder, stale: list[str]) -> int:
+    for name in stale:
+        print(f"stale: {Path(folder) / name} (run `harness export`)", file=sys.stderr)
+    return 1 if stale else 0
+
+
 def cmd_export(args) -> int:
-    files, stale = run.export(_catalogue(), args.dir, check_only=args.check)
     if args.check:
-        for name in stale:
-            print(f"stale: {Path(args.dir) / name} (run `harness export`)", file=sys.stderr)
-        return 1 if stale else 0
+        return _stale(args.dir, run.stale_exports(_catalogue(), args.dir))
+    files, stale = run.export(_catalogue(), args.dir)
     print(f"wrote {len(files)} files to {Path(args.dir)}/ ({len(stale)} changed)")
     return 0
+
+
+def cmd_main(args) -> int:
+    """The main job (``make check``): ``export --check``, ``check``, ``claims``, ``robots --symbolic``, ``report``,
+    each as its own command would run it, on one pool of ``--jobs`` processes kept for all of them
+    (:func:`harness.pool.workers_kept`); the exported files are compared by one of those processes while the check
+    starts. A phase that fails does not stop the later ones (the report shows the failure); the exit code is the
+    largest of the phases' (Ctrl-C stops at once, 130)."""
+    jobs, out, parser = str(args.jobs), args.out, build_parser()
+
+    def phase(*argv) -> int:
+        command = parser.parse_args(argv)
+        try:
+            return command.func(command)
+        except HarnessError as exc:
+            print(f"error: {exc}", file=sys.stderr)
+            return getattr(exc, "exit_code", 2)
+
+    codes = []
+    with pool.workers_kept(args.jobs) if args.jobs > 1 else contextlib.nullcontext():  # --jobs 1: all here
+        exported = pool.submit(run.stale_exports, _catalogue(), args.dir)
+        codes.append(phase("check", "--jobs", jobs, "--out", out))
+        try:
+            codes.append(_stale(args.dir, exported.result()))
+        except Exception as exc:  # noqa: BLE001 - reported like the command's own failure; the phases go on
+            print(f"error: export --check: {type(exc).__name__}: {exc}", file=sys.stderr)
+            codes.append(getattr(exc, "exit_code", 1))
+        for argv in (("claims", "--jobs", jobs, "--out", out), ("robots", "--symbolic", "--jobs", jobs, "--out", out),
+                     ("report", "--jobs", jobs, "--out", out)):
+            if 130 in codes:
+                break
+            codes.append(phase(*argv))
+    return 130 if 130 in codes else max(codes)
 
 
 def cmd_validate(args) -> int:
@@ -348,6 +386,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--merge", default=None, metavar="BENCH_JSON",
                    help="take the parts another run measured (its bench.json) into OUT/bench.json, recorded")
     p.set_defaults(func=cmd_bench)
+
+    p = sub.add_parser("main", help="the main job of `make check`: export --check, check, claims, robots "
+                       "--symbolic and report, on one pool of worker processes")
+    p.add_argument("--out", default="reports", help="report folder (default: reports)")
+    p.add_argument("--jobs", type=JOBS, default=os.cpu_count() or 1, help="worker processes for every phase")
+    p.add_argument("--dir", default=str(PROJECT_ROOT / "urdf"), help="the exported files to compare")
+    p.set_defaults(func=cmd_main)
 
     p = sub.add_parser("validate", help="check a URDF or MJCF file of your own and load it in the engines")
     p.add_argument("file", help="a .urdf or MJCF .xml file")

@@ -13,7 +13,9 @@ Records
 * a **claim record** (:func:`classify_system`): one printed equation of the lecture with its classification.
 
 Process pools: ``--jobs N`` checks (or classifies) systems in spawned processes; each job carries the catalogue,
-which a worker rebuilds from its description. ``--scheduler ADDRESS`` runs the same jobs on a Dask cluster
+which a worker rebuilds from its description. Within :func:`harness.pool.workers_kept` (the main job, ``harness
+main``) every phase runs on the same processes: a later phase finds what an earlier one imported, loaded and
+compiled. ``--scheduler ADDRESS`` runs the same jobs on a Dask cluster
 (:mod:`harness.cluster`); the results come back to this process, which writes the files as with ``--jobs``. A
 run over some systems is merged by system into what the report folder holds (:func:`merge_records`,
 :func:`merge_claims`).
@@ -39,6 +41,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from harness import cluster, profiling
+from harness.pool import kept as kept_pool
 from harness.errors import EngineError, HarnessError, InputError
 from harness.io import atomic_write_text
 from harness.report.results import (check_folder, load_results, read_claims, read_timings, write_claims,
@@ -298,7 +301,8 @@ def parallel(work, jobs: list, workers: int, done, lost, announce=None, schedule
             return True
         return False
     context = get_context("spawn")
-    pool = ProcessPoolExecutor(min(workers, len(jobs)), mp_context=context)
+    kept = kept_pool()
+    pool = kept.get() if kept is not None else ProcessPoolExecutor(min(workers, len(jobs)), mp_context=context)
     unfinished = []
     try:
         futures = {pool.submit(work, job): job for job in jobs}
@@ -307,7 +311,10 @@ def parallel(work, jobs: list, workers: int, done, lost, announce=None, schedule
                 done(future.result())
             except BrokenProcessPool:
                 unfinished.append(futures[future])
-        pool.shutdown()
+        if kept is None:
+            pool.shutdown()
+        elif unfinished:  # a worker died: the next phase gets new processes
+            kept.discard()
         for job in [j for j in jobs if j in unfinished]:  # isolated: a job that kills its process is found out
             single = ProcessPoolExecutor(1, mp_context=context)
             pool = single
@@ -317,9 +324,12 @@ def parallel(work, jobs: list, workers: int, done, lost, announce=None, schedule
                 done(lost(job, "its worker process died twice (killed, out of memory or a crash in an engine)"))
             single.shutdown()
     except KeyboardInterrupt:
-        for process in list(getattr(pool, "_processes", {}).values()):  # the executor has no public terminate
-            process.terminate()
-        pool.shutdown(wait=False, cancel_futures=True)
+        if kept is not None and pool is kept.pool:
+            kept.discard(terminate=True)
+        else:
+            for process in list(getattr(pool, "_processes", {}).values()):  # the executor has no public terminate
+                process.terminate()
+            pool.shutdown(wait=False, cancel_futures=True)
         return True
     return False
 
@@ -653,6 +663,16 @@ def export(catalogue: Catalogue, folder, check_only: bool = False) -> tuple[dict
         for name, text in files.items():
             atomic_write_text(folder / name, text)
     return files, stale
+
+
+def stale_exports(catalogue: Catalogue, folder) -> list[str]:
+    """The names of the exported files that differ from ``folder`` (``harness export --check``; a job of its own in
+    the main job, whose process checks systems next: the warnings of building the files are left out, as the
+    command's own process leaves them)."""
+    from harness.engines import warnings_log
+
+    with warnings_log.discarded():
+        return export(catalogue, folder, check_only=True)[1]
 
 
 def new(catalogue: Catalogue, name: str, folder=None) -> tuple[Path, bool]:

@@ -122,3 +122,40 @@ def test_scenes_run_simulates_and_prints_each_check():
     assert proc.returncode == 0, proc.stderr[-2000:]
     verdicts = re.findall(r" ratio \S+\s+(ok|FAIL)$", proc.stdout, re.M)
     assert len(verdicts) >= 5 and set(verdicts) == {"ok"}, proc.stdout
+
+
+def test_the_main_job_runs_every_phase_as_its_command_and_exits_with_the_worst(monkeypatch, capsys, tmp_path):
+    """`harness main` (the README's `make check`): export --check beside check, then claims, robots --symbolic
+    and report, each given the same --jobs and --out; a failing phase does not stop the report; the exit code
+    is the largest; Ctrl-C (130) stops the phases. The commands are recorded here: each runs for real in the
+    tests of its own (and `make check` runs this one in CI)."""
+    from harness import run as application
+
+    calls, codes = [], {"check": 1, "claims": 0, "robots": 0, "report": 0}
+
+    def command(name):
+        def record(args):
+            calls.append((name, args.jobs, args.out, getattr(args, "symbolic", None)))
+            if codes[name] == 130:  # Ctrl-C in a phase
+                raise application.Interrupted([], 1)
+            return codes[name]
+        return record
+
+    for name in codes:
+        monkeypatch.setattr(cli, f"cmd_{name}", command(name))
+    monkeypatch.setattr(application, "stale_exports", lambda catalogue, folder: ["pendulum.xml"])
+    out = str(tmp_path / "reports")
+    assert cli.main(["main", "--jobs", "1", "--out", out]) == 1
+    assert calls == [("check", 1, out, None), ("claims", 1, out, None), ("robots", 1, out, True),
+                     ("report", 1, out, None)]
+    assert "stale: " in capsys.readouterr().err
+
+    calls.clear()
+    monkeypatch.setattr(application, "stale_exports", lambda catalogue, folder: [])
+    codes.update(check=0, claims=2)
+    assert cli.main(["main", "--jobs", "1", "--out", out]) == 2 and len(calls) == 4
+
+    calls.clear()
+    codes.update(claims=130)
+    assert cli.main(["main", "--jobs", "1", "--out", out]) == 130
+    assert [c[0] for c in calls] == ["check", "claims"]

@@ -230,3 +230,38 @@ def test_a_kept_model_gives_the_numbers_of_a_new_one(name):
             a, b = getattr(again, f), getattr(alone, f)
             assert (a is None and b is None) or np.array_equal(a, b), (engine_name, f)
         assert model(engine_name, first.tree) is not kept  # outside the block: built for the call alone
+
+
+@pytest.mark.parametrize("name", ["tower_crane", "governor", "lightweight_robot"])
+def test_mujoco_quantities_leave_its_one_data_at_the_state(name):
+    """MuJoCo's adapter evaluates the rest state and the polarization of C on its one ``MjData`` before the state's
+    own ``mj_forward``: afterwards the data holds the state (what a rollout or a load reads), and its q̈ is what
+    ``forward_dynamics`` gives alone."""
+    from harness.engines.mujoco_engine import MujocoModel
+
+    system = models.catalogue().get(name)
+    rng = np.random.default_rng(11)
+    n = len(system.coordinates)
+    state = State.make(system, rng.uniform(0.2, 0.6, n), rng.normal(size=n), system.default_parameters(),
+                       {i.name: float(rng.normal()) for i in system.inputs})
+    mm = MujocoModel(state.tree)
+    quantities = mm.quantities(state.theta, state.theta_dot, state.u, state.loads)
+    assert np.array_equal(mm.theta_dot(), state.theta_dot) and np.array_equal(mm.theta(), state.theta)
+    alone = MujocoModel(state.tree).forward_dynamics(state.theta, state.theta_dot, state.u, state.loads)
+    assert np.array_equal(quantities.qdd, alone)
+
+
+def test_warnings_of_a_discarded_block_are_left_out():
+    """``warnings_log.discarded``: what the main job's export check captures is not reported by the next job of
+    its process (the check of a system it exported)."""
+    from harness.engines import warnings_log
+    from harness.engines.mujoco_engine import MujocoModel
+
+    system = models.get("tower_crane")  # MuJoCo's compiler warns at qpos0, where M is singular
+    tree = instantiate(system, system.default_parameters())
+    warnings_log.drain(tree.system)
+    with warnings_log.discarded():
+        MujocoModel(tree)
+    assert warnings_log.drain(tree.system) == []
+    MujocoModel(tree)
+    assert warnings_log.drain(tree.system)

@@ -32,3 +32,49 @@ def test_ctrl_c_stops_and_keeps_what_finished():
     assert interrupted and done == ["a"]
     interrupted, done, _ = _run(["a", "ctrl-c"], 2)
     assert interrupted and set(done) <= {"a"}
+
+
+def pid(job):
+    return os.getpid()
+
+
+def test_the_kept_workers_serve_every_phase():
+    """Within workers_kept, every parallel() call (a phase of the main job) and every submit() runs on the same
+    processes, none of them this one; the block ends them."""
+    from harness.pool import kept, submit, workers_kept
+
+    with workers_kept(2) as pool:
+        first, second = [], []
+        parallel(pid, list(range(8)), 2, first.append, None)
+        parallel(pid, list(range(8)), 2, second.append, None)
+        assert os.getpid() not in first and len(set(first)) <= 2
+        assert set(second) <= set(pool.get()._processes) and set(first) <= set(pool.get()._processes)
+        assert submit(pid, None).result() in pool.get()._processes
+    assert kept() is None and pool.pool is None
+
+
+def test_a_killed_kept_worker_loses_only_its_own_job_and_the_next_phase_gets_new_processes():
+    from harness.pool import workers_kept
+
+    with workers_kept(2) as pool:
+        old = set(pool.get()._processes)
+        interrupted, done, lost = _run(["a", "killed", "b", "c"], 2)
+        assert not interrupted and [job for job, _ in lost] == ["killed"]
+        assert sorted(d for d in done if d != "killed") == ["a", "b", "c"]
+        after = []
+        parallel(pid, list(range(4)), 2, after.append, None)
+        assert not set(after) & old
+
+
+def fails(job):
+    raise ValueError(job)
+
+
+def test_without_kept_workers_submit_runs_here():
+    import pytest
+
+    from harness.pool import submit
+
+    assert submit(pid, None).result() == os.getpid()
+    with pytest.raises(ValueError, match="broken"):  # raised where the result is asked for, as from a worker
+        submit(fails, "broken").result()

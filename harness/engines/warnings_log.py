@@ -119,6 +119,17 @@ def _explain(engine: str, text: str, tree) -> tuple[bool, str]:
     return False, "no explanation is known for this warning"
 
 
+@contextmanager
+def discarded():
+    """The warnings captured within the block are dropped, not reported: a phase whose warnings belong to no
+    record (``harness export --check`` compares texts) leaves none behind for the next job of its process."""
+    start = len(_log)
+    try:
+        yield
+    finally:
+        del _log[start:]
+
+
 def drain(system: str | None = None) -> list[dict]:
     """The captured warnings (of ``system``, or all), grouped by engine, place and message, removed from the log:
     ``{"engine", "where", "message", "count", "explained", "reason", "state"}`` (``state``: the configuration of
