@@ -224,19 +224,23 @@ def cmd_main(args) -> int:
             return getattr(exc, "exit_code", 2)
 
     codes = []
-    with pool.workers_kept(args.jobs) if args.jobs > 1 else contextlib.nullcontext():  # --jobs 1: all here
-        exported = pool.submit(run.stale_exports, _catalogue(), args.dir)
-        codes.append(phase("check", "--jobs", jobs, "--out", out))
-        try:
-            codes.append(_stale(args.dir, exported.result()))
-        except Exception as exc:  # noqa: BLE001 - reported like the command's own failure; the phases go on
-            print(f"error: export --check: {type(exc).__name__}: {exc}", file=sys.stderr)
-            codes.append(getattr(exc, "exit_code", 1))
-        for argv in (("claims", "--jobs", jobs, "--out", out), ("robots", "--symbolic", "--jobs", jobs, "--out", out),
-                     ("report", "--jobs", jobs, "--out", out)):
-            if 130 in codes:
-                break
-            codes.append(phase(*argv))
+    try:
+        with pool.workers_kept(args.jobs) if args.jobs > 1 else contextlib.nullcontext():  # --jobs 1: all here
+            exported = pool.submit(run.stale_exports, _catalogue(), args.dir)
+            codes.append(phase("check", "--jobs", jobs, "--out", out))
+            try:
+                codes.append(_stale(args.dir, exported.result()))
+            except Exception as exc:  # noqa: BLE001 - reported like the command's own failure; the phases go on
+                print(f"error: export --check: {type(exc).__name__}: {exc}", file=sys.stderr)
+                codes.append(getattr(exc, "exit_code", 2 if isinstance(exc, HarnessError) else 1))
+            for argv in (("claims", "--jobs", jobs, "--out", out),
+                         ("robots", "--symbolic", "--jobs", jobs, "--out", out), ("report", "--jobs", jobs, "--out", out)):
+                if 130 in codes:
+                    break
+                codes.append(phase(*argv))
+    except KeyboardInterrupt:  # between the phases' own handling (the workers are ended by workers_kept)
+        print("error: interrupted", file=sys.stderr)
+        return 130
     return 130 if 130 in codes else max(codes)
 
 

@@ -41,9 +41,9 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from harness import cluster, profiling
-from harness.pool import kept as kept_pool
 from harness.errors import EngineError, HarnessError, InputError
 from harness.io import atomic_write_text
+from harness.pool import kept as kept_pool
 from harness.report.results import (check_folder, load_results, read_claims, read_timings, write_claims,
                                     write_results, write_timings)
 from harness.settings import apply_seed, draws_from_seed_only, load_hypothesis_profile
