@@ -10,6 +10,7 @@ import contextlib
 import json
 import os
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -211,37 +212,51 @@ def cmd_main(args) -> int:
     """The main job (``make check``): ``export --check``, ``check``, ``claims``, ``robots --symbolic``, ``report``,
     each as its own command would run it, on one pool of ``--jobs`` processes kept for all of them
     (:func:`harness.pool.workers_kept`); the exported files are compared by one of those processes while the check
-    starts. A phase that fails does not stop the later ones (the report shows the failure); the exit code is the
-    largest of the phases' (Ctrl-C stops at once, 130)."""
+    starts. Each phase's output follows a line naming its command; the last line says how each ended and took. A
+    phase that fails does not stop the later ones (the report shows the failure); the exit code is the largest of
+    the phases' (Ctrl-C stops at once, 130)."""
     jobs, out, parser = str(args.jobs), args.out, build_parser()
+    start, ended = time.perf_counter(), []  # (phase, exit code, seconds or None)
 
-    def phase(*argv) -> int:
-        command = parser.parse_args(argv)
+    def phase(*argv) -> None:
+        sys.stdout.flush()
+        print(f"== harness {' '.join(argv)}", file=sys.stderr, flush=True)
+        began, command = time.perf_counter(), parser.parse_args(argv)
         try:
-            return command.func(command)
+            code = command.func(command)
         except HarnessError as exc:
             print(f"error: {exc}", file=sys.stderr)
-            return getattr(exc, "exit_code", 2)
+            code = getattr(exc, "exit_code", 2)
+        ended.append((argv[0], code, time.perf_counter() - began))
 
-    codes = []
+    def exported(future) -> None:
+        try:
+            code = _stale(args.dir, future.result())
+        except Exception as exc:  # noqa: BLE001 - reported like the command's own failure; the phases go on
+            print(f"error: export --check: {type(exc).__name__}: {exc}", file=sys.stderr)
+            code = getattr(exc, "exit_code", 2 if isinstance(exc, HarnessError) else 1)
+        ended.append(("export --check", code, None))
+
     try:
         with pool.workers_kept(args.jobs) if args.jobs > 1 else contextlib.nullcontext():  # --jobs 1: all here
-            exported = pool.submit(run.stale_exports, _catalogue(), args.dir)
-            codes.append(phase("check", "--jobs", jobs, "--out", out))
-            try:
-                codes.append(_stale(args.dir, exported.result()))
-            except Exception as exc:  # noqa: BLE001 - reported like the command's own failure; the phases go on
-                print(f"error: export --check: {type(exc).__name__}: {exc}", file=sys.stderr)
-                codes.append(getattr(exc, "exit_code", 2 if isinstance(exc, HarnessError) else 1))
+            comparing = pool.submit(run.stale_exports, _catalogue(), args.dir)
+            phase("check", "--jobs", jobs, "--out", out)
+            exported(comparing)
             for argv in (("claims", "--jobs", jobs, "--out", out),
                          ("robots", "--symbolic", "--jobs", jobs, "--out", out), ("report", "--jobs", jobs, "--out", out)):
-                if 130 in codes:
+                if any(code == 130 for _, code, _ in ended):
                     break
-                codes.append(phase(*argv))
+                phase(*argv)
     except KeyboardInterrupt:  # between the phases' own handling (the workers are ended by workers_kept)
         print("error: interrupted", file=sys.stderr)
         return 130
-    return 130 if 130 in codes else max(codes)
+    codes = [code for _, code, _ in ended]
+    status = 130 if 130 in codes else max(codes)
+    sys.stdout.flush()
+    print("main job: " + ", ".join(f"{name} {'ok' if code == 0 else f'exit {code}'}"
+                                   + ("" if seconds is None else f" ({seconds:.1f} s)") for name, code, seconds in ended)
+          + f"; exit {status} after {time.perf_counter() - start:.1f} s", file=sys.stderr, flush=True)
+    return status
 
 
 def cmd_validate(args) -> int:

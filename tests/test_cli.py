@@ -148,7 +148,10 @@ def test_the_main_job_runs_every_phase_as_its_command_and_exits_with_the_worst(m
     assert cli.main(["main", "--jobs", "1", "--out", out]) == 1
     assert calls == [("check", 1, out, None), ("claims", 1, out, None), ("robots", 1, out, True),
                      ("report", 1, out, None)]
-    assert "stale: " in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "stale: " in err and f"== harness claims --jobs 1 --out {out}" in err
+    assert re.search(r"main job: check exit 1 \(\d+\.\d s\), export --check exit 1, claims ok \(\d+\.\d s\), .*"
+                     r"report ok \(\d+\.\d s\); exit 1 after \d+\.\d s\n$", err)
 
     calls.clear()
     monkeypatch.setattr(application, "stale_exports", lambda catalogue, folder: [])
