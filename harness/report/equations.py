@@ -29,8 +29,8 @@ PRINT_MAX_OPS = 1500
 ENTRY_SECONDS = 10.0
 """The safety cap of one entry's simplification, CPU seconds: 8 x the slowest entry of the catalogue (1.3 s,
 cantilever_beam's equation of motion). It replaced a budget of 2 s per system for all its entries, under which the
-entries shown simplified depended on the machine: two fresh clones of one commit on one machine showed other entries
-simplified on the pages of planar_robot, toggle_press and trebuchet_free."""
+entries shown simplified depended on the machine's speed and load: fresh clones on one machine, of commits with the
+same report code, showed other entries simplified on the pages of planar_robot, toggle_press and trebuchet_free."""
 
 
 # the lecture's general equations the derived quantities follow
