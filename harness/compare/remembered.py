@@ -25,7 +25,7 @@ import harness
 from harness import profiling
 from harness.checks import Check
 from harness.compare import conformance
-from harness.derivation.cache import _checksum  # the derivation cache's entry checksum
+from harness.derivation.cache import checksum  # one checksum for what is kept on disk
 from harness.errors import OutputError
 from harness.io import atomic_write_text
 
@@ -73,7 +73,7 @@ def _load(path: Path) -> conformance.Summary | None:
     try:
         entry = json.loads(path.read_text())
         doc = entry["summary"]
-        if entry["sha256"] != _checksum(doc):
+        if entry["sha256"] != checksum(doc):
             return None
         summary = conformance.Summary(doc["system"], doc["examples"], failure=doc["failure"],
                                       not_applicable=dict(doc["not_applicable"]))
@@ -90,7 +90,7 @@ def _store(path: Path, summary: conformance.Summary) -> None:
     doc = {"system": summary.system, "examples": summary.examples, "failure": summary.failure,
            "not_applicable": summary.not_applicable, "worst": [c.record() for c in summary.worst.values()]}
     try:
-        atomic_write_text(path, json.dumps({"sha256": _checksum(doc), "summary": doc}))
+        atomic_write_text(path, json.dumps({"sha256": checksum(doc), "summary": doc}))
     except OutputError:  # a full disk or a read-only folder: the summary in memory is still good
         pass
 

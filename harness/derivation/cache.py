@@ -53,7 +53,8 @@ def cache_dir() -> Path:
     return Path(os.environ.get("HARNESS_CACHE_DIR", PROJECT_ROOT / ".cache" / "derivations"))
 
 
-def _checksum(entries: dict[str, str]) -> str:
+def checksum(entries: dict) -> str:
+    """SHA-256 of a JSON document (keys sorted): what an entry kept on disk is checked against when read."""
     return hashlib.sha256(json.dumps(entries, sort_keys=True).encode()).hexdigest()
 
 
@@ -73,7 +74,7 @@ def load_graph(key: str, as_computed: bool = False) -> tuple[dict, Graph | None]
         doc = json.loads(path.read_text())
         entries = doc["entries"]
         replacements = doc.get("replacements", [])
-        if doc["sha256"] != _checksum({"entries": entries, "replacements": replacements} if replacements
+        if doc["sha256"] != checksum({"entries": entries, "replacements": replacements} if replacements
                                       else entries):
             raise ValueError("checksum mismatch")
         return _read(entries, replacements, as_computed)
@@ -256,11 +257,11 @@ def store(key: str, values: dict, graph: bool = False, as_computed: bool = False
                                        symbols=sp.numbered_symbols(GRAPH_SYMBOLS))
         entries = {name: sp.srepr(value) for name, value in zip(reduced_names, reduced)}
         pairs = [[symbol.name, sp.srepr(expr)] for symbol, expr in replacements]
-        doc = {"sha256": _checksum({"entries": entries, "replacements": pairs}), "entries": entries,
+        doc = {"sha256": checksum({"entries": entries, "replacements": pairs}), "entries": entries,
                "replacements": pairs}
     else:
         entries, pairs = {name: sp.srepr(value) for name, value in values.items()}, []
-        doc = {"sha256": _checksum(entries), "entries": entries}
+        doc = {"sha256": checksum(entries), "entries": entries}
     try:
         atomic_write_text(cache_dir() / f"{key}.json", json.dumps(doc))
     except OutputError:  # a full disk or a folder gone read-only: the derivation in memory is still good

@@ -58,7 +58,7 @@ _KEPT: list = []   # (models, how many) of the innermost :func:`models_kept` blo
 @contextmanager
 def models_kept(kept: int = 4096):
     """Within the block, :func:`model` builds each engine's model of a numeric tree once and hands it out again,
-    the ``kept`` most recently used (then the least recently used is dropped; a model with its two ``MjData``
+    the ``kept`` most recently used (then the least recently used is dropped; a model with its ``MjData``
     holds megabytes): :func:`~harness.export.numeric.instantiate` gives one tree per system and parameter values,
     and the states hypothesis draws repeat parameter values (111 to 171 distinct of 200 in a conformance run,
     measured over five systems; mostly in a row: 8 trees kept catch all but 0-3 of the repeats). Every evaluation

@@ -56,10 +56,15 @@ def check_warnings(model: mujoco.MjModel, data: mujoco.MjData, what: str) -> Non
     mujoco.mj_checkVel(model, data)
     found = [f"{text} ({data.warning[w].number}x, last index {data.warning[w].lastinfo})"
              for w, text in WARNINGS.items() if data.warning[w].number > 0]
-    for w in WARNINGS:  # counted once: the next evaluation with the same data starts clean
-        data.warning[w].number = 0
+    clear_warnings(data)  # counted once: the next evaluation with the same data starts clean
     if found:
         raise EngineError(f"{what}: MuJoCo warning at t={data.time:g} s: " + "; ".join(found))
+
+
+def clear_warnings(data: mujoco.MjData) -> None:
+    """The counters of :data:`WARNINGS` set to 0."""
+    for w in WARNINGS:
+        data.warning[w].number = 0
 
 
 def check_state(model: mujoco.MjModel, data: mujoco.MjData, what: str) -> None:
@@ -230,8 +235,7 @@ class MujocoModel(TreeEngine):
         gravity = self._pick(d.qfrc_bias)
         C = self.christoffel(theta, theta_dot) if christoffel else None
         d.qacc_warmstart[:] = warmstart
-        for w in WARNINGS:  # what is checked below is the state's forward, as with a data of its own
-            d.warning[w].number = 0
+        clear_warnings(d)  # what is checked below is the state's forward, as with a data of its own
         self._forward(d, theta, theta_dot, u, loads)  # last: the data holds the state's own forward afterwards
         M = np.zeros((m.nv, m.nv))
         mujoco.mj_fullM(m, d, M)
