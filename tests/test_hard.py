@@ -53,6 +53,40 @@ def test_outside_the_map_is_a_clear_error_not_nan(native):
         c.forward_dynamics(np.array([1.2]), np.array([0.1]), _p(system, L_1=0.7, L_2=0.6), np.zeros(2), native=native)
 
 
+ONE_DOF = [name for name in models.catalogue() if len(models.get(name).coordinates) == 1]
+
+
+@pytest.mark.parametrize("name", ONE_DOF)
+def test_one_degree_of_freedom_solves_as_the_eigendecomposition_bit_for_bit(name):
+    """q̈ of a 1-DoF system is solved without LAPACK (eigh of a 1 × 1 M is w = M, V = [[1]]): the same float64 as
+    the general path, at random states and parameters, and the same clear error where that path raises."""
+    from harness.derivation.compile import regular_spectrum
+
+    system = models.get(name)
+    c = compiled(system)
+    rng = np.random.default_rng(7)
+    p0 = _p(system)
+    for _ in range(50):
+        q, qd, u = rng.uniform(-2, 2, 1), rng.uniform(-2, 2, 1), rng.uniform(-2, 2, len(system.inputs))
+        p = p0 * rng.uniform(0.5, 1.5, len(p0))
+        M, Cqd, g, f_np = c.terms(q, qd, p, u)
+        if not np.all(np.isfinite(M)):  # outside the map's domain: the clear error of the general path
+            with pytest.raises(ModelError, match="not finite"):
+                c.forward_dynamics(q, qd, p, u)
+            continue
+        w, V = np.linalg.eigh(M)
+        assert regular_spectrum(w)
+        assert c.forward_dynamics(q, qd, p, u).tobytes() == (V @ ((V.T @ (f_np - Cqd - g)) / w)).tobytes()
+
+
+def test_one_degree_of_freedom_without_mass_is_a_clear_error():
+    system = models.get("pendulum")
+    c = compiled(system)
+    massless = _p(system, **{x.name: 0.0 for x in system.parameters if x.name.startswith(("m", "I", "J"))})
+    with pytest.raises(ModelError, match="coordinate singularity .* the mass matrix M is singular"):
+        c.forward_dynamics(np.array([0.3]), np.array([0.1]), massless, np.zeros(len(system.inputs)))
+
+
 def test_chart_switch_through_the_pole_in_both_engines():
     """phi_dot(0) = 1e-7: the bob passes within ~1e-7 of the pole; the chart switch keeps energy and angular
     momentum and the engines' runs agree with the reference."""

@@ -168,3 +168,34 @@ def test_a_system_page_shows_each_scenes_effects_and_pruning_ratios(tmp_path):
     assert "harness bench --parts pruning (2026-11-24T00:00:00+00:00)" in page
     for source, ratio in ratios.items():
         assert f"time idle / pruned, {source} {ratio:.3g} ×" in smooth
+
+
+def test_a_picture_is_drawn_once_per_content_and_a_damaged_one_again(tmp_path, monkeypatch):
+    """:mod:`harness.report.drawn`: the second report with the same inputs writes the kept bytes and what the
+    drawing returned without drawing; other inputs, or a damaged entry, draw again."""
+    from harness.report import drawn
+
+    monkeypatch.setenv("HARNESS_CACHE_DIR", str(tmp_path / "cache" / "derivations"))
+    stale = drawn.folder() / "0123456789ab-scene-figure-0.json"   # kept by another installation
+    stale.parent.mkdir(parents=True)
+    stale.write_text("{}")
+    calls = []
+
+    def draw(path):
+        calls.append(path)
+        path.write_bytes(b"<svg>" + bytes(range(256)) + b"</svg>")
+        return {"size": (3, 2), "caption": "drawn"}
+
+    first = drawn.drawn(tmp_path / "a.svg", drawn.key("scene figure", b"series"), draw)
+    again = drawn.drawn(tmp_path / "b.svg", drawn.key("scene figure", b"series"), draw)
+    assert len(calls) == 1 and first == again == {"size": [3, 2], "caption": "drawn"} and not stale.exists()
+    assert (tmp_path / "a.svg").read_bytes() == (tmp_path / "b.svg").read_bytes()
+    assert drawn.key("scene figure", b"series") != drawn.key("scene figure", b"series ")
+    assert drawn.key("scene figure", b"ab", b"c") != drawn.key("scene figure", b"a", b"bc")
+    (entry,) = drawn.folder().glob("*.json")
+    doc = json.loads(entry.read_text())
+    entry.write_text(json.dumps({**doc, "bytes": doc["bytes"][:-8] + "AAAAAAA="}))   # other bytes, same checksum
+    drawn.drawn(tmp_path / "c.svg", drawn.key("scene figure", b"series"), draw)
+    entry.write_text("{not json")
+    drawn.drawn(tmp_path / "d.svg", drawn.key("scene figure", b"series"), draw)
+    assert len(calls) == 3 and (tmp_path / "d.svg").read_bytes() == (tmp_path / "a.svg").read_bytes()

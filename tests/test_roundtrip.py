@@ -151,3 +151,22 @@ def test_missing_point_is_found():
     spec.compile()
     (finding,) = roundtrip(tree, None, MujocoModel(tree, xml=spec.to_xml()))
     assert (finding.item, finding.loaded, finding.error) == ("e2 present", [], float("inf"))
+
+
+def test_an_items_error_is_the_relative_max_difference_bit_for_bit():
+    """``_numbers`` in Python floats gives NumPy's ``max|loaded − intended| / max|intended|`` exactly (absolute for
+    an all-zero item); a missing number or one not finite is an infinite error."""
+    from harness.compare.roundtrip import _numbers
+
+    rng = np.random.default_rng(3)
+    for size in (1, 3, 9, 12):
+        for _ in range(200):
+            intended = rng.normal(size=size) * 10.0 ** rng.integers(-8, 8)
+            loaded = intended * (1 + rng.normal(size=size) * 1e-14)
+            expected = float(np.abs(loaded - intended).max() / np.abs(intended).max())
+            assert _numbers("e", "item", intended, loaded).error.hex() == expected.hex()
+    assert _numbers("e", "zero", np.zeros(3), [0.0, 1e-20, -2e-20]).error == 2e-20
+    assert _numbers("e", "shape", np.eye(3), np.eye(3)[:2]).error == np.inf
+    assert _numbers("e", "nan", [1.0, 2.0], [1.0, np.nan]).error == np.inf
+    found = _numbers("e", "rotation", np.eye(3), np.eye(3))
+    assert found.error == 0.0 and found.intended == np.eye(3).ravel().tolist() == found.loaded

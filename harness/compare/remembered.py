@@ -39,7 +39,7 @@ def folder() -> Path:
     return cache_dir().parent / "results"
 
 
-def _files_digest(folders) -> str:
+def files_digest(folders) -> str:
     digest = hashlib.sha256()
     for root in folders:
         root = Path(root)
@@ -49,11 +49,11 @@ def _files_digest(folders) -> str:
 
 
 @functools.cache
-def _installation() -> str:
+def installation() -> str:
     """Our code (every file under ``harness/``), the installed distributions and Python: once per process."""
     # a set: the project's own metadata is found twice when the working directory is on sys.path
     dists = sorted({f"{d.metadata['Name']}=={d.version}" for d in importlib.metadata.distributions()})
-    return hashlib.sha256("\n".join([_files_digest([Path(harness.__file__).parent]), sys.version, *dists])
+    return hashlib.sha256("\n".join([files_digest([Path(harness.__file__).parent]), sys.version, *dists])
                           .encode()).hexdigest()
 
 
@@ -65,7 +65,7 @@ def key(catalogue, name: str, examples: int | None) -> str | None:
     if fixed is None:
         return None
     variables = sorted((k, v) for k, v in os.environ.items() if k.startswith(NUMERIC_ENVIRONMENT))
-    parts = [_installation(), _files_digest(catalogue.path), repr(variables), name, repr(examples), repr(fixed)]
+    parts = [installation(), files_digest(catalogue.path), repr(variables), name, repr(examples), repr(fixed)]
     return f"conformance-{name}-{hashlib.sha256(chr(0).join(parts).encode()).hexdigest()[:24]}"
 
 

@@ -61,13 +61,19 @@ class RoundTripError:
 
 
 def _numbers(engine, item, intended, loaded) -> RoundTripError:
-    intended, loaded = np.asarray(intended, dtype=float).ravel(), np.asarray(loaded, dtype=float).ravel()
-    if intended.shape != loaded.shape or not np.all(np.isfinite(loaded)):
+    # in Python floats: an item has at most 12 numbers, and NumPy's per-call overhead was 60 % of a model's round
+    # trip (measured; the same IEEE operations, so the same errors bit for bit)
+    intended, loaded = _floats(intended), _floats(loaded)
+    if len(intended) != len(loaded) or not all(map(math.isfinite, loaded)):
         error = math.inf
     else:
-        scale = np.abs(intended).max(initial=0.0) or 1.0
-        error = float(np.abs(loaded - intended).max(initial=0.0) / scale)
-    return RoundTripError(engine, item, intended.tolist(), loaded.tolist(), error)
+        scale = max(map(abs, intended), default=0.0) or 1.0
+        error = max((abs(a - b) for a, b in zip(loaded, intended)), default=0.0) / scale
+    return RoundTripError(engine, item, intended, loaded, error)
+
+
+def _floats(values) -> list[float]:
+    return np.asarray(values, dtype=float).ravel().tolist()
 
 
 def _names(engine, item, intended, loaded) -> RoundTripError:

@@ -246,6 +246,11 @@ class CompiledModel:
             if not regular:
                 check_regular(self.system, self.terms(q, qd, p, u)[0], q)  # raises its clear error
             return qdd
+        if self.dof == 1:  # eigh of a 1 × 1 M is w = M, V = [[1]]: the same q̈, bit for bit, without LAPACK
+            m, Cqd, g, f_np = _call(self._terms_function, 4, q, qd, p, u)
+            if not regular_spectrum((m,)) or not math.isfinite(q[0]):  # also nan: every comparison is false
+                check_regular(self.system, np.array([[m]]), q)  # raises its clear error
+            return np.array([(f_np - Cqd - g) / m])
         M, Cqd, g, f_np = self.terms(q, qd, p, u)
         try:
             w, V = np.linalg.eigh(M)

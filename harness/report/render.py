@@ -292,20 +292,27 @@ def _render_system(job: dict) -> dict:
     """Picture and filmstrips of one system (in the rendering process); failures are returned, not raised."""
     import json
 
+    from harness.report.drawn import catalogue_digest, drawn, key
+
     catalogue, out = job["catalogue"], Path(job["out"])
     result: dict = {"picture": None, "strips": {}}
     try:
         system = catalogue.get(job["system"])
         xml = mjcf_text(system)
         target = f"figures/{system.name}.png"
-        result["picture"] = {"target": target, **picture(system, xml, out / target, catalogue.scenes(system.name))}
+        models = catalogue_digest(catalogue)  # the system's joints, coordinates and scenes the picture shows
+        shown = drawn(out / target, key("mechanism", system.name, models, backend(), xml),
+                      lambda path: picture(system, xml, path, catalogue.scenes(system.name)))
+        result["picture"] = {"target": target, **shown}
     except Exception as exc:  # noqa: BLE001 - reported on the page
         result["error"] = f"{type(exc).__name__}: {exc}"
         return result
     for scene, series in job["scenes"]:
         target = f"figures/{system.name}.{scene}.strip.png"
         try:
-            strip = filmstrip(system, xml, json.loads((out / series).read_text()), out / target)
+            text = (out / series).read_bytes()
+            strip = drawn(out / target, key("filmstrip", system.name, models, backend(), xml, text),
+                          lambda path: filmstrip(system, xml, json.loads(text), path))
             result["strips"][scene] = {"target": target, **strip}
         except Exception as exc:  # noqa: BLE001 - a series the renderer cannot follow costs its strip only
             result["strips"][scene] = {"error": f"{type(exc).__name__}: {exc}"}

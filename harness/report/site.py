@@ -141,7 +141,8 @@ def pruning_view(system: str, scene: dict, bench: dict | None) -> dict | None:
 def system_view(record: dict, claims: list[dict], out: Path, figures: set, bench: dict | None = None) -> dict:
     """What the index and the system page show of one record; figures are rendered into ``out/figures``; the
     scenes' work-precision and pruning time ratios come from ``bench`` (``out/bench.json``) where it has them."""
-    from harness.report.figures import render_scene_figure
+    from harness.report.drawn import drawn, key
+    from harness.report.figures import draw_scene_figure
 
     name = record["system"]
     checks = [_check_view(c) for c in record.get("checks", [])]
@@ -164,7 +165,8 @@ def system_view(record: dict, claims: list[dict], out: Path, figures: set, bench
         if series and (out / series).is_file():
             target = f"figures/{name}.{view['scene']}.svg"
             try:
-                render_scene_figure(out / series, out / target)
+                text = (out / series).read_bytes()
+                drawn(out / target, key("scene figure", text), lambda path: draw_scene_figure(json.loads(text), path))
                 view["figure"] = target
                 figures.add(target)
             except Exception as exc:  # noqa: BLE001 - a broken series file costs its figure, not the page
