@@ -209,8 +209,9 @@ def cmd_export(args) -> int:
 
 
 def cmd_main(args) -> int:
-    """The main job (``make check``): ``export --check``, ``check``, ``claims``, ``robots --symbolic``, ``report``,
-    each as its own command would run it, on one pool of ``--jobs`` processes kept for all of them
+    """The main job (``make check``): ``export --check``, ``check --profile``, ``claims --profile``, ``robots
+    --symbolic``, ``report``, each as its own command would run it (the profiles: where the time went, on the
+    report's profile page), on one pool of ``--jobs`` processes kept for all of them
     (:func:`harness.pool.workers_kept`); the exported files are compared by one of those processes while the check
     starts. Each phase's output follows a line naming its command; the last line says how each ended and took. A
     phase that fails does not stop the later ones (the report shows the failure); the exit code is the largest of
@@ -240,9 +241,9 @@ def cmd_main(args) -> int:
     try:
         with pool.workers_kept(args.jobs) if args.jobs > 1 else contextlib.nullcontext():  # --jobs 1: all here
             comparing = pool.submit(run.stale_exports, _catalogue(), args.dir)
-            phase("check", "--jobs", jobs, "--out", out)
+            phase("check", "--jobs", jobs, "--profile", "--out", out)
             exported(comparing)
-            for argv in (("claims", "--jobs", jobs, "--out", out),
+            for argv in (("claims", "--jobs", jobs, "--profile", "--out", out),
                          ("robots", "--symbolic", "--jobs", jobs, "--out", out), ("report", "--jobs", jobs, "--out", out)):
                 if any(code == 130 for _, code, _ in ended):
                     break

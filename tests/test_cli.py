@@ -126,7 +126,7 @@ def test_scenes_run_simulates_and_prints_each_check():
 
 def test_the_main_job_runs_every_phase_as_its_command_and_exits_with_the_worst(monkeypatch, capsys, tmp_path):
     """`harness main` (the README's `make check`): export --check beside check, then claims, robots --symbolic
-    and report, each given the same --jobs and --out; a failing phase does not stop the report; the exit code
+    and report, each given the same --jobs and --out (check and claims --profile); a failing phase does not stop the report; the exit code
     is the largest; Ctrl-C (130) stops the phases. The commands are recorded here: each runs for real in the
     tests of its own (and `make check` runs this one in CI)."""
     from harness import run as application
@@ -135,7 +135,7 @@ def test_the_main_job_runs_every_phase_as_its_command_and_exits_with_the_worst(m
 
     def command(name):
         def record(args):
-            calls.append((name, args.jobs, args.out, getattr(args, "symbolic", None)))
+            calls.append((name, args.jobs, args.out, getattr(args, "symbolic", None), getattr(args, "profile", None)))
             if codes[name] == 130:  # Ctrl-C in a phase
                 raise application.Interrupted([], 1)
             return codes[name]
@@ -146,10 +146,10 @@ def test_the_main_job_runs_every_phase_as_its_command_and_exits_with_the_worst(m
     monkeypatch.setattr(application, "stale_exports", lambda catalogue, folder: ["pendulum.xml"])
     out = str(tmp_path / "reports")
     assert cli.main(["main", "--jobs", "1", "--out", out]) == 1
-    assert calls == [("check", 1, out, None), ("claims", 1, out, None), ("robots", 1, out, True),
-                     ("report", 1, out, None)]
+    assert calls == [("check", 1, out, None, True), ("claims", 1, out, None, True), ("robots", 1, out, True, None),
+                     ("report", 1, out, None, None)]   # check and claims profiled: the report's profile page
     err = capsys.readouterr().err
-    assert "stale: " in err and f"== harness claims --jobs 1 --out {out}" in err
+    assert "stale: " in err and f"== harness claims --jobs 1 --profile --out {out}" in err
     assert re.search(r"main job: check exit 1 \(\d+\.\d s\), export --check exit 1, claims ok \(\d+\.\d s\), .*"
                      r"report ok \(\d+\.\d s\); exit 1 after \d+\.\d s\n$", err)
 
