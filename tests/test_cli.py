@@ -114,6 +114,15 @@ def test_profile_says_where_the_time_goes_and_changes_no_result(capsys, tmp_path
     sections = json.loads((profiled / "profile.json").read_text())
     assert set(sections) == {"check", "claims"}
     assert "harness claims" in (profiled / "profile.md").read_text()
+    # the report's figure of it: a bar per phase of each command (text kept as text in the SVG)
+    from harness.report.site import _profile_figure
+
+    _profile_figure(profiled)
+    svg = (profiled / "profile" / "time.svg").read_text()
+    assert "harness check: " in svg and "harness claims: " in svg and "conformance / draw states" in svg
+    (profiled / "profile.json").write_text('{"check": {"phases": "not a list"}}')  # another shape: no figure
+    _profile_figure(profiled)
+    assert not (profiled / "profile" / "time.svg").exists()
 
 
 def test_scenes_run_simulates_and_prints_each_check():

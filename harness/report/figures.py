@@ -118,3 +118,35 @@ def draw_scene_figure(series: dict, target: Path) -> dict:
 
     atomic_write_text(target, scene_figure(series))
     return {}
+
+
+def profile_figure(sections: dict, top: int = 12) -> str:
+    """Where the time went (``profile.json`` of ``harness check --profile`` and ``claims --profile``): per command,
+    a bar per phase that has no named sub-phase, CPU seconds summed over the systems, the ``top`` largest (a
+    scene's phases as one bar, the others as one), largest first."""
+    plt = _matplotlib()
+    names = [k for k in ("check", "claims") if k in sections] + sorted(set(sections) - {"check", "claims"})
+    fig, axes = plt.subplots(len(names), 1, figsize=(7, 0.25 * (top + 2) * len(names) + 0.6), squeeze=False,
+                             layout="constrained")
+    for ax, name in zip(axes[:, 0], names):
+        doc = sections[name]
+        phases = [r["phase"] for r in doc["phases"]]
+        bars: dict[str, float] = {}
+        for r in doc["phases"]:
+            if any(p.startswith(r["phase"] + "/") for p in phases):
+                continue  # timed in its named sub-phases and its (rest)
+            label = "scenes" if r["phase"].startswith("scenes/") else r["phase"].replace("/", " / ")
+            bars[label] = bars.get(label, 0.0) + r["cpu"]
+        ranked = sorted(bars.items(), key=lambda kv: -kv[1])
+        shown = ranked[:top] + ([(f"{len(ranked) - top} other phases", sum(v for _, v in ranked[top:]))]
+                                if len(ranked) > top else [])
+        ax.barh([k for k, _ in shown][::-1], [v for _, v in shown][::-1], color="#4c72b0")
+        for y, (_, v) in enumerate(shown[::-1]):
+            ax.text(v, y, f" {v:.1f}", va="center", fontsize=6)
+        ax.tick_params(axis="y", labelsize=6)
+        ax.set_xlabel("CPU s (summed over the systems)")
+        ax.set_title(f"harness {name}: {doc['cpu_seconds']:.1f} CPU s in the phases, {doc['seconds']:.1f} s wall, "
+                     f"jobs {doc['jobs']}")
+    text = _svg(fig)
+    plt.close(fig)
+    return text

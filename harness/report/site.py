@@ -26,7 +26,7 @@ OPTIONAL_PAGES = (
     ("importer.html", "Importer findings", "importer.json", "importer.md", None),
     ("robots.html", "Robots", "robots.json", "robots.md", None),  # harness robots: one table over all robots
     ("changes.html", "Changes", "changes.json", "changes.md", None),  # harness check --baseline
-    ("profile.html", "Profile", "profile.json", "profile.md", None),  # harness check/claims --profile
+    ("profile.html", "Profile", "profile.json", "profile.md", "profile"),  # harness check/claims --profile
 )
 
 
@@ -136,6 +136,21 @@ def pruning_view(system: str, scene: dict, bench: dict | None) -> dict | None:
             shown = notes.get(f"pruning, {source}", "not run")
         view["ratios"].append({"source": source, "ratio": shown})
     return view
+
+
+def _profile_figure(out: Path) -> None:
+    """``profile/time.svg``, where the time went (:func:`harness.report.figures.profile_figure`), beside the
+    profile page's tables; none without ``profile.json``."""
+    from harness.report.figures import profile_figure
+
+    sections, target = _read_json(out / "profile.json"), out / "profile" / "time.svg"
+    if not isinstance(sections, dict) or not sections:
+        target.unlink(missing_ok=True)
+        return
+    try:
+        atomic_write_text(target, profile_figure(sections))
+    except (KeyError, TypeError, ValueError):  # a profile.json of another shape: its tables only
+        target.unlink(missing_ok=True)
 
 
 def system_view(record: dict, claims: list[dict], out: Path, figures: set, bench: dict | None = None) -> dict:
@@ -448,6 +463,7 @@ def build_site(out: Path | str, catalogue=None, progress=None, jobs: int = 1) ->
             records=claims, sheet=errata.sheet(claims), style=errata.STYLE, root="", **common))
         written.append("errata.html")
     written += robot_pages(out, env, common)   # before robots.html, whose table links them
+    _profile_figure(out)
     for file, title, source, md, folder in OPTIONAL_PAGES:
         data = _read_json(out / source)
         if data is None:
