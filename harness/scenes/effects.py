@@ -40,7 +40,6 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from harness.derivation.lambdified import lambdify
 from harness.modeling.events import RollSlip, StickSlip
 from harness.modeling.scenes import _EFFECT_OF, EFFECTS, Bump, Constant, Scene, Sine, Step, effects_of, pruned
 from harness.modeling.system import Damper, JointDamper, JointInput, JointSpring, PointForce, Spring, System
@@ -232,17 +231,17 @@ def gravity_idle(system: System, params: dict, samples: int = 3, seed: int = 0) 
         return None
     if _is_zero(_substituted(system.gravity.g, params, set())):
         return _shown(system.gravity.g, params)
+    from harness.derivation.compile import compiled
     from harness.derivation.derive import derive
 
-    gq = derive(system).g_gravity
-    gq = sp.Matrix([_substituted(e, params, set()) for e in gq])
-    free = sorted(gq.free_symbols, key=lambda s: s.name)
+    c, n = compiled(system), len(system.coordinates)   # compiled once per system: the check's, the scenes'
+    p = [params[x.name] for x in system.parameters]
     rng = np.random.default_rng(seed)
-    fn = lambdify(free, list(gq), modules="numpy", cse=True)
     for _ in range(samples):
-        value = np.asarray(fn(*rng.uniform(-1.0, 1.0, len(free))), dtype=float)
+        value = c("g_gravity", rng.uniform(-1.0, 1.0, n), np.zeros(n), p, np.zeros(len(system.inputs)))
         if np.any(np.abs(value) > 1e-12):
             return None
+    gq = sp.Matrix([_substituted(e, params, set()) for e in derive(system).g_gravity])
     if all(_is_zero(e) for e in gq):
         return "∂V_gravity/∂q ≡ 0: gravity is orthogonal to every motion the coordinates allow"
     return None
