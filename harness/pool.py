@@ -22,10 +22,17 @@ class _KeptPool:
     def discard(self, terminate: bool = False) -> None:
         if self.pool is not None:
             if terminate:
-                for process in list(getattr(self.pool, "_processes", {}).values()):  # no public terminate
-                    process.terminate()
-            self.pool.shutdown(wait=not terminate, cancel_futures=True)
+                ended(self.pool)
+            else:
+                self.pool.shutdown(cancel_futures=True)
             self.pool = None
+
+
+def ended(executor: ProcessPoolExecutor) -> None:
+    """``executor``'s processes terminated at once and its queued jobs cancelled (Ctrl-C)."""
+    for process in list(getattr(executor, "_processes", {}).values()):  # the executor has no public terminate
+        process.terminate()
+    executor.shutdown(wait=False, cancel_futures=True)
 
 
 _KEPT: list = []

@@ -43,7 +43,7 @@ import numpy as np
 from harness import cluster, profiling
 from harness.errors import EngineError, HarnessError, InputError
 from harness.io import atomic_write_text
-from harness.pool import kept as kept_pool
+from harness.pool import ended, kept as kept_pool
 from harness.report.results import (check_folder, load_results, read_claims, read_timings, write_claims,
                                     write_results, write_timings)
 from harness.settings import apply_seed, draws_from_seed_only, load_hypothesis_profile
@@ -327,9 +327,7 @@ def parallel(work, jobs: list, workers: int, done, lost, announce=None, schedule
         if kept is not None and pool is kept.pool:
             kept.discard(terminate=True)
         else:
-            for process in list(getattr(pool, "_processes", {}).values()):  # the executor has no public terminate
-                process.terminate()
-            pool.shutdown(wait=False, cancel_futures=True)
+            ended(pool)
         return True
     return False
 

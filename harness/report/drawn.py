@@ -26,20 +26,20 @@ def folder() -> Path:
 
 
 def key(kind: str, *inputs: bytes | str) -> str:
-    """The name of the picture ``kind`` drawn from ``inputs`` by this installation."""
-    from harness.compare.remembered import installation
-
-    digest = hashlib.sha256(installation().encode() + b"\0" + kind.encode())
+    """The name of the picture ``kind`` drawn from ``inputs`` by this installation (its name starts with the
+    installation's digest)."""
+    installed = _installation()
+    digest = hashlib.sha256(installed.encode() + b"\0" + kind.encode())
     for part in inputs:
         data = part.encode() if isinstance(part, str) else part
         digest.update(b"\0" + str(len(data)).encode() + b"\0" + data)
-    return f"{_installed()}-{kind.replace(' ', '-')}-{digest.hexdigest()[:32]}"
+    return f"{installed[:12]}-{kind.replace(' ', '-')}-{digest.hexdigest()[:32]}"
 
 
-def _installed() -> str:
-    from harness.compare.remembered import installation
+def _installation() -> str:
+    from harness.compare.remembered import installation  # the remembered results' digest of our code and packages
 
-    return installation()[:12]
+    return installation()
 
 
 def catalogue_digest(catalogue) -> str:
@@ -82,7 +82,7 @@ def _forget_other_installations() -> None:
     if where in _FORGOTTEN:
         return
     _FORGOTTEN.add(where)
-    current = _installed()
+    current = _installation()[:12]
     for entry in where.glob("*.json"):
         if not entry.name.startswith(current + "-"):
             entry.unlink(missing_ok=True)

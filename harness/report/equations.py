@@ -70,12 +70,14 @@ class Budget:
 
     def notes(self) -> list[str]:
         out = []
+        def entries(n: int) -> str:
+            return f"{n} entr{'y' if n == 1 else 'ies'}"
         if self.timed_out:
-            out.append(f"{self.timed_out} entr{'y' if self.timed_out == 1 else 'ies'} whose simplification took more "
-                       f"than {self.seconds:g} s of CPU time shown as derived (unsimplified).")
+            out.append(f"{entries(self.timed_out)} whose simplification took more than {self.seconds:g} s of CPU time "
+                       "shown as derived (unsimplified).")
         if self.skipped_large:
-            out.append(f"{self.skipped_large} entr{'y' if self.skipped_large == 1 else 'ies'} with more than "
-                       f"{SIMPLIFY_MAX_OPS} operations shown as derived (unsimplified).")
+            out.append(f"{entries(self.skipped_large)} with more than {SIMPLIFY_MAX_OPS} operations shown as derived "
+                       "(unsimplified).")
         return out
 
 

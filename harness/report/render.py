@@ -288,11 +288,12 @@ def mjcf_text(system) -> str:
 
 
 # --------------------------------------------------------------------------- the report's rendering process
-def _render_system(job: dict) -> dict:
-    """Picture and filmstrips of one system (in the rendering process); failures are returned, not raised."""
+def _render_system(job: dict, models: str) -> dict:
+    """Picture and filmstrips of one system (in the rendering process; ``models``: the digest of the catalogue's
+    files, :func:`harness.report.drawn.catalogue_digest`); failures are returned, not raised."""
     import json
 
-    from harness.report.drawn import catalogue_digest, drawn, key
+    from harness.report.drawn import drawn, key
 
     catalogue, out = job["catalogue"], Path(job["out"])
     result: dict = {"picture": None, "strips": {}}
@@ -300,7 +301,6 @@ def _render_system(job: dict) -> dict:
         system = catalogue.get(job["system"])
         xml = mjcf_text(system)
         target = f"figures/{system.name}.png"
-        models = catalogue_digest(catalogue)  # the system's joints, coordinates and scenes the picture shows
         shown = drawn(out / target, key("mechanism", system.name, models, backend(), xml),
                       lambda path: picture(system, xml, path, catalogue.scenes(system.name)))
         result["picture"] = {"target": target, **shown}
@@ -325,7 +325,15 @@ def _render_jobs(jobs: list[dict]) -> dict:
     # qpos0, where the tower crane's M is singular — the warning the conformance run records and explains
     # (harness.engines.warnings_log); a picture is not a verdict
     importlib.import_module("harness.engines.warnings_log")
-    return {job["system"]: _render_system(job) for job in jobs}
+    from harness.report.drawn import catalogue_digest
+
+    digests, rendered = {}, {}   # a catalogue's files read once, not once per system
+    for job in jobs:
+        catalogue = job["catalogue"]
+        if id(catalogue) not in digests:
+            digests[id(catalogue)] = catalogue_digest(catalogue)
+        rendered[job["system"]] = _render_system(job, digests[id(catalogue)])
+    return rendered
 
 
 def render_all(jobs: list[dict]):
