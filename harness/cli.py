@@ -341,7 +341,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("check", help="conformance checks against Pinocchio and MuJoCo")
     p.add_argument("systems", nargs="*")
-    p.add_argument("--examples", type=EXAMPLES, default=None, help="hypothesis examples per system (default: profile)")
+    p.add_argument("--examples", type=EXAMPLES, default=None, help="hypothesis examples (states) per system (default: profile), two per parameter draw")
     p.add_argument("--json", action="store_true")
     p.add_argument("--no-scenes", action="store_true", help="skip the trajectory checks of the scenes")
     p.add_argument("--profile", action="store_true", help="print where the time goes per phase (and with --out "
@@ -360,7 +360,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("systems", nargs="*", help="default: every system")
     p.add_argument("--out", default="reports", help="report folder (default: reports)")
     p.add_argument("--jobs", type=JOBS, default=os.cpu_count() or 1, help="systems checked in parallel")
-    p.add_argument("--examples", type=EXAMPLES, default=None, help="hypothesis examples per system (default: profile)")
+    p.add_argument("--examples", type=EXAMPLES, default=None, help="hypothesis examples (states) per system (default: profile), two per parameter draw")
     p.add_argument("--seed", type=int, default=None, help="hypothesis seed (default: the profile's fixed seeds)")
     p.add_argument("--rerun", action="store_true", help="check every system again, even if results.json has it")
     p.add_argument("--no-scenes", action="store_true", help="skip the trajectory checks of the scenes")

@@ -13,7 +13,8 @@ Fixtures
 ``harness_system``
     ``get(name)``: a system of the catalogue (``models/`` and the folders in ``HARNESS_MODELS_PATH``).
 
-Option ``--harness-examples N`` sets the examples per check (default: the active hypothesis profile's).
+Option ``--harness-examples N`` sets the examples (states) per check (default: the active hypothesis profile's),
+rounded up to whole parameter draws (:data:`harness.compare.strategies.STATES_PER_DRAW` states each).
 Example::
 
     from my_models import SYSTEM

@@ -107,6 +107,8 @@ def hypothesis_record(examples: int | None, seed: int | None) -> dict:
     """Profile, seed, example count and database location of a run (in the calling process)."""
     from hypothesis import settings
 
+    from harness.compare.strategies import STATES_PER_DRAW
+
     profile = load_hypothesis_profile()
     current = settings.get_profile(profile)
     db = None if seed is not None else current.database
@@ -117,6 +119,7 @@ def hypothesis_record(examples: int | None, seed: int | None) -> dict:
                         "each check's seed is derived from the check itself (derandomize)" if current.derandomize
                         else "random seed per check (not reproducible; give --seed)"),
             "max_examples": examples if examples is not None else current.max_examples,
+            "states_per_draw": STATES_PER_DRAW,
             "database": None if db is None else str(getattr(db, "path", db)),
             "environment": {k: os.environ[k] for k in ("HYPOTHESIS_PROFILE",) if k in os.environ}}
 

@@ -153,3 +153,26 @@ def test_a_wrong_cutting_force_is_an_erratum():
     wrong = Claim("(t8)", "parameter", m * g * sp.cos(phi) - m * l * phi_dot**2, reference=along_rod)
     assert classify(pendulum, right, examples=20).classification == "confirmed"
     assert classify(pendulum, wrong, examples=20).classification == "erratum"
+
+
+def test_a_parameter_draw_is_an_example_when_one_of_its_states_lies_in_the_domain():
+    """The claims draw their states as the conformance run does, a parameter draw at a time: a state outside the
+    printed expression's domain is skipped (not an example), a draw with no state inside is rejected."""
+    import pytest
+    from hypothesis.errors import UnsatisfiedAssumption
+
+    from harness.compare.claims import _each_state
+
+    seen = []
+
+    def check(state):
+        if state < 0:
+            raise UnsatisfiedAssumption
+        seen.append(state)
+
+    each = _each_state(check)
+    each([-1.0, 2.0])
+    assert seen == [2.0]
+    with pytest.raises(UnsatisfiedAssumption):
+        each(state=[-1.0, -2.0])  # by the name of check's argument, as hypothesis passes it
+    assert seen == [2.0]

@@ -18,7 +18,7 @@ MY_PENDULUM = System(
 
 def test_my_model_agrees_with_both_engines(harness_conformance):
     summary = harness_conformance(MY_PENDULUM)
-    assert summary.examples == 3 and ("M", "mujoco") in summary.worst
+    assert summary.examples == 4 and ("M", "mujoco") in summary.worst
 
 
 def test_a_catalogued_system(harness_conformance, harness_system):
@@ -33,5 +33,5 @@ def test_plugin_fixtures_in_a_users_suite(tmp_path):
     # a separate pytest session (in this process, to spare the interpreter start): it loads the plugin from the
     # installed entry point, not from this repository's conftest
     code = pytest.main(["-q", "-p", "no:cacheprovider", "-p", "no:xdist", "--rootdir", str(tmp_path),
-                        "--harness-examples", "3", str(tmp_path / "test_user_models.py")])
+                        "--harness-examples", "4", str(tmp_path / "test_user_models.py")])
     assert code == 0

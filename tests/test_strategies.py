@@ -2,11 +2,11 @@
 tensors positive definite and satisfying the triangle inequality, states accepted by State.make."""
 
 import numpy as np
-from hypothesis import given, settings, strategies as st
+from hypothesis import HealthCheck, given, settings, strategies as st
 
 import models
 from harness.export.numeric import check_inertia, instantiate
-from harness.compare.strategies import parameters, states
+from harness.compare.strategies import STATES_PER_DRAW, draws, parameters
 
 
 # each example draws for every system of the catalogue (20 x 32 draws per test); the conformance checks draw their
@@ -27,10 +27,16 @@ def test_random_parameters_are_physical(data):
             assert moments[0] + moments[1] >= moments[2] * (1 - 1e-12)
 
 
-@PER_SYSTEM
+@settings(max_examples=20, suppress_health_check=[HealthCheck.large_base_example])  # a batch of every system at once
 @given(st.data())
-def test_random_states_have_the_right_shape(data):
+def test_random_states_share_their_parameter_draw(data):
+    """The states the checks draw (a parameter draw's batch): the right shapes, STATES_PER_DRAW of them with one
+    parameter draw (one engine model each)."""
     for system in models.catalogue().values():
-        state = data.draw(states(system))
-        assert state.q.shape == state.qd.shape == (len(system.coordinates),)
-        assert np.all(np.isfinite(state.q)) and set(state.u) == {i.name for i in system.inputs}
+        batch = data.draw(draws(system))
+        assert len(batch) == STATES_PER_DRAW
+        for state in batch:
+            assert state.q.shape == state.qd.shape == (len(system.coordinates),)
+            assert np.all(np.isfinite(state.q)) and set(state.u) == {i.name for i in system.inputs}
+        assert all(state.params == batch[0].params for state in batch)
+        assert all(state.tree is batch[0].tree for state in batch)  # one tree: each engine builds one model

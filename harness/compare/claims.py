@@ -62,7 +62,7 @@ from harness.checks import Bound, Check, relative_error
 from harness.derivation.compile import compiled
 from harness.derivation.lambdified import lambdify
 from harness.derivation.derive import SIMPLIFY_MAX_OPS
-from harness.compare.conformance import FLOAT64_RTOL, scales
+from harness.compare.conformance import FLOAT64_RTOL, parameter_draws, scales
 from harness.engines import ENGINES, models_kept, symbolic
 from harness.engines import model as engine_model
 from harness.engines.base import State
@@ -70,7 +70,7 @@ from harness.derivation import bodies
 from harness.derivation.bodies import element_force, element_generalized_force, point_in_q, rotational_jacobian
 from harness.modeling.claims import ENGINE_QUANTITIES, Claim, as_matrix as _as_matrix, symbols as _symbols
 from harness.modeling.system import WORLD, Point, System
-from harness.compare.strategies import states
+from harness.compare.strategies import draws
 from harness.settings import property_test
 
 CLAIM_TOLERANCE = Bound("printed equation", 1.0, "the printed expression's relative error against a source over "
@@ -593,9 +593,10 @@ def _kept(substitution: dict | None) -> dict | None:
 
 
 def _in_domain(errors):
-    """The errors at a state, or hypothesis rejects the state: it lies outside the printed expression's domain
-    (a steady state that exists only under the condition the lecture states beside it). Rejected states do not
-    count as examples; hypothesis draws until the claim's examples lie inside."""
+    """The errors at a state, or the state is rejected: it lies outside the printed expression's domain (a steady
+    state that exists only under the condition the lecture states beside it). A rejected state is not an example;
+    a parameter draw none of whose states lie inside is rejected as a whole (:func:`_each_state`), and hypothesis
+    draws until the claim's parameter draws have states inside."""
     if errors is None:
         from hypothesis import reject
         from hypothesis.control import currently_in_test_context
@@ -650,7 +651,8 @@ def _run(system: System, check, examples, shrink: bool = True):
         seen.append(state)
         return check(state)
 
-    test = property_test(states(system), recording if key is not None else check, examples, shrink=shrink)
+    test = property_test(draws(system), _each_state(recording if key is not None else check),
+                         parameter_draws(examples), shrink=shrink)
     try:
         test()
     except _Disagrees as failure:
@@ -664,6 +666,25 @@ def _run(system: System, check, examples, shrink: bool = True):
 
 _PASSED: dict = {}
 """(system, check digest, settings) → (system, the states a passing run called the check on, in order)."""
+
+
+def _each_state(check):
+    """``check`` of one state as a check of a parameter draw's states (:func:`~harness.compare.strategies.draws`, as
+    the conformance run draws them): a state outside the printed expression's domain is skipped, not an example; a
+    draw without any state inside it is rejected (hypothesis draws another)."""
+    @functools.wraps(check)  # the same source, hence the same digest and seed as ``check``
+    def each(*args, **kwargs):
+        (batch,) = (*args, *kwargs.values())  # hypothesis passes it by the name in ``check``'s signature
+        inside = 0
+        for state in batch:
+            try:
+                check(state)
+            except UnsatisfiedAssumption:
+                continue
+            inside += 1
+        if not inside:
+            raise UnsatisfiedAssumption  # what hypothesis's reject() raises: not an example
+    return each
 
 
 def _replay_key(system: System, check, examples, shrink: bool):

@@ -38,7 +38,7 @@ from harness.engines import model as engine_model
 from harness.engines.base import Evaluation, State
 from harness.modeling.system import System
 from harness.settings import property_test
-from harness.compare.strategies import states
+from harness.compare.strategies import STATES_PER_DRAW, draws
 
 FLOAT64_RTOL = 1e-12
 ENGINE_QUANTITIES = ("M", "Cqd", "g", "g_spring", "f_damper", "qdd")
@@ -176,26 +176,40 @@ class Summary:
                 self.worst[key] = c
 
 
+def parameter_draws(examples: int | None = None, states_per_draw: int = STATES_PER_DRAW) -> int:
+    """The parameter draws (hypothesis examples) of a run of ``examples`` states (default: the profile's
+    ``max_examples``), ``states_per_draw`` states each, rounded up."""
+    from hypothesis import settings
+
+    states_ = settings.default.max_examples if examples is None else examples
+    return -(-states_ // states_per_draw)
+
+
 def run(system: System, engines=None, examples: int | None = None,
-        random_parameters: bool = True, pin_urdf=None, mj_xml=None) -> Summary:
-    """Run every check on hypothesis states by ``engines`` (default: every engine of the registry that applies);
-    on a failure, hypothesis shrinks it to a minimal state."""
+        random_parameters: bool = True, pin_urdf=None, mj_xml=None,
+        states_per_draw: int = STATES_PER_DRAW) -> Summary:
+    """Run every check by ``engines`` (default: every engine of the registry that applies) on ``examples`` hypothesis
+    states (default: the profile's ``max_examples``; rounded up to whole parameter draws), drawn in batches of
+    ``states_per_draw`` (:data:`~harness.compare.strategies.STATES_PER_DRAW`) with one parameter draw each; on a
+    failure, hypothesis shrinks the batch and the failing state is reported."""
     summary = Summary(system.name)
     engines = tuple(ENGINES) if engines is None else tuple(engines)
     summary.not_applicable = {e: ENGINES[e].applies(system) for e in engines if ENGINES[e].applies(system)}
     engines = tuple(e for e in engines if e not in summary.not_applicable)
 
-    def check(state: State):
-        findings = evaluate_all(state, engines, pin_urdf, mj_xml)
-        summary.examples += 1
-        summary.record(findings)
-        for f in findings:
-            if not f.passed:
-                raise ConformanceFailure(f, state)
+    def check(batch: list[State]):
+        for state in batch:
+            findings = evaluate_all(state, engines, pin_urdf, mj_xml)
+            summary.examples += 1
+            summary.record(findings)
+            for f in findings:
+                if not f.passed:
+                    raise ConformanceFailure(f, state)
 
     with profiling.phase("derivation and compilation"):
         compiled(system).warm()
-    test = property_test(states(system, random_parameters), check, examples)
+    test = property_test(draws(system, states_per_draw, random_parameters), check,
+                         parameter_draws(examples, states_per_draw))
     try:
         with profiling.phase("conformance"), models_kept(KEPT_MODELS):
             test()

@@ -60,8 +60,9 @@ def models_kept(kept: int = 4096):
     """Within the block, :func:`model` builds each engine's model of a numeric tree once and hands it out again,
     the ``kept`` most recently used (then the least recently used is dropped; a model with its ``MjData``
     holds megabytes): :func:`~harness.export.numeric.instantiate` gives one tree per system and parameter values,
-    and the states hypothesis draws repeat parameter values (111 to 171 distinct of 200 in a conformance run,
-    measured over five systems; mostly in a row: 8 trees kept catch all but 0-3 of the repeats). Every evaluation
+    and the states share parameter values: a conformance run checks two states per parameter draw
+    (:data:`~harness.compare.strategies.STATES_PER_DRAW`) and hypothesis repeats draws (49 to 91 distinct of 100,
+    mostly in a row), the claims' states repeat them too. Every evaluation
     sets the whole state (MuJoCo: ``mj_forward`` alone, no step, so no warm start carried from one evaluation to
     the next), so a kept model gives the numbers a new one gives. The models are dropped at the end of the
     outermost block. One block at a time per process (the CLI's and the cluster's workers run one system at a

@@ -53,6 +53,12 @@ def _table(header, rows) -> list[str]:
             + ["| " + " | ".join(str(c).replace("|", "\\|") for c in row) + " |" for row in rows])
 
 
+def _per_draw(hypothesis: dict) -> str:
+    """``, K per parameter draw`` of a results document's hypothesis record (absent in older documents)."""
+    k = hypothesis.get("states_per_draw")
+    return f", {k} per parameter draw" if k else ""
+
+
 def summary_markdown(doc: dict) -> str:
     records = doc["systems"]
     passed = sum(r["passed"] for r in records)
@@ -95,6 +101,6 @@ def summary_markdown(doc: dict) -> str:
     hyp = doc.get("hypothesis")
     if hyp:
         lines += ["", f"Hypothesis: profile `{hyp['profile']}`, {hyp['seeding']}, up to {hyp['max_examples']} "
-                      f"examples per system, example database: {hyp['database'] or 'none'}."]
+                      f"examples (states) per system{_per_draw(hyp)}, example database: {hyp['database'] or 'none'}."]
     lines += ["", "Versions: " + ", ".join(f"{k} {v}" for k, v in doc.get("versions", {}).items()), ""]
     return "\n".join(lines)

@@ -63,7 +63,7 @@ Each cell: the largest relative error over all hypothesis examples (random state
 engine, with its tolerance; green within tolerance, red over it. One tolerance policy for every check
 (<a href="#policy">below</a>).</p>
 {% if hypothesis %}<p>Hypothesis: profile <code>{{ hypothesis.profile }}</code>, {{ hypothesis.seeding }},
-up to {{ hypothesis.max_examples }} examples per system; example database: {{ hypothesis.database or "none" }}.</p>{% endif %}
+up to {{ hypothesis.max_examples }} examples (states) per system{% if hypothesis.states_per_draw %}, {{ hypothesis.states_per_draw }} per parameter draw{% endif %}; example database: {{ hypothesis.database or "none" }}.</p>{% endif %}
 <h2>Systems</h2>
 <table>
 <tr><th>system</th><th>lecture</th><th>verdict</th><th>checks</th><th>scenes</th><th>printed equations</th></tr>
