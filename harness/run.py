@@ -214,7 +214,8 @@ def check_record(catalogue: Catalogue, system, examples: int | None = None, scen
     try:
         summary = remembered.run(catalogue, system, examples, read=False)  # computed, and stored for the tests
         record = {"system": system.name, "passed": summary.passed, "examples": summary.examples,
-                  "failure": summary.failure, "not_applicable": summary.not_applicable,
+                  "parameter_draws": summary.parameter_draws, "failure": summary.failure,
+                  "not_applicable": summary.not_applicable,
                   "checks": [c.record() for c in sorted(summary.worst.values(), key=lambda c: (c.name, c.source))]}
     except Exception as exc:  # noqa: BLE001 - one system raising never loses the others' results
         record = {"system": system.name, "passed": False, "examples": 0, "failure": f"{system.name}: {_reason(exc)}",

@@ -10,6 +10,7 @@ import pytest
 
 import models
 from harness.compare import conformance
+from harness.compare.strategies import STATES_PER_DRAW
 from harness.engines import ENGINES
 from harness.settings import EXAMPLES_CI
 
@@ -62,8 +63,9 @@ def test_a_remembered_summary_is_the_one_computed(tmp_path, monkeypatch):
     assert stored.is_file()
     read = remembered.run(models.CATALOGUE, system)
     assert read is not computed
-    assert (read.system, read.examples, read.failure, read.not_applicable) == \
-        (computed.system, computed.examples, computed.failure, computed.not_applicable)
+    assert (read.system, read.examples, read.parameter_draws, read.failure, read.not_applicable) == \
+        (computed.system, computed.examples, computed.parameter_draws, computed.failure, computed.not_applicable)
+    assert 1 < computed.parameter_draws <= computed.examples // STATES_PER_DRAW
     assert {k: c.record() for k, c in read.worst.items()} == {k: c.record() for k, c in computed.worst.items()}
 
     stored.write_text(stored.read_text().replace('"examples": 200', '"examples": 2000'))

@@ -62,7 +62,7 @@ from harness.checks import Bound, Check, relative_error
 from harness.derivation.compile import compiled
 from harness.derivation.lambdified import lambdify
 from harness.derivation.derive import SIMPLIFY_MAX_OPS
-from harness.compare.conformance import FLOAT64_RTOL, parameter_draws, scales
+from harness.compare.conformance import FLOAT64_RTOL, hypothesis_examples, scales
 from harness.engines import ENGINES, models_kept, symbolic
 from harness.engines import model as engine_model
 from harness.engines.base import State
@@ -652,7 +652,7 @@ def _run(system: System, check, examples, shrink: bool = True):
         return check(state)
 
     test = property_test(draws(system), _each_state(recording if key is not None else check),
-                         parameter_draws(examples), shrink=shrink)
+                         hypothesis_examples(examples), shrink=shrink)
     try:
         test()
     except _Disagrees as failure:

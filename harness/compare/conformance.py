@@ -24,6 +24,7 @@ Every quantity is compared as ``max|X_engine − X_symbolic| / scale ≤ FLOAT64
 
 from __future__ import annotations
 
+import functools
 import weakref
 from dataclasses import dataclass, field
 
@@ -162,6 +163,7 @@ class Summary:
     system: str
     examples: int = 0
     worst: dict = field(default_factory=dict)   # (check, source) -> Check with the largest ratio
+    parameter_draws: int = 0                    # distinct parameter values of the states evaluated
     failure: str | None = None
     not_applicable: dict = field(default_factory=dict)  # engine -> reason it does not apply
 
@@ -176,8 +178,8 @@ class Summary:
                 self.worst[key] = c
 
 
-def parameter_draws(examples: int | None = None, states_per_draw: int = STATES_PER_DRAW) -> int:
-    """The parameter draws (hypothesis examples) of a run of ``examples`` states (default: the profile's
+def hypothesis_examples(examples: int | None = None, states_per_draw: int = STATES_PER_DRAW) -> int:
+    """The hypothesis examples (parameter draws) of a run of ``examples`` states (default: the profile's
     ``max_examples``), ``states_per_draw`` states each, rounded up."""
     from hypothesis import settings
 
@@ -208,8 +210,16 @@ def run(system: System, engines=None, examples: int | None = None,
 
     with profiling.phase("derivation and compilation"):
         compiled(system).warm()
-    test = property_test(draws(system, states_per_draw, random_parameters), check,
-                         parameter_draws(examples, states_per_draw))
+    draws_seen: set = set()
+
+    @functools.wraps(check)  # check's source, hence its seed: counting the draws changes no example
+    def counted(batch: list[State]):
+        draws_seen.add(batch[0].key[3])  # the parameters' exact bits (State.key), shared by the batch
+        summary.parameter_draws = len(draws_seen)
+        return check(batch)
+
+    test = property_test(draws(system, states_per_draw, random_parameters), counted,
+                         hypothesis_examples(examples, states_per_draw))
     try:
         with profiling.phase("conformance"), models_kept(KEPT_MODELS):
             test()

@@ -76,7 +76,8 @@ def _load(path: Path) -> conformance.Summary | None:
         if entry["sha256"] != checksum(doc):
             return None
         summary = conformance.Summary(doc["system"], doc["examples"], failure=doc["failure"],
-                                      not_applicable=dict(doc["not_applicable"]))
+                                      not_applicable=dict(doc["not_applicable"]),
+                                      parameter_draws=doc["parameter_draws"])
         for record in doc["worst"]:  # Check.record()'s fields, as results.json holds them
             check = Check(record["check"], record["source"], record["value"], record["bound"], record["basis"],
                           record.get("detail", ""))
@@ -87,7 +88,8 @@ def _load(path: Path) -> conformance.Summary | None:
 
 
 def _store(path: Path, summary: conformance.Summary) -> None:
-    doc = {"system": summary.system, "examples": summary.examples, "failure": summary.failure,
+    doc = {"system": summary.system, "examples": summary.examples, "parameter_draws": summary.parameter_draws,
+           "failure": summary.failure,
            "not_applicable": summary.not_applicable, "worst": [c.record() for c in summary.worst.values()]}
     try:
         atomic_write_text(path, json.dumps({"sha256": checksum(doc), "summary": doc}))

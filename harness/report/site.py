@@ -193,6 +193,7 @@ def system_view(record: dict, claims: list[dict], out: Path, figures: set, bench
     confirmed = counts.pop("confirmed", 0)
     return {"name": name, "title": "", "lecture": record.get("lecture", ""), "passed": bool(record.get("passed")),
             "reason": record.get("failure") or "", "examples": record.get("examples", 0),
+            "parameter_draws": record.get("parameter_draws"),
             "not_applicable": record.get("not_applicable") or {}, "checks": checks, "matrix": matrix,
             "checks_passed": sum(c["passed"] for c in checks), "scenes": scenes,
             "scenes_passed": sum(s["passed"] for s in scenes), "claims": claims, "claims_confirmed": confirmed,

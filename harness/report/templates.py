@@ -158,7 +158,7 @@ number follows (compared in <a href="#claims">Printed equations</a>).</p>
 {% endif %}
 <h2>Conformance checks</h2>
 {% if s.not_applicable %}<ul>{% for e, why in s.not_applicable.items() %}<li>{{ e }}: {{ why }}</li>{% endfor %}</ul>{% endif %}
-{% if s.checks %}<p>{{ s.examples }} hypothesis examples.</p>
+{% if s.checks %}<p>{{ s.examples }} hypothesis examples (states){% if s.parameter_draws %} in {{ s.parameter_draws }} distinct parameter draws{% endif %}.</p>
 <table><tr><th>check</th><th>engine</th><th>max error</th><th>tolerance</th><th>ratio</th><th>verdict</th></tr>
 {% for c in s.checks %}<tr class="{{ 'ok' if c.passed else 'fail' }}"><td>{{ c.check }}</td><td>{{ c.source }}</td><td class="num">{{ c.error }}</td><td class="num" title="{{ c.basis }}">{{ c.tolerance }}</td><td class="num">{{ c.ratio }}</td><td>{{ 'ok' if c.passed else 'FAIL' }}</td></tr>{% endfor %}</table>
 {% else %}<p>No check results.</p>{% endif %}
