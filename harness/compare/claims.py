@@ -62,7 +62,7 @@ from harness.checks import Bound, Check, relative_error
 from harness.derivation.compile import compiled
 from harness.derivation.lambdified import lambdify
 from harness.derivation.derive import SIMPLIFY_MAX_OPS
-from harness.compare.conformance import FLOAT64_RTOL, hypothesis_examples, scales
+from harness.compare.conformance import FLOAT64_RTOL, scales
 from harness.engines import ENGINES, models_kept, symbolic
 from harness.engines import model as engine_model
 from harness.engines.base import State
@@ -70,7 +70,7 @@ from harness.derivation import bodies
 from harness.derivation.bodies import element_force, element_generalized_force, point_in_q, rotational_jacobian
 from harness.modeling.claims import ENGINE_QUANTITIES, Claim, as_matrix as _as_matrix, symbols as _symbols
 from harness.modeling.system import WORLD, Point, System
-from harness.compare.strategies import draws
+from harness.compare.strategies import draws, hypothesis_examples
 from harness.settings import property_test
 
 CLAIM_TOLERANCE = Bound("printed equation", 1.0, "the printed expression's relative error against a source over "

@@ -39,7 +39,7 @@ from harness.engines import model as engine_model
 from harness.engines.base import Evaluation, State
 from harness.modeling.system import System
 from harness.settings import property_test
-from harness.compare.strategies import STATES_PER_DRAW, draws
+from harness.compare.strategies import STATES_PER_DRAW, draws, hypothesis_examples
 
 FLOAT64_RTOL = 1e-12
 ENGINE_QUANTITIES = ("M", "Cqd", "g", "g_spring", "f_damper", "qdd")
@@ -178,15 +178,6 @@ class Summary:
                 self.worst[key] = c
 
 
-def hypothesis_examples(examples: int | None = None, states_per_draw: int = STATES_PER_DRAW) -> int:
-    """The hypothesis examples (parameter draws) of a run of ``examples`` states (default: the profile's
-    ``max_examples``), ``states_per_draw`` states each, rounded up."""
-    from hypothesis import settings
-
-    states_ = settings.default.max_examples if examples is None else examples
-    return -(-states_ // states_per_draw)
-
-
 def run(system: System, engines=None, examples: int | None = None,
         random_parameters: bool = True, pin_urdf=None, mj_xml=None,
         states_per_draw: int = STATES_PER_DRAW) -> Summary:
@@ -214,7 +205,7 @@ def run(system: System, engines=None, examples: int | None = None,
 
     @functools.wraps(check)  # check's source, hence its seed: counting the draws changes no example
     def counted(batch: list[State]):
-        draws_seen.add(batch[0].key[3])  # the parameters' exact bits (State.key), shared by the batch
+        draws_seen.add(batch[0].parameters_key)  # shared by the batch
         summary.parameter_draws = len(draws_seen)
         return check(batch)
 

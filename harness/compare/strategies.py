@@ -14,7 +14,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from hypothesis import strategies as st
+from hypothesis import settings, strategies as st
 
 from harness import profiling
 from harness.engines.base import State
@@ -128,3 +128,10 @@ def draws(draw, system: System, states_per_draw: int = STATES_PER_DRAW, random_p
             u = {name: draw(s) for name, s in plan.u}
             out.append(State.make(system, q, qd, params, u))
         return out
+
+
+def hypothesis_examples(examples: int | None = None, states_per_draw: int = STATES_PER_DRAW) -> int:
+    """The hypothesis examples (parameter draws) of a run of ``examples`` states (default: the profile's
+    ``max_examples``), ``states_per_draw`` states each, rounded up."""
+    states = settings.default.max_examples if examples is None else examples
+    return -(-states // states_per_draw)

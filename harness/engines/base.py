@@ -20,7 +20,7 @@ from harness import limits
 from harness.derivation.lambdified import lambdify
 from harness.derivation.compile import compiled
 from harness.errors import InputError
-from harness.export.numeric import NumericTree, instantiate
+from harness.export.numeric import NumericTree, exact_key, instantiate
 from harness.modeling.system import WORLD, System
 
 
@@ -82,11 +82,14 @@ class State:
         return instantiate(self.system, self.params)
 
     @cached_property
+    def parameters_key(self) -> tuple:
+        """The parameter values' exact bits (:func:`~harness.export.numeric.exact_key`)."""
+        return exact_key(self.params)
+
+    @cached_property
     def key(self) -> tuple:
         """The state's identity: the system object and every number's exact bits (``-0.0`` is not ``0.0``)."""
-        return (id(self.system), self.q.tobytes(), self.qd.tobytes(),
-                tuple((k, float(v).hex()) for k, v in self.params.items()),
-                tuple((k, float(v).hex()) for k, v in self.u.items()))
+        return (id(self.system), self.q.tobytes(), self.qd.tobytes(), self.parameters_key, exact_key(self.u))
 
     # ----- the map theta = phi(q)
     @cached_property

@@ -155,11 +155,16 @@ _TREES: dict = {}
 _TREES_KEPT = 4096
 
 
+def exact_key(values: dict) -> tuple:
+    """``(name, float.hex())`` pairs of ``values``: their exact bits as a key (``-0.0`` is not ``0.0``)."""
+    return tuple((k, float(v).hex()) for k, v in values.items())
+
+
 def instantiate(system: System, params: dict[str, float]) -> NumericTree:
     """Substitute parameter values into the tree; checks that the inertia tensors are physical. Once per system
     and parameter values (0.2-0.7 ms each, compiled: the claims of a system draw the same parameters, and a claim
     at rest or at an equilibrium instantiates the drawn ones again)."""
-    key = (id(system), tuple((k, float(v).hex()) for k, v in params.items()))  # -0.0 is not 0.0
+    key = (id(system), exact_key(params))
     kept = _TREES.get(key)
     if kept is not None and kept[0] is system:  # the system is kept alive with its tree: its id is not reused
         return kept[1]
