@@ -92,7 +92,7 @@ def flag(name: str, source: str, ok: bool, basis: str = "flag", detail: str = ""
 def max_abs(x) -> float:
     """``max |x|`` (0 for an empty array)."""
     x = np.asarray(x, dtype=float)
-    return float(np.max(np.abs(x))) if x.size else 0.0
+    return float(np.abs(x).max()) if x.size else 0.0  # the method: np.max's dispatch costs more than a small max
 
 
 def relative_error(a, b, scale: float = 0.0, symmetric: bool = True) -> float:

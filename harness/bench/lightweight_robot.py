@@ -49,7 +49,7 @@ t1 = time.perf_counter()
 d = derive_module.derive(system)
 t2 = time.perf_counter()
 compiled = CompiledModel(system, d)
-compiled._functions
+compiled.compile_quantities()
 t3 = time.perf_counter()
 derive_module.derive(system)
 t4 = time.perf_counter()

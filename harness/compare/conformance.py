@@ -84,12 +84,14 @@ def scales(ref: Evaluation) -> dict[str, float]:
             "qdd": max(_max(np.linalg.inv(ref.M)) * terms, v * v)}
 
 
-def compare(state: State, ref: Evaluation, other: Evaluation) -> list[Check]:
-    """Engine ``other`` against the symbolic reference at one state."""
-    s = dict(scales(ref))
+def compare(state: State, ref: Evaluation, other: Evaluation, scale: dict | None = None,
+            kappa: float | None = None) -> list[Check]:
+    """Engine ``other`` against the symbolic reference at one state (``scale``, ``kappa``: :func:`scales` and
+    κ(M) of ``ref``, when the caller has them already)."""
+    s = dict(scales(ref) if scale is None else scale)
     for name, value in other.extra.get("map_scale", {}).items():  # round-off grown by the map θ = φ(q)
         s[name] = max(s[name], value)
-    kappa = float(np.linalg.cond(ref.M))
+    kappa = float(np.linalg.cond(ref.M)) if kappa is None else kappa
     out = []
     for name in ENGINE_QUANTITIES:
         amplification = kappa if name == "qdd" else 1.0
@@ -103,9 +105,9 @@ def compare(state: State, ref: Evaluation, other: Evaluation) -> list[Check]:
     return out
 
 
-def self_checks(state: State, ref: Evaluation) -> list[Check]:
+def self_checks(state: State, ref: Evaluation, scale: dict | None = None) -> list[Check]:
     """Properties of the derivation itself: M symmetric and positive definite, Ṁ − 2C skew (Note 5.4)."""
-    s = scales(ref)
+    s = scales(ref) if scale is None else scale
     M = ref.M
     eig_min = float(np.linalg.eigvalsh(0.5 * (M + M.T)).min())
     N = ref.extra["M_dot"] - 2 * ref.C
@@ -122,7 +124,8 @@ def evaluate_all(state: State, engines=None, pin_urdf=None, mj_xml=None) -> list
     with profiling.phase("symbolic"):
         ref = symbolic.evaluate(state)
         ref.extra["qd"] = state.qd
-        findings = self_checks(state, ref)
+        scale, kappa = scales(ref), float(np.linalg.cond(ref.M))  # once per state, for every engine
+        findings = self_checks(state, ref, scale)
     texts = {"pinocchio": pin_urdf, "mujoco": mj_xml}
     for name in ENGINES if engines is None else engines:
         text = texts.get(name)
@@ -132,7 +135,7 @@ def evaluate_all(state: State, engines=None, pin_urdf=None, mj_xml=None) -> list
             with profiling.phase("evaluate"):
                 evaluation = model.evaluate(state)
             with profiling.phase("compare"):
-                findings += compare(state, ref, evaluation)
+                findings += compare(state, ref, evaluation, scale, kappa)
             with profiling.phase("round trip"):
                 worst = _worst_round_trip(model)
                 findings.append(EXPORT.check("export round trip", name, worst.error, detail=worst.item))

@@ -39,26 +39,30 @@ class CompiledModel:
     def warm(self) -> "CompiledModel":
         """Compile now what every conformance check and claim evaluates (the quantities, the float function of
         the forward dynamics), so that no later phase pays for it."""
-        self._functions
+        self.compile_quantities()
         self._terms_function
         return self
 
-    @cached_property
-    def _functions(self):
-        with profiling.phase("lambdify quantities"):
-            return self._lambdified()
+    def compile_quantities(self) -> dict:
+        """Every quantity of :data:`QUANTITIES` compiled (:attr:`_functions`), name → function."""
+        return {name: self._functions[name] for name in QUANTITIES}
 
-    def _lambdified(self):
+    @cached_property
+    def _functions(self) -> dict:
+        """Quantity name → its NumPy function, each compiled when first asked for: a scene's pruned and idle models
+        evaluate their forward dynamics, ``T`` and ``V``, not the 14 quantities."""
+        return _Compiled(self._lambdified)
+
+    def _lambdified(self, name: str):
         s, d = self.system, self.derivation
-        args = [s.q, s.qd, s.p, s.u]
-        out = {}
-        graph = is_per_body(s)
-        for name in QUANTITIES:
-            if graph:
-                out[name] = _lambdify_graph(args, _compiled_form(d, name), d.graph)
-            else:
-                out[name] = lambdify(args, getattr(d, name), modules="numpy", cse=True, docstring_limit=0)
-        return out
+        with profiling.phase("lambdify quantities"):
+            if self._per_body:
+                return _lambdify_graph([s.q, s.qd, s.p, s.u], _compiled_form(d, name), d.graph)
+            return lambdify([s.q, s.qd, s.p, s.u], getattr(d, name), modules="numpy", cse=True, docstring_limit=0)
+
+    @cached_property
+    def _per_body(self) -> bool:
+        return is_per_body(self.system)
 
     @cached_property
     def _terms_function(self):
@@ -262,6 +266,20 @@ class CompiledModel:
 
 
 SINGULAR_M = 1e-13  # smallest/largest eigenvalue of M below which q̈ is round-off (relative error ≳ 1e-3)
+
+
+class _Compiled(dict):
+    """A dict that compiles a missing quantity with ``compile(name)`` and keeps it."""
+
+    def __init__(self, compile):
+        super().__init__()
+        self._compile = compile
+
+    def __missing__(self, name: str):
+        if name not in QUANTITIES:
+            raise KeyError(name)
+        function = self[name] = self._compile(name)
+        return function
 
 
 def regular_spectrum(w) -> bool:

@@ -219,7 +219,7 @@ def to_lecture(engine: str, state: State, t: TreeQuantities) -> Evaluation:
 
 
 def _max_abs(x) -> float:
-    return float(np.max(np.abs(x))) if x is not None and np.size(x) else 0.0
+    return float(np.abs(x).max()) if x is not None and np.size(x) else 0.0
 
 
 # --------------------------------------------------------------------------------------------- tree engines

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import time
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -38,8 +39,16 @@ class Trajectory:
     qd: np.ndarray
     seconds: float
     evaluations: int
-    energy: np.ndarray | None = None
+    energy: np.ndarray | None = None    # E = T + V at the samples (read it with energies())
     notes: dict = field(default_factory=dict)
+    energy_of: Callable | None = field(default=None, repr=False)  # E(q, q̇) of the source, for energies()
+
+    def energies(self) -> np.ndarray | None:
+        """``E = T + V`` at the samples, or None: the given ``energy``, else computed from ``energy_of`` at the
+        first call (a run whose energy no one reads, a confirmation or a pruning proof, does not pay for it)."""
+        if self.energy is None and self.energy_of is not None:
+            self.energy = np.array([self.energy_of(a, b) for a, b in zip(self.q, self.qd)])
+        return self.energy
 
 
 @dataclass(frozen=True)
@@ -207,8 +216,8 @@ def integrate(system: System, scene: Scene, source: str, method: str = "DOP853",
         t, y, _ = solve_piecewise(rhs, scene, y0, method, rtol, atol, t_eval)
     seconds = time.perf_counter() - start
     q, qd = y[:n].T, y[n:].T
-    energy = np.array([dyn.energy(a, b) for a, b in zip(q, qd)])
-    return Trajectory(f"{source} ({method}, rtol={rtol:g})", t, q, qd, seconds, dyn.evaluations, energy)
+    return Trajectory(f"{source} ({method}, rtol={rtol:g})", t, q, qd, seconds, dyn.evaluations,
+                      energy_of=dyn.energy)
 
 
 def held_inputs(scene: Scene, names, k: int, timestep: float) -> dict:
@@ -240,9 +249,8 @@ def mujoco_native(system: System, scene: Scene, timestep: float, integrator: str
                         check=f"{system.name} scene {scene.name}")  # an unstable run is a failure, not a trajectory
     seconds = time.perf_counter() - start
     q, qd = np.array([x[1] for x in out]), np.array([x[2] for x in out])
-    energy = np.array([dyn.energy(a, b) for a, b in zip(q, qd)])
     return Trajectory(f"mujoco (mj_step {integrator}, dt={timestep:g})", np.array([x[0] for x in out]), q, qd,
-                      seconds, steps, energy)
+                      seconds, steps, energy_of=dyn.energy)
 
 
 def max_error(a: Trajectory, b: Trajectory) -> float:

@@ -51,7 +51,7 @@ def series(system: System, scene: Scene, result: SceneResult) -> dict:
     for name, tr in result.trajectories.items():
         keep = np.isin(np.round(tr.t, 9), key)
         out["sources"][name] = {"t": _digits(tr.t[keep]), "q": _digits(tr.q[keep]), "qd": _digits(tr.qd[keep]),
-                                "energy": None if tr.energy is None else _digits(np.asarray(tr.energy)[keep])}
+                                "energy": None if tr.energies() is None else _digits(np.asarray(tr.energies())[keep])}
         if name != "reference":
             at = np.isin(key, np.round(tr.t[keep], 9))
             diff = np.hstack([tr.q[keep], tr.qd[keep]]) - np.hstack([ref.q[at], ref.qd[at]])

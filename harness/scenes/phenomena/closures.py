@@ -209,9 +209,8 @@ def pinocchio_constrained(system, scene, rtol=1e-10, atol=1e-10, horizon=None) -
         residuals.append(rhs.constraints.violation(theta, theta_dot, theta_scale))
     drift = max((float(np.max(c / scale)) for c, scale in residuals if len(c)), default=0.0)
     q, qd = np.array(q), np.array(qd)
-    energy = np.array([rhs.dyn.energy(a, b) for a, b in zip(q, qd)])
     tr = sim.Trajectory("pinocchio (constrained tree, pin.forwardDynamics KKT, DOP853 1e-10)", t, q, qd, seconds,
-                        rhs.evaluations, energy)
+                        rhs.evaluations, energy_of=rhs.dyn.energy)
     tr.notes["drift"] = drift
     return tr
 
@@ -268,9 +267,8 @@ def mujoco_constrained(system, scene, dt: float, horizon=None) -> sim.Trajectory
                      between=between)
     seconds = time.perf_counter() - start
     q, qd = np.array([x[1] for x in out]), np.array([x[2] for x in out])
-    energy = np.array([dyn.energy(a, b) for a, b in zip(q, qd)])
     return sim.Trajectory(f"mujoco (equality constraints, implicitfast, dt={dt:g})", np.array([x[0] for x in out]),
-                          q, qd, seconds, steps, energy)
+                          q, qd, seconds, steps, energy_of=dyn.energy)
 
 
 class Closures(Phenomenon):

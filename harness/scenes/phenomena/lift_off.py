@@ -106,9 +106,8 @@ def lift_off(system, scene, event: LiftOff, source: str, method="DOP853", rtol=1
         qd += list(two.y[n2:].T)
         nfev += two.nfev
     q, qd = np.array(q), np.array(qd)
-    energy = np.array([h.two.energy(a, b) for a, b in zip(q, qd)])
     tr = sim.HybridTrajectory(f"{source} ({method}, rtol={rtol:g}, lift-off)", np.array(ts), q, qd,
-                          time.perf_counter() - start, nfev, energy, events=events)
+                              time.perf_counter() - start, nfev, energy_of=h.two.energy, events=events)
     tr.notes["coordinates"] = [c.name for c in h.free_system.coordinates]
     return tr
 
@@ -119,7 +118,7 @@ def in_free_coordinates(system, scene, event: LiftOff, tr: sim.Trajectory, catal
     mapped = [h.to_free(np.concatenate([a, b])) for a, b in zip(tr.q, tr.qd)]
     q = np.array([m[0] for m in mapped])
     qd = np.array([m[1] @ b for m, b in zip(mapped, tr.qd)])
-    out = sim.Trajectory(tr.source, tr.t, q, qd, tr.seconds, tr.evaluations, tr.energy)
+    out = sim.Trajectory(tr.source, tr.t, q, qd, tr.seconds, tr.evaluations, tr.energies())
     out.notes.update(tr.notes)
     return out
 

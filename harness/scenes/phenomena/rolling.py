@@ -60,9 +60,8 @@ def mujoco_rolling(system, scene, event: RollSlip, dt: float, mu: float | None =
 
     start = time.perf_counter()
     out = np.array(mm.rollout(steps, every, sample))
-    energy = np.array([dyn.energy(np.array([a]), np.array([b])) for a, b in out[:, 1:3]])
     tr = sim.HybridTrajectory(f"mujoco (contact, mu={mu:.4g}, implicitfast, dt={dt:g})", out[:, 0], out[:, 1:2],
-                          out[:, 2:3], time.perf_counter() - start, steps, energy)
+                              out[:, 2:3], time.perf_counter() - start, steps, energy_of=dyn.energy)
     tr.notes["slip"] = out[:, 3]
     return tr
 

@@ -118,9 +118,8 @@ def stick_slip(system, scene, event: StickSlip, source: str, method="DOP853", rt
             t, y = end, sol.sol(end)
     y_all = np.concatenate(ys, axis=1)
     dyn = h.dyn
-    energy = np.array([dyn.energy(a, b) for a, b in zip(y_all[:1].T, y_all[1:].T)])
     return sim.HybridTrajectory(f"{source} ({method}, rtol={rtol:g}, events)", np.concatenate(ts), y_all[:1].T,
-                            y_all[1:].T, time.perf_counter() - start, nfev, energy, events=events)
+                                y_all[1:].T, time.perf_counter() - start, nfev, energy_of=dyn.energy, events=events)
 
 
 def predicted_breakaway(system, scene, event: StickSlip) -> float:
@@ -191,9 +190,8 @@ def mujoco_stick_slip(system, scene, event: StickSlip, dt: float) -> sim.HybridT
 
     start = time.perf_counter()
     out = np.array(mm.rollout(steps, every, lambda k: (mm.time, *mm.joint_state(joint)), before=switch))
-    energy = np.array([dyn.energy(np.array([a]), np.array([b])) for a, b in out[:, 1:]])
     return sim.HybridTrajectory(f"mujoco (frictionloss, implicitfast, dt={dt:g})", out[:, 0], out[:, 1:2], out[:, 2:3],
-                            time.perf_counter() - start, steps, energy, events=events)
+                                time.perf_counter() - start, steps, energy_of=dyn.energy, events=events)
 
 
 class StickSlipMotion(Switching):

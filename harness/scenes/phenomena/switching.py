@@ -45,7 +45,7 @@ class Switching(Motion):
             result.add(ENGINE.check("trajectory (DOP853 1e-10, events)", engine, sim.max_error(tr, ref)))
             result.add(ENGINE_EVENT.check("event times, s", engine, event_error(tr, ref)))
         if run.scene.conservative:
-            energy = np.asarray(ref.energy)
+            energy = np.asarray(ref.energies())
             scale = max(1e-300, float(np.max(np.abs(energy - energy[0]))), float(np.max(np.abs(energy))))
             result.add(INVARIANT.check("energy constant across the events", "symbolic",
                                        float(np.max(np.abs(energy - energy[0]))) / scale))
