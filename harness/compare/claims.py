@@ -567,9 +567,9 @@ def classify_as_printed(system: System, claim: Claim, engines, examples, base: d
             verdict.classification = "C differs, C·q̇ agrees"
             return verdict
         verdict.counterexample, verdict.state = cqd_failure
-    for name, substitution in claim.conventions.items():
+    for name, substitution in claim.conventions.items():  # a yes/no question: nothing to shrink
         substitution = _kept({**(base or {}), **substitution})
-        ok = _run(system, _holds_with(system, claim, engines, substitution), examples)
+        ok = _run(system, _holds_with(system, claim, engines, substitution), examples, shrink=False)
         if ok is None:
             verdict.classification, verdict.convention = "convention-dependent", name
             return verdict
