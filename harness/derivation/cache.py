@@ -101,7 +101,8 @@ def _read(entries: dict, replacements: list, as_computed: bool = False) -> tuple
     symbols = {symbol: sp.Symbol(symbol) for symbol in names}
     reduced_replacements = tuple((symbols[symbol], _evaluate(code, symbols)) for symbol, code in codes)
     reduced = {name: _evaluate(code, symbols) for name, code in entry_codes.items()}
-    return Trees(entry_codes, codes), Graph(reduced_replacements, reduced)
+    return Trees(entry_codes, codes), Graph(reduced_replacements, reduced,
+                                            hashlib.sha256(json.dumps(replacements).encode()).hexdigest())
 
 
 class Trees(Mapping):
@@ -145,10 +146,19 @@ class Graph:
 
     replacements: tuple
     reduced: dict
+    digest: str | None = None  # SHA-256 of the stored replacements' texts (keys the compiled code of this graph)
 
-    def cse(self, exprs):
-        """``lambdify``'s ``cse`` of expressions in this graph's symbols: the replacements they need, in order,
-        and the expressions as they are."""
+    @property
+    def cse(self):
+        """``lambdify``'s ``cse`` of expressions in this graph's symbols (:meth:`needed`), with the graph's digest as its
+        ``cache_key`` (:mod:`harness.derivation.lambdified`)."""
+        def cse(exprs):
+            return self.needed(exprs)
+        cse.cache_key = None if self.digest is None else f"graph {self.digest}"
+        return cse
+
+    def needed(self, exprs):
+        """The replacements expressions in this graph's symbols need, in order, and the expressions as they are."""
         needed = set().union(*(getattr(e, "free_symbols", ()) for e in exprs))
         kept = []
         for symbol, value in reversed(self.replacements):

@@ -344,7 +344,15 @@ def _lambdify_options(system: System, graph=None) -> dict:
 
 def _graph_options(graph) -> dict:
     """``lambdify``'s options for the expressions of a per-body derivation (:func:`_lambdify_graph`)."""
-    return {"use_imps": False, "cse": graph.cse if graph is not None else lambda exprs: sp.cse(exprs, order="none")}
+    return {"use_imps": False, "cse": graph.cse if graph is not None else canonical_cse}
+
+
+def canonical_cse(exprs):
+    """``cse`` ordered canonically by counting nodes (``order="none"``): every shared sub-expression visited once."""
+    return sp.cse(exprs, order="none")
+
+
+canonical_cse.cache_key = "sympy.cse(order='none')"  # a cse function of lambdify's keys its compiled code by this
 
 
 def _lambdify_graph(args, expr, graph=None):
