@@ -213,11 +213,14 @@ def cmd_main(args) -> int:
     --symbolic``, ``report``, each as its own command would run it (the profiles: where the time went, on the
     report's profile page), on one pool of ``--jobs`` processes kept for all of them
     (:func:`harness.pool.workers_kept`); the exported files are compared by one of those processes while the check
-    starts. Each phase's output follows a line naming its command; the last line says how each ended and took. A
-    phase that fails does not stop the later ones (the report shows the failure); the exit code is the largest of
+    starts. With more than one process the check, the claims and the robots run side by side (:func:`_side_by_side`:
+    the pool takes their jobs in that order, no worker waits for a phase's last job), the report after them. Each
+    phase's output follows a line naming its command, phase after phase; the last line says how each ended and took.
+    A phase that fails does not stop the later ones (the report shows the failure); the exit code is the largest of
     the phases' (Ctrl-C stops at once, 130)."""
     jobs, out, parser = str(args.jobs), args.out, build_parser()
     start, ended = time.perf_counter(), []  # (phase, exit code, seconds or None)
+    side_by_side = args.jobs > 1
 
     def phase(*argv) -> None:
         sys.stdout.flush()
@@ -228,7 +231,12 @@ def cmd_main(args) -> int:
         except HarnessError as exc:
             print(f"error: {exc}", file=sys.stderr)
             code = getattr(exc, "exit_code", 2)
-        ended.append((argv[0], code, time.perf_counter() - began))
+        except Exception:  # noqa: BLE001 - a crash of one phase is reported in its place; the later ones run
+            import traceback
+
+            traceback.print_exc()
+            code = 1
+        ended.append((argv[0], code, time.perf_counter() - (start if side_by_side and argv[0] != "report" else began)))
 
     def exported(future) -> None:
         try:
@@ -238,26 +246,130 @@ def cmd_main(args) -> int:
             code = getattr(exc, "exit_code", 2 if isinstance(exc, HarnessError) else 1)
         ended.append(("export --check", code, None))
 
+    phases = [("check", "--jobs", jobs, "--profile", "--out", out), ("claims", "--jobs", jobs, "--profile", "--out", out),
+              ("robots", "--symbolic", "--jobs", jobs, "--out", out)]
     try:
         with pool.workers_kept(args.jobs) if args.jobs > 1 else contextlib.nullcontext():  # --jobs 1: all here
             comparing = pool.submit(run.stale_exports, _catalogue(), args.dir)
-            phase("check", "--jobs", jobs, "--profile", "--out", out)
-            exported(comparing)
-            for argv in (("claims", "--jobs", jobs, "--profile", "--out", out),
-                         ("robots", "--symbolic", "--jobs", jobs, "--out", out), ("report", "--jobs", jobs, "--out", out)):
-                if any(code == 130 for _, code, _ in ended):
-                    break
-                phase(*argv)
+            if side_by_side:
+                _side_by_side([lambda argv=argv: phase(*argv) for argv in phases], after_first=lambda: exported(comparing))
+            else:
+                phase(*phases[0])
+                exported(comparing)
+                for argv in phases[1:]:
+                    if any(code == 130 for _, code, _ in ended):
+                        break
+                    phase(*argv)
+            if not any(code == 130 for _, code, _ in ended):
+                phase("report", "--jobs", jobs, "--out", out)
     except KeyboardInterrupt:  # between the phases' own handling (the workers are ended by workers_kept)
         print("error: interrupted", file=sys.stderr)
         return 130
     codes = [code for _, code, _ in ended]
     status = 130 if 130 in codes else max(codes)
+    order = ["check", "export --check", "claims", "robots", "report"]
     sys.stdout.flush()
-    print("main job: " + ", ".join(f"{name} {'ok' if code == 0 else f'exit {code}'}"
-                                   + ("" if seconds is None else f" ({seconds:.1f} s)") for name, code, seconds in ended)
-          + f"; exit {status} after {time.perf_counter() - start:.1f} s", file=sys.stderr, flush=True)
+    print("main job: " + ", ".join(
+        f"{name} {'ok' if code == 0 else f'exit {code}'}"
+        + ("" if seconds is None else f" (ended at {seconds:.1f} s)" if side_by_side and name != "report"
+           else f" ({seconds:.1f} s)") for name, code, seconds in sorted(ended, key=lambda e: order.index(e[0])))
+        + f"; exit {status} after {time.perf_counter() - start:.1f} s", file=sys.stderr, flush=True)
     return status
+
+
+def _side_by_side(phases, after_first=None) -> None:
+    """Run ``phases`` (functions) in threads side by side, the jobs they give the kept pool taken in their order
+    (:func:`harness.pool.phases_in_order`), their output printed phase after phase (:class:`_InOrder`);
+    ``after_first`` runs in the first phase's thread after it. Ctrl-C reaches this thread: it is raised here (the kept pool is then ended and the phases
+    stop)."""
+    import threading
+
+    ordered = _InOrder(len(phases))
+
+    def running(number, work, then):
+        with ordered.phase(number), pool.phase(number):
+            work()
+            if then is not None:
+                then()
+
+    threads = [threading.Thread(target=running, args=(k, work, after_first if k == 0 else None), daemon=True,
+                                name=f"phase {k}") for k, work in enumerate(phases)]
+    with ordered, pool.phases_in_order():
+        for thread in threads:
+            thread.start()
+        for thread in threads:
+            while thread.is_alive():
+                thread.join(0.1)  # a bounded wait: Ctrl-C reaches this thread
+
+
+class _InOrder:
+    """``sys.stdout`` and ``sys.stderr`` while phases run side by side (:func:`_side_by_side`): what a phase's thread
+    writes goes out as it comes while every phase before it has ended, else it is kept and written when they have;
+    the log reads as if the phases had run one after the other. Other threads write through."""
+
+    def __init__(self, count: int):
+        import threading
+
+        self._lock, self._local = threading.RLock(), threading.local()
+        self._kept: list[list] = [[] for _ in range(count)]
+        self._ended, self._current = [False] * count, 0
+        self._real: dict = {}
+
+    def __enter__(self):
+        self._real = {"stdout": sys.stdout, "stderr": sys.stderr}
+        sys.stdout, sys.stderr = _Stream(self, "stdout"), _Stream(self, "stderr")
+        return self
+
+    def __exit__(self, *exc):
+        sys.stdout, sys.stderr = self._real["stdout"], self._real["stderr"]
+
+    @contextlib.contextmanager
+    def phase(self, number: int):
+        self._local.number = number
+        try:
+            yield
+        finally:
+            self._local.number = None
+            with self._lock:
+                self._ended[number] = True
+                while self._current < len(self._ended) and self._ended[self._current]:
+                    self._current += 1
+                    if self._current < len(self._kept):
+                        for which, text in self._kept[self._current]:
+                            self._real[which].write(text)
+                        self._kept[self._current] = []
+                for stream in self._real.values():
+                    stream.flush()
+
+    def write(self, which: str, text: str) -> None:
+        number = getattr(self._local, "number", None)
+        with self._lock:
+            if number is None or number <= self._current:
+                self._real[which].write(text)
+            else:
+                self._kept[number].append((which, text))
+
+    def flush(self, which: str) -> None:
+        number = getattr(self._local, "number", None)
+        if number is None or number <= self._current:
+            self._real[which].flush()
+
+
+class _Stream:
+    """One of the standard streams seen through :class:`_InOrder`."""
+
+    def __init__(self, ordered: _InOrder, which: str):
+        self._ordered, self._which = ordered, which
+
+    def write(self, text: str) -> int:
+        self._ordered.write(self._which, text)
+        return len(text)
+
+    def flush(self) -> None:
+        self._ordered.flush(self._which)
+
+    def __getattr__(self, name):  # encoding, isatty, fileno … of the real stream
+        return getattr(self._ordered._real[self._which], name)
 
 
 def cmd_validate(args) -> int:

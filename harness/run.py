@@ -30,7 +30,7 @@ import os
 import platform
 import sys
 import time
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import CancelledError, ProcessPoolExecutor, as_completed
 from concurrent.futures.process import BrokenProcessPool
 from contextlib import closing
 from dataclasses import dataclass, field, replace
@@ -43,7 +43,7 @@ import numpy as np
 from harness import cluster, profiling
 from harness.errors import EngineError, HarnessError, InputError
 from harness.io import atomic_write_text
-from harness.pool import ended, kept as kept_pool
+from harness.pool import ended, kept as kept_pool, submitting
 from harness.report.results import (check_folder, load_results, read_claims, read_timings, write_claims,
                                     write_results, write_timings)
 from harness.settings import apply_seed, draws_from_seed_only, load_hypothesis_profile
@@ -309,12 +309,15 @@ def parallel(work, jobs: list, workers: int, done, lost, announce=None, schedule
     pool = kept.get() if kept is not None else ProcessPoolExecutor(min(workers, len(jobs)), mp_context=context)
     unfinished = []
     try:
-        futures = {pool.submit(work, job): job for job in jobs}
+        with submitting():  # phases side by side (harness main): the pool runs their jobs in the phases' order
+            futures = {pool.submit(work, job): job for job in jobs}
         for future in as_completed(futures):
             try:
                 done(future.result())
-            except BrokenProcessPool:
+            except (BrokenProcessPool, CancelledError):
                 unfinished.append(futures[future])
+        if kept is not None and kept.stopped.is_set():  # Ctrl-C in the main job: its pool was ended
+            return True
         if kept is None:
             pool.shutdown()
         elif unfinished:  # a worker died: the next phase gets new processes

@@ -78,3 +78,38 @@ def test_without_kept_workers_submit_runs_here():
     assert submit(pid, None).result() == os.getpid()
     with pytest.raises(ValueError, match="broken"):  # raised where the result is asked for, as from a worker
         submit(fails, "broken").result()
+
+
+def started(job):
+    import time
+
+    time.sleep(0.2)
+    return job, time.monotonic()
+
+
+def test_phases_side_by_side_keep_their_order_in_the_pool_and_in_the_log(capsys):
+    """harness main with --jobs > 1 (cli._side_by_side): phases run in threads, but the kept pool takes their jobs in
+    phase order (a later phase that is ready first waits for the earlier ones' submissions), and what each prints
+    comes out phase after phase."""
+    import time
+
+    from harness.cli import _side_by_side
+    from harness.pool import workers_kept
+
+    starts = {}
+
+    def phase(number, delay):
+        def work():
+            time.sleep(delay)  # the first phase is the slowest to submit
+            print(f"phase {number} starts")
+            parallel(started, [(number, k) for k in range(4)], 2,
+                     lambda result: starts.setdefault(result[0][0], []).append(result[1]), None)
+            print(f"phase {number} ends")
+        return work
+
+    with workers_kept(2):
+        _side_by_side([phase(0, 0.5), phase(1, 0.0), phase(2, 0.0)])
+    out = capsys.readouterr().out.splitlines()
+    assert out == ["phase 0 starts", "phase 0 ends", "phase 1 starts", "phase 1 ends", "phase 2 starts",
+                   "phase 2 ends"]
+    assert max(starts[0]) <= min(starts[1]) and max(starts[1]) <= min(starts[2])
