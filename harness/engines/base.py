@@ -211,7 +211,10 @@ def to_lecture(engine: str, state: State, t: TreeQuantities) -> Evaluation:
                           # about its centre of mass: C_θ = 0 up to Pinocchio's round-off of m v ω terms)
                           "C": max(a * a * _max_abs(t.C) + a * ad * _max_abs(t.M),
                                    _max_abs(np.abs(J).T @ np.abs(t.M) @ np.abs(J)) * max(1.0, _max_abs(J @ qd))),
-                          "Cqd": a * (_max_abs(t.M) * ad * _max_abs(qd) + _max_abs(t.Cqd)),
+                          # an engine that forms C θ̇ as bias(θ̇) − bias(0) (nonLinearEffects − gravity, qfrc_bias(v)
+                          # − qfrc_bias(0)) leaves the round-off of the gravity it subtracts: Cqd_subtracted
+                          "Cqd": a * (_max_abs(t.M) * ad * _max_abs(qd) + _max_abs(t.Cqd)
+                                      + t.extra.get("Cqd_subtracted", 0.0)),
                           "g": a * max(_max_abs(t.g_gravity), _max_abs(t.g_spring)),
                           "g_spring": a * _max_abs(t.g_spring), "f_damper": a * _max_abs(t.f_damper)}
     return Evaluation(engine, M, Cqd, g_gravity + g_spring, g_gravity, g_spring, f_damper, qdd, C,

@@ -240,7 +240,7 @@ class PinocchioModel(TreeEngine):
         M = self._crba(q)
         g_gravity = pin.computeGeneralizedGravity(model, data, q).copy()
         Cqd = pin.nonLinearEffects(model, data, q, v) - g_gravity
-        extra, C_christoffel = {}, None
+        extra, C_christoffel = {"Cqd_subtracted": float(np.abs(g_gravity).max(initial=0.0))}, None
         if christoffel:
             extra["C_coriolis_matrix"] = self.from_pin_matrix(pin.computeCoriolisMatrix(model, data, q, v))
             _, dtau_dv, _ = pin.computeRNEADerivatives(self.model_no_gravity, self.data_no_gravity, q, v,
