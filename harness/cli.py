@@ -10,6 +10,7 @@ import contextlib
 import json
 import os
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -80,14 +81,16 @@ def cmd_eval(args) -> int:
     return 0
 
 
-def cmd_check(args) -> int:
+def cmd_check(args, claims: dict | None = None) -> int:
     """Conformance of each system; ``--out`` writes results.json, timings.json and summary.md (harness.run);
-    ``--junit`` and ``--baseline`` the CI outputs (harness.report.ci)."""
+    ``--junit`` and ``--baseline`` the CI outputs (harness.report.ci). ``claims`` (the main job): a dict the
+    systems' printed equations, classified in the same jobs, are put in (:func:`harness.run.check`)."""
     from harness.report import ci
 
     baseline = ci.prepare(args.junit, args.baseline)  # bad flags fail before the work
     result = run.check(_catalogue(), args.systems, examples=args.examples, seed=args.seed, jobs=args.jobs,
-                       scenes=not args.no_scenes, out=args.out, profile=args.profile, scheduler=args.scheduler)
+                       scenes=not args.no_scenes, out=args.out, profile=args.profile, scheduler=args.scheduler,
+                       claims=claims)
     if result.profile is not None:  # stderr: --json keeps stdout for the document
         print(profiling.markdown(result.profile, systems=False), file=sys.stderr)
     if args.json:
@@ -159,10 +162,11 @@ def cmd_new(args) -> int:
     return 0
 
 
-def cmd_claims(args) -> int:
-    """Classify every printed equation; errata are findings (reported, exit 0), 'engines disagree' fails."""
+def cmd_claims(args, classified: dict | None = None) -> int:
+    """Classify every printed equation; errata are findings (reported, exit 0), 'engines disagree' fails.
+    ``classified`` (the main job): what the check's jobs classified, by system (:func:`harness.run.claims`)."""
     result = run.claims(_catalogue(), args.systems, examples=args.examples, jobs=args.jobs, out=args.out,
-                        profile=args.profile, scheduler=args.scheduler)
+                        profile=args.profile, scheduler=args.scheduler, classified=classified)
     if result.profile is not None:  # stderr: --json keeps stdout for the records
         print(profiling.markdown(result.profile, systems=False), file=sys.stderr)
     if args.json:
@@ -213,21 +217,23 @@ def cmd_main(args) -> int:
     --symbolic``, ``report``, each as its own command would run it (the profiles: where the time went, on the
     report's profile page), on one pool of ``--jobs`` processes kept for all of them
     (:func:`harness.pool.workers_kept`); the exported files are compared by one of those processes while the check
-    starts. With more than one process the check, the claims and the robots run side by side (:func:`_side_by_side`:
-    the pool takes their jobs in that order, no worker waits for a phase's last job), the report after them. Each
-    phase's output follows a line naming its command, phase after phase; the last line says how each ended and took.
-    A phase that fails does not stop the later ones (the report shows the failure); the exit code is the largest of
+    starts. A check job also classifies its system's printed equations, on the states its conformance run evaluated
+    (their numbers kept: :mod:`harness.compare.evaluations`); the claims phase writes what they found, as ``harness
+    claims`` would. With more than one process the robots run beside them (:func:`_side_by_side`: the pool takes
+    their jobs after the check's, no worker waits for a phase's last job), the report after them. Each phase's
+    output follows a line naming its command, phase after phase; the last line says how each ended and took. A
+    phase that fails does not stop the later ones (the report shows the failure); the exit code is the largest of
     the phases' (Ctrl-C stops at once, 130)."""
     jobs, out, parser = str(args.jobs), args.out, build_parser()
     start, ended = time.perf_counter(), []  # (phase, exit code, seconds or None)
     side_by_side = args.jobs > 1
 
-    def phase(*argv) -> None:
+    def phase(*argv, **extra) -> None:
         sys.stdout.flush()
         print(f"== harness {' '.join(argv)}", file=sys.stderr, flush=True)
         began, command = time.perf_counter(), parser.parse_args(argv)
         try:
-            code = command.func(command)
+            code = command.func(command, **extra)
         except HarnessError as exc:
             print(f"error: {exc}", file=sys.stderr)
             code = getattr(exc, "exit_code", 2)
@@ -246,20 +252,34 @@ def cmd_main(args) -> int:
             code = getattr(exc, "exit_code", 2 if isinstance(exc, HarnessError) else 1)
         ended.append(("export --check", code, None))
 
-    phases = [("check", "--jobs", jobs, "--profile", "--out", out), ("claims", "--jobs", jobs, "--profile", "--out", out),
-              ("robots", "--symbolic", "--jobs", jobs, "--out", out)]
+    classified: dict = {}  # the printed equations, classified in the check's jobs on the states each checked
+    checked = threading.Event()
+
+    def check_phase():
+        try:
+            phase("check", "--jobs", jobs, "--profile", "--out", out, claims=classified)
+            exported(comparing)
+        finally:
+            checked.set()
+
+    def claims_phase():  # writes what the check's jobs classified (a system they did not is classified here)
+        checked.wait()
+        if not any(code == 130 for _, code, _ in ended):
+            phase("claims", "--jobs", jobs, "--profile", "--out", out, classified=classified)
+
+    def robots_phase():
+        phase("robots", "--symbolic", "--jobs", jobs, "--out", out)
+
     try:
         with pool.workers_kept(args.jobs) if args.jobs > 1 else contextlib.nullcontext():  # --jobs 1: all here
             comparing = pool.submit(run.stale_exports, _catalogue(), args.dir)
-            if side_by_side:
-                _side_by_side([lambda argv=argv: phase(*argv) for argv in phases], after_first=lambda: exported(comparing))
+            if side_by_side:  # in the pool, the robots' jobs follow the check's; in the log, the claims do
+                _side_by_side([(check_phase, 0), (claims_phase, None), (robots_phase, 1)])
             else:
-                phase(*phases[0])
-                exported(comparing)
-                for argv in phases[1:]:
+                for work in (check_phase, claims_phase, robots_phase):
                     if any(code == 130 for _, code, _ in ended):
                         break
-                    phase(*argv)
+                    work()
             if not any(code == 130 for _, code, _ in ended):
                 phase("report", "--jobs", jobs, "--out", out)
     except KeyboardInterrupt:  # between the phases' own handling (the workers are ended by workers_kept)
@@ -277,23 +297,19 @@ def cmd_main(args) -> int:
     return status
 
 
-def _side_by_side(phases, after_first=None) -> None:
-    """Run ``phases`` (functions) in threads side by side, the jobs they give the kept pool taken in their order
-    (:func:`harness.pool.phases_in_order`), their output printed phase after phase (:class:`_InOrder`);
-    ``after_first`` runs in the first phase's thread after it. Ctrl-C reaches this thread: it is raised here (the kept pool is then ended and the phases
-    stop)."""
-    import threading
-
+def _side_by_side(phases) -> None:
+    """Run ``phases`` (``(function, turn)``) in threads side by side, their output printed phase after phase in the
+    order given (:class:`_InOrder`), the jobs they give the kept pool taken in the order of their ``turn``
+    (:func:`harness.pool.phases_in_order`; None: a phase that waits for another's results and submits nothing in
+    turn). Ctrl-C reaches this thread: it is raised here (the kept pool is then ended and the phases stop)."""
     ordered = _InOrder(len(phases))
 
-    def running(number, work, then):
-        with ordered.phase(number), pool.phase(number):
+    def running(number, work, turn):
+        with ordered.phase(number), pool.phase(turn) if turn is not None else contextlib.nullcontext():
             work()
-            if then is not None:
-                then()
 
-    threads = [threading.Thread(target=running, args=(k, work, after_first if k == 0 else None), daemon=True,
-                                name=f"phase {k}") for k, work in enumerate(phases)]
+    threads = [threading.Thread(target=running, args=(k, work, turn), daemon=True, name=f"phase {k}")
+               for k, (work, turn) in enumerate(phases)]
     with ordered, pool.phases_in_order():
         for thread in threads:
             thread.start()
@@ -308,8 +324,6 @@ class _InOrder:
     the log reads as if the phases had run one after the other. Other threads write through."""
 
     def __init__(self, count: int):
-        import threading
-
         self._lock, self._local = threading.RLock(), threading.local()
         self._kept: list[list] = [[] for _ in range(count)]
         self._ended, self._current = [False] * count, 0

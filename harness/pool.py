@@ -15,11 +15,13 @@ class _KeptPool:
     def __init__(self, workers: int):
         self.workers, self.pool = workers, None
         self.stopped = threading.Event()  # Ctrl-C: the pool was ended, nothing is to be run again
+        self.lock = threading.Lock()
 
     def get(self) -> ProcessPoolExecutor:
-        if self.pool is None:
-            self.pool = ProcessPoolExecutor(self.workers, mp_context=get_context("spawn"))
-        return self.pool
+        with self.lock:  # phases side by side ask for it from their threads
+            if self.pool is None:
+                self.pool = ProcessPoolExecutor(self.workers, mp_context=get_context("spawn"))
+            return self.pool
 
     def discard(self, terminate: bool = False) -> None:
         if self.pool is not None:

@@ -261,6 +261,8 @@ class Job:
     profile: bool = False
     series_back: bool = False  # the scenes' series come back in the record (``series_data``) for the client to
     # write, instead of being written by the worker (the workers of a Dask cluster need not share its file system)
+    claims: bool = False  # also classify the system's printed equations (:func:`classify_system`) on the states
+    # the conformance run evaluated, their numbers kept (:mod:`harness.compare.evaluations`): the main job
 
 
 class Interrupted(HarnessError):
@@ -306,10 +308,10 @@ def parallel(work, jobs: list, workers: int, done, lost, announce=None, schedule
         return False
     context = get_context("spawn")
     kept = kept_pool()
-    pool = kept.get() if kept is not None else ProcessPoolExecutor(min(workers, len(jobs)), mp_context=context)
-    unfinished = []
+    pool, unfinished = None, []
     try:
         with submitting():  # phases side by side (harness main): the pool runs their jobs in the phases' order
+            pool = kept.get() if kept is not None else ProcessPoolExecutor(min(workers, len(jobs)), mp_context=context)
             futures = {pool.submit(work, job): job for job in jobs}
         for future in as_completed(futures):
             try:
@@ -331,9 +333,9 @@ def parallel(work, jobs: list, workers: int, done, lost, announce=None, schedule
                 done(lost(job, "its worker process died twice (killed, out of memory or a crash in an engine)"))
             single.shutdown()
     except KeyboardInterrupt:
-        if kept is not None and pool is kept.pool:
+        if kept is not None and (pool is None or pool is kept.pool):
             kept.discard(terminate=True)
-        else:
+        elif pool is not None:
             ended(pool)
         return True
     return False
@@ -341,7 +343,18 @@ def parallel(work, jobs: list, workers: int, done, lost, announce=None, schedule
 
 def run_job(job: Job) -> dict:
     """Check one system (in a worker process with ``--jobs``): its record, the wall time it took in its
-    ``timings``."""
+    ``timings``; with ``job.claims``, then its printed equations, classified on the states the check evaluated (the
+    result of :func:`classify_system` in the record's ``claims``)."""
+    from harness.compare import evaluations
+
+    with evaluations.sharing():  # the numbers at the check's states, for the claims
+        record = _checked(job)
+        if job.claims:
+            record["claims"] = classify_system((job.catalogue, job.system, job.examples, job.profile))
+    return record
+
+
+def _checked(job: Job) -> dict:
     start = time.perf_counter()
     if job.profile:
         profiling.enable()
@@ -368,16 +381,18 @@ def run_job(job: Job) -> dict:
 
 def run_checks(catalogue: Catalogue, names: list[str], examples: int | None = None, seed: int | None = None,
                jobs: int = 1, progress=None, scenes: bool = True, series_dir: str | None = None,
-               profiles: dict | None = None, scheduler=None, previous: dict | None = None) -> list[dict]:
+               profiles: dict | None = None, scheduler=None, previous: dict | None = None,
+               claims: dict | None = None) -> list[dict]:
     """Check ``names`` (in that order in the result; started longest first by the ``previous`` run's timings.json),
     ``jobs`` systems at a time in spawned processes, or on the
     Dask cluster at ``scheduler`` (the scenes' series then come back and are written here). Each record holds its
     wall time in ``timings``. Progress goes to ``progress`` (stderr). With ``profiles`` (a dict), each system's
-    phases (:mod:`harness.profiling`) are stored there by system name."""
+    phases (:mod:`harness.profiling`) are stored there by system name. With ``claims`` (a dict), each job also
+    classifies its system's printed equations (``Job.claims``): the results are stored there by system name."""
     progress = sys.stderr if progress is None else progress
     remote = scheduler is not None
     todo = [Job(catalogue, name, examples, seed, scenes, None if series_dir is None or remote else str(series_dir),
-                series_back=remote and series_dir is not None)
+                series_back=remote and series_dir is not None, claims=claims is not None)
             for name in names]
     if profiles is not None:
         todo = [replace(job, profile=True) for job in todo]
@@ -387,6 +402,9 @@ def run_checks(catalogue: Catalogue, names: list[str], examples: int | None = No
         series = record.pop("series_data", None)
         if series:
             write_series(series_dir, series)
+        classified = record.pop("claims", None)
+        if claims is not None and classified is not None:
+            claims[record["system"]] = classified
         snapshot = record.pop("profile", None)
         if profiles is not None and snapshot is not None:
             profiles[record["system"]] = snapshot
@@ -438,11 +456,14 @@ def _systems(catalogue: Catalogue, names) -> list[str]:
 
 
 def check(catalogue: Catalogue, names=None, examples: int | None = None, seed: int | None = None, jobs: int = 1,
-          scenes: bool = True, out=None, progress=None, profile: bool = False, scheduler=None) -> CheckRun:
+          scenes: bool = True, out=None, progress=None, profile: bool = False, scheduler=None,
+          claims: dict | None = None) -> CheckRun:
     """Conformance (and scenes) of each system, ``jobs`` at a time or on the Dask cluster at ``scheduler``; with
     ``out``, results.json, timings.json and summary.md there, merged by system into what the folder holds. With
     ``profile``, where the time went (per phase, per system; :mod:`harness.profiling`), also written to
-    ``out/profile.json`` and ``out/profile.md``."""
+    ``out/profile.json`` and ``out/profile.md``. With ``claims`` (a dict), each system's printed equations are
+    classified in its job, on the states its check evaluated, the results put there for :func:`claims` (the main
+    job)."""
     start, cpu = time.perf_counter(), time.process_time()
     profiles = {} if profile else None
     names = _systems(catalogue, names)
@@ -451,7 +472,7 @@ def check(catalogue: Catalogue, names=None, examples: int | None = None, seed: i
     try:
         records = run_checks(catalogue, names, examples=examples, seed=seed, jobs=jobs, scenes=scenes,
                              series_dir=out, progress=progress, profiles=profiles, scheduler=scheduler,
-                             previous=read_timings(out) if out else None)
+                             previous=read_timings(out) if out else None, claims=claims)
     except Interrupted as stop:  # what finished is kept
         if out and stop.finished:
             merged = results_document(merge_records(catalogue, load_results(out), stop.finished), examples, seed)
@@ -596,19 +617,20 @@ class ClaimsRun:
 
 
 def claims(catalogue: Catalogue, names=None, examples: int | None = None, jobs: int = 1, out=None,
-           profile: bool = False, scheduler=None) -> ClaimsRun:
+           profile: bool = False, scheduler=None, classified: dict | None = None) -> ClaimsRun:
     """Classify every printed equation of ``names`` (default: the catalogue), ``jobs`` systems at a time (or on
     the Dask cluster at ``scheduler``); with ``out``, claims.json and errata.md there, merged by system. With
     ``profile``, where the time went (:mod:`harness.profiling`; with ``out`` also the ``claims`` section of
-    profile.json)."""
+    profile.json). ``classified``: the results :func:`check` classified in its jobs, by system (the main job);
+    only a system missing there is classified here."""
     start, cpu = time.perf_counter(), time.process_time()
     names = _systems(catalogue, names)
     if out:
         check_folder(out)
     previous = read_timings(out) if out else {}
-    jobs_ = longest_first([(catalogue, name, examples, profile) for name in names],
+    finished: dict[str, dict] = {name: classified[name] for name in names if classified and name in classified}
+    jobs_ = longest_first([(catalogue, name, examples, profile) for name in names if name not in finished],
                           lambda job: previous.get(f"claims/{job[1]}/seconds"))
-    finished: dict[str, dict] = {}
     interrupted = parallel(classify_system, jobs_, jobs, lambda result: finished.__setitem__(result["system"], result),
                            lambda job, reason: {"system": job[1], "failure": f"{job[1]}: {reason}", "records": []},
                            scheduler=scheduler)

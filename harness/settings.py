@@ -44,12 +44,13 @@ def apply_seed(seed: int | None) -> None:
         hypothesis.core.global_force_seed = seed
 
 
-def property_test(strategy, check, examples: int | None = None, shrink: bool = True):
+def property_test(strategy, check, examples: int | None = None, shrink: bool = True, seed: int | None = None):
     """``check(example)`` as a hypothesis test over ``strategy`` with :data:`OVERRIDES` (``examples``: the
     number of examples instead of the profile's). Calling the result runs it; a failing check is shrunk (unless
-    ``shrink`` is false: a yes/no question needs no minimal example) and its exception raised. With a
-    derandomized profile the seed derives from ``check``'s source."""
+    ``shrink`` is false: a yes/no question needs no minimal example) and its exception raised. The examples are
+    drawn from ``seed`` when given, else (a derandomized profile) from a seed derived from ``check``'s source."""
     from hypothesis import Phase, given
+    from hypothesis import seed as seeded
 
     overrides = dict(OVERRIDES)
     if examples is not None:
@@ -57,7 +58,8 @@ def property_test(strategy, check, examples: int | None = None, shrink: bool = T
     # no explain phase: after shrinking it runs the check again on variations of the minimal example only to
     # comment on which parts of it matter; the harness reports the minimal example itself (and its own reduction)
     overrides["phases"] = [Phase.explicit, Phase.reuse, Phase.generate] + ([Phase.shrink] if shrink else [])
-    return settings(**overrides)(given(strategy)(check))
+    test = settings(**overrides)(given(strategy)(check))
+    return test if seed is None else seeded(seed)(test)
 
 
 @contextmanager

@@ -27,34 +27,44 @@ def test_wrong_claim_is_an_erratum_with_minimal_counterexample():
     assert verdict.counterexample and "q=[" in verdict.counterexample and verdict.corrected
 
 
-def test_a_failure_on_replayed_states_is_shrunk_as_in_a_fresh_run(monkeypatch):
-    """A passing claim's states are replayed for the next claim (harness.compare.claims._run); when one of them
-    fails, hypothesis runs as always and shrinks: the same counterexample, example count and errors as a run
-    with nothing kept."""
+def test_the_systems_states_come_first_and_a_failure_is_shrunk_from_their_seed(monkeypatch):
+    """Every claim is checked first on the system's states (strategies.system_states, the conformance run's): a
+    passing claim starts no hypothesis run; a failing one is met again by hypothesis from the same seed, which
+    shrinks it; the same claim classified again gives the same counterexample, example count and errors."""
     from harness.compare import claims
+    from harness.compare.strategies import states_seed
 
     wrong = CHRISTOFFEL.copy()
     wrong[0, 1] = 2 * wrong[0, 1]
     engines = ("pinocchio", "mujoco")
-    if claims._replay_key(SYSTEM, test_correct_claim_is_confirmed, 20, True) is None:
-        pytest.skip("the states are not determined by the seed (a random profile): nothing is replayed")
-    runs = []  # the hypothesis runs started
-    monkeypatch.setattr(claims, "property_test", lambda *a, **k: runs.append(a) or property_test(*a, **k))
-    claims._PASSED.clear()
-    fresh = claims.classify_as_printed(SYSTEM, Claim("(t5)", "C", wrong), engines, 20)
-    assert fresh.classification == "erratum" and "q=[" in fresh.counterexample
-    assert not claims._PASSED  # a failing run keeps nothing
+    seeds = []  # the hypothesis runs started, by their seed
+    monkeypatch.setattr(claims, "property_test", lambda *a, **k: seeds.append(k.get("seed")) or property_test(*a, **k))
     right = claims.classify_as_printed(SYSTEM, Claim("(t6)", "C", CHRISTOFFEL), engines, 20)
-    assert right.classification == "confirmed" and claims._PASSED  # its states are kept
-    del runs[:]
-    replayed = claims.classify_as_printed(SYSTEM, Claim("(t7)", "C", wrong), engines, 20)
-    assert runs  # the replay failed: hypothesis ran and shrank
-    assert (replayed.classification, replayed.counterexample, replayed.examples, replayed.errors) == \
-        (fresh.classification, fresh.counterexample, fresh.examples, fresh.errors)
-    del runs[:]
-    again = claims.classify_as_printed(SYSTEM, Claim("(t8)", "C", CHRISTOFFEL), engines, 20)
-    assert not runs  # replayed, no hypothesis run
-    assert (again.examples, again.errors) == (right.examples, right.errors)
+    assert right.classification == "confirmed" and right.examples == 20 and not seeds
+    first = claims.classify_as_printed(SYSTEM, Claim("(t5)", "C", wrong), engines, 20)
+    assert first.classification == "erratum" and "q=[" in first.counterexample
+    assert seeds and set(seeds) == {states_seed(SYSTEM)}
+    again = claims.classify_as_printed(SYSTEM, Claim("(t7)", "C", wrong), engines, 20)
+    assert (again.classification, again.counterexample, again.examples, again.errors) == \
+        (first.classification, first.counterexample, first.examples, first.errors)
+
+
+def test_claims_read_the_numbers_the_conformance_run_computed(monkeypatch):
+    """Within evaluations.sharing() (a job of the main job), a claim of an engine quantity checked after the
+    system's conformance run evaluates no engine again: the states and their numbers are the conformance run's."""
+    from harness.compare import claims, conformance, evaluations
+    from harness.engines import ENGINES
+
+    calls = []
+    for name in ("pinocchio", "mujoco"):
+        real = ENGINES[name].evaluate
+        monkeypatch.setattr(ENGINES[name], "evaluate", lambda self, state, real=real: calls.append(1) or real(self, state))
+    with evaluations.sharing():
+        assert conformance.run(SYSTEM, examples=20).passed
+        before = len(calls)
+        verdict = claims.classify_as_printed(SYSTEM, Claim("(t9)", "C", CHRISTOFFEL), ("pinocchio", "mujoco"), 20)
+    assert verdict.classification == "confirmed" and verdict.examples == 20
+    assert before == 2 * 20 and len(calls) == before  # every state evaluated once per engine, by the conformance run
 
 
 def test_other_C_with_same_C_qd_is_not_an_erratum():

@@ -97,9 +97,12 @@ def test_one_system_raising_does_not_lose_the_others(monkeypatch, capsys, tmp_pa
 def test_profile_says_where_the_time_goes_and_changes_no_result(capsys, tmp_path):
     """``check --profile`` prints and writes the phases (profile.json, profile.md) and leaves results.json as a run
     without it writes it; ``claims --profile`` adds its own section."""
+    from harness.compare import strategies
+
     plain, profiled = tmp_path / "plain", tmp_path / "profiled"
     args = ["check", "pendulum", "--no-scenes", "--examples", "20"]
     assert cli.main([*args, "--out", str(plain)]) == 0
+    strategies._STATES.clear()  # the states are drawn once per process: drawn again, under the profile
     assert cli.main([*args, "--out", str(profiled), "--profile"]) == 0
     assert "Profile of `harness check`" in capsys.readouterr().err
     assert (plain / "results.json").read_text() == (profiled / "results.json").read_text()
@@ -145,7 +148,7 @@ def test_the_main_job_runs_every_phase_as_its_command_and_exits_with_the_worst(m
     calls, codes = [], {"check": 1, "claims": 0, "robots": 0, "report": 0}
 
     def command(name):
-        def record(args):
+        def record(args, **extra):
             calls.append((name, args.jobs, args.out, getattr(args, "symbolic", None), getattr(args, "profile", None)))
             if codes[name] == 130:  # Ctrl-C in a phase
                 raise application.Interrupted([], 1)

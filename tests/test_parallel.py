@@ -108,7 +108,7 @@ def test_phases_side_by_side_keep_their_order_in_the_pool_and_in_the_log(capsys)
         return work
 
     with workers_kept(2):
-        _side_by_side([phase(0, 0.5), phase(1, 0.0), phase(2, 0.0)])
+        _side_by_side([(phase(0, 0.5), 0), (phase(1, 0.0), 1), (phase(2, 0.0), 2)])
     out = capsys.readouterr().out.splitlines()
     assert out == ["phase 0 starts", "phase 0 ends", "phase 1 starts", "phase 1 ends", "phase 2 starts",
                    "phase 2 ends"]

@@ -62,6 +62,7 @@ from harness.checks import Bound, Check, relative_error
 from harness.derivation.compile import compiled
 from harness.derivation.lambdified import lambdify
 from harness.derivation.derive import SIMPLIFY_MAX_OPS
+from harness.compare import evaluations as at_state
 from harness.compare.conformance import FLOAT64_RTOL, scales
 from harness.engines import ENGINES, models_kept, symbolic
 from harness.engines import model as engine_model
@@ -70,7 +71,7 @@ from harness.derivation import bodies
 from harness.derivation.bodies import element_force, element_generalized_force, point_in_q, rotational_jacobian
 from harness.modeling.claims import ENGINE_QUANTITIES, Claim, as_matrix as _as_matrix, symbols as _symbols
 from harness.modeling.system import WORLD, Point, System
-from harness.compare.strategies import draws, hypothesis_examples
+from harness.compare.strategies import draws, hypothesis_examples, states_seed, system_states
 from harness.settings import property_test
 
 CLAIM_TOLERANCE = Bound("printed equation", 1.0, "the printed expression's relative error against a source over "
@@ -348,44 +349,19 @@ CLAIM_ENGINES = ("pinocchio", "mujoco")
 """The engines a claim is checked against (besides the derivation)."""
 
 
-_EVALUATIONS: dict = {}
-_EVALUATIONS_KEPT = 4096
-_SHARING = [0]
-
-
 @contextmanager
 def shared_evaluations():
     """Within the block, the evaluations at a state (derivation and engines) are kept and shared by the claims
-    classified: every printed equation of a system is checked on the same drawn states (the seed derives from
-    the check, the same for all), and the numbers at a state do not depend on the claim. The engines must not
-    change within the block; the kept evaluations and engine models are dropped at its end."""
-    _SHARING[0] += 1
-    try:
-        with models_kept():
-            yield
-    finally:
-        _SHARING[0] -= 1
-        if not _SHARING[0]:
-            _EVALUATIONS.clear()
-
-
-def _evaluated(state: State) -> dict:
-    """The evaluations at ``state`` by source: kept within :func:`shared_evaluations` (evaluated on first use,
-    never changed afterwards), else evaluated for this call only."""
-    if not _SHARING[0]:
-        return {"system": state.system}
-    kept = _EVALUATIONS.get(state.key)
-    if kept is not None and kept["system"] is state.system:
-        return kept
-    if len(_EVALUATIONS) >= _EVALUATIONS_KEPT:
-        _EVALUATIONS.clear()
-    kept = _EVALUATIONS[state.key] = {"system": state.system}
-    return kept
+    classified and by a conformance run of the system in the same block (:mod:`harness.compare.evaluations`), and
+    the engines' models are kept (:func:`harness.engines.models_kept`). The engines must not change within the
+    block."""
+    with at_state.sharing(), models_kept():
+        yield
 
 
 def _engine_values(claim: Claim, state: State, engines):
     """The claimed quantity from each source, with the scale and tolerance it is compared at."""
-    kept = _evaluated(state)
+    kept = at_state.at(state)
     if "derivation" not in kept:
         with profiling.phase("symbolic"):
             ref = symbolic.evaluate(state)
@@ -622,57 +598,52 @@ def holds(system: System, claim: Claim, engines, examples, substitution: dict | 
 
 
 def _run(system: System, check, examples, shrink: bool = True):
-    """None when ``check`` passes on every drawn state, else (counterexample text, State).
+    """None when ``check`` passes on every state, else (counterexample text, State).
 
-    Every printed equation of a system is checked by the same check functions, so hypothesis (derandomized: the
-    seed derives from the check's source) draws the same states for each. The states of a run that passed are
-    kept (:data:`_PASSED`); the next run with the same check source, system and settings calls ``check`` on them
-    in the same order — what hypothesis would do, without drawing them again. If one of them fails, what the
-    check recorded is undone (:func:`_undo`) and hypothesis runs as always: it draws, finds the failure and
-    shrinks it."""
-    key = _replay_key(system, check, examples, shrink)
-    kept = _PASSED.get(key) if key is not None else None
-    if kept is not None and kept[0] is system:
-        undo = _undo(check)
-        try:
-            with profiling.phase("replay"):
-                for state in kept[1]:
-                    try:
-                        check(state)
-                    except UnsatisfiedAssumption:  # rejected when drawn too: not an example
-                        continue
-            return None
-        except Exception:  # noqa: BLE001 - hypothesis runs as always, from nothing recorded
-            undo()
-    seen: list = []
-
-    @functools.wraps(check)  # the same source, hence the same digest and seed as ``check``
-    def recording(state):
-        seen.append(state)
-        return check(state)
-
-    test = property_test(draws(system), _each_state(recording if key is not None else check),
-                         hypothesis_examples(examples), shrink=shrink)
+    Every printed equation of a system is checked first on the system's states, in order
+    (:func:`~harness.compare.strategies.system_states`, the states of its conformance run, whose numbers are kept:
+    :mod:`harness.compare.evaluations`); a state outside the printed expression's domain is skipped. Where one of
+    them fails, or some lie outside the domain (then hypothesis draws until each parameter draw has a state inside,
+    as many examples as asked), what the check recorded is undone (:func:`_undo`) and hypothesis runs it from the
+    same seed: it meets the failure at the same state and shrinks it. Should hypothesis not meet it (a draw
+    rejected before it moves the sequence), the failing state itself is the counterexample."""
+    undo = _undo(check)
+    failed, skipped = None, 0
+    with profiling.phase("replay"):
+        for batch in system_states(system, examples):
+            for state in batch:
+                try:
+                    check(state)
+                except UnsatisfiedAssumption:  # outside the printed expression's domain: not an example
+                    skipped += 1
+                except _Disagrees as failure:
+                    failed = failure
+                    break
+            if failed is not None:
+                break
+    if failed is None and not skipped:
+        return None
+    undo()
+    test = property_test(draws(system), _each_state(check), hypothesis_examples(examples), shrink=shrink,
+                         seed=states_seed(system))
     try:
         test()
     except _Disagrees as failure:
         return str(failure.args[0]), (failure.args[1] if len(failure.args) > 1 else None)
-    if key is not None:
-        if len(_PASSED) >= 256:
-            _PASSED.clear()
-        _PASSED[key] = (system, seen)
-    return None
-
-
-_PASSED: dict = {}
-"""(system, check digest, settings) → (system, the states a passing run called the check on, in order)."""
+    if failed is None:
+        return None
+    try:  # hypothesis did not meet it: the failing state, its errors recorded again
+        check(failed.args[1])
+    except _Disagrees:
+        pass
+    return str(failed.args[0]), failed.args[1]
 
 
 def _each_state(check):
     """``check`` of one state as a check of a parameter draw's states (:func:`~harness.compare.strategies.draws`, as
     the conformance run draws them): a state outside the printed expression's domain is skipped, not an example; a
     draw without any state inside it is rejected (hypothesis draws another)."""
-    @functools.wraps(check)  # the same source, hence the same digest and seed as ``check``
+    @functools.wraps(check)  # check's signature: hypothesis passes the batch by the name of its argument
     def each(*args, **kwargs):
         (batch,) = (*args, *kwargs.values())  # hypothesis passes it by the name in ``check``'s signature
         inside = 0
@@ -685,17 +656,6 @@ def _each_state(check):
         if not inside:
             raise UnsatisfiedAssumption  # what hypothesis's reject() raises: not an example
     return each
-
-
-def _replay_key(system: System, check, examples, shrink: bool):
-    """What decides the states of a run, or None when they are not determined by it (a random seed per run, or
-    hypothesis drawing constants from our modules' source: outside :func:`harness.settings.draws_from_seed_only`)."""
-    from hypothesis.internal.reflection import function_digest
-
-    from harness.settings import fixed_examples
-
-    fixed = fixed_examples()
-    return None if fixed is None else (id(system), function_digest(check), examples, shrink, *fixed)
 
 
 def _undo(check):

@@ -18,6 +18,11 @@ Every quantity is compared as ``max|X_engine − X_symbolic| / scale ≤ FLOAT64
 * mapped engine quantities (``θ = φ(q)`` not the identity) are compared at least at the scale of the mapped
   tree terms (``|J|²|M_θ|``, ``|J|²|C_θ| + |J||J̇||M_θ|``, …): the map multiplies the tree's round-off, e.g. by
   ``1/r²`` for a ball of radius ``r`` rolling on a beam.
+* an engine's ``C q̇`` formed as the difference of its bias forces with and without the velocity (Pinocchio's
+  ``nonLinearEffects − computeGeneralizedGravity``, MuJoCo's ``qfrc_bias(v) − qfrc_bias(0)``) carries the
+  round-off of the gravity it subtracts: it is compared at least at ``|J| (|C θ̇| + |g_θ|)`` (found on the toggle
+  press near its stretched position, heavy and slow: MuJoCo's ``C q̇`` off by 0.12 of the bound relative to
+  ``|C| v`` alone, 25 times ``|g|`` smaller than ``|g|``; Drake's ``CalcBiasTerm`` subtracts nothing).
 * ``amplification`` is 1, except for ``q̈``, where solving ``M q̈ = …`` amplifies relative round-off by
   up to the condition number ``κ(M)``.
 """
@@ -31,7 +36,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from harness import profiling
-from harness.compare import roundtrip
+from harness.compare import evaluations, roundtrip
 from harness.derivation.compile import compiled
 from harness.checks import Bound, Check, flag, max_abs as _max, relative_error as _relative
 from harness.engines import ENGINES, models_kept, symbolic
@@ -39,7 +44,8 @@ from harness.engines import model as engine_model
 from harness.engines.base import Evaluation, State
 from harness.modeling.system import System
 from harness.settings import property_test
-from harness.compare.strategies import STATES_PER_DRAW, draws, hypothesis_examples
+from harness.compare.strategies import (STATES_PER_DRAW, draws, hypothesis_examples, states_seed,
+                                        system_states)
 
 FLOAT64_RTOL = 1e-12
 ENGINE_QUANTITIES = ("M", "Cqd", "g", "g_spring", "f_damper", "qdd")
@@ -120,11 +126,15 @@ def self_checks(state: State, ref: Evaluation, scale: dict | None = None) -> lis
 
 def evaluate_all(state: State, engines=None, pin_urdf=None, mj_xml=None) -> list[Check]:
     """All checks at one state, by every engine of ``engines`` (default: the registry). ``pin_urdf``/``mj_xml``
-    may replace the exported model text Pinocchio/MuJoCo load (to show that a wrong export is caught)."""
+    may replace the exported model text Pinocchio/MuJoCo load (to show that a wrong export is caught). Each
+    source's numbers are kept for the printed equations checked at the same state (:mod:`.evaluations`), those of a
+    replaced text not."""
+    kept = evaluations.at(state)
     with profiling.phase("symbolic"):
         ref = symbolic.evaluate(state)
         ref.extra["qd"] = state.qd
         scale, kappa = scales(ref), float(np.linalg.cond(ref.M))  # once per state, for every engine
+        kept.setdefault("derivation", (ref, scale, kappa))
         findings = self_checks(state, ref, scale)
     texts = {"pinocchio": pin_urdf, "mujoco": mj_xml}
     for name in ENGINES if engines is None else engines:
@@ -134,6 +144,8 @@ def evaluate_all(state: State, engines=None, pin_urdf=None, mj_xml=None) -> list
                 model = ENGINES[name](state.tree, text(state.tree)) if text else engine_model(name, state.tree)
             with profiling.phase("evaluate"):
                 evaluation = model.evaluate(state)
+            if not text:
+                kept.setdefault(name, evaluation)
             with profiling.phase("compare"):
                 findings += compare(state, ref, evaluation, scale, kappa)
             with profiling.phase("round trip"):
@@ -186,8 +198,10 @@ def run(system: System, engines=None, examples: int | None = None,
         states_per_draw: int = STATES_PER_DRAW) -> Summary:
     """Run every check by ``engines`` (default: every engine of the registry that applies) on ``examples`` hypothesis
     states (default: the profile's ``max_examples``; rounded up to whole parameter draws), drawn in batches of
-    ``states_per_draw`` (:data:`~harness.compare.strategies.STATES_PER_DRAW`) with one parameter draw each; on a
-    failure, hypothesis shrinks the batch and the failing state is reported."""
+    ``states_per_draw`` (:data:`~harness.compare.strategies.STATES_PER_DRAW`) with one parameter draw each: first
+    the system's states (:func:`~harness.compare.strategies.system_states`, which its printed equations are checked
+    on too); on a failure, hypothesis runs the check from the same seed, meets it and shrinks the batch, and the
+    failing state is reported."""
     summary = Summary(system.name)
     engines = tuple(ENGINES) if engines is None else tuple(engines)
     summary.not_applicable = {e: ENGINES[e].applies(system) for e in engines if ENGINES[e].applies(system)}
@@ -212,12 +226,21 @@ def run(system: System, engines=None, examples: int | None = None,
         summary.parameter_draws = len(draws_seen)
         return check(batch)
 
-    test = property_test(draws(system, states_per_draw, random_parameters), counted,
-                         hypothesis_examples(examples, states_per_draw))
-    try:
-        with profiling.phase("conformance"), models_kept(KEPT_MODELS):
+    with profiling.phase("conformance"), models_kept(KEPT_MODELS):
+        if states_per_draw == STATES_PER_DRAW:  # first the system's states (every oracle checks them)
+            try:
+                for batch in system_states(system, examples, random_parameters):
+                    counted(batch)
+                return summary
+            except ConformanceFailure:  # hypothesis meets it again from the same seed, and shrinks it
+                summary.examples, summary.parameter_draws = 0, 0
+                summary.worst.clear()
+                draws_seen.clear()
+        test = property_test(draws(system, states_per_draw, random_parameters), counted,
+                             hypothesis_examples(examples, states_per_draw), seed=states_seed(system))
+        try:
             test()
-    except ConformanceFailure as failure:  # the shrunk (minimal) counterexample
-        summary.failure = str(failure)
-        summary.record([failure.check])
+        except ConformanceFailure as failure:  # the shrunk (minimal) counterexample
+            summary.failure = str(failure)
+            summary.record([failure.check])
     return summary

@@ -7,10 +7,13 @@
 * States: angles in ``[-π, π]``, lengths within ±1 m, rates within ±5 per second, inputs within ±10.
 * A conformance run and a printed equation's classification draw their states in batches (:func:`draws`): one
   parameter draw, then :data:`STATES_PER_DRAW` states ``(q, q̇, u)`` of the system with those parameters.
+* Both check first the same states of a system (:func:`system_states`), drawn once per process from a seed of the
+  system's name: hypothesis runs the check itself (and shrinks) only where one of them fails.
 """
 
 from __future__ import annotations
 
+import hashlib
 import math
 
 import numpy as np
@@ -135,3 +138,54 @@ def hypothesis_examples(examples: int | None = None, states_per_draw: int = STAT
     ``max_examples``), ``states_per_draw`` states each, rounded up."""
     states = settings.default.max_examples if examples is None else examples
     return -(-states // states_per_draw)
+
+
+def states_seed(system: System) -> int | None:
+    """The seed :func:`system_states` draws from, and every oracle's hypothesis run that must meet the same states
+    first: the run's ``--seed`` (:func:`harness.settings.apply_seed`); with a derandomized profile one derived from
+    the system's name (the states do not change with our code: two runs of different commits check the same
+    states); in a random profile a random one, drawn once per process and system."""
+    import random
+
+    import hypothesis.core
+
+    if hypothesis.core.global_force_seed is not None:
+        return hypothesis.core.global_force_seed
+    if settings.default.derandomize:
+        return int.from_bytes(hashlib.sha256(f"states of {system.name}".encode()).digest()[:8], "big")
+    return _RANDOM_SEEDS.setdefault(system.name, random.SystemRandom().getrandbits(64))
+
+
+_RANDOM_SEEDS: dict = {}
+
+
+def system_states(system: System, examples: int | None = None, random_parameters: bool = True) -> list[list[State]]:
+    """The states every oracle of ``system`` checks first, in order, a list per parameter draw: ``examples`` states
+    (default: the profile's ``max_examples``), :data:`STATES_PER_DRAW` per draw (:func:`draws`), as hypothesis draws them from
+    :func:`states_seed` for a check that never fails. Drawn once per process and settings: the conformance run and
+    every printed equation of the system are checked on the same states, each source evaluated once at each
+    (:mod:`harness.compare.evaluations`); where a check fails on one, hypothesis runs that check from the same seed,
+    meets the failure at the same state and shrinks it."""
+    from harness.settings import property_test
+
+    import hypothesis.core
+
+    key = (id(system), examples, random_parameters, settings.default.max_examples, settings.default.derandomize,
+           hypothesis.core.global_force_seed)
+    kept = _STATES.get(key)
+    if kept is not None and kept[0] is system:  # the system is kept alive with its states: its id is not reused
+        return kept[1]
+    seen: list = []
+
+    def record(batch):
+        seen.append(batch)
+
+    property_test(draws(system, STATES_PER_DRAW, random_parameters), record,
+                  hypothesis_examples(examples, STATES_PER_DRAW), shrink=False, seed=states_seed(system))()
+    if len(_STATES) >= 256:
+        _STATES.clear()
+    _STATES[key] = (system, seen)
+    return seen
+
+
+_STATES: dict = {}
