@@ -116,7 +116,7 @@ def hypothesis_record(examples: int | None, seed: int | None) -> dict:
             "seed": seed,
             "derandomize": bool(current.derandomize) and seed is None,
             "seeding": (f"every check draws from Random({seed})" if seed is not None else
-                        "each check's seed is derived from the check itself (derandomize)" if current.derandomize
+                        "each system's states are drawn from a seed of its name (derandomize)" if current.derandomize
                         else "random seed per check (not reproducible; give --seed)"),
             "max_examples": examples if examples is not None else current.max_examples,
             "states_per_draw": STATES_PER_DRAW,

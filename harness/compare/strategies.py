@@ -31,8 +31,9 @@ INPUT = 10.0
 STATES_PER_DRAW = 2
 """States a conformance run (and a claim's classification) checks per parameter draw (:func:`draws`): each engine
 builds its model of a parameter draw once (from the exported text) and evaluates it at these states. 200 states per
-check (the ``ci`` profile) are 100 parameter draws, 49–91 of them distinct (hypothesis repeats some; with one state per
-draw, 111–171 distinct of 200). The engines' models built from the exported text (MuJoCo 2–5 ms each) and
+check (the ``ci`` profile) are 100 parameter draws, 49–91 of them distinct when measured (46–93 with the states
+drawn from the systems' names; hypothesis repeats some; with one state per draw, 111–171 distinct of 200). The
+engines' models built from the exported text (MuJoCo 2–5 ms each) and
 hypothesis's per-example machinery were most of a check: ``conformance.run(system, states_per_draw=k)`` over the
 catalogue in one process took 54.2–62.8 CPU s with k = 1, 33.9–40.8 with 2, 21.7–24.2 with 4 (24–45 distinct draws),
 16.5–17.4 with 8. Two keeps half the distinct draws for half of what eight saves: an export fault that shows only for
