@@ -99,7 +99,7 @@ from harness.engines.base import Base
 from harness.engines.mujoco_engine import VERSION as MUJOCO_VERSION, MujocoModel, compile_text
 from harness.engines.pinocchio_engine import VERSION as PINOCCHIO_VERSION, PinocchioModel, load_urdf, moving_joints
 from harness.errors import EngineError, ModelError
-from harness.export.numeric import lump
+from harness.export.numeric import lump_each
 
 PROJECT_ROOT = Path(__file__).resolve().parents[2]
 FIXTURES = (Path(__file__).resolve().parent / "fixtures" / "rotated_inertials.urdf",)
@@ -153,16 +153,12 @@ class Rigid:
     inertia: np.ndarray
 
 
-def _lump(parts) -> Rigid:
-    """One body from ``(m, c, I_c)`` parts in world axes (:func:`harness.export.numeric.lump`)."""
-    return Rigid(*lump(parts))
-
-
 def rigid(view, theta, base: Base | None = None) -> dict[str, Rigid]:
     """What each joint of ``view`` (an engine adapter) moves, lumped into one body at ``θ`` (and, with a free
-    joint, the base state ``base``; the free joint moves the whole robot)."""
+    joint, the base state ``base``; the free joint moves the whole robot): ``(m, c, I_c)`` parts in world axes,
+    every joint's at once (:func:`harness.export.numeric.lump_each`)."""
     parts = view.subtree_parts(theta, base) if base is not None else view.subtree_parts(theta)
-    return {name: _lump(p) for name, p in parts.items()}
+    return {name: Rigid(*body) for name, body in zip(parts, lump_each(parts.values()))}
 
 
 # --------------------------------------------------------------------------------- comparison
