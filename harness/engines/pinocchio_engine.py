@@ -318,17 +318,18 @@ class PinocchioModel(TreeEngine):
         it moves, world axes (``pin.forwardKinematics``, ``model.subtrees``)."""
         q, _ = self._q_v(theta, np.zeros(len(theta)), base)
         pin.forwardKinematics(self.model, self.data, q)
-        out = {}
-        named = list(zip(self.joints, self.jids)) + ([(self.free, self.free_id)] if self.free else [])
-        for name, jid in named:
-            parts = []
-            for k in self.model.subtrees[jid]:
-                world = self.data.oMi[k].act(self.model.inertias[k])
+        world = {}   # each body once, not per joint that moves it: a chain of n bodies costs n, not n²
+
+        def part(k):
+            if k not in world:
+                placed = self.data.oMi[k].act(self.model.inertias[k])
                 R = self.data.oMi[k].rotation
-                parts.append((float(world.mass), np.array(world.lever), R @ np.array(self.model.inertias[k].inertia)
-                              @ R.T))
-            out[name] = parts
-        return out
+                world[k] = (float(placed.mass), np.array(placed.lever),
+                            R @ np.array(self.model.inertias[k].inertia) @ R.T)
+            return world[k]
+
+        named = list(zip(self.joints, self.jids)) + ([(self.free, self.free_id)] if self.free else [])
+        return {name: [part(k) for k in self.model.subtrees[jid]] for name, jid in named}
 
     def loaded_facts(self) -> dict:
         """What Pinocchio built from a URDF of other origin: joints, nq, nv, body frames, total mass."""
