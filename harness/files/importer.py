@@ -211,6 +211,43 @@ def _finite(what: str, state: dict, **values) -> None:
         raise EngineError(f"{what}: {', '.join(bad)} not finite at θ = {list(state['theta'].values())}")
 
 
+@dataclass(frozen=True)
+class _ReferenceState:
+    """What :func:`compare` takes from the reference at one state (θ, θ̇, base): what each joint moves, the terms,
+    and the scales they give (length ``L``, largest subtree mass, inertia, ``M`` and bias scales, ``max|M⁻¹|``,
+    the acceleration scale and κ(M)). Read only: kept in ``compare``'s memo for the reference's next
+    comparison at the same state."""
+
+    rigid: dict
+    terms: dict
+    length: float
+    mass: float
+    i_scale: float
+    m_scale: float
+    b_scale: float
+    inverse_max: float | None = None
+    a_scale: float | None = None
+    kappa: float | None = None
+
+    @classmethod
+    def of(cls, r_r: dict, t_r: dict, qdd: bool, theta_dot, base: Base | None, gravity) -> "_ReferenceState":
+        """``qdd``: the forward dynamics is compared at this state (``M⁻¹``, κ(M) and the acceleration scale)."""
+        M_r, b_r = t_r["M"], t_r["bias"]
+        length = max(1e-300, max(float(np.max(np.abs(r.com))) for r in r_r.values()))
+        mass = max(r.mass for r in r_r.values())
+        i_scale = max(mass * length**2, max(float(np.max(np.abs(r.inertia))) for r in r_r.values()))
+        m_scale = max(float(np.max(np.abs(M_r))), i_scale)
+        speed = max([1.0, float(np.max(np.abs(theta_dot), initial=0.0))]
+                    + ([float(np.max(np.abs(base.velocity)))] if base is not None else []))
+        b_scale = max(float(np.max(np.abs(b_r))), m_scale * speed ** 2,
+                      mass * float(np.linalg.norm(gravity)) * length)
+        if not qdd:
+            return cls(r_r, t_r, length, mass, i_scale, m_scale, b_scale)
+        inverse_max = float(np.max(np.abs(np.linalg.inv(M_r))))
+        return cls(r_r, t_r, length, mass, i_scale, m_scale, b_scale, inverse_max,
+                   max(inverse_max * b_scale, speed ** 2), float(np.linalg.cond(M_r)))
+
+
 def random_base(rng) -> Base:
     """A floating base state: position in (−1, 1) m, orientation uniform on SO(3), local velocity in (−2, 2)."""
     quat = rng.normal(size=4)
@@ -218,7 +255,8 @@ def random_base(rng) -> Base:
 
 
 def compare(imported, reference, joints: list[str], prismatic: set[str], states: int = STATES,
-            seed: int = SEED, bound: float = 0.0, forward: bool = False, notes: list | None = None) -> list[dict]:
+            seed: int = SEED, bound: float = 0.0, forward: bool = False, notes: list | None = None,
+            memo: dict | None = None) -> list[dict]:
     """Worst relative differences of ``imported`` against ``reference`` (both tree views) over random
     states: θ uniform in (−π, π) for rotations, (−1, 1) m for slides; θ̇ uniform in (−2, 2). ``bound``: the
     lower bound MuJoCo put on each body's mass and principal inertias of the import (0 when loaded as is);
@@ -232,7 +270,11 @@ def compare(imported, reference, joints: list[str], prismatic: set[str], states:
     scale of the bias, and the forward dynamics ``qdd`` at the scale of the accelerations the terms cause
     (``max|M⁻¹|`` times the bias scale, at least ``v²``) with the tolerance times κ(M), the conformance policy
     (:mod:`harness.compare.conformance`). Where the reference's ``M`` is singular (a joint that moves no mass:
-    its ``q̈`` is not finite) ``q̈`` is not compared at that state; ``notes`` receives how often."""
+    its ``q̈`` is not finite) ``q̈`` is not compared at that state; ``notes`` receives how often.
+
+    ``memo``: a dict the caller keeps with ``reference`` (and passes only with it): what the reference gives at a
+    state (:class:`_ReferenceState`), kept by the state's exact bits for the next comparison with the same
+    reference (a robot's pairs: every engine is compared at the same states)."""
     rng = np.random.default_rng(seed)
     undefined = 0
     free = reference.free
@@ -250,35 +292,43 @@ def compare(imported, reference, joints: list[str], prismatic: set[str], states:
         if free:
             kw["base"] = random_base(rng)
             state["base"] = kw["base"].record()
-        r_i, r_r = rigid(imported, theta, **kw), rigid(reference, theta, **kw)
+        key = (theta.tobytes(), theta_dot.tobytes(), forward,
+               np.concatenate([kw["base"].position, kw["base"].quat_xyzw, kw["base"].velocity]).tobytes()
+               if free else None)
+        kept = memo.get(key) if memo is not None else None
+        r_i = rigid(imported, theta, **kw)
+        r_r = kept.rigid if kept else rigid(reference, theta, **kw)
         t_i = imported.terms(theta, theta_dot, forward=True, **kw) if forward else None
-        t_r = reference.terms(theta, theta_dot, forward=True, **kw) if forward else None
+        t_r = (kept.terms if kept else reference.terms(theta, theta_dot, forward=True, **kw)) if forward else None
+        terms_r = t_r
         if forward and not np.all(np.isfinite(t_r["qdd"])):  # M singular: no forward dynamics to compare
             undefined += 1
-            del t_r["qdd"], t_i["qdd"]
+            t_r = {k: v for k, v in t_r.items() if k != "qdd"}   # the reference's own dict is kept whole
+            del t_i["qdd"]
         M_i, b_i = (t_i["M"], t_i["bias"]) if forward else imported.mass_and_bias(theta, theta_dot, **kw)
-        M_r, b_r = (t_r["M"], t_r["bias"]) if forward else reference.mass_and_bias(theta, theta_dot, **kw)
-        for name, view, M, b, r, t in (("import", imported, M_i, b_i, r_i, t_i),
-                                       ("reference", reference, M_r, b_r, r_r, t_r)):
-            _finite(f"{type(view).__name__} ({name})", state, **{"M": M, "bias": b, **(t or {})},
-                    bodies=[[x.mass, *x.com, *x.inertia.ravel()] for x in r.values()])
-        length = max(1e-300, max(float(np.max(np.abs(r.com))) for r in r_r.values()))
-        mass = max(r.mass for r in r_r.values())
-        i_scale = max(mass * length**2, max(float(np.max(np.abs(r.inertia))) for r in r_r.values()))
-        m_scale = max(float(np.max(np.abs(M_r))), i_scale)
+        if forward:
+            M_r, b_r = t_r["M"], t_r["bias"]
+        else:
+            M_r, b_r = (kept.terms["M"], kept.terms["bias"]) if kept else \
+                reference.mass_and_bias(theta, theta_dot, **kw)
+            terms_r = {"M": M_r, "bias": b_r}
+        _finite(f"{type(imported).__name__} (import)", state, **{"M": M_i, "bias": b_i, **(t_i or {})},
+                bodies=[[x.mass, *x.com, *x.inertia.ravel()] for x in r_i.values()])
+        if not kept:   # a kept state's reference values were finite
+            _finite(f"{type(reference).__name__} (reference)", state, **{"M": M_r, "bias": b_r, **(t_r or {})},
+                    bodies=[[x.mass, *x.com, *x.inertia.ravel()] for x in r_r.values()])
+            kept = _ReferenceState.of(r_r, terms_r, bool(forward and "qdd" in t_r), theta_dot, kw.get("base"),
+                                      reference.gravity)
+            if memo is not None:
+                memo[key] = kept
+        length, mass, i_scale, m_scale, b_scale = kept.length, kept.mass, kept.i_scale, kept.m_scale, kept.b_scale
         check("M", "M").update(_rel(M_i, M_r, m_scale), m_scale, state, M_i, M_r)
-        speed = max([1.0, float(np.max(np.abs(theta_dot), initial=0.0))]
-                    + ([float(np.max(np.abs(kw["base"].velocity)))] if free else []))
-        b_scale = max(float(np.max(np.abs(b_r))), m_scale * speed ** 2,
-                      mass * float(np.linalg.norm(reference.gravity)) * length)
         check("bias", "bias").update(_rel(b_i, b_r, b_scale), b_scale, state, b_i, b_r)
         if forward and "qdd" in t_r:
             for q in ("Cqd", "g"):
                 check(q, q).update(_rel(t_i[q], t_r[q], b_scale), b_scale, state, t_i[q], t_r[q])
-            inverse = np.linalg.inv(M_r)
-            a_scale = max(float(np.max(np.abs(inverse))) * b_scale, speed ** 2)
-            kappa = float(np.linalg.cond(M_r))
-            allowance = float(np.max(np.abs(inverse))) * n_bound * max(1.0, length**2) * float(np.max(np.abs(t_r["qdd"])))
+            a_scale, kappa = kept.a_scale, kept.kappa
+            allowance = kept.inverse_max * n_bound * max(1.0, length**2) * float(np.max(np.abs(t_r["qdd"])))
             check("qdd", "qdd").update(_rel(t_i["qdd"], t_r["qdd"], a_scale), a_scale, state, t_i["qdd"],
                                        t_r["qdd"], allowance, kappa)
         elif forward:

@@ -55,7 +55,7 @@ from __future__ import annotations
 
 import re
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
@@ -175,12 +175,14 @@ class Engine:
 
 @dataclass
 class Reference:
-    """The reference engine's load of a robot: its view, the joints by name, the prismatic ones, the model."""
+    """The reference engine's load of a robot: its view, the joints by name, the prismatic ones, the model, and
+    ``memo``: its values at the compared states, for each engine compared with it (:func:`importer.compare`)."""
 
     view: object
     joints: list[str]
     prismatic: set[str]
     model: object
+    memo: dict = field(default_factory=dict)
 
 
 def load_pinocchio(robot: Robot, facts: dict, findings: list[dict]) -> Reference:
@@ -608,7 +610,7 @@ def explain_export(engine: Engine, robot: Robot, reference: Reference, view, bou
     try:
         literal, literal_bound = engine.load(robot, reference, {}, [], quarter_turns=False)
         checks = importer.compare(literal, reference.view, reference.joints, reference.prismatic, states, seed,
-                                  literal_bound, forward=True)
+                                  literal_bound, forward=True, memo=reference.memo)
     except (ModelError, EngineError) as exc:
         return {"cause": f"from_urdf snaps {what}; not proven: the literal load failed ({exc})", "right": "",
                 "links": [], "proven": False, "after": None}
@@ -850,7 +852,7 @@ def sweep_robot(job: tuple) -> dict:
             imported = view if engine.importer else imported
             notes: list[str] = []
             checks = importer.compare(view, reference.view, reference.joints, reference.prismatic, states, seed,
-                                      bound, forward=True, notes=notes)
+                                      bound, forward=True, notes=notes, memo=reference.memo)
             record["findings"] += [_finding("singular mass matrix", engine.name, n) for n in notes]
             record["findings"] += [_finding(f"{engine.label}: forward dynamics refused", "", (
                 f"{m} (at the states where the reference's M is singular too: q̈ not compared there)"))
