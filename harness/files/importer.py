@@ -254,6 +254,19 @@ def random_base(rng) -> Base:
     return Base(rng.uniform(-1, 1, 3), quat / np.linalg.norm(quat), rng.uniform(-2, 2, 6))
 
 
+def _rel_rows(a: np.ndarray, b: np.ndarray, scale: float) -> list[float]:
+    """``_rel(a[k], b[k], scale)`` of every row ``k`` at once (:func:`harness.checks.relative_error`, relative to
+    ``max(scale, max|b[k]|)``: the same numbers; 0 where equal, inf where the difference is not finite)."""
+    n = len(a)
+    if not n:
+        return []
+    diff = np.abs(a - b).reshape(n, -1).max(axis=1)
+    size = np.maximum(np.maximum(np.abs(b).reshape(n, -1).max(axis=1), scale), 1e-300)
+    with np.errstate(over="ignore", invalid="ignore"):
+        out = np.where(diff == 0.0, 0.0, np.where(np.isfinite(diff), diff / size, math.inf))
+    return out.tolist()
+
+
 def compare(imported, reference, joints: list[str], prismatic: set[str], states: int = STATES,
             seed: int = SEED, bound: float = 0.0, forward: bool = False, notes: list | None = None,
             memo: dict | None = None) -> list[dict]:
@@ -334,14 +347,16 @@ def compare(imported, reference, joints: list[str], prismatic: set[str], states:
         elif forward:
             for q in ("Cqd", "g"):
                 check(q, q).update(_rel(t_i[q], t_r[q], b_scale), b_scale, state, t_i[q], t_r[q])
-        for j in r_r:
-            a, b = r_i[j], r_r[j]
-            check("mass", j).update(_rel(a.mass, b.mass, mass), mass, state, [a.mass], [b.mass], n_bound)
-            moment = mass * length
-            check("first moment of mass", j).update(_rel(a.mass * a.com, b.mass * b.com, moment), moment, state,
-                                                    a.mass * a.com, b.mass * b.com, n_bound * length)
-            check("inertia", j).update(_rel(a.inertia, b.inertia, i_scale), i_scale, state, a.inertia, b.inertia,
-                                       n_bound * max(1.0, length**2))
+        moment = mass * length
+        m_i, m_r = (np.array([r[j].mass for j in r_r]) for r in (r_i, r_r))
+        c_i, c_r = (np.array([r[j].com for j in r_r]).reshape(-1, 3) for r in (r_i, r_r))
+        f_i, f_r = m_i[:, None] * c_i, m_r[:, None] * c_r   # first moments m c
+        I_i, I_r = (np.array([r[j].inertia for j in r_r]).reshape(-1, 3, 3) for r in (r_i, r_r))
+        errors = zip(_rel_rows(m_i, m_r, mass), _rel_rows(f_i, f_r, moment), _rel_rows(I_i, I_r, i_scale))
+        for k, (j, (e_mass, e_first, e_inertia)) in enumerate(zip(r_r, errors)):
+            check("mass", j).update(e_mass, mass, state, [m_i[k]], [m_r[k]], n_bound)
+            check("first moment of mass", j).update(e_first, moment, state, f_i[k], f_r[k], n_bound * length)
+            check("inertia", j).update(e_inertia, i_scale, state, I_i[k], I_r[k], n_bound * max(1.0, length**2))
     if undefined and notes is not None:
         notes.append(f"q̈ not compared at {undefined} of {states} states: the reference's M is singular there "
                      "(a joint moves no mass; Pinocchio's aba returns non-finite values)")
