@@ -485,8 +485,10 @@ class MujocoModel(TreeEngine):
         steps = int(round(seconds / model.opt.timestep))
         start, found = warnings_log.mark(), []
 
+        noise = rng.normal(0.0, sigma, size=(steps, len(joints)))   # drawn at once: the same numbers, in order
+
         def torques(k):
-            data.qfrc_applied[joints] = rng.normal(0.0, sigma)
+            data.qfrc_applied[joints] = noise[k]
 
         self.rollout(steps, before=torques)  # the one stepping loop
         try:
