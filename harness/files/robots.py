@@ -816,7 +816,15 @@ def _worst(checks: list[dict]) -> dict | None:
 def sweep_robot(job: tuple) -> dict:
     """One robot: ``job = (name, path, states, seed[, mujoco_text[, symbolic]])`` (``mujoco_text``: what the other
     engines read instead of the file, for tests of the matching by name; ``symbolic``: compare our symbolic
-    derivation too, :data:`ON_REQUEST`). The record of robots.json."""
+    derivation too, :data:`ON_REQUEST`). The record of robots.json. NumPy's BLAS on one thread meanwhile
+    (:func:`harness.blas.one_thread`: the matrices are at most a robot's M)."""
+    from harness.blas import one_thread
+
+    with one_thread():
+        return _sweep_robot(job)
+
+
+def _sweep_robot(job: tuple) -> dict:
     from lxml import etree
 
     from harness.files.untrusted import parse_xml
