@@ -56,6 +56,7 @@ from __future__ import annotations
 import re
 import time
 from dataclasses import dataclass, field
+from functools import lru_cache
 from pathlib import Path
 from typing import Callable
 
@@ -288,7 +289,14 @@ class LinkInertia:
 
 
 def link_inertias(text: str, source: str = "URDF") -> list[LinkInertia]:
-    """Every link with a complete ``<inertial>`` (mass and inertia), as the file states it."""
+    """Every link with a complete ``<inertial>`` (mass and inertia), as the file states it (read once per text
+    for the last texts: a robot's treatments, repairs and causes read the same file, 62 calls for 20 texts in the
+    sweep)."""
+    return list(_link_inertias(text, source))
+
+
+@lru_cache(maxsize=16)
+def _link_inertias(text: str, source: str) -> tuple[LinkInertia, ...]:
     from harness.compare.roundtrip import rpy_matrix
     from harness.files.untrusted import parse_xml
 
@@ -310,7 +318,7 @@ def link_inertias(text: str, source: str = "URDF") -> list[LinkInertia]:
         tensor = R @ tensor @ R.T
         out.append(LinkInertia(link.get("name"), float(inertial.find("mass").get("value")), xyz, tensor,
                                np.linalg.eigvalsh(tensor), link.get("name") in fixed))
-    return out
+    return tuple(out)
 
 
 def with_inertias(text: str, source: str, new: dict[str, tuple[float, np.ndarray]]) -> str:
