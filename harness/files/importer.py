@@ -287,9 +287,10 @@ def compare(imported, reference, joints: list[str], prismatic: set[str], states:
     (:mod:`harness.compare.conformance`). Where the reference's ``M`` is singular (a joint that moves no mass:
     its ``q̈`` is not finite) ``q̈`` is not compared at that state; ``notes`` receives how often.
 
-    ``memo``: a dict the caller keeps with ``reference`` (and passes only with it): what the reference gives at a
-    state (:class:`_ReferenceState`), kept by the state's exact bits for the next comparison with the same
-    reference (a robot's pairs: every engine is compared at the same states)."""
+    ``memo``: a dict the caller keeps while neither view changes: what each view gives at a state (the reference's
+    :class:`_ReferenceState`, the import's subtrees and terms), kept by the view and the state's exact bits for the
+    next comparison at the same states (a robot's pairs: every engine is compared with the same reference; a cause
+    finder compares the same engine with an emulated reference)."""
     rng = np.random.default_rng(seed)
     undefined = 0
     free = reference.free
@@ -298,6 +299,19 @@ def compare(imported, reference, joints: list[str], prismatic: set[str], states:
 
     def check(quantity, item):
         return checks.setdefault((quantity, item), _Worst(quantity, item))
+
+    def remembered(view, what: str, key: tuple, compute=None):
+        """What ``compute()`` gave for ``view`` at this state, kept in ``memo`` (without ``compute``: what was kept,
+        or None)."""
+        entry = memo.get((id(view), what, key)) if memo is not None else None
+        if entry is not None and entry[0] is view:   # the view is kept with its values: its id is not reused
+            return entry[1]
+        if compute is None:
+            return None
+        value = compute()
+        if memo is not None:
+            memo[id(view), what, key] = (view, value)
+        return value
 
     for _ in range(states):
         theta = np.array([rng.uniform(-1, 1) if j in prismatic else rng.uniform(-np.pi, np.pi) for j in joints])
@@ -310,17 +324,19 @@ def compare(imported, reference, joints: list[str], prismatic: set[str], states:
         key = (theta.tobytes(), theta_dot.tobytes(), forward,
                np.concatenate([kw["base"].position, kw["base"].quat_xyzw, kw["base"].velocity]).tobytes()
                if free else None)
-        kept = memo.get(key) if memo is not None else None
-        r_i = rigid(imported, theta, **kw)
+        kept = remembered(reference, "reference", key)
+        r_i = remembered(imported, "rigid", key, lambda: rigid(imported, theta, **kw))
         r_r = kept.rigid if kept else rigid(reference, theta, **kw)
-        t_i = imported.terms(theta, theta_dot, forward=True, **kw) if forward else None
+        t_i = dict(remembered(imported, "terms", key, lambda: imported.terms(theta, theta_dot, forward=True, **kw))) \
+            if forward else None
         t_r = (kept.terms if kept else reference.terms(theta, theta_dot, forward=True, **kw)) if forward else None
         terms_r = t_r
         if forward and not np.all(np.isfinite(t_r["qdd"])):  # M singular: no forward dynamics to compare
             undefined += 1
             t_r = {k: v for k, v in t_r.items() if k != "qdd"}   # the reference's own dict is kept whole
             del t_i["qdd"]
-        M_i, b_i = (t_i["M"], t_i["bias"]) if forward else imported.mass_and_bias(theta, theta_dot, **kw)
+        M_i, b_i = (t_i["M"], t_i["bias"]) if forward else \
+            remembered(imported, "M and bias", key, lambda: imported.mass_and_bias(theta, theta_dot, **kw))
         if forward:
             M_r, b_r = t_r["M"], t_r["bias"]
         else:
@@ -332,10 +348,8 @@ def compare(imported, reference, joints: list[str], prismatic: set[str], states:
         if not kept:   # a kept state's reference values were finite
             _finite(f"{type(reference).__name__} (reference)", state, **{"M": M_r, "bias": b_r, **(t_r or {})},
                     bodies=[[x.mass, *x.com, *x.inertia.ravel()] for x in r_r.values()])
-            kept = _ReferenceState.of(r_r, terms_r, bool(forward and "qdd" in t_r), theta_dot, kw.get("base"),
-                                      reference.gravity)
-            if memo is not None:
-                memo[key] = kept
+            kept = remembered(reference, "reference", key, lambda: _ReferenceState.of(
+                r_r, terms_r, bool(forward and "qdd" in t_r), theta_dot, kw.get("base"), reference.gravity))
         length, mass, i_scale, m_scale, b_scale = kept.length, kept.mass, kept.i_scale, kept.m_scale, kept.b_scale
         check("M", "M").update(_rel(M_i, M_r, m_scale), m_scale, state, M_i, M_r)
         check("bias", "bias").update(_rel(b_i, b_r, b_scale), b_scale, state, b_i, b_r)

@@ -177,7 +177,8 @@ class Engine:
 @dataclass
 class Reference:
     """The reference engine's load of a robot: its view, the joints by name, the prismatic ones, the model, and
-    ``memo``: its values at the compared states, for each engine compared with it (:func:`importer.compare`)."""
+    ``memo``: the values of the views compared with it at the compared states, its own for each engine compared
+    with it, an engine's for its cause finder (:func:`importer.compare`)."""
 
     view: object
     joints: list[str]
@@ -943,7 +944,7 @@ def explain(engine: Engine, robot: Robot, reference: Reference, view, bound: flo
     try:
         ref = REFERENCE.load(Robot(robot.name, robot.path, text, robot.floating), {}, [])
         checks = importer.compare(view, ref.view, reference.joints, reference.prismatic, states, seed, bound,
-                                  forward=True)
+                                  forward=True, memo=reference.memo)   # the engine's values of its pair are kept
     except (ModelError, EngineError) as exc:
         return {"cause": f"not proven: the reference refused the emulated file ({exc})", "right": "", "links": [],
                 "proven": False, "after": None}
