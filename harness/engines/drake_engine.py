@@ -23,7 +23,7 @@ from __future__ import annotations
 import numpy as np
 from pydrake.multibody.parsing import Parser
 from pydrake.multibody.plant import MultibodyPlant
-from pydrake.multibody.tree import JacobianWrtVariable
+from pydrake.multibody.tree import BodyIndex, JacobianWrtVariable
 
 from harness.engines.base import Base, TreeEngine, TreeQuantities, input_forces, polarization, spring_damper_forces
 from harness.errors import EngineError
@@ -329,6 +329,8 @@ class DrakeImport:
         self.context = plant.CreateDefaultContext()
         self.refusals: set[str] = set()
         """Drake's refusals of forward dynamics (a non-positive-definite articulated inertia), by message."""
+        self._moved_bodies: dict | None = None   # :meth:`_moved`
+        self._bodies: dict = {}
         missing = [j for j in joints if not plant.HasJointNamed(j)]
         if missing:
             raise EngineError(f"joint(s) {', '.join(missing)} missing in the Drake model")
@@ -416,22 +418,30 @@ class DrakeImport:
         ``default_spatial_inertia``)."""
         plant, context = self.plant, self.context
         self._set(theta, np.zeros(len(theta)), base)
-        world, out = {}, {}
-        named = list(zip(self.joints, self.jobs)) + ([(self.free, self.free_joint)] if self.free else [])
-        for name, joint in named:
-            parts = []
-            for b in plant.GetBodiesKinematicallyAffectedBy([joint.index()]):
-                if b not in world:
-                    body = plant.get_body(b)
-                    X = plant.EvalBodyPoseInWorld(context, body)
-                    M = body.default_spatial_inertia()
-                    com = M.get_com()
-                    I = M.Shift(com).CalcRotationalInertia().CopyToFullMatrix3()
-                    R = X.rotation().matrix()
-                    world[b] = (float(M.get_mass()), X.multiply(com), R @ I @ R.T)
-                parts.append(world[b])
-            out[name] = parts
-        return out
+        moved = self._moved()
+        world = {}
+        for b, (body, mass, com, I) in self._bodies.items():
+            X = plant.EvalBodyPoseInWorld(context, body)
+            R = X.rotation().matrix()
+            world[b] = (mass, X.multiply(com), R @ I @ R.T)
+        return {name: [world[b] for b in bodies] for name, bodies in moved.items()}
+
+    def _moved(self) -> dict[str, list[int]]:
+        """Per joint (and the floating joint), the bodies it moves (``GetBodiesKinematicallyAffectedBy``), and
+        ``_bodies``: each one's mass, centre of mass and rotational inertia about it in its own frame
+        (``default_spatial_inertia``); asked of the plant once: they do not depend on the state."""
+        if self._moved_bodies is None:
+            plant = self.plant
+            named = list(zip(self.joints, self.jobs)) + ([(self.free, self.free_joint)] if self.free else [])
+            self._moved_bodies = {name: [int(b) for b in plant.GetBodiesKinematicallyAffectedBy([joint.index()])]
+                                  for name, joint in named}
+            for b in sorted({b for bodies in self._moved_bodies.values() for b in bodies}):
+                body = plant.get_body(BodyIndex(b))
+                M = body.default_spatial_inertia()
+                com = M.get_com()
+                self._bodies[b] = (body, float(M.get_mass()), com,
+                                   M.Shift(com).CalcRotationalInertia().CopyToFullMatrix3())
+        return self._moved_bodies
 
     def body_names(self) -> list[str]:
         from pydrake.multibody.tree import BodyIndex

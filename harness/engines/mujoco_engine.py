@@ -163,6 +163,7 @@ class MujocoModel(TreeEngine):
 
     def _attach(self, model: mujoco.MjModel, joints: list[str]) -> None:
         self.model, self.joints = model, joints
+        self._subtrees_of: dict | None = None   # :meth:`_subtrees`
         self.data = mujoco.MjData(model)  # one: an MjData costs 0.35 ms to make (the bindings' views), a fifth of
         # a small model's load; quantities() evaluates the rest state and the polarization on it first
         self.jids, self.qpos_index, self.dof_index = [], [], []
@@ -409,13 +410,21 @@ class MujocoModel(TreeEngine):
         it moves, world axes (``xipos``, ``ximat``, ``body_inertia``)."""
         self._set(theta, np.zeros(len(theta)), base)
         m, d = self.model, self.data
-        children: dict[int, list[int]] = {}
-        for c in range(1, m.nbody):  # once, not per joint: a chain of n links costs n², not n³
-            children.setdefault(int(m.body_parentid[c]), []).append(c)
         world = {}
         for b in range(m.nbody):
             R = d.ximat[b].reshape(3, 3)
             world[b] = (m.body_mass[b], d.xipos[b].copy(), R @ np.diag(m.body_inertia[b]) @ R.T)
+        return {name: [world[b] for b in subtree] for name, subtree in self._subtrees().items()}
+
+    def _subtrees(self) -> dict[str, list[int]]:
+        """Per joint (and the free joint), the bodies it moves (``body_parentid``, ``jnt_bodyid``: the compiled
+        tree, the same at every state; found once per model)."""
+        if self._subtrees_of is not None:
+            return self._subtrees_of
+        m = self.model
+        children: dict[int, list[int]] = {}
+        for c in range(1, m.nbody):  # once, not per joint: a chain of n links costs n², not n³
+            children.setdefault(int(m.body_parentid[c]), []).append(c)
         out = {}
         named = list(zip(self.joints, self.jids)) + ([(self.free, self.free_id)] if self.free else [])
         for name, jid in named:
@@ -424,7 +433,8 @@ class MujocoModel(TreeEngine):
                 b = stack.pop()
                 subtree.append(b)
                 stack += children.get(b, [])
-            out[name] = [world[b] for b in subtree]
+            out[name] = subtree
+        self._subtrees_of = out
         return out
 
     # ----- what the robots sweep (harness.files.robots) reads of an import
@@ -476,8 +486,10 @@ class MujocoModel(TreeEngine):
         steps = int(round(seconds / model.opt.timestep))
         start, found = warnings_log.mark(), []
 
+        noise = rng.normal(0.0, sigma, size=(steps, len(joints)))   # drawn at once: the same numbers, in order
+
         def torques(k):
-            data.qfrc_applied[joints] = rng.normal(0.0, sigma)
+            data.qfrc_applied[joints] = noise[k]
 
         self.rollout(steps, before=torques)  # the one stepping loop
         try:

@@ -143,6 +143,7 @@ class PinocchioModel(TreeEngine):
 
     def _attach(self, model: pin.Model, joints: list[str]) -> None:
         self.model, self.joints = model, joints
+        self._subtrees_of: dict | None = None   # :meth:`_subtrees`
         self.data = model.createData()
         self.model_no_gravity = model.copy()
         self.model_no_gravity.gravity.linear = np.zeros(3)
@@ -318,17 +319,21 @@ class PinocchioModel(TreeEngine):
         it moves, world axes (``pin.forwardKinematics``, ``model.subtrees``)."""
         q, _ = self._q_v(theta, np.zeros(len(theta)), base)
         pin.forwardKinematics(self.model, self.data, q)
-        out = {}
-        named = list(zip(self.joints, self.jids)) + ([(self.free, self.free_id)] if self.free else [])
-        for name, jid in named:
-            parts = []
-            for k in self.model.subtrees[jid]:
-                world = self.data.oMi[k].act(self.model.inertias[k])
-                R = self.data.oMi[k].rotation
-                parts.append((float(world.mass), np.array(world.lever), R @ np.array(self.model.inertias[k].inertia)
-                              @ R.T))
-            out[name] = parts
-        return out
+        subtrees = self._subtrees()
+        world = {}   # each body once, not per joint that moves it: a chain of n bodies costs n, not n²
+        for k in sorted({k for bodies in subtrees.values() for k in bodies}):
+            placed = self.data.oMi[k].act(self.model.inertias[k])
+            R = self.data.oMi[k].rotation
+            world[k] = (float(placed.mass), np.array(placed.lever), R @ np.array(self.model.inertias[k].inertia) @ R.T)
+        return {name: [world[k] for k in bodies] for name, bodies in subtrees.items()}
+
+    def _subtrees(self) -> dict[str, list[int]]:
+        """Per joint (and the free flyer), the bodies it moves (``model.subtrees``: the same at every state; read
+        once per model)."""
+        if self._subtrees_of is None:
+            named = list(zip(self.joints, self.jids)) + ([(self.free, self.free_id)] if self.free else [])
+            self._subtrees_of = {name: [int(k) for k in self.model.subtrees[jid]] for name, jid in named}
+        return self._subtrees_of
 
     def loaded_facts(self) -> dict:
         """What Pinocchio built from a URDF of other origin: joints, nq, nv, body frames, total mass."""

@@ -70,19 +70,65 @@ def lump(parts) -> tuple[float, np.ndarray, np.ndarray]:
     """Steiner's theorem (3.133): one rigid body from ``(m, c, I_c)`` parts given in common axes — its mass,
     centre of mass and (symmetric) inertia tensor about it. Parts without mass or inertia are left out; one
     part is returned as it is."""
-    parts = [(float(m), np.asarray(c, dtype=float), np.asarray(I, dtype=float)) for m, c, I in parts
-             if m > 0 or np.any(I)]
-    if not parts:
-        return 0.0, np.zeros(3), np.zeros((3, 3))
-    if len(parts) == 1:
-        return parts[0]
-    mass = sum(m for m, _, _ in parts)
-    com = sum(m * c for m, c, _ in parts) / mass if mass > 0 else np.zeros(3)
-    inertia = np.zeros((3, 3))
-    for m, c, I in parts:
-        d = c - com
-        inertia += I + m * (sum(x * x for x in d.tolist()) * np.eye(3) - np.outer(d, d))  # no BLAS dot: its kernel is per CPU
-    return mass, com, 0.5 * (inertia + inertia.T)
+    return lump_each([parts])[0]
+
+
+def lump_each(groups) -> list[tuple[float, np.ndarray, np.ndarray]]:
+    """:func:`lump` of each group of parts (a part may be in several groups: the subtrees of a tree's joints),
+    computed for all groups at once in arrays: every sum taken in the parts' order from 0 (``np.add.accumulate``,
+    sequential), so each group's numbers are those of one Python loop over its parts, to the bit."""
+    index: dict[int, int] = {}
+    unique, rows = [], []
+    for parts in groups:
+        row = []
+        for part in parts:
+            k = index.get(id(part))   # the parts outlive this call: an id is not reused meanwhile
+            if k is None:
+                k = index[id(part)] = len(unique)
+                unique.append(part)
+            row.append(k)
+        rows.append(row)
+    n = len(unique)
+    raw = [(m, np.asarray(c, dtype=float), np.asarray(I, dtype=float)) for m, c, I in unique]
+    masses = np.array([float(m) for m, _, _ in raw]).reshape(n)
+    coms = np.array([c for _, c, _ in raw]).reshape(n, 3)
+    tensors = np.array([I for _, _, I in raw]).reshape(n, 3, 3)
+    kept = (np.array([m > 0 for m, _, _ in raw], dtype=bool) | np.any(tensors != 0, axis=(1, 2))).tolist()
+    rows = [[k for k in row if kept[k]] for row in rows]
+    out: list = [None] * len(rows)
+    many = []
+    for g, row in enumerate(rows):
+        if not row:
+            out[g] = (0.0, np.zeros(3), np.zeros((3, 3)))
+        elif len(row) == 1:
+            out[g] = (float(raw[row[0]][0]), raw[row[0]][1], raw[row[0]][2])
+        else:
+            many.append(g)
+    if not many:
+        return out
+    width = max(len(rows[g]) for g in many)
+    count = np.array([len(rows[g]) for g in many])
+    at = np.array([rows[g] + [rows[g][0]] * (width - len(rows[g])) for g in many])   # padding is never summed
+    pick = (np.arange(len(many)), count)   # the sum of a group's parts, after the 0 it starts from
+
+    def total(x):   # 0 + x₀ + x₁ + … along the parts, in that order
+        return np.add.accumulate(np.concatenate([np.zeros_like(x[:, :1]), x], axis=1), axis=1)[pick]
+
+    m, c = masses[at], coms[at]
+    mass = total(m)
+    moment = total(m[..., None] * c)
+    heavy = mass > 0
+    com = np.zeros((len(many), 3))
+    com[heavy] = moment[heavy] / mass[heavy, None]
+    d = c - com[:, None, :]
+    square = d[..., 0] * d[..., 0] + d[..., 1] * d[..., 1] + d[..., 2] * d[..., 2]
+    steiner = tensors[at] + m[..., None, None] * (square[..., None, None] * np.eye(3)
+                                                   - d[..., :, None] * d[..., None, :])
+    inertia = total(steiner)
+    inertia = 0.5 * (inertia + inertia.transpose(0, 2, 1))
+    for i, g in enumerate(many):
+        out[g] = (float(mass[i]), com[i], inertia[i])
+    return out
 
 
 def point_name(point: Point) -> str:

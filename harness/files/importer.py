@@ -86,7 +86,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import partial
+from functools import lru_cache, partial
 from pathlib import Path
 
 from typing import TYPE_CHECKING
@@ -99,7 +99,7 @@ from harness.engines.base import Base
 from harness.engines.mujoco_engine import VERSION as MUJOCO_VERSION, MujocoModel, compile_text
 from harness.engines.pinocchio_engine import VERSION as PINOCCHIO_VERSION, PinocchioModel, load_urdf, moving_joints
 from harness.errors import EngineError, ModelError
-from harness.export.numeric import lump
+from harness.export.numeric import lump_each
 
 PROJECT_ROOT = Path(__file__).resolve().parents[2]
 FIXTURES = (Path(__file__).resolve().parent / "fixtures" / "rotated_inertials.urdf",)
@@ -119,9 +119,11 @@ _rel = partial(relative_error, symmetric=False)   # relative to each quantity's 
 QUANTITIES = ("M", "bias", "mass", "first moment of mass", "inertia")
 
 
+@lru_cache(maxsize=16)
 def without_geometry(urdf_text: str, source: str = "<urdf>") -> str:
     """The URDF without ``<visual>``/``<collision>`` (for MuJoCo's importer: the dynamics do not depend on
-    them, and it cannot resolve ``package://`` mesh URIs)."""
+    them, and it cannot resolve ``package://`` mesh URIs). Kept for the last texts (a robot's MuJoCo and Drake
+    loads strip the same file: 146 calls for 78 texts in ``harness robots``)."""
     from lxml import etree
 
     from harness.files.untrusted import parse_xml
@@ -153,16 +155,12 @@ class Rigid:
     inertia: np.ndarray
 
 
-def _lump(parts) -> Rigid:
-    """One body from ``(m, c, I_c)`` parts in world axes (:func:`harness.export.numeric.lump`)."""
-    return Rigid(*lump(parts))
-
-
 def rigid(view, theta, base: Base | None = None) -> dict[str, Rigid]:
     """What each joint of ``view`` (an engine adapter) moves, lumped into one body at ``θ`` (and, with a free
-    joint, the base state ``base``; the free joint moves the whole robot)."""
+    joint, the base state ``base``; the free joint moves the whole robot): ``(m, c, I_c)`` parts in world axes,
+    every joint's at once (:func:`harness.export.numeric.lump_each`)."""
     parts = view.subtree_parts(theta, base) if base is not None else view.subtree_parts(theta)
-    return {name: _lump(p) for name, p in parts.items()}
+    return {name: Rigid(*body) for name, body in zip(parts, lump_each(parts.values()))}
 
 
 # --------------------------------------------------------------------------------- comparison
@@ -215,14 +213,65 @@ def _finite(what: str, state: dict, **values) -> None:
         raise EngineError(f"{what}: {', '.join(bad)} not finite at θ = {list(state['theta'].values())}")
 
 
+@dataclass(frozen=True)
+class _ReferenceState:
+    """What :func:`compare` takes from the reference at one state (θ, θ̇, base): what each joint moves, the terms,
+    and the scales they give (length ``L``, largest subtree mass, inertia, ``M`` and bias scales, ``max|M⁻¹|``,
+    the acceleration scale and κ(M)). Read only: kept in ``compare``'s memo for the reference's next
+    comparison at the same state."""
+
+    rigid: dict
+    terms: dict
+    length: float
+    mass: float
+    i_scale: float
+    m_scale: float
+    b_scale: float
+    inverse_max: float | None = None
+    a_scale: float | None = None
+    kappa: float | None = None
+
+    @classmethod
+    def of(cls, r_r: dict, t_r: dict, qdd: bool, theta_dot, base: Base | None, gravity) -> "_ReferenceState":
+        """``qdd``: the forward dynamics is compared at this state (``M⁻¹``, κ(M) and the acceleration scale)."""
+        M_r, b_r = t_r["M"], t_r["bias"]
+        length = max(1e-300, max(float(np.max(np.abs(r.com))) for r in r_r.values()))
+        mass = max(r.mass for r in r_r.values())
+        i_scale = max(mass * length**2, max(float(np.max(np.abs(r.inertia))) for r in r_r.values()))
+        m_scale = max(float(np.max(np.abs(M_r))), i_scale)
+        speed = max([1.0, float(np.max(np.abs(theta_dot), initial=0.0))]
+                    + ([float(np.max(np.abs(base.velocity)))] if base is not None else []))
+        b_scale = max(float(np.max(np.abs(b_r))), m_scale * speed ** 2,
+                      mass * float(np.linalg.norm(gravity)) * length)
+        if not qdd:
+            return cls(r_r, t_r, length, mass, i_scale, m_scale, b_scale)
+        inverse_max = float(np.max(np.abs(np.linalg.inv(M_r))))
+        return cls(r_r, t_r, length, mass, i_scale, m_scale, b_scale, inverse_max,
+                   max(inverse_max * b_scale, speed ** 2), float(np.linalg.cond(M_r)))
+
+
 def random_base(rng) -> Base:
     """A floating base state: position in (−1, 1) m, orientation uniform on SO(3), local velocity in (−2, 2)."""
     quat = rng.normal(size=4)
     return Base(rng.uniform(-1, 1, 3), quat / np.linalg.norm(quat), rng.uniform(-2, 2, 6))
 
 
+def _rel_rows(a: np.ndarray, b: np.ndarray, scale: float) -> list[float]:
+    """``_rel(a[k], b[k], scale)`` of every row ``k`` at once (:func:`harness.checks.relative_error`, relative to
+    ``max(scale, max|b[k]|)``: the same numbers; 0 where equal, inf where the difference is not finite)."""
+    n = len(a)
+    if not n:
+        return []
+    diff = np.abs(a - b).reshape(n, -1).max(axis=1)
+    size = np.maximum(np.maximum(np.abs(b).reshape(n, -1).max(axis=1), scale), 1e-300)
+    with np.errstate(over="ignore", invalid="ignore"):
+        out = np.where(diff == 0.0, 0.0, np.where(np.isfinite(diff), diff / size, math.inf))
+    return out.tolist()
+
+
 def compare(imported, reference, joints: list[str], prismatic: set[str], states: int = STATES,
-            seed: int = SEED, bound: float = 0.0, forward: bool = False, notes: list | None = None) -> list[dict]:
+            seed: int = SEED, bound: float = 0.0, forward: bool = False, notes: list | None = None,
+            memo: dict | None = None) -> list[dict]:
     """Worst relative differences of ``imported`` against ``reference`` (both tree views) over random
     states: θ uniform in (−π, π) for rotations, (−1, 1) m for slides; θ̇ uniform in (−2, 2). ``bound``: the
     lower bound MuJoCo put on each body's mass and principal inertias of the import (0 when loaded as is);
@@ -236,7 +285,12 @@ def compare(imported, reference, joints: list[str], prismatic: set[str], states:
     scale of the bias, and the forward dynamics ``qdd`` at the scale of the accelerations the terms cause
     (``max|M⁻¹|`` times the bias scale, at least ``v²``) with the tolerance times κ(M), the conformance policy
     (:mod:`harness.compare.conformance`). Where the reference's ``M`` is singular (a joint that moves no mass:
-    its ``q̈`` is not finite) ``q̈`` is not compared at that state; ``notes`` receives how often."""
+    its ``q̈`` is not finite) ``q̈`` is not compared at that state; ``notes`` receives how often.
+
+    ``memo``: a dict the caller keeps while neither view changes: what each view gives at a state (the reference's
+    :class:`_ReferenceState`, the import's subtrees and terms), kept by the view and the state's exact bits for the
+    next comparison at the same states (a robot's pairs: every engine is compared with the same reference; a cause
+    finder compares the same engine with an emulated reference)."""
     rng = np.random.default_rng(seed)
     undefined = 0
     free = reference.free
@@ -246,6 +300,19 @@ def compare(imported, reference, joints: list[str], prismatic: set[str], states:
     def check(quantity, item):
         return checks.setdefault((quantity, item), _Worst(quantity, item))
 
+    def remembered(view, what: str, key: tuple, compute=None):
+        """What ``compute()`` gave for ``view`` at this state, kept in ``memo`` (without ``compute``: what was kept,
+        or None)."""
+        entry = memo.get((id(view), what, key)) if memo is not None else None
+        if entry is not None and entry[0] is view:   # the view is kept with its values: its id is not reused
+            return entry[1]
+        if compute is None:
+            return None
+        value = compute()
+        if memo is not None:
+            memo[id(view), what, key] = (view, value)
+        return value
+
     for _ in range(states):
         theta = np.array([rng.uniform(-1, 1) if j in prismatic else rng.uniform(-np.pi, np.pi) for j in joints])
         theta_dot = rng.uniform(-2, 2, len(joints))
@@ -254,48 +321,58 @@ def compare(imported, reference, joints: list[str], prismatic: set[str], states:
         if free:
             kw["base"] = random_base(rng)
             state["base"] = kw["base"].record()
-        r_i, r_r = rigid(imported, theta, **kw), rigid(reference, theta, **kw)
-        t_i = imported.terms(theta, theta_dot, forward=True, **kw) if forward else None
-        t_r = reference.terms(theta, theta_dot, forward=True, **kw) if forward else None
+        key = (theta.tobytes(), theta_dot.tobytes(), forward,
+               np.concatenate([kw["base"].position, kw["base"].quat_xyzw, kw["base"].velocity]).tobytes()
+               if free else None)
+        kept = remembered(reference, "reference", key)
+        r_i = remembered(imported, "rigid", key, lambda: rigid(imported, theta, **kw))
+        r_r = kept.rigid if kept else rigid(reference, theta, **kw)
+        t_i = dict(remembered(imported, "terms", key, lambda: imported.terms(theta, theta_dot, forward=True, **kw))) \
+            if forward else None
+        t_r = (kept.terms if kept else reference.terms(theta, theta_dot, forward=True, **kw)) if forward else None
+        terms_r = t_r
         if forward and not np.all(np.isfinite(t_r["qdd"])):  # M singular: no forward dynamics to compare
             undefined += 1
-            del t_r["qdd"], t_i["qdd"]
-        M_i, b_i = (t_i["M"], t_i["bias"]) if forward else imported.mass_and_bias(theta, theta_dot, **kw)
-        M_r, b_r = (t_r["M"], t_r["bias"]) if forward else reference.mass_and_bias(theta, theta_dot, **kw)
-        for name, view, M, b, r, t in (("import", imported, M_i, b_i, r_i, t_i),
-                                       ("reference", reference, M_r, b_r, r_r, t_r)):
-            _finite(f"{type(view).__name__} ({name})", state, **{"M": M, "bias": b, **(t or {})},
-                    bodies=[[x.mass, *x.com, *x.inertia.ravel()] for x in r.values()])
-        length = max(1e-300, max(float(np.max(np.abs(r.com))) for r in r_r.values()))
-        mass = max(r.mass for r in r_r.values())
-        i_scale = max(mass * length**2, max(float(np.max(np.abs(r.inertia))) for r in r_r.values()))
-        m_scale = max(float(np.max(np.abs(M_r))), i_scale)
+            t_r = {k: v for k, v in t_r.items() if k != "qdd"}   # the reference's own dict is kept whole
+            del t_i["qdd"]
+        M_i, b_i = (t_i["M"], t_i["bias"]) if forward else \
+            remembered(imported, "M and bias", key, lambda: imported.mass_and_bias(theta, theta_dot, **kw))
+        if forward:
+            M_r, b_r = t_r["M"], t_r["bias"]
+        else:
+            M_r, b_r = (kept.terms["M"], kept.terms["bias"]) if kept else \
+                reference.mass_and_bias(theta, theta_dot, **kw)
+            terms_r = {"M": M_r, "bias": b_r}
+        _finite(f"{type(imported).__name__} (import)", state, **{"M": M_i, "bias": b_i, **(t_i or {})},
+                bodies=[[x.mass, *x.com, *x.inertia.ravel()] for x in r_i.values()])
+        if not kept:   # a kept state's reference values were finite
+            _finite(f"{type(reference).__name__} (reference)", state, **{"M": M_r, "bias": b_r, **(t_r or {})},
+                    bodies=[[x.mass, *x.com, *x.inertia.ravel()] for x in r_r.values()])
+            kept = remembered(reference, "reference", key, lambda: _ReferenceState.of(
+                r_r, terms_r, bool(forward and "qdd" in t_r), theta_dot, kw.get("base"), reference.gravity))
+        length, mass, i_scale, m_scale, b_scale = kept.length, kept.mass, kept.i_scale, kept.m_scale, kept.b_scale
         check("M", "M").update(_rel(M_i, M_r, m_scale), m_scale, state, M_i, M_r)
-        speed = max([1.0, float(np.max(np.abs(theta_dot), initial=0.0))]
-                    + ([float(np.max(np.abs(kw["base"].velocity)))] if free else []))
-        b_scale = max(float(np.max(np.abs(b_r))), m_scale * speed ** 2,
-                      mass * float(np.linalg.norm(reference.gravity)) * length)
         check("bias", "bias").update(_rel(b_i, b_r, b_scale), b_scale, state, b_i, b_r)
         if forward and "qdd" in t_r:
             for q in ("Cqd", "g"):
                 check(q, q).update(_rel(t_i[q], t_r[q], b_scale), b_scale, state, t_i[q], t_r[q])
-            inverse = np.linalg.inv(M_r)
-            a_scale = max(float(np.max(np.abs(inverse))) * b_scale, speed ** 2)
-            kappa = float(np.linalg.cond(M_r))
-            allowance = float(np.max(np.abs(inverse))) * n_bound * max(1.0, length**2) * float(np.max(np.abs(t_r["qdd"])))
+            a_scale, kappa = kept.a_scale, kept.kappa
+            allowance = kept.inverse_max * n_bound * max(1.0, length**2) * float(np.max(np.abs(t_r["qdd"])))
             check("qdd", "qdd").update(_rel(t_i["qdd"], t_r["qdd"], a_scale), a_scale, state, t_i["qdd"],
                                        t_r["qdd"], allowance, kappa)
         elif forward:
             for q in ("Cqd", "g"):
                 check(q, q).update(_rel(t_i[q], t_r[q], b_scale), b_scale, state, t_i[q], t_r[q])
-        for j in r_r:
-            a, b = r_i[j], r_r[j]
-            check("mass", j).update(_rel(a.mass, b.mass, mass), mass, state, [a.mass], [b.mass], n_bound)
-            moment = mass * length
-            check("first moment of mass", j).update(_rel(a.mass * a.com, b.mass * b.com, moment), moment, state,
-                                                    a.mass * a.com, b.mass * b.com, n_bound * length)
-            check("inertia", j).update(_rel(a.inertia, b.inertia, i_scale), i_scale, state, a.inertia, b.inertia,
-                                       n_bound * max(1.0, length**2))
+        moment = mass * length
+        m_i, m_r = (np.array([r[j].mass for j in r_r]) for r in (r_i, r_r))
+        c_i, c_r = (np.array([r[j].com for j in r_r]).reshape(-1, 3) for r in (r_i, r_r))
+        f_i, f_r = m_i[:, None] * c_i, m_r[:, None] * c_r   # first moments m c
+        I_i, I_r = (np.array([r[j].inertia for j in r_r]).reshape(-1, 3, 3) for r in (r_i, r_r))
+        errors = zip(_rel_rows(m_i, m_r, mass), _rel_rows(f_i, f_r, moment), _rel_rows(I_i, I_r, i_scale))
+        for k, (j, (e_mass, e_first, e_inertia)) in enumerate(zip(r_r, errors)):
+            check("mass", j).update(e_mass, mass, state, [m_i[k]], [m_r[k]], n_bound)
+            check("first moment of mass", j).update(e_first, moment, state, f_i[k], f_r[k], n_bound * length)
+            check("inertia", j).update(e_inertia, i_scale, state, I_i[k], I_r[k], n_bound * max(1.0, length**2))
     if undefined and notes is not None:
         notes.append(f"q̈ not compared at {undefined} of {states} states: the reference's M is singular there "
                      "(a joint moves no mass; Pinocchio's aba returns non-finite values)")

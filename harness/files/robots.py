@@ -55,7 +55,8 @@ from __future__ import annotations
 
 import re
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from functools import lru_cache
 from pathlib import Path
 from typing import Callable
 
@@ -175,12 +176,15 @@ class Engine:
 
 @dataclass
 class Reference:
-    """The reference engine's load of a robot: its view, the joints by name, the prismatic ones, the model."""
+    """The reference engine's load of a robot: its view, the joints by name, the prismatic ones, the model, and
+    ``memo``: the values of the views compared with it at the compared states, its own for each engine compared
+    with it, an engine's for its cause finder (:func:`importer.compare`)."""
 
     view: object
     joints: list[str]
     prismatic: set[str]
     model: object
+    memo: dict = field(default_factory=dict)
 
 
 def load_pinocchio(robot: Robot, facts: dict, findings: list[dict]) -> Reference:
@@ -286,7 +290,14 @@ class LinkInertia:
 
 
 def link_inertias(text: str, source: str = "URDF") -> list[LinkInertia]:
-    """Every link with a complete ``<inertial>`` (mass and inertia), as the file states it."""
+    """Every link with a complete ``<inertial>`` (mass and inertia), as the file states it (read once per text
+    for the last texts: a robot's treatments, repairs and causes read the same file, 62 calls for 20 texts in the
+    sweep)."""
+    return list(_link_inertias(text, source))
+
+
+@lru_cache(maxsize=16)
+def _link_inertias(text: str, source: str) -> tuple[LinkInertia, ...]:
     from harness.compare.roundtrip import rpy_matrix
     from harness.files.untrusted import parse_xml
 
@@ -308,7 +319,7 @@ def link_inertias(text: str, source: str = "URDF") -> list[LinkInertia]:
         tensor = R @ tensor @ R.T
         out.append(LinkInertia(link.get("name"), float(inertial.find("mass").get("value")), xyz, tensor,
                                np.linalg.eigvalsh(tensor), link.get("name") in fixed))
-    return out
+    return tuple(out)
 
 
 def with_inertias(text: str, source: str, new: dict[str, tuple[float, np.ndarray]]) -> str:
@@ -523,14 +534,29 @@ def export_scope(robot: Robot, reference: Reference, pair: str = "the exporter p
 
 def our_system(robot: Robot, quarter_turns: bool = True):
     """Our :class:`~harness.modeling.system.System` of the file (:func:`harness.files.from_urdf.from_urdf` on its
-    text, nothing locked; ``quarter_turns=False``: every angle as the file writes it)."""
+    text, nothing locked; ``quarter_turns=False``: every angle as the file writes it). Built once per text and
+    process (:data:`_SYSTEMS`)."""
     from harness.files.from_urdf import from_urdf
 
+    key = (robot.text, robot.name, robot.urdf, quarter_turns)
+    system = _SYSTEMS.get(key)
+    if system is not None:
+        return system
     try:
-        return from_urdf(robot.text, name=re.sub(r"\W", "_", robot.name),
-                         title=robot.name, lecture=f"example-robot-data {robot.urdf}", quarter_turns=quarter_turns)
+        system = from_urdf(robot.text, name=re.sub(r"\W", "_", robot.name), title=robot.name,
+                           lecture=f"example-robot-data {robot.urdf}", quarter_turns=quarter_turns)
     except ModelError as exc:
         raise NotCompared(f"our from_urdf refuses the file: {exc}") from None
+    if len(_SYSTEMS) >= _SYSTEMS_KEPT:
+        _SYSTEMS.clear()
+    _SYSTEMS[key] = system
+    return system
+
+
+_SYSTEMS: dict = {}
+_SYSTEMS_KEPT = 8
+""":func:`our_system` by file text, robot and ``quarter_turns``: a robot's exporter pair and symbolic pair (and the
+literal loads of their cause finder) read the same file into the same frozen System; from_urdf once each."""
 
 
 def export_system(robot: Robot, quarter_turns: bool = True):
@@ -608,7 +634,7 @@ def explain_export(engine: Engine, robot: Robot, reference: Reference, view, bou
     try:
         literal, literal_bound = engine.load(robot, reference, {}, [], quarter_turns=False)
         checks = importer.compare(literal, reference.view, reference.joints, reference.prismatic, states, seed,
-                                  literal_bound, forward=True)
+                                  literal_bound, forward=True, memo=reference.memo)
     except (ModelError, EngineError) as exc:
         return {"cause": f"from_urdf snaps {what}; not proven: the literal load failed ({exc})", "right": "",
                 "links": [], "proven": False, "after": None}
@@ -799,7 +825,15 @@ def _worst(checks: list[dict]) -> dict | None:
 def sweep_robot(job: tuple) -> dict:
     """One robot: ``job = (name, path, states, seed[, mujoco_text[, symbolic]])`` (``mujoco_text``: what the other
     engines read instead of the file, for tests of the matching by name; ``symbolic``: compare our symbolic
-    derivation too, :data:`ON_REQUEST`). The record of robots.json."""
+    derivation too, :data:`ON_REQUEST`). The record of robots.json. NumPy's BLAS on one thread meanwhile
+    (:func:`harness.blas.one_thread`: the matrices are at most a robot's M)."""
+    from harness.blas import one_thread
+
+    with one_thread():
+        return _sweep_robot(job)
+
+
+def _sweep_robot(job: tuple) -> dict:
     from lxml import etree
 
     from harness.files.untrusted import parse_xml
@@ -850,7 +884,7 @@ def sweep_robot(job: tuple) -> dict:
             imported = view if engine.importer else imported
             notes: list[str] = []
             checks = importer.compare(view, reference.view, reference.joints, reference.prismatic, states, seed,
-                                      bound, forward=True, notes=notes)
+                                      bound, forward=True, notes=notes, memo=reference.memo)
             record["findings"] += [_finding("singular mass matrix", engine.name, n) for n in notes]
             record["findings"] += [_finding(f"{engine.label}: forward dynamics refused", "", (
                 f"{m} (at the states where the reference's M is singular too: q̈ not compared there)"))
@@ -910,7 +944,7 @@ def explain(engine: Engine, robot: Robot, reference: Reference, view, bound: flo
     try:
         ref = REFERENCE.load(Robot(robot.name, robot.path, text, robot.floating), {}, [])
         checks = importer.compare(view, ref.view, reference.joints, reference.prismatic, states, seed, bound,
-                                  forward=True)
+                                  forward=True, memo=reference.memo)   # the engine's values of its pair are kept
     except (ModelError, EngineError) as exc:
         return {"cause": f"not proven: the reference refused the emulated file ({exc})", "right": "", "links": [],
                 "proven": False, "after": None}

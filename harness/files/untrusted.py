@@ -181,8 +181,29 @@ Only a text that passed is kept; a refused one is refused again with its message
 
 def _gate(data: bytes, source: str) -> None:
     """The gate of :func:`parse_xml`: :class:`ModelError` for a DTD, entity, external reference, malformed XML or
-    excessive nesting."""
-    try:  # expat with entities and external references forbidden, then any DTD at all
+    excessive nesting. One expat pass with any DTD forbidden (without a DTD there is no entity and no external
+    reference); a text it does not accept is read as before by :func:`_two_passes`, whose error names what it holds."""
+    try:
+        tree = safe_et.fromstring(data, forbid_dtd=True, forbid_entities=True, forbid_external=True)
+    except (ValueError, LookupError, RecursionError, safe_et.ParseError):  # defusedxml's errors are ValueErrors
+        tree = _two_passes(data, source)
+    level, depth = [tree], 1
+    while level:  # level by level; the element named is the one a depth-first walk finds
+        if depth > MAX_DEPTH:
+            stack = [(tree, 1)]
+            while stack:
+                el, d = stack.pop()
+                if d > MAX_DEPTH:
+                    raise ModelError(f"{source}: elements nested deeper than {MAX_DEPTH} levels (<{el.tag}>)")
+                stack.extend((child, d + 1) for child in el)
+        level = [child for el in level for child in el]
+        depth += 1
+
+
+def _two_passes(data: bytes, source: str):
+    """The gate's reading of a text with a DTD (or malformed): expat with entities and external references
+    forbidden, then any DTD at all, so that an entity declaration or external reference is named as such."""
+    try:
         tree = safe_et.fromstring(data, forbid_dtd=False, forbid_entities=True, forbid_external=True)
         safe_et.fromstring(data, forbid_dtd=True, forbid_entities=True, forbid_external=True)
     except defusedxml.EntitiesForbidden as exc:
@@ -200,12 +221,7 @@ def _gate(data: bytes, source: str) -> None:
         raise ModelError(f"{source}:{line}:{column}: malformed XML: {str(exc).split(':')[0]}") from None
     except (ValueError, LookupError, RecursionError) as exc:  # LookupError: an unknown encoding= declared
         raise ModelError(f"{source}: malformed XML: {exc}") from None
-    stack = [(tree, 1)]
-    while stack:
-        el, d = stack.pop()
-        if d > MAX_DEPTH:
-            raise ModelError(f"{source}: elements nested deeper than {MAX_DEPTH} levels (<{el.tag}>)")
-        stack.extend((child, d + 1) for child in el)
+    return tree
 
 
 def parse_model(text: str | bytes, source: str = "<string>", folder: Path | str | None = None) -> ModelFile:
