@@ -54,17 +54,22 @@ def check_warnings(model: mujoco.MjModel, data: mujoco.MjData, what: str) -> Non
     :func:`check_state`."""
     mujoco.mj_checkPos(model, data)
     mujoco.mj_checkVel(model, data)
+    if not data.warning.number[_COUNTERS].any():  # the clean case, at every step of a simulation: one array read
+        return
     found = [f"{text} ({data.warning[w].number}x, last index {data.warning[w].lastinfo})"
              for w, text in WARNINGS.items() if data.warning[w].number > 0]
     clear_warnings(data)  # counted once: the next evaluation with the same data starts clean
-    if found:
-        raise EngineError(f"{what}: MuJoCo warning at t={data.time:g} s: " + "; ".join(found))
+    raise EngineError(f"{what}: MuJoCo warning at t={data.time:g} s: " + "; ".join(found))
+
+
+_COUNTERS = [int(w) for w in WARNINGS]
+"""The indices of :data:`WARNINGS` in ``MjData.warning.number``, the counters as one writable array (a view):
+reading them one ``data.warning[w]`` at a time costs ~1 µs each, 13 µs a forward dynamics checked and cleared."""
 
 
 def clear_warnings(data: mujoco.MjData) -> None:
     """The counters of :data:`WARNINGS` set to 0."""
-    for w in WARNINGS:
-        data.warning[w].number = 0
+    data.warning.number[_COUNTERS] = 0
 
 
 def check_state(model: mujoco.MjModel, data: mujoco.MjData, what: str) -> None:
