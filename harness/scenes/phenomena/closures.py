@@ -52,7 +52,6 @@ import sympy as sp
 
 from harness.checks import Bound
 from harness.engines import simulating
-from harness.engines.base import Load, load_functions
 from harness.engines.mujoco_engine import ClosureGuide, JointCoupling, MujocoModel, Options
 from harness.errors import ModelError
 from harness.export.numeric import instantiate, point_name
@@ -146,12 +145,6 @@ class _Recover:
         return q, np.linalg.lstsq(J, theta_dot, rcond=None)[0]
 
 
-def _loads(dyn: sim.Dynamics, t, q, qd):
-    args = (q, qd, dyn.p, dyn.scene.u(t, dyn.system))
-    return [Load(kind, where, frame, np.asarray(fn(*args), dtype=float).ravel())
-            for kind, where, frame, fn in load_functions(dyn.system)]
-
-
 def _start(system, scene, dyn):
     """The tree state at the scene's start: ``θ₀ = φ(q₀)``, ``θ̇₀ = J q̇₀``."""
     q0, qd0 = np.asarray(scene.q0, dtype=float), np.asarray(scene.qd0, dtype=float)
@@ -173,7 +166,7 @@ class PinocchioConstrained:
             [(cp.dependent, cp.independent, cp.offset, cp.ratio) for cp in self.couplings],
             [(point_name(cl.point), cl.normal, value_at(cl.value, self.dyn.params)) for cl in self.dyn.system.closures])
         self.recover = _Recover(self.dyn, scene.q0)
-        self.has_loads = bool(load_functions(self.dyn.system))
+        self.has_loads = bool(self.dyn.load_functions)
         self.evaluations = 0
 
     def __call__(self, t, y):
@@ -183,7 +176,7 @@ class PinocchioConstrained:
         loads = ()
         if self.has_loads:
             lq, lqd = self.recover(theta, theta_dot)
-            loads = _loads(self.dyn, t, lq, lqd)
+            loads = self.dyn.loads(lq, lqd, self.dyn.scene.u(t, self.dyn.system))
         inputs = dict(zip((i.name for i in self.dyn.system.inputs), self.dyn.scene.u(t, self.dyn.system)))
         return np.concatenate([theta_dot, self.constraints.forward_dynamics(theta, theta_dot, inputs, loads,
                                                                              BAUMGARTE_OMEGA)])
@@ -244,7 +237,7 @@ def mujoco_constrained(system, scene, dt: float, horizon=None) -> sim.Trajectory
     for guide in guides:  # the guide starts where the point is
         guide.place(mm)
     recover = _Recover(dyn, scene.q0)
-    has_loads = bool(load_functions(dyn.system))
+    has_loads = bool(dyn.load_functions)
     compensations = [guide.compensation(mm) for guide in guides]
     mm.forward()
     end = scene.horizon if horizon is None else horizon
@@ -258,7 +251,7 @@ def mujoco_constrained(system, scene, dt: float, horizon=None) -> sim.Trajectory
     def between(k):
         if has_loads:
             q, qd = recover(mm.theta(), mm.theta_dot())
-            mm.apply_loads(_loads(dyn, mm.time, q, qd))
+            mm.apply_loads(dyn.loads(q, qd, scene.u(mm.time, dyn.system)))
         for compensate in compensations:  # the guide's inertia cancelled with its last acceleration (lag dt)
             compensate()
 
