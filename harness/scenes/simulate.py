@@ -19,7 +19,7 @@ from scipy.integrate import odeint, solve_ivp
 
 from harness.derivation.compile import compiled
 from harness.engines import SYMBOLIC, engine
-from harness.engines.base import Load, load_functions, to_lecture
+from harness.engines.base import Load, lecture_qdd, load_functions, to_lecture
 from harness.engines.mujoco_engine import Options
 from harness.export.numeric import instantiate
 from harness.modeling.system import System
@@ -88,13 +88,15 @@ class Dynamics:
         u = self.scene.u(t, self.system)
         if self.model is None:
             return self.c.forward_dynamics(q, qd, self.p, u)
+        if self.c.identity_map:  # θ = q, θ̇ = q̇: the engine's forward dynamics is q̈ (no map to evaluate)
+            return self.model.forward_dynamics(q, qd, dict(zip(self.input_names, u)), self.loads(q, qd, u))
         if self.c.derivation.J_phi.is_square:
             # only the engine's forward dynamics: θ̈ of the tree, then q̈ = J⁻¹ (θ̈ − J̇ q̇) (5.58)
             theta, J, J_dot = self.c.map_at(q, qd, self.p, u)
             inputs = dict(zip(self.input_names, u))
             theta_dd = self.model.forward_dynamics(theta, J @ qd, inputs, self.loads(q, qd, u))
-            return theta_dd if self.c.identity_map else np.linalg.solve(J, theta_dd - J_dot @ qd)
-        return self.lecture(t, q, qd).qdd
+            return np.linalg.solve(J, theta_dd - J_dot @ qd)
+        return lecture_qdd(*self._tree_at(u, q, qd))
 
     def loads(self, q, qd, u) -> list[Load]:
         """The external loads (PointForce, BodyTorque) at one state, each engine turns them into forces."""
@@ -110,11 +112,14 @@ class Dynamics:
 
     def lecture(self, t: float, q: np.ndarray, qd: np.ndarray):
         """The engine's quantities at one state in lecture coordinates (:func:`to_lecture`)."""
-        u = self.scene.u(t, self.system)
+        return to_lecture(self.source, *self._tree_at(self.scene.u(t, self.system), q, qd))
+
+    def _tree_at(self, u, q, qd) -> tuple:
+        """The map at one state and the engine's quantities of the tree there (no Christoffel symbols)."""
         theta, J, J_dot = self.c.map_at(q, qd, self.p, u)
         inputs = dict(zip(self.input_names, u))
         tree_quantities = self.model.quantities(theta, J @ qd, inputs, self.loads(q, qd, u), christoffel=False)
-        return to_lecture(self.source, _MapAt(J, J_dot, qd), tree_quantities)
+        return _MapAt(J, J_dot, qd), tree_quantities
 
     def energy(self, q: np.ndarray, qd: np.ndarray) -> float:
         """``E = T + V`` of the pruned system (our derivation)."""
