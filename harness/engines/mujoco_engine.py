@@ -201,14 +201,14 @@ class MujocoModel(TreeEngine):
         for load in loads:
             R = np.eye(3)
             if load.frame != WORLD:
-                R = d.xmat[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, load.frame)].reshape(3, 3)
+                R = d.xmat[self._id(mujoco.mjtObj.mjOBJ_BODY, load.frame)].reshape(3, 3)
             vector, zero = R @ load.vector, np.zeros(3)
             if load.kind == "force":
-                site = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, load.where)
+                site = self._id(mujoco.mjtObj.mjOBJ_SITE, load.where)
                 body, point = m.site_bodyid[site], d.site_xpos[site].copy()
                 mujoco.mj_applyFT(m, d, vector, zero, point, body, qfrc)
             else:
-                body = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, load.where)
+                body = self._id(mujoco.mjtObj.mjOBJ_BODY, load.where)
                 mujoco.mj_applyFT(m, d, zero, vector, d.xpos[body].copy(), body, qfrc)
         return qfrc
 
@@ -525,7 +525,12 @@ class MujocoModel(TreeEngine):
         return self.model.nv
 
     def _id(self, kind, name) -> int:
-        return mujoco.mj_name2id(self.model, kind, name)
+        """The id of a named object of the compiled model, looked up once (its names do not change; the loads
+        of a scene are applied by name at every step)."""
+        ids = self.__dict__.setdefault("_ids", {})
+        if (kind, name) not in ids:
+            ids[kind, name] = mujoco.mj_name2id(self.model, kind, name)
+        return ids[kind, name]
 
     def collision_pairs(self) -> list[tuple[int, int]]:
         """The geom pairs MuJoCo's collision detection considers, by its own filter: ``contype``/``conaffinity``
