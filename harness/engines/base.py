@@ -140,6 +140,16 @@ def load_functions(system: System) -> list:
     return out
 
 
+def loads_read_state(system: System) -> bool:
+    """Whether an external load of ``system`` depends on ``q`` or ``q̇`` (a drag, a road force); one that does not
+    (a rope's pull, a load torque: inputs and parameters alone) is evaluated without the lecture state."""
+    from harness.modeling.system import BodyTorque, PointForce
+
+    state = set(system.q) | set(system.qd)
+    return any(sp.sympify(c).free_symbols & state for f in system.forces if isinstance(f, (PointForce, BodyTorque))
+               for c in (f.force if isinstance(f, PointForce) else f.torque))
+
+
 @dataclass(frozen=True)
 class Load:
     """A force at a named point, or a torque on a link, components in ``frame`` (world or a link)."""

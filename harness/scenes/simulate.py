@@ -19,7 +19,7 @@ from scipy.integrate import odeint, solve_ivp
 
 from harness.derivation.compile import compiled
 from harness.engines import SYMBOLIC, engine
-from harness.engines.base import Load, lecture_qdd, load_functions, to_lecture
+from harness.engines.base import Load, lecture_qdd, load_functions, loads_read_state, to_lecture
 from harness.engines.mujoco_engine import Options
 from harness.export.numeric import instantiate
 from harness.modeling.system import System
@@ -80,6 +80,7 @@ class Dynamics:
         self.c = compiled(self.system)
         self.input_names = [i.name for i in self.system.inputs]
         self.load_functions = load_functions(self.system)  # looked up once: hashing a System walks its expressions
+        self.loads_read_state = loads_read_state(self.system)
         self.evaluations = 0
         self.model = None if source == SYMBOLIC else engine(source)(instantiate(self.system, self.params))
 

@@ -142,6 +142,14 @@ class _Recover:
         self.q = q
         return q, _least_squares(self._map(q)[1], theta_dot)
 
+    def for_loads(self, theta, theta_dot):
+        """The lecture state the loads are evaluated at: recovered where a load reads it; the loads of the
+        catalogue's closed chains are inputs alone (a rope's pull, a load torque), evaluated at zeros they do not
+        read, with no recovery at every step."""
+        if self.dyn.loads_read_state:
+            return self(theta, theta_dot)
+        return self.zeros, self.zeros
+
     def _map(self, q):
         """``φ(q)`` and ``J = ∂φ/∂q``, from one call of the compiled map (:meth:`CompiledModel.map_at`)."""
         phi, J, _ = self.dyn.c.map_at(q, self.zeros, self.dyn.p, self.u)
@@ -188,7 +196,7 @@ class PinocchioConstrained:
         theta, theta_dot = y[:n], y[n:]
         loads = ()
         if self.has_loads:
-            lq, lqd = self.recover(theta, theta_dot)
+            lq, lqd = self.recover.for_loads(theta, theta_dot)
             loads = self.dyn.loads(lq, lqd, self.dyn.scene.u(t, self.dyn.system))
         inputs = dict(zip((i.name for i in self.dyn.system.inputs), self.dyn.scene.u(t, self.dyn.system)))
         return np.concatenate([theta_dot, self.constraints.forward_dynamics(theta, theta_dot, inputs, loads,
@@ -263,7 +271,7 @@ def mujoco_constrained(system, scene, dt: float, horizon=None) -> sim.Trajectory
 
     def between(k):
         if has_loads:
-            q, qd = recover(mm.theta(), mm.theta_dot())
+            q, qd = recover.for_loads(mm.theta(), mm.theta_dot())
             mm.apply_loads(dyn.loads(q, qd, scene.u(mm.time, dyn.system)))
         for compensate in compensations:  # the guide's inertia cancelled with its last acceleration (lag dt)
             compensate()
