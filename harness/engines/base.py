@@ -140,6 +140,16 @@ def load_functions(system: System) -> list:
     return out
 
 
+def loads_read_state(system: System) -> bool:
+    """Whether an external load of ``system`` depends on ``q`` or ``q̇`` (a drag, a road force); one that does not
+    (a rope's pull, a load torque: inputs and parameters alone) is evaluated without the lecture state."""
+    from harness.modeling.system import BodyTorque, PointForce
+
+    state = set(system.q) | set(system.qd)
+    return any(sp.sympify(c).free_symbols & state for f in system.forces if isinstance(f, (PointForce, BodyTorque))
+               for c in (f.force if isinstance(f, PointForce) else f.torque))
+
+
 @dataclass(frozen=True)
 class Load:
     """A force at a named point, or a torque on a link, components in ``frame`` (world or a link)."""
@@ -194,14 +204,9 @@ def to_lecture(engine: str, state: State, t: TreeQuantities) -> Evaluation:
     ``M_q = Jᵀ M J``, ``(C q̇)_q = Jᵀ (M J̇ q̇ + C θ̇)``, ``g_q = Jᵀ g``, ``C_q = Jᵀ (M J̇ + C_θ J)``.
     Forward dynamics: ``q̈ = J⁻¹ (θ̈ − J̇ q̇)`` when the map is square, else solved from the mapped terms."""
     J, Jd, qd = state.J, state.J_dot, state.qd
-    M = J.T @ t.M @ J
-    Cqd = J.T @ (t.M @ (Jd @ qd) + t.Cqd)
-    g_gravity, g_spring, f_damper = J.T @ t.g_gravity, J.T @ t.g_spring, J.T @ t.f_damper
+    M, Cqd, g_gravity, g_spring, f_damper = terms = _mapped_terms(state, t)
     C = None if t.C is None else coriolis_to_lecture(state, t.M, t.C)
-    if t.qdd is not None and J.shape[0] == J.shape[1]:
-        qdd = np.linalg.solve(J, t.qdd - Jd @ qd)
-    else:  # more tree joints than lecture coordinates: the map is a constraint; (5.93) in q
-        qdd = np.linalg.solve(M, J.T @ t.tau_input + f_damper - Cqd - g_gravity - g_spring)
+    qdd = _mapped_qdd(state, t, *terms)
     # The map multiplies the tree's round-off: scales of the mapped terms (|J|, |J̇| times the tree terms),
     # used by the tolerance policy so that a large J (a small rolling radius) is not mistaken for an error.
     a, ad = _max_abs(J), _max_abs(Jd)
@@ -219,6 +224,28 @@ def to_lecture(engine: str, state: State, t: TreeQuantities) -> Evaluation:
                           "g_spring": a * _max_abs(t.g_spring), "f_damper": a * _max_abs(t.f_damper)}
     return Evaluation(engine, M, Cqd, g_gravity + g_spring, g_gravity, g_spring, f_damper, qdd, C,
                       extra=extra, calls=dict(t.calls))
+
+
+def lecture_qdd(state: State, t: TreeQuantities) -> np.ndarray:
+    """``q̈`` of :func:`to_lecture` alone, bit for bit: what a simulation reads, without the other quantities'
+    scales (a dozen reductions of small arrays a step)."""
+    return _mapped_qdd(state, t, *_mapped_terms(state, t))
+
+
+def _mapped_terms(state: State, t: TreeQuantities) -> tuple:
+    """``M_q = Jᵀ M J``, ``(C q̇)_q = Jᵀ (M J̇ q̇ + C θ̇)``, ``g_gravity``, ``g_spring``, ``f_damper`` mapped by ``Jᵀ``."""
+    J, Jd, qd = state.J, state.J_dot, state.qd
+    return (J.T @ t.M @ J, J.T @ (t.M @ (Jd @ qd) + t.Cqd), J.T @ t.g_gravity, J.T @ t.g_spring,
+            J.T @ t.f_damper)
+
+
+def _mapped_qdd(state: State, t: TreeQuantities, M, Cqd, g_gravity, g_spring, f_damper) -> np.ndarray:
+    """``q̈ = J⁻¹ (θ̈ − J̇ q̇)`` of a square map, else (5.93) in ``q`` from the mapped terms."""
+    J = state.J
+    if t.qdd is not None and J.shape[0] == J.shape[1]:
+        return np.linalg.solve(J, t.qdd - state.J_dot @ state.qd)
+    # more tree joints than lecture coordinates: the map is a constraint
+    return np.linalg.solve(M, J.T @ t.tau_input + f_damper - Cqd - g_gravity - g_spring)
 
 
 def _max_abs(x) -> float:

@@ -19,7 +19,7 @@ from scipy.integrate import odeint, solve_ivp
 
 from harness.derivation.compile import compiled
 from harness.engines import SYMBOLIC, engine
-from harness.engines.base import Load, load_functions, to_lecture
+from harness.engines.base import Load, lecture_qdd, load_functions, loads_read_state, to_lecture
 from harness.engines.mujoco_engine import Options
 from harness.export.numeric import instantiate
 from harness.modeling.system import System
@@ -80,6 +80,7 @@ class Dynamics:
         self.c = compiled(self.system)
         self.input_names = [i.name for i in self.system.inputs]
         self.load_functions = load_functions(self.system)  # looked up once: hashing a System walks its expressions
+        self.loads_read_state = loads_read_state(self.system)
         self.evaluations = 0
         self.model = None if source == SYMBOLIC else engine(source)(instantiate(self.system, self.params))
 
@@ -88,13 +89,15 @@ class Dynamics:
         u = self.scene.u(t, self.system)
         if self.model is None:
             return self.c.forward_dynamics(q, qd, self.p, u)
+        if self.c.identity_map:  # θ = q, θ̇ = q̇: the engine's forward dynamics is q̈ (no map to evaluate)
+            return self.model.forward_dynamics(q, qd, dict(zip(self.input_names, u)), self.loads(q, qd, u))
         if self.c.derivation.J_phi.is_square:
             # only the engine's forward dynamics: θ̈ of the tree, then q̈ = J⁻¹ (θ̈ − J̇ q̇) (5.58)
             theta, J, J_dot = self.c.map_at(q, qd, self.p, u)
             inputs = dict(zip(self.input_names, u))
             theta_dd = self.model.forward_dynamics(theta, J @ qd, inputs, self.loads(q, qd, u))
-            return theta_dd if self.c.identity_map else np.linalg.solve(J, theta_dd - J_dot @ qd)
-        return self.lecture(t, q, qd).qdd
+            return np.linalg.solve(J, theta_dd - J_dot @ qd)
+        return lecture_qdd(*self._tree_at(u, q, qd))
 
     def loads(self, q, qd, u) -> list[Load]:
         """The external loads (PointForce, BodyTorque) at one state, each engine turns them into forces."""
@@ -110,11 +113,14 @@ class Dynamics:
 
     def lecture(self, t: float, q: np.ndarray, qd: np.ndarray):
         """The engine's quantities at one state in lecture coordinates (:func:`to_lecture`)."""
-        u = self.scene.u(t, self.system)
+        return to_lecture(self.source, *self._tree_at(self.scene.u(t, self.system), q, qd))
+
+    def _tree_at(self, u, q, qd) -> tuple:
+        """The map at one state and the engine's quantities of the tree there (no Christoffel symbols)."""
         theta, J, J_dot = self.c.map_at(q, qd, self.p, u)
         inputs = dict(zip(self.input_names, u))
         tree_quantities = self.model.quantities(theta, J @ qd, inputs, self.loads(q, qd, u), christoffel=False)
-        return to_lecture(self.source, _MapAt(J, J_dot, qd), tree_quantities)
+        return _MapAt(J, J_dot, qd), tree_quantities
 
     def energy(self, q: np.ndarray, qd: np.ndarray) -> float:
         """``E = T + V`` of the pruned system (our derivation)."""
@@ -156,7 +162,10 @@ def grid_steps(scene: Scene, at_least: int) -> int:
 def solve_piecewise(rhs, scene: Scene, y0, method: str, rtol: float, atol: float, t_eval, end: float | None = None,
                     max_step: float = np.inf):
     """``solve_ivp`` restarted at the scene's input breakpoints, from 0 to ``end`` (the horizon by default), steps
-    of at most ``max_step``; returns ``(t, y, nfev)`` at ``t_eval``."""
+    of at most ``max_step``; returns ``(t, y, nfev)`` at ``t_eval``. A piece's end state, where the next piece
+    starts, is one more sample time of the piece: read from its last step's interpolant, bit for bit what the
+    piece's dense output gives at ``b``, without the dense output of every step (DOP853: 3 more evaluations of
+    ``rhs`` a step)."""
     end = scene.horizon if end is None else end
     t_eval = t_eval[t_eval <= end]
     edges = [0.0, *[b for b in scene.breakpoints if b < end], end]
@@ -164,14 +173,14 @@ def solve_piecewise(rhs, scene: Scene, y0, method: str, rtol: float, atol: float
     for k, (a, b) in enumerate(zip(edges[:-1], edges[1:])):
         last = k == len(edges) - 2
         inside = t_eval[(t_eval >= a) & ((t_eval <= b) if last else (t_eval < b))]
-        sol = solve_ivp(rhs, (a, b), y, method=method, rtol=rtol, atol=atol, t_eval=inside, dense_output=True,
-                        max_step=max_step)
+        sol = solve_ivp(rhs, (a, b), y, method=method, rtol=rtol, atol=atol,
+                        t_eval=inside if last else np.append(inside, b), max_step=max_step)
         if not sol.success:
             raise RuntimeError(f"{scene.name}: integration failed on [{a}, {b}]: {sol.message}")
-        ts.append(sol.t)
-        ys.append(sol.y)
+        ts.append(sol.t[:len(inside)])
+        ys.append(sol.y[:, :len(inside)])
         nfev += sol.nfev
-        y = sol.sol(b)
+        y = sol.y[:, -1].copy()
     return np.concatenate(ts), np.concatenate(ys, axis=1), nfev
 
 

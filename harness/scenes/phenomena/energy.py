@@ -31,10 +31,10 @@ def _energy_balance(system: System, scene: Scene) -> tuple[float, float]:
     y0 = np.concatenate([scene.q0, scene.qd0, [0.0]])
     _, ys, _ = sim.solve_piecewise(rhs, scene, y0, "DOP853", 1e-12, 1e-12, sim.sample_times(scene))
     zeros = np.zeros(len(s.u))
-    energy = np.array([float(c("T", y[:n], y[n:2 * n], p, zeros)) + float(c("V", y[:n], y[n:2 * n], p, zeros))
-                       for y in ys.T])
+    kinetic = np.array([float(c("T", y[:n], y[n:2 * n], p, zeros)) for y in ys.T])
+    energy = kinetic + np.array([float(c("V", y[:n], y[n:2 * n], p, zeros)) for y in ys.T])
     work = ys[2 * n]
-    kinetic = [abs(float(c("T", y[:n], y[n:2 * n], p, zeros))) for y in ys.T]
+    kinetic = np.abs(kinetic)
     scale = max(1e-300, float(np.max(np.abs(energy - energy[0]))), float(np.max(kinetic)), float(np.max(np.abs(work))))
     return float(np.max(np.abs(energy - energy[0] - work))) / scale, scale
 

@@ -127,12 +127,14 @@ class MujocoStepper:
 
 # --------------------------------------------------------------------------- the measurement
 def measure(system, scene, motion, event, catalogue=None, sources=SOURCES, repeats: int = 1,
-            found=None) -> dict:
+            found=None, made=None) -> dict:
     """Idle against pruned by each of ``sources``: ``{"left_out": [effect], "left_out_elements": [force element],
     "sources": {source: {"pruned_seconds", "idle_seconds", "ratio", "error", "evaluations", "method"} |
     {"skipped": why}}}``, or ``{"nothing": why}`` when the scene calls for every effect of its system and none of
     them, nor any force element, is found idle (``found``: :func:`~harness.scenes.effects.infer`). Runs
-    alternate pruned, idle; the fastest of each (``repeats`` 1: the proof alone, its ratio a single timing)."""
+    alternate pruned, idle; the fastest of each (``repeats`` 1: the proof alone, its ratio a single timing).
+    ``made``: the scene's own runs its motion already made by DOP853 at 1e-10 (source → trajectory); where
+    nothing of the scene is found idle, the pruned run of that source is that run, not made again."""
     found = found or infer(system, scene)
     idle_system, idle_scene = with_idle_effects(system, scene)
     lean_system, lean_scene = found.pruned(system, scene)
@@ -143,7 +145,7 @@ def measure(system, scene, motion, event, catalogue=None, sources=SOURCES, repea
     for source in sources:
         try:
             runs = _runs(lean_system, lean_scene, idle_system, idle_scene, motion, event, source, catalogue,
-                         (system, scene, found))
+                         (system, scene, found), made or {})
         except (ValueError, NotImplementedError) as why:
             out["sources"][source] = {"skipped": str(why)}
             continue
@@ -168,9 +170,10 @@ def measure(system, scene, motion, event, catalogue=None, sources=SOURCES, repea
     return out
 
 
-def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalogue, given):
+def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalogue, given, made):
     """``(pruned run, idle run, method)`` of ``source``, each a call returning a trajectory: ``system``,
-    ``scene`` the pruned ones, ``given`` the scene's own ``(system, scene, found)``."""
+    ``scene`` the pruned ones, ``given`` the scene's own ``(system, scene, found)``, ``made`` the runs of the
+    scene its motion made (:func:`measure`)."""
     if source in ENGINES and simulating((source,), "stepping"):  # an engine that steps the scene itself: its flags
         if event is not None or scene.events:
             raise ValueError("its motion switches at events: MuJoCo's own run of it is the event's plug-in's")
@@ -193,6 +196,8 @@ def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalog
                          "term, e.g. gravity orthogonal to every motion): nothing is pruned in this source")
 
     def one(s, sc):
+        if s is given[0] and sc is given[1] and source in made:   # the same call the motion made: its run
+            return lambda: made[source]
         return lambda: motion.simulate(s, sc, event, source, rtol=1e-10, atol=1e-10, catalogue=catalogue)
     method = "our compiled right-hand side" if source == SYMBOLIC else f"{source} forward dynamics"
     return one(system, scene), one(idle_system, idle_scene), f"{method}, DOP853 1e-10"
@@ -248,7 +253,8 @@ class Pruning(Phenomenon):
         found = infer(system, scene)
         result.notes.update(found.notes())
         measured = measure(system, scene, run.motion, run.event, run.catalogue,
-                           sources=(SYMBOLIC,) + tuple(e for e in run.engines if e in SOURCES), found=found)
+                           sources=(SYMBOLIC,) + tuple(e for e in run.engines if e in SOURCES), found=found,
+                           made={e: result.trajectories[e] for e in run.engines if e in result.trajectories})
         if "nothing" in measured:
             result.notes["pruning"] = measured["nothing"]
             return
