@@ -42,7 +42,9 @@ $(VENV)/.installed: pyproject.toml
 # written to reports/, readable from reports/index.html. `harness main` runs `export --check`, `check`, `claims`,
 # `robots --symbolic` and `report` as those commands do, on one pool of two worker processes kept for all of them
 # (harness.pool.workers_kept: no phase starts its own processes or loads and compiles again what the previous one
-# had). A failed check still gets its report built (the report shows the failure); the job then exits non-zero.
+# had); a system's printed equations are classified in the job that checks it, on the numbers its check computed,
+# and the robots' jobs follow in the pool while the claims are written. A failed check still gets its report built
+# (the report shows the failure); the job then exits non-zero.
 check: setup
 	$(VENV)/bin/harness main --jobs 2 --out reports
 
