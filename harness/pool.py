@@ -3,10 +3,28 @@ runs one function there (or here, without them). :func:`harness.run.parallel` ru
 
 from __future__ import annotations
 
+import gc
 import threading
 from concurrent.futures import Future, ProcessPoolExecutor
 from contextlib import contextmanager
 from multiprocessing import get_context
+
+GC_THRESHOLDS = (100_000, 50, 100)
+"""CPython's cyclic-garbage-collector thresholds in a worker process (:func:`processes`; the defaults are 700, 10,
+10). A worker keeps large, long-lived object graphs for the rest of the run (the systems' SymPy derivations, their
+compiled models, the engines' models, hypothesis's data), and every full collection walks all of them again, while
+nearly all of what a check allocates is freed by reference counting. Measured on the main job (warm, 2 cores, four
+runs alternating): the collector took 8.3–8.5 CPU s of the workers with the defaults, 2.5 s with these; the job 62.9
+and 60.3 s against 58.2 and 57.0 s. No number depends on it."""
+
+
+def _tuned() -> None:
+    gc.set_threshold(*GC_THRESHOLDS)
+
+
+def processes(workers: int) -> ProcessPoolExecutor:
+    """A pool of ``workers`` spawned processes, each with :data:`GC_THRESHOLDS`."""
+    return ProcessPoolExecutor(workers, mp_context=get_context("spawn"), initializer=_tuned)
 
 
 class _KeptPool:
@@ -20,7 +38,7 @@ class _KeptPool:
     def get(self) -> ProcessPoolExecutor:
         with self.lock:  # phases side by side ask for it from their threads
             if self.pool is None:
-                self.pool = ProcessPoolExecutor(self.workers, mp_context=get_context("spawn"))
+                self.pool = processes(self.workers)
             return self.pool
 
     def discard(self, terminate: bool = False) -> None:

@@ -30,11 +30,10 @@ import os
 import platform
 import sys
 import time
-from concurrent.futures import CancelledError, ProcessPoolExecutor, as_completed
+from concurrent.futures import CancelledError, as_completed
 from concurrent.futures.process import BrokenProcessPool
 from contextlib import closing
 from dataclasses import dataclass, field, replace
-from multiprocessing import get_context
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -43,7 +42,7 @@ import numpy as np
 from harness import cluster, profiling
 from harness.errors import EngineError, HarnessError, InputError
 from harness.io import atomic_write_text
-from harness.pool import ended, kept as kept_pool, submitting
+from harness.pool import ended, kept as kept_pool, processes, submitting
 from harness.report.results import (check_folder, load_results, read_claims, read_timings, write_claims,
                                     write_results, write_timings)
 from harness.settings import apply_seed, draws_from_seed_only, load_hypothesis_profile
@@ -306,12 +305,11 @@ def parallel(work, jobs: list, workers: int, done, lost, announce=None, schedule
         except KeyboardInterrupt:
             return True
         return False
-    context = get_context("spawn")
     kept = kept_pool()
     pool, unfinished = None, []
     try:
         with submitting():  # phases side by side (harness main): the pool runs their jobs in the phases' order
-            pool = kept.get() if kept is not None else ProcessPoolExecutor(min(workers, len(jobs)), mp_context=context)
+            pool = kept.get() if kept is not None else processes(min(workers, len(jobs)))
             futures = {pool.submit(work, job): job for job in jobs}
         for future in as_completed(futures):
             try:
@@ -325,7 +323,7 @@ def parallel(work, jobs: list, workers: int, done, lost, announce=None, schedule
         elif unfinished:  # a worker died: the next phase gets new processes
             kept.discard()
         for job in [j for j in jobs if j in unfinished]:  # isolated: a job that kills its process is found out
-            single = ProcessPoolExecutor(1, mp_context=context)
+            single = processes(1)
             pool = single
             try:
                 done(single.submit(work, job).result())

@@ -113,3 +113,20 @@ def test_phases_side_by_side_keep_their_order_in_the_pool_and_in_the_log(capsys)
     assert out == ["phase 0 starts", "phase 0 ends", "phase 1 starts", "phase 1 ends", "phase 2 starts",
                    "phase 2 ends"]
     assert max(starts[0]) <= min(starts[1]) and max(starts[1]) <= min(starts[2])
+
+
+def thresholds(job):
+    import gc
+
+    return gc.get_threshold()
+
+
+def test_workers_collect_garbage_with_the_tuned_thresholds():
+    """Every worker process of a phase (kept or not) runs with pool.GC_THRESHOLDS."""
+    from harness.pool import GC_THRESHOLDS, workers_kept
+
+    seen = []
+    parallel(thresholds, [1, 2], 2, seen.append, None)
+    with workers_kept(2):
+        parallel(thresholds, [3, 4], 2, seen.append, None)
+    assert seen == [GC_THRESHOLDS] * 4
