@@ -516,13 +516,17 @@ def classify_as_printed(system: System, claim: Claim, engines, examples, base: d
     base = _kept(base or None)
     worst: dict[str, float] = {}
     count = [0]
+    shrinking: list = []  # the engines a failing state is shrunk against (_shrunk_against), set by the first failure
 
     def check(state: State):
-        errors = _in_domain(evaluate_claim(system, claim, state, engines, base))
+        errors = _in_domain(evaluate_claim(system, claim, state, shrinking[0] if shrinking else engines, base))
         count[0] += 1
         for k, v in errors.items():
             worst[k] = max(worst.get(k, 0.0), v)
-        if any(v > 1 for k, v in errors.items() if not k.startswith("Cqd (from")):
+        failing = [k for k, v in errors.items() if v > 1 and not k.startswith("Cqd (from")]
+        if failing:
+            if not shrinking:
+                shrinking.append(_shrunk_against(failing, engines))
             raise _Disagrees(_state_text(state), state)
 
     failure = _run(system, check, examples)
@@ -555,6 +559,16 @@ def classify_as_printed(system: System, claim: Claim, engines, examples, base: d
     else:
         verdict.classification = "engines disagree"
     return verdict
+
+
+def _shrunk_against(failing: list[str], engines) -> tuple:
+    """The engines the candidates of a failing claim's shrink are evaluated by: none when the derivation is among
+    the sources the first failing state disagrees with (every source is evaluated at that state, and the verdict
+    counts them all there); the derivation and the engines agree to round-off (the conformance run), so the printed
+    equation fails against them at the same states, and a candidate then needs no engine model of its parameter
+    draw. A failure against engines only is shrunk against all of them. (An engine's largest error in the verdict is
+    then the largest over the states it was evaluated at: the system's states and the first failing one.)"""
+    return () if "derivation" in failing else tuple(engines)
 
 
 _KEPT: dict = {}
