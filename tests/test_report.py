@@ -199,3 +199,21 @@ def test_a_picture_is_drawn_once_per_content_and_a_damaged_one_again(tmp_path, m
     entry.write_text("{not json")
     drawn.drawn(tmp_path / "d.svg", drawn.key("scene figure", b"series"), draw)
     assert len(calls) == 3 and (tmp_path / "d.svg").read_bytes() == (tmp_path / "a.svg").read_bytes()
+
+
+def test_kept_pictures_start_no_rendering_process(tmp_path, monkeypatch):
+    """render_all: a system whose pictures the cache holds is read in the report's process (no rendering process
+    started: it costs 1.5-2 CPU s); one with a picture to draw goes to the process, and both give the same result."""
+    from concurrent import futures
+
+    from harness.report import render
+
+    monkeypatch.setenv("HARNESS_CACHE_DIR", str(tmp_path / "cache" / "derivations"))
+    jobs = [{"system": "pendulum", "out": str(tmp_path), "catalogue": models.CATALOGUE, "scenes": []}]
+    (tmp_path / "figures").mkdir()
+    drawn = render.render_all(jobs)()  # nothing kept yet: drawn in the rendering process
+    assert drawn["pendulum"]["picture"]["target"] == "figures/pendulum.png", drawn
+    started = []
+    real = futures.ProcessPoolExecutor
+    monkeypatch.setattr(futures, "ProcessPoolExecutor", lambda *a, **k: started.append(1) or real(*a, **k))
+    assert render.render_all(jobs)() == drawn and not started

@@ -288,12 +288,25 @@ def mjcf_text(system) -> str:
 
 
 # --------------------------------------------------------------------------- the report's rendering process
-def _render_system(job: dict, models: str) -> dict:
+class _NotKept(Exception):
+    """A picture the cache does not hold, met where nothing is drawn (:func:`_render_system` with ``draw`` false)."""
+
+
+def _render_system(job: dict, models: str, draw: bool = True) -> dict | None:
     """Picture and filmstrips of one system (in the rendering process; ``models``: the digest of the catalogue's
-    files, :func:`harness.report.drawn.catalogue_digest`); failures are returned, not raised."""
+    files, :func:`harness.report.drawn.catalogue_digest`); failures are returned, not raised. ``draw`` false: only
+    what the picture cache holds (in the report's own process), None when a picture is not kept."""
     import json
 
     from harness.report.drawn import drawn, key
+
+    def drawing(make):
+        if draw:
+            return make
+
+        def not_kept(path):
+            raise _NotKept
+        return not_kept
 
     catalogue, out = job["catalogue"], Path(job["out"])
     result: dict = {"picture": None, "strips": {}}
@@ -302,8 +315,10 @@ def _render_system(job: dict, models: str) -> dict:
         xml = mjcf_text(system)
         target = f"figures/{system.name}.png"
         shown = drawn(out / target, key("mechanism", system.name, models, backend(), xml),
-                      lambda path: picture(system, xml, path, catalogue.scenes(system.name)))
+                      drawing(lambda path: picture(system, xml, path, catalogue.scenes(system.name))))
         result["picture"] = {"target": target, **shown}
+    except _NotKept:
+        return None
     except Exception as exc:  # noqa: BLE001 - reported on the page
         result["error"] = f"{type(exc).__name__}: {exc}"
         return result
@@ -312,8 +327,10 @@ def _render_system(job: dict, models: str) -> dict:
         try:
             text = (out / series).read_bytes()
             strip = drawn(out / target, key("filmstrip", system.name, models, backend(), xml, text),
-                          lambda path: filmstrip(system, xml, json.loads(text), path))
+                          drawing(lambda path: filmstrip(system, xml, json.loads(text), path)))
             result["strips"][scene] = {"target": target, **strip}
+        except _NotKept:
+            return None
         except Exception as exc:  # noqa: BLE001 - a series the renderer cannot follow costs its strip only
             result["strips"][scene] = {"error": f"{type(exc).__name__}: {exc}"}
     return result
@@ -351,17 +368,39 @@ def render_all(jobs: list[dict]):
     if not jobs:
         return dict
     backend()  # the spawned process inherits the environment
+    kept, jobs = _kept_pictures(jobs)
+    if not jobs:  # every picture is kept: nothing to render, no process started
+        return lambda: kept
     try:
         pool = ProcessPoolExecutor(1, mp_context=get_context("spawn"))
         future = pool.submit(_render_jobs, jobs)
     except Exception as exc:  # noqa: BLE001 - no process: the pages say so
-        return lambda error=exc: failed(error)
+        return lambda error=exc: {**kept, **failed(error)}
 
     def result() -> dict:
         try:
-            return future.result()
+            return {**kept, **future.result()}
         except Exception as exc:  # noqa: BLE001 - no OpenGL: the pages say so
-            return failed(exc)
+            return {**kept, **failed(exc)}
         finally:
             pool.shutdown()
     return result
+
+
+def _kept_pictures(jobs: list[dict]) -> tuple[dict, list[dict]]:
+    """``({system: result}, the jobs left)``: the systems whose pictures the cache holds, read in this process
+    (the rendering process costs 1.5-2 CPU s to start and import MuJoCo, every report; :func:`_render_system`
+    without drawing), and the jobs with a picture to draw."""
+    from harness.report.drawn import catalogue_digest
+
+    kept, left, digests = {}, [], {}
+    for job in jobs:
+        catalogue = job["catalogue"]
+        if id(catalogue) not in digests:
+            digests[id(catalogue)] = catalogue_digest(catalogue)
+        result = _render_system(job, digests[id(catalogue)], draw=False)
+        if result is None:
+            left.append(job)
+        else:
+            kept[job["system"]] = result
+    return kept, left
