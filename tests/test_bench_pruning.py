@@ -9,8 +9,8 @@ def _row(system, scene, ratios):
             "inferred_idle": {"inputs": "drive: input tau ≡ 0 over [0, 3] s"}, "idle_elements": {},
             "declared_idle": [], "undeclared_acting": ["dampers"], "repeats": 5, "left_out": ["inputs"],
             "sources": {s: {"pruned_seconds": 1.0, "idle_seconds": r, "ratio": r, "error": 0.0,
-                            "evaluations": [10, 10], "method": "m", "pruned_all": [1.0, 1.02],
-                            "idle_all": [r, r * 1.01]} for s, r in ratios.items()}}
+                            "evaluations": [10, 10], "method": "m", "pruned_all": [1.0, 1.0, 1.0],
+                            "idle_all": [r * 0.99, r, r * 1.01]} for s, r in ratios.items()}}
 
 
 def test_pruning_rows_goals_and_findings():
@@ -20,7 +20,7 @@ def test_pruning_rows_goals_and_findings():
                                                 "mujoco": 1.0})]
     rows[2]["sources"]["mujoco"] = {"skipped": "an affine map is needed"}
     text = "\n".join(report._pruning(rows))
-    assert "0.980 × (980.0 / 1000.0 ms) **finding: slower pruned**; repeats spread" in text
+    assert "0.980 × [0.97, 0.99] (980.0 / 1000.0 ms) **finding: slower pruned**" in text
     assert "Nothing to prune (no ratio): pendulum/swing." in text
     assert "not measured: an affine map is needed" in text
     assert "can act but not declared: dampers" in text
@@ -53,14 +53,33 @@ def test_contact_is_proved_idle_until_just_before_the_arm_touches_itself():
 
 def test_a_ratio_below_one_is_a_finding_only_beyond_the_noise_of_its_pairs():
     """The measured case (two_mass_oscillator/twisted, symbolic, ms): the pruned function is 0.3 % faster per call,
-    one idle run was 2 % faster than the others — 0.988 x from the fastest runs, no measurable difference. A pruned
-    run slower in every pair by about the same amount is a finding."""
-    from harness.scenes.phenomena.pruning import repeats_spread, slower_pruned
+    one idle run was 2 % faster than the others — 0.988 x from the fastest runs, no measurable difference: the
+    pairs' median 0.996 x, its interval reaches 1. A pruned run slower in every pair by about the same amount is a
+    finding."""
+    from harness.scenes.phenomena.pruning import ratio_interval, slower_pruned
 
     noisy = {"pruned_all": [215.6, 210.0, 209.6, 210.5, 216.9], "idle_all": [214.6, 209.2, 209.5, 211.0, 207.0]}
-    noisy["ratio"] = min(noisy["idle_all"]) / min(noisy["pruned_all"])
-    assert round(noisy["ratio"], 3) == 0.988
-    assert slower_pruned(noisy["ratio"], repeats_spread(noisy)) == "≈ 1: no measurable difference"
+    noisy["ratio"] = ratio_interval(noisy["idle_all"], noisy["pruned_all"])[0]
+    assert round(noisy["ratio"], 3) == 0.996
+    assert slower_pruned(noisy) == "≈ 1: no measurable difference"
     slower = {"pruned_all": [220.0, 221.0, 219.5, 220.4, 222.0], "idle_all": [209.0, 210.1, 208.8, 209.5, 210.0]}
-    slower["ratio"] = min(slower["idle_all"]) / min(slower["pruned_all"])
-    assert slower_pruned(slower["ratio"], repeats_spread(slower)) == "finding: slower pruned"
+    slower["ratio"] = ratio_interval(slower["idle_all"], slower["pruned_all"])[0]
+    assert slower_pruned(slower) == "finding: slower pruned"
+
+
+def test_the_ratio_is_the_median_of_the_pairs_within_its_sign_test_interval():
+    """The measured governor/coast (symbolic, ms, five pairs): one idle run the machine sped up to 25.7 ms made the
+    fastest-of-each ratio 0.613 x; the pairs' median is 1.00 x, the interval [min, max] of five pairs holds 1. At
+    99.5 %, nine pairs give [min, max] (2 P(Bin(9, 1/2) <= 0) = 0.0039 <= 0.005, with k = 2 0.039), fifteen
+    [r_(2), r_(14)] (0.00098; with k = 3, 0.0074 > 0.005), and the interval holds the median."""
+    from harness.scenes.phenomena.pruning import ratio_interval
+
+    pruned, idle = [48.3, 41.9, 44.6, 48.3, 46.5], [46.4, 47.0, 44.7, 49.0, 25.7]
+    assert round(min(idle) / min(pruned), 3) == 0.613
+    ratio, low, high = ratio_interval(idle, pruned)
+    assert round(ratio, 2) == 1.00 and low < 1 < high
+    assert (low, high) == (min(i / p for i, p in zip(idle, pruned)), max(i / p for i, p in zip(idle, pruned)))
+    nine = [float(k) for k in range(1, 10)]
+    assert ratio_interval(nine, [1.0] * 9) == (5.0, 1.0, 9.0)
+    fifteen = [float(k) for k in range(1, 16)]
+    assert ratio_interval(fifteen, [1.0] * 15) == (8.0, 2.0, 14.0)

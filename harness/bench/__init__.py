@@ -61,8 +61,10 @@ Schema of ``bench.json`` (``schema: 2``; times in seconds, errors relative to th
                    "undeclared_acting", "repeats",
                    "nothing": why (nothing to prune: no ratio) | "left_out": [effect], "left_out_elements":
                    [force element found idle inside an acting effect],
-                   "sources": {"symbolic" | "pinocchio" | "mujoco": {"pruned_seconds", "idle_seconds", "ratio"
-                               (idle / pruned, fastest of repeats each), "error" (pruned vs idle trajectory),
+                   "sources": {"symbolic" | "pinocchio" | "mujoco": {"pruned_seconds", "idle_seconds" (the fastest of
+                               the repeats each), "ratio" (idle / pruned: the median of the alternating pairs'
+                               ratios), "ratio_low", "ratio_high" (its 99.5 % confidence interval), "pruned_all",
+                               "idle_all" (every run's seconds), "error" (pruned vs idle trajectory),
                                "evaluations": [pruned, idle], "method"} | {"skipped": why}}}],
                   (before: {"system", "scene", "pruned_seconds", "idle_seconds", "speedup", …} of the symbolic
                   path alone)
@@ -70,7 +72,8 @@ Schema of ``bench.json`` (``schema: 2``; times in seconds, errors relative to th
                           "first_contact" (s, or null), "first_contact_pairs", "certified_contact_free" (s: contact
                           proved idle before it), "certificate_ends_at" (the geom pair), "collision_pairs",
                           "pruned_geoms" (the pruned model's geoms: visual only), "whole_horizon_error",
-                          "measured_horizon", "pruned_seconds", "idle_seconds", "ratio", "error", "repeats"}
+                          "measured_horizon", "pruned_seconds", "idle_seconds", "ratio", "ratio_low", "ratio_high",
+                          "idle_all", "pruned_all", "error", "repeats"}
                          (harness.bench.contact_pruning: the robot's collision meshes, contact detection on /
                          mjDSBL_CONTACT, over the contact-free part of the scene),
       "lightweight_robot": {...} (when harness/bench/lightweight_robot.py exists),
@@ -101,7 +104,6 @@ from harness.errors import InputError
 from harness.io import atomic_write_text
 
 SCHEMA = 2
-PRUNING_REPEATS = 5   # best of 5, idle and pruned alternating, in one process
 
 
 def _log(message: str) -> None:
@@ -171,7 +173,7 @@ def run_bench(catalogue, out="reports", quick: bool = False, scheduler: str | No
                        f"reference {s}/{c}") for s, c in cases]
     if "pruning" in parts:
         first += [Task("harness.bench.workprecision:pruning_task",
-                       {"catalogue": catalogue, "system": s, "scene": c, "repeats": PRUNING_REPEATS},
+                       {"catalogue": catalogue, "system": s, "scene": c},
                        f"pruning {s}/{c}")
                   for s, c in cases]
     first += [Task("harness.bench.evalcost:task", {"catalogue": catalogue, "system": s, "states": 10_000},
@@ -188,7 +190,7 @@ def run_bench(catalogue, out="reports", quick: bool = False, scheduler: str | No
         if any(s == contact_pruning.ROBOT and c == contact_pruning.SCENE for s, c in cases):
             _log("bench: lightweight_robot contact detection on / pruned (MuJoCo, collision meshes) …")
             try:
-                doc["pruning_contact"] = contact_pruning.task(catalogue, repeats=PRUNING_REPEATS)
+                doc["pruning_contact"] = contact_pruning.task(catalogue)
             except Exception as exc:  # noqa: BLE001 - its failure is reported, the rest is kept
                 doc["pruning_contact"] = {"error": f"{type(exc).__name__}: {exc}"}
     if eval_systems:

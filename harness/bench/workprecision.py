@@ -339,13 +339,14 @@ def fixed_step(rhs, scene: Scene, y0, method: str, k: int, t_eval):
 
 
 # --------------------------------------------------------------------------- effect pruning
-def pruning_task(catalogue, system: str, scene: str, repeats: int = 5) -> dict:
+def pruning_task(catalogue, system: str, scene: str, repeats: int | None = None) -> dict:
     """Idle against pruned by every source (:func:`harness.scenes.phenomena.pruning.measure`: symbolic and
-    Pinocchio forward dynamics by DOP853 1e-10, MuJoCo's own RK4 with the pruned effects' disable flags), the
-    fastest of ``repeats`` runs of each in this process; the effects inferred beside the declared ones
+    Pinocchio forward dynamics by DOP853 1e-10, MuJoCo's own RK4 with the pruned effects' disable flags),
+    ``repeats`` alternating pairs of runs in this process (default :data:`~harness.scenes.phenomena.pruning.REPEATS`);
+    the effects inferred beside the declared ones
     (:func:`harness.scenes.effects.infer`)."""
     from harness.scenes.effects import infer
-    from harness.scenes.phenomena.pruning import measure
+    from harness.scenes.phenomena.pruning import REPEATS, measure
 
     s, sc = get_scene(catalogue, system, scene)
     found = infer(s, sc)
@@ -353,8 +354,8 @@ def pruning_task(catalogue, system: str, scene: str, repeats: int = 5) -> dict:
     row = {"system": system, "scene": scene, "declared": sorted(found.declared), "inferred": sorted(found.acting),
            "inferred_idle": dict(sorted(found.idle.items())), "idle_elements": dict(sorted(found.idle_elements.items())),
            "declared_idle": sorted(found.declared_idle), "undeclared_acting": sorted(found.undeclared_acting),
-           "repeats": repeats}
-    return {**row, **measure(s, sc, motion, event, catalogue, repeats=repeats)}
+           "repeats": repeats or REPEATS}
+    return {**row, **measure(s, sc, motion, event, catalogue, repeats=repeats or REPEATS)}
 
 
 # --------------------------------------------------------------------------- sweep definition and analysis

@@ -319,15 +319,22 @@ class MujocoModel(TreeEngine):
         """MuJoCo's own stepping from the current state, the one loop: ``steps`` calls of ``mj_step`` (split into
         ``mj_step1``, ``between(k)``, ``mj_step2`` when ``between`` is given: forces that depend on the step's
         kinematics), ``before(k)`` ahead of step ``k`` (inputs, mode switches), ``sample(k)`` at ``k = 0, every,
-        …`` up to ``steps`` (the samples returned). With ``check`` (a description), MuJoCo's warning counters are
-        checked at the end (:func:`check_warnings`): an unstable run is a failure, not a trajectory."""
+        …`` up to ``steps`` (the samples returned); without ``before`` and ``between`` the steps between two
+        samples are one ``mj_step(m, d, nstep)`` (MuJoCo's loop in C: the same steps, no Python call per step).
+        With ``check`` (a description), MuJoCo's warning counters are checked at the end
+        (:func:`check_warnings`): an unstable run is a failure, not a trajectory."""
         m, d = self.model, self.data
-        out = []
-        for k in range(steps + 1):
+        out, k = [], 0
+        while True:
             if sample is not None and k % every == 0:
                 out.append(sample(k))
             if k == steps:
                 break
+            if before is None and between is None:  # MuJoCo's loop in C to the next sample (or the end)
+                n = min(every - k % every if sample is not None else steps, steps - k)
+                mujoco.mj_step(m, d, nstep=n)
+                k += n
+                continue
             if before is not None:
                 before(k)
             if between is None:
@@ -336,6 +343,7 @@ class MujocoModel(TreeEngine):
                 mujoco.mj_step1(m, d)
                 between(k)
                 mujoco.mj_step2(m, d)
+            k += 1
         if check is not None:
             check_warnings(m, d, check)
         return out

@@ -110,7 +110,7 @@ def pruning_view(system: str, scene: dict, bench: dict | None) -> dict | None:
     and the disagreements (its notes), and per source the idle / pruned time ratio that ``harness bench --parts
     pruning`` measured (``bench``: bench.json; only where the scene has the check's pruned = idle proof of that
     source, else why not) or "nothing to prune"."""
-    from harness.scenes.phenomena.pruning import CHECK, SOURCES, repeats_spread, slower_pruned
+    from harness.scenes.phenomena.pruning import CHECK, SOURCES, interval, slower_pruned
 
     notes = scene.get("notes") or {}
     if "effects declared" not in notes:
@@ -128,8 +128,9 @@ def pruning_view(system: str, scene: dict, bench: dict | None) -> dict | None:
     for source in SOURCES:
         m = ((measured or {}).get("sources") or {}).get(source) or {}
         if source in checked and isinstance(m.get("ratio"), (int, float)):
-            finding = slower_pruned(m["ratio"], repeats_spread(m))
-            shown = f"{m['ratio']:.3g} ×" + (f" ({finding})" if finding else "")
+            finding, (low, high) = slower_pruned(m), interval(m)
+            shown = (f"{m['ratio']:.3g} ×" + (f" [{low:.3g}, {high:.3g}]" if high > low else "") +
+                     (f" ({finding})" if finding else ""))
         elif source in checked:
             shown = m.get("skipped") or "not measured by the bench yet (harness bench --parts pruning)"
         else:
