@@ -124,7 +124,7 @@ def task(catalogue, repeats: int | None = None) -> dict:
     median of the pairs' with its 99.5 % interval (:func:`~harness.scenes.phenomena.pruning.ratio_interval`), the
     seconds the fastest of each."""
     from harness.engines.mujoco_engine import CollisionMeshes, MujocoModel, Options
-    from harness.scenes.phenomena.pruning import REPEATS, ratio_interval
+    from harness.scenes.phenomena.pruning import REPEATS, alternating, ratio_interval
     from harness.export.numeric import instantiate
     from harness.scenes import simulate as sim
 
@@ -179,9 +179,9 @@ def task(catalogue, repeats: int | None = None) -> dict:
     free = (certified // EVERY) * EVERY   # contact provably idle: the samples before its bound ends
     runs = {"pruned": [], "idle": []}
     repeats = repeats or REPEATS
-    for _ in range(repeats):
-        runs["pruned"].append(run(lean, free)[0])
-        runs["idle"].append(run(idle, free)[0])
+    for k in range(repeats):
+        for model, into in alternating(k, (lean, runs["pruned"]), (idle, runs["idle"])):
+            into.append(run(model, free)[0])
     t_lean = min(tr.seconds for tr in runs["pruned"])
     t_full = min(tr.seconds for tr in runs["idle"])
     idle_all, pruned_all = [tr.seconds for tr in runs["idle"]], [tr.seconds for tr in runs["pruned"]]
