@@ -63,7 +63,7 @@ Schema of ``bench.json`` (``schema: 2``; times in seconds, errors relative to th
                    [force element found idle inside an acting effect],
                    "sources": {"symbolic" | "pinocchio" | "mujoco": {"pruned_seconds", "idle_seconds" (the fastest of
                                the repeats each), "ratio" (idle / pruned: the median of the alternating pairs'
-                               ratios), "ratio_low", "ratio_high" (its 99.5 % confidence interval), "pruned_all",
+                               ratios), "ratio_low", "ratio_high" (its ≥ 99.5 % confidence interval), "pruned_all",
                                "idle_all" (every run's seconds), "error" (pruned vs idle trajectory),
                                "evaluations": [pruned, idle], "method"} | {"skipped": why}}}],
                   (before: {"system", "scene", "pruned_seconds", "idle_seconds", "speedup", …} of the symbolic

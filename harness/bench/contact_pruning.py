@@ -121,7 +121,7 @@ def certified_contact_free(model, q0, qd0, steps: int) -> tuple[int, tuple[str, 
 def task(catalogue, repeats: int | None = None) -> dict:
     """Contact detection on (idle: nothing touches) against pruned (the collision geometry dropped,
     ``mjDSBL_CONTACT``), MuJoCo's own RK4; ``repeats`` runs of each, alternating, in this process: the ratio the
-    median of the pairs' with its 99.5 % interval (:func:`~harness.scenes.phenomena.pruning.ratio_interval`), the
+    median of the pairs' with its ≥ 99.5 % interval (:func:`~harness.scenes.phenomena.pruning.ratio_interval`), the
     seconds the fastest of each."""
     from harness.engines.mujoco_engine import CollisionMeshes, MujocoModel, Options
     from harness.scenes.phenomena.pruning import REPEATS, alternating, ratio_interval
