@@ -72,8 +72,10 @@ def test_the_ratio_is_the_median_of_the_pairs_within_its_sign_test_interval():
     fastest-of-each ratio 0.613 x; the pairs' median is 1.00 x, the interval [min, max] of five pairs holds 1. At
     99.5 %, nine pairs give [min, max] (2 P(Bin(9, 1/2) <= 0) = 0.0039 <= 0.005, with k = 2 0.039), fifteen
     [r_(2), r_(14)] (0.00098; with k = 3, 0.0074 > 0.005), and the interval holds the median."""
-    from harness.scenes.phenomena.pruning import ratio_interval
+    from harness.scenes.phenomena.pruning import alternating, ratio_interval
 
+    assert [alternating(k, "pruned", "idle") for k in range(3)] == [("pruned", "idle"), ("idle", "pruned")] * 1 + [
+        ("pruned", "idle")]   # each pair in turn pruned first and idle first: an order effect cancels
     pruned, idle = [48.3, 41.9, 44.6, 48.3, 46.5], [46.4, 47.0, 44.7, 49.0, 25.7]
     assert round(min(idle) / min(pruned), 3) == 0.613
     ratio, low, high = ratio_interval(idle, pruned)

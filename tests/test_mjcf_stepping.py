@@ -73,3 +73,23 @@ def test_exported_mjcf_steps_one_second_without_warnings(name):
 
     data = mujoco.MjData(model)
     step(model, data, rng, f"urdf/{name}.xml from qpos0")
+
+
+def test_rollout_steps_alike_in_mujocos_loop_and_ours():
+    """``MujocoModel.rollout`` without callbacks between the steps runs them as ``mj_step(m, d, nstep)`` to each
+    sample; with a callback, one ``mj_step`` per step from Python. The same steps: the samples are equal bit for bit
+    (a sample interval that does not divide the steps, a state away from rest)."""
+    from harness.engines.mujoco_engine import MujocoModel
+    from harness.export.numeric import instantiate
+
+    system = models.CATALOGUE.get("planar_manipulator")
+    runs = []
+    for before in (None, lambda k: None):
+        model = MujocoModel(instantiate(system, system.default_parameters()))
+        model.set_state(np.array([0.4, -0.9]), np.array([1.5, -2.0]))
+        samples = model.rollout(103, 7, lambda k: np.concatenate([[k, model.time], model.theta(), model.theta_dot()]),
+                                before=before)
+        samples.append(np.concatenate([[103, model.time], model.theta(), model.theta_dot()]))  # after the last step
+        runs.append(np.array(samples))
+    assert len(runs[0]) == 103 // 7 + 2 and runs[0][-2][0] == 98
+    assert np.array_equal(runs[0], runs[1])
