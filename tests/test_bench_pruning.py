@@ -74,8 +74,9 @@ def test_the_ratio_is_the_median_of_the_pairs_within_its_sign_test_interval():
     [r_(2), r_(14)] (0.00098; with k = 3, 0.0074 > 0.005), and the interval holds the median."""
     from harness.scenes.phenomena.pruning import alternating, ratio_interval
 
-    assert [alternating(k, "pruned", "idle") for k in range(3)] == [("pruned", "idle"), ("idle", "pruned")] * 1 + [
-        ("pruned", "idle")]   # each pair in turn pruned first and idle first: an order effect cancels
+    # each pair in turn pruned first and idle first: an order effect cancels
+    assert [alternating(k, "pruned", "idle") for k in range(3)] == [("pruned", "idle"), ("idle", "pruned"),
+                                                                    ("pruned", "idle")]
     pruned, idle = [48.3, 41.9, 44.6, 48.3, 46.5], [46.4, 47.0, 44.7, 49.0, 25.7]
     assert round(min(idle) / min(pruned), 3) == 0.613
     ratio, low, high = ratio_interval(idle, pruned)
