@@ -52,4 +52,10 @@ SCENES = [
           "away where |f_e| = mu_H m g, slides against mu_C m g, comes to rest and sticks again, in both "
           "directions", (0.0,), (0.0,), 4.0, {"inputs", "external", "friction"},
           inputs={f_e: Sine(_amplitude, 0.5)}, events=(StickSlip(x, mu_H, mu_C, m * g),)),
+    Scene("holds", "Section 3.5.2, (3.80a): from rest under f_e = 0.8 mu_H m g sin(pi t), a force sticking can hold "
+          "throughout: the friction never switches (a bound over the horizon, harness.scenes.effects), so the "
+          "sliding friction, 0 at x' = 0, cannot act; the event-located runs must find no breakaway",
+          (0.0,), (0.0,), 4.0, {"inputs", "friction"},
+          inputs={f_e: Sine(0.8 * mu_H.default * m.default * g.default, 0.5)},
+          events=(StickSlip(x, mu_H, mu_C, m * g),)),
 ]

@@ -38,7 +38,8 @@ class Switching(Motion):
         result.add(REFERENCE.check(f"reference confirmed ({CONFIRMATION} vs DOP853)", "symbolic",
                                    sim.max_error(second, ref)))
         result.add(EVENT.check(f"events confirmed ({CONFIRMATION} vs DOP853), s", "symbolic", event_error(second, ref)))
-        result.notes["events (reference)"] = "; ".join(f"{e.time:.6f} s {e.before} -> {e.after}" for e in ref.events)
+        result.notes["events (reference)"] = "; ".join(f"{e.time:.6f} s {e.before} -> {e.after}"
+                                                       for e in ref.events) or "none over the horizon"
         for engine in run.engines:
             tr = simulate(engine, rtol=1e-10, atol=1e-10)
             result.trajectories[engine] = tr
