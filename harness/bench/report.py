@@ -334,8 +334,8 @@ def _pruning_goals(rows: list[dict]) -> list[dict]:
         for target, end, what in (
                 (PRUNING_GOAL, 0, f"pruning pays: idle / pruned ≥ {PRUNING_GOAL:g} × ({source}, worst scene, low end "
                                   "of its ≥ 99.5 % interval; value pruned / idle)"),
-                (1.0, 1, f"no scene slower pruned: idle / pruned ≥ 1 × ({source}, worst scene, high end of its 99.5 % "
-                         "interval; value pruned / idle)")):
+                (1.0, 1, f"no scene slower pruned: idle / pruned ≥ 1 × ({source}, worst scene, high end of its "
+                         "≥ 99.5 % interval; value pruned / idle)")):
             worst_row, worst = min(got, key=lambda x: interval(x[1])[end])
             verdicts = [against(m, target) for _, m in got]
             counts = ", ".join(f"{v} on {verdicts.count(v)}" for v in ("met", "undecided", "not met")
