@@ -29,6 +29,8 @@ def test_pruning_rows_goals_and_findings():
     assert goals[("pruning pays", "pinocchio")]["passed"]             # 1.4 × worst ≥ 1.3 ×
     assert not goals[("no scene slower pruned", "symbolic")]["passed"]
     assert goals[("no scene slower pruned", "mujoco")]["passed"] and ("pruning pays", "mujoco") in goals
+    assert goals[("pruning pays", "symbolic")]["verdict"] == "not met"
+    assert goals[("pruning pays", "pinocchio")]["verdict"] == "met"
     contact = {"system": "lightweight_robot", "scene": "fall", "source": "mujoco", "method": "mj_step RK4",
                "collision_geoms": 17, "meshes": 9, "left_out": [], "first_contact": 0.2365,
                "first_contact_pairs": [["a", "b"]], "whole_horizon_error": 1.5, "measured_horizon": 0.235,
@@ -36,6 +38,14 @@ def test_pruning_rows_goals_and_findings():
     assert "the arm touches itself at t = 0.2365 s" in "\n".join(report._contact(contact))
     doc = {"pruning": rows, "pruning_contact": contact}
     assert any(g["check"].startswith("contact detection pruned") and g["passed"] for g in report.goals(doc))
+    # a ratio whose interval holds the target is undecided, in the goal table too
+    contact.update(ratio=3.1, idle_all=[2.9, 3.1, 3.3], pruned_all=[1.0, 1.0, 1.0])
+    goal = next(g for g in report.goals(doc) if g["check"].startswith("contact detection pruned"))
+    assert goal["verdict"] == "undecided" and not goal["passed"]
+    doc.update(goals=report.goals(doc), command="harness bench", generated="2026-11-26", quick=False, seconds=1.0,
+               versions={},
+               machine={"cpus": 2, "loadavg_start": [0.0, 0.0, 0.0], "loadavg_end": [0.0, 0.0, 0.0]})
+    assert "| **undecided** |" in report.markdown(doc)
 
 
 def test_contact_is_proved_idle_until_just_before_the_arm_touches_itself():

@@ -22,7 +22,8 @@ Schema of ``bench.json`` (``schema: 2``; times in seconds, errors relative to th
       "machine": {"cpus": int, "loadavg_start": [1, 5, 15 min], "loadavg_end": [...]},
       "versions": {package: version}, "runner": {"backend": "process pool" | "dask", "workers" | "scheduler"},
       "goals": [{"check": str, "source": "symbolic", "value": float | "nan" (not measured), "bound": float,
-                 "ratio": float | "inf", "basis": "bench goal", "passed": bool, "detail": str}],
+                 "ratio": float | "inf", "basis": "bench goal", "passed": bool, "detail": str,
+                 "verdict": "met" | "undecided" | "not met" (the pruning goals judged on intervals)}],
                 (harness.checks.Check records: measured ratio against its target, where the time goes)
       "workprecision": {
         "accuracy": 1e-6, "grid": {"rtols": [...], "fixed_k": [...], "mujoco_k": [...], "repeats": int,

@@ -126,7 +126,8 @@ def goals(doc: dict) -> list[dict]:
                          1.0 / CONTACT_GOAL, GOAL,
                          f"idle / pruned {c['ratio']:.2f} ×{_noise(c)}, {against(c, CONTACT_GOAL)}, over the "
                          f"contact-free {c['measured_horizon']:.3f} s ({c['idle_seconds'] * 1e3:.1f} / "
-                         f"{c['pruned_seconds'] * 1e3:.1f} ms, the fastest runs)").record())
+                         f"{c['pruned_seconds'] * 1e3:.1f} ms, the fastest runs)").record()
+                   | {"verdict": against(c, CONTACT_GOAL)})
     return out
 
 
@@ -159,7 +160,8 @@ def markdown(doc: dict) -> str:
     lines += ["## Goals", "", "| goal | target | measured | met | where the time goes |", "|---|---|---|---|---|"]
     for g in doc.get("goals", []):
         measured = _num(g["value"])
-        met = "—" if measured is None else ("yes" if g["passed"] else "**no**")
+        met = "—" if measured is None else {"met": "yes", "undecided": "**undecided**", "not met": "**no**"}.get(
+            g.get("verdict"), "yes" if g["passed"] else "**no**")
         lines.append(f"| {g['check']} | ≤ {g['bound']:g} × | {_fmt(measured, ' ×')} | {met} | "
                      f"{g.get('detail', '')} |")
     wpd = doc.get("workprecision")
@@ -344,8 +346,17 @@ def _pruning_goals(rows: list[dict]) -> list[dict]:
                      f"{_noise(worst)} ({', '.join(worst_row['left_out'] + worst_row.get('left_out_elements', []))} "
                      f"left out); {listed}; ≥ {target:g} × {counts} of {len(got)} scenes (undecided: the interval "
                      f"holds {target:g} ×)")
-            out.append(Check(what, source, 1.0 / interval(worst)[end], 1.0 / target, GOAL, where).record())
+            record = Check(what, source, 1.0 / interval(worst)[end], 1.0 / target, GOAL, where).record()
+            if end == 0:  # pays: shown met, undecided or not met (a check's yes / no cannot say undecided)
+                record["verdict"] = _overall(verdicts)
+            out.append(record)
     return out
+
+
+def _overall(verdicts: list[str]) -> str:
+    """A goal over scenes from its scenes' verdicts (:func:`~harness.scenes.phenomena.pruning.against`): not met
+    where one is, else undecided where one is, else met."""
+    return next((v for v in ("not met", "undecided") if v in verdicts), "met")
 
 
 def _noise(m: dict) -> str:
