@@ -96,3 +96,20 @@ def test_the_ratio_is_the_median_of_the_pairs_within_its_sign_test_interval():
     assert ratio_interval(nine, [1.0] * 9) == (5.0, 1.0, 9.0)
     fifteen = [float(k) for k in range(1, 16)]
     assert ratio_interval(fifteen, [1.0] * 15) == (8.0, 2.0, 14.0)
+
+
+def test_the_symbolic_price_is_also_taken_per_call():
+    """With repeats, the symbolic source's entry also times one call of the compiled right-hand side of the pruned
+    and of the idle model (what pruning saves per evaluation, without the integrator around it): per-call seconds,
+    the pairs' median ratio within its interval, and the bench table shows it."""
+    from harness.bench import report
+    from harness.bench.workprecision import pruning_task
+    from harness.catalogue import repository
+
+    row = pruning_task(repository(), "quarter_car", "smooth_road", repeats=3)
+    c = row["sources"]["symbolic"]["per_call"]
+    assert c["calls"] == 500 and 0 < c["pruned_seconds"] < 1e-3 and 0 < c["idle_seconds"] < 1e-3
+    assert c["ratio_low"] <= c["ratio"] <= c["ratio_high"]
+    assert "per call" not in row["sources"]["pinocchio"]
+    line = next(x for x in report._pruning([row]) if x.startswith("| quarter_car/smooth_road"))
+    assert "; per call " in line and " µs)" in line

@@ -133,7 +133,7 @@ def measure(system, scene, motion, event, catalogue=None, sources=SOURCES, repea
             found=None, made=None) -> dict:
     """Idle against pruned by each of ``sources``: ``{"left_out": [effect], "left_out_elements": [force element],
     "sources": {source: {"pruned_seconds", "idle_seconds", "ratio", "ratio_low", "ratio_high", "error",
-    "evaluations", "method", "pruned_all", "idle_all"} |
+    "evaluations", "method", "pruned_all", "idle_all", "per_call" (symbolic, with repeats: :func:`per_call`)} |
     {"skipped": why}}}``, or ``{"nothing": why}`` when the scene calls for every effect of its system and none of
     them, nor any force element, is found idle (``found``: :func:`~harness.scenes.effects.infer`). Runs alternate
     (:func:`alternating`): the seconds are the fastest of each, the ratio the median of the pairs' ratios within
@@ -173,7 +173,39 @@ def measure(system, scene, motion, event, catalogue=None, sources=SOURCES, repea
                                   "ratio_low": low, "ratio_high": high, "error": sim.max_error(full[0], lean[0]),
                                   "evaluations": [lean[0].evaluations, full[0].evaluations], "method": method,
                                   "pruned_all": [t.seconds for t in lean], "idle_all": [t.seconds for t in full]}
+        if source == SYMBOLIC and repeats > 1:
+            out["sources"][source]["per_call"] = per_call(lean_system, lean_scene, idle_system, idle_scene, repeats)
     return out
+
+
+CALLS = 500   # right-hand-side calls per timing of :func:`per_call`
+
+
+def per_call(system, scene, idle_system, idle_scene, repeats: int) -> dict:
+    """Where the symbolic run's time goes: one call of the compiled right-hand side ``q̈(t, q, q̇)``
+    (:class:`~harness.scenes.simulate.Dynamics`) of the pruned and of the idle model at the scene's initial state,
+    :data:`CALLS` calls per timing, ``repeats`` alternating pairs: ``{"pruned_seconds", "idle_seconds"}`` (per call,
+    the fastest timing of each), the pairs' median ratio and its interval (:func:`ratio_interval`). What pruning
+    saves per evaluation, without the integrator's own work around it."""
+    lean, idle = sim.Dynamics(system, scene, SYMBOLIC), sim.Dynamics(idle_system, idle_scene, SYMBOLIC)
+    q, qd = np.asarray(scene.q0, dtype=float), np.asarray(scene.qd0, dtype=float)
+
+    def timing(dynamics):
+        def run():
+            start = time.perf_counter()
+            for _ in range(CALLS):
+                dynamics(0.0, q, qd)
+            return (time.perf_counter() - start) / CALLS
+        return run
+
+    timings = {"pruned": [], "idle": []}
+    timing(lean)(), timing(idle)()  # the first calls compile: not timed
+    for k in range(repeats):
+        for run, into in alternating(k, (timing(lean), timings["pruned"]), (timing(idle), timings["idle"])):
+            into.append(run())
+    ratio, low, high = ratio_interval(timings["idle"], timings["pruned"])
+    return {"pruned_seconds": min(timings["pruned"]), "idle_seconds": min(timings["idle"]), "ratio": ratio,
+            "ratio_low": low, "ratio_high": high, "calls": CALLS}
 
 
 def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalogue, given, made):
@@ -251,10 +283,12 @@ def ratio_interval(idle_all, pruned_all) -> tuple[float, float, float]:
 
 
 def interval(m: dict) -> tuple[float, float]:
-    """The confidence interval of a measured ratio ``m`` (:func:`measure`'s per-source entry, or the contact
-    pruning's): from its pairs, ``(ratio, ratio)`` where it has none (a single timing)."""
+    """The confidence interval of a measured ratio ``m`` (:func:`measure`'s per-source entry, its ``per_call``, or
+    the contact pruning's): from its pairs, as kept, or ``(ratio, ratio)`` where it has none (a single timing)."""
     if m.get("idle_all") and m.get("pruned_all"):
         return ratio_interval(m["idle_all"], m["pruned_all"])[1:]
+    if "ratio_low" in m:  # kept without its runs (per_call)
+        return m["ratio_low"], m["ratio_high"]
     return m["ratio"], m["ratio"]
 
 
