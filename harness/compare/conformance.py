@@ -201,7 +201,8 @@ def run(system: System, engines=None, examples: int | None = None,
     ``states_per_draw`` (:data:`~harness.compare.strategies.STATES_PER_DRAW`) with one parameter draw each: first
     the system's states (:func:`~harness.compare.strategies.system_states`, which its printed equations are checked
     on too); on a failure, hypothesis runs the check from the same seed, meets it and shrinks the batch, and the
-    failing state is reported."""
+    failing state is reported (should hypothesis not meet it, the failing state of the system's states, unshrunk:
+    a failure found is never dropped, as in the claims' :func:`~harness.compare.claims._run`)."""
     summary = Summary(system.name)
     engines = tuple(ENGINES) if engines is None else tuple(engines)
     summary.not_applicable = {e: ENGINES[e].applies(system) for e in engines if ENGINES[e].applies(system)}
@@ -226,13 +227,15 @@ def run(system: System, engines=None, examples: int | None = None,
         summary.parameter_draws = len(draws_seen)
         return check(batch)
 
+    met = None  # the failure on the system's states, if one
     with profiling.phase("conformance"), models_kept(KEPT_MODELS):
         if states_per_draw == STATES_PER_DRAW:  # first the system's states (every oracle checks them)
             try:
                 for batch in system_states(system, examples, random_parameters):
                     counted(batch)
                 return summary
-            except ConformanceFailure:  # hypothesis meets it again from the same seed, and shrinks it
+            except ConformanceFailure as failure:  # hypothesis meets it again from the same seed, and shrinks it
+                met = failure
                 summary.examples, summary.parameter_draws = 0, 0
                 summary.worst.clear()
                 draws_seen.clear()
@@ -241,6 +244,8 @@ def run(system: System, engines=None, examples: int | None = None,
         try:
             test()
         except ConformanceFailure as failure:  # the shrunk (minimal) counterexample
-            summary.failure = str(failure)
-            summary.record([failure.check])
+            met = failure
+        if met is not None:  # hypothesis did not meet it again: the failing state itself, unshrunk
+            summary.failure = str(met)
+            summary.record([met.check])
     return summary
