@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import models
-from harness.checks import relative_error
+from harness.checks import relative_error, relative_error_rows
 from harness.compare import conformance, strategies
 from harness.compare.roundtrip import roundtrip
 from harness.engines import ENGINES, SOURCES, SYMBOLIC, engine, evaluate
@@ -265,3 +265,18 @@ def test_warnings_of_a_discarded_block_are_left_out():
     assert warnings_log.drain(tree.system) == []
     MujocoModel(tree)
     assert warnings_log.drain(tree.system)
+
+
+def test_relative_errors_of_rows_are_those_of_each_row():
+    """``relative_error_rows`` (the importer's per-joint mass, first moment and inertia errors at once) gives
+    ``relative_error(a[k], b[k], scale, symmetric=False)`` for every row, bit for bit: equal rows, a diverged row,
+    a non-finite one, rows smaller than the scale."""
+    rng = np.random.default_rng(3)
+    a, b = rng.normal(size=(6, 3, 3)), rng.normal(size=(6, 3, 3))
+    a[1] = b[1]                      # equal: 0
+    a[2] *= 1e9                      # diverged: its size shows
+    a[3, 0, 0] = np.nan              # not finite: inf
+    a[4], b[4] = 1e-9 * a[4], 1e-9 * b[4]   # below the scale
+    for scale in (0.0, 0.5):
+        assert relative_error_rows(a, b, scale) == [relative_error(x, y, scale, symmetric=False) for x, y in zip(a, b)]
+    assert relative_error_rows(np.zeros((0, 3)), np.zeros((0, 3)), 1.0) == []

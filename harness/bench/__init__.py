@@ -67,8 +67,7 @@ Schema of ``bench.json`` (``schema: 2``; times in seconds, errors relative to th
                                ratios), "ratio_low", "ratio_high" (its ≥ 99.5 % confidence interval), "pruned_all",
                                "idle_all" (every run's seconds), "error" (pruned vs idle trajectory),
                                "evaluations": [pruned, idle], "method", "per_call" (symbolic: one call
-                               of the right-hand side, {"pruned_seconds", "idle_seconds", "ratio", "ratio_low",
-                               "ratio_high", "calls"})} | {"skipped": why}}}],
+                               of the right-hand side, the same keys per call and "calls")} | {"skipped": why}}}],
                   (before: {"system", "scene", "pruned_seconds", "idle_seconds", "speedup", …} of the symbolic
                   path alone)
       "pruning_contact": {"system", "scene", "source": "mujoco", "method", "collision_geoms", "left_out",

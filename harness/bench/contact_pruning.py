@@ -124,7 +124,7 @@ def task(catalogue, repeats: int | None = None) -> dict:
     median of the pairs' with its ≥ 99.5 % interval (:func:`~harness.scenes.phenomena.pruning.ratio_interval`), the
     seconds the fastest of each."""
     from harness.engines.mujoco_engine import CollisionMeshes, MujocoModel, Options
-    from harness.scenes.phenomena.pruning import REPEATS, alternating, ratio_interval
+    from harness.scenes.phenomena.pruning import REPEATS, paired, price
     from harness.export.numeric import instantiate
     from harness.scenes import simulate as sim
 
@@ -177,15 +177,8 @@ def task(catalogue, repeats: int | None = None) -> dict:
     certified, ends_at = certified_contact_free(probe, np.asarray(scene.q0, float), np.asarray(scene.qd0, float),
                                                 STEPS)
     free = (certified // EVERY) * EVERY   # contact provably idle: the samples before its bound ends
-    runs = {"pruned": [], "idle": []}
     repeats = repeats or REPEATS
-    for k in range(repeats):
-        for model, into in alternating(k, (lean, runs["pruned"]), (idle, runs["idle"])):
-            into.append(run(model, free)[0])
-    t_lean = min(tr.seconds for tr in runs["pruned"])
-    t_full = min(tr.seconds for tr in runs["idle"])
-    idle_all, pruned_all = [tr.seconds for tr in runs["idle"]], [tr.seconds for tr in runs["pruned"]]
-    ratio, low, high = ratio_interval(idle_all, pruned_all)
+    lean_runs, idle_runs = paired(lambda: run(lean, free)[0], lambda: run(idle, free)[0], repeats)
     pruned_whole = run(lean, STEPS)[0]
     return {"system": ROBOT, "scene": SCENE, "source": "mujoco", "method": f"mj_step RK4, dt={dt:g}",
             "collision_geoms": len(meshes), "meshes": sum(g[1][0] == "mesh" for g in meshes), "left_out": left_out,
@@ -193,6 +186,6 @@ def task(catalogue, repeats: int | None = None) -> dict:
             "certified_contact_free": certified * dt, "certificate_ends_at": list(ends_at or ()),
             "collision_pairs": len(probe.collision_pairs()), "pruned_geoms": lean.model.ngeom,
             "whole_horizon_error": sim.max_error(whole, pruned_whole),
-            "measured_horizon": free * dt, "pruned_seconds": t_lean, "idle_seconds": t_full,
-            "ratio": ratio, "ratio_low": low, "ratio_high": high, "idle_all": idle_all, "pruned_all": pruned_all,
-            "error": sim.max_error(runs["idle"][0], runs["pruned"][0]), "repeats": repeats}
+            "measured_horizon": free * dt,
+            **price([tr.seconds for tr in lean_runs], [tr.seconds for tr in idle_runs]),
+            "error": sim.max_error(idle_runs[0], lean_runs[0]), "repeats": repeats}

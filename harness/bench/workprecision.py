@@ -349,13 +349,14 @@ def pruning_task(catalogue, system: str, scene: str, repeats: int | None = None)
     from harness.scenes.phenomena.pruning import REPEATS, measure
 
     s, sc = get_scene(catalogue, system, scene)
+    repeats = repeats or REPEATS
     found = infer(s, sc)
     motion, event = motion_of(sc)
     row = {"system": system, "scene": scene, "declared": sorted(found.declared), "inferred": sorted(found.acting),
            "inferred_idle": dict(sorted(found.idle.items())), "idle_elements": dict(sorted(found.idle_elements.items())),
            "declared_idle": sorted(found.declared_idle), "undeclared_acting": sorted(found.undeclared_acting),
-           "repeats": repeats or REPEATS}
-    return {**row, **measure(s, sc, motion, event, catalogue, repeats=repeats or REPEATS)}
+           "repeats": repeats}
+    return {**row, **measure(s, sc, motion, event, catalogue, repeats=repeats)}
 
 
 # --------------------------------------------------------------------------- sweep definition and analysis

@@ -93,7 +93,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from harness.checks import Bound, Check, relative_error
+from harness.checks import Bound, Check, relative_error, relative_error_rows
 from harness.compare.conformance import FLOAT64_RTOL
 from harness.engines.base import Base
 from harness.engines.mujoco_engine import VERSION as MUJOCO_VERSION, MujocoModel, compile_text
@@ -256,19 +256,6 @@ def random_base(rng) -> Base:
     return Base(rng.uniform(-1, 1, 3), quat / np.linalg.norm(quat), rng.uniform(-2, 2, 6))
 
 
-def _rel_rows(a: np.ndarray, b: np.ndarray, scale: float) -> list[float]:
-    """``_rel(a[k], b[k], scale)`` of every row ``k`` at once (:func:`harness.checks.relative_error`, relative to
-    ``max(scale, max|b[k]|)``: the same numbers; 0 where equal, inf where the difference is not finite)."""
-    n = len(a)
-    if not n:
-        return []
-    diff = np.abs(a - b).reshape(n, -1).max(axis=1)
-    size = np.maximum(np.maximum(np.abs(b).reshape(n, -1).max(axis=1), scale), 1e-300)
-    with np.errstate(over="ignore", invalid="ignore"):
-        out = np.where(diff == 0.0, 0.0, np.where(np.isfinite(diff), diff / size, math.inf))
-    return out.tolist()
-
-
 def compare(imported, reference, joints: list[str], prismatic: set[str], states: int = STATES,
             seed: int = SEED, bound: float = 0.0, forward: bool = False, notes: list | None = None,
             memo: dict | None = None) -> list[dict]:
@@ -368,7 +355,8 @@ def compare(imported, reference, joints: list[str], prismatic: set[str], states:
         c_i, c_r = (np.array([r[j].com for j in r_r]).reshape(-1, 3) for r in (r_i, r_r))
         f_i, f_r = m_i[:, None] * c_i, m_r[:, None] * c_r   # first moments m c
         I_i, I_r = (np.array([r[j].inertia for j in r_r]).reshape(-1, 3, 3) for r in (r_i, r_r))
-        errors = zip(_rel_rows(m_i, m_r, mass), _rel_rows(f_i, f_r, moment), _rel_rows(I_i, I_r, i_scale))
+        errors = zip(relative_error_rows(m_i, m_r, mass), relative_error_rows(f_i, f_r, moment),
+                     relative_error_rows(I_i, I_r, i_scale))
         for k, (j, (e_mass, e_first, e_inertia)) in enumerate(zip(r_r, errors)):
             check("mass", j).update(e_mass, mass, state, [m_i[k]], [m_r[k]], n_bound)
             check("first moment of mass", j).update(e_first, moment, state, f_i[k], f_r[k], n_bound * length)

@@ -535,28 +535,20 @@ def export_scope(robot: Robot, reference: Reference, pair: str = "the exporter p
 def our_system(robot: Robot, quarter_turns: bool = True):
     """Our :class:`~harness.modeling.system.System` of the file (:func:`harness.files.from_urdf.from_urdf` on its
     text, nothing locked; ``quarter_turns=False``: every angle as the file writes it). Built once per text and
-    process (:data:`_SYSTEMS`)."""
-    from harness.files.from_urdf import from_urdf
-
-    key = (robot.text, robot.name, robot.urdf, quarter_turns)
-    system = _SYSTEMS.get(key)
-    if system is not None:
-        return system
+    process for the last 8: a robot's exporter pair and symbolic pair (and the literal loads of their cause finder)
+    read the same file into the same frozen System."""
     try:
-        system = from_urdf(robot.text, name=re.sub(r"\W", "_", robot.name), title=robot.name,
-                           lecture=f"example-robot-data {robot.urdf}", quarter_turns=quarter_turns)
+        return _our_system(robot.text, robot.name, robot.urdf, quarter_turns)
     except ModelError as exc:
         raise NotCompared(f"our from_urdf refuses the file: {exc}") from None
-    if len(_SYSTEMS) >= _SYSTEMS_KEPT:
-        _SYSTEMS.clear()
-    _SYSTEMS[key] = system
-    return system
 
 
-_SYSTEMS: dict = {}
-_SYSTEMS_KEPT = 8
-""":func:`our_system` by file text, robot and ``quarter_turns``: a robot's exporter pair and symbolic pair (and the
-literal loads of their cause finder) read the same file into the same frozen System; from_urdf once each."""
+@lru_cache(maxsize=8)
+def _our_system(text: str, name: str, urdf: str, quarter_turns: bool):
+    from harness.files.from_urdf import from_urdf
+
+    return from_urdf(text, name=re.sub(r"\W", "_", name), title=name, lecture=f"example-robot-data {urdf}",
+                     quarter_turns=quarter_turns)
 
 
 def export_system(robot: Robot, quarter_turns: bool = True):

@@ -159,20 +159,14 @@ def measure(system, scene, motion, event, catalogue=None, sources=SOURCES, repea
         lean_run, full_run, method = runs
         same = source != SYMBOLIC and same_force_elements(pruned(lean_system, lean_scene.effects),
                                                           pruned(idle_system, idle_scene.effects))
-        lean, full = [], []
-        for k in range(1 if same else repeats):  # pairs in turn pruned first, idle first (ABBA: see alternating)
-            for run, into in alternating(k, (lean_run, lean), (full_run, full)):
-                into.append(run())
+        lean, full = paired(lean_run, full_run, 1 if same else repeats)
         if same:  # the proof, not a price
             out["sources"][source] = {"skipped": SAME_CALLS, "error": sim.max_error(full[0], lean[0]),
                                       "method": method}
             continue
-        t_lean, t_full = min(t.seconds for t in lean), min(t.seconds for t in full)
-        ratio, low, high = ratio_interval([t.seconds for t in full], [t.seconds for t in lean])
-        out["sources"][source] = {"pruned_seconds": t_lean, "idle_seconds": t_full, "ratio": ratio,
-                                  "ratio_low": low, "ratio_high": high, "error": sim.max_error(full[0], lean[0]),
-                                  "evaluations": [lean[0].evaluations, full[0].evaluations], "method": method,
-                                  "pruned_all": [t.seconds for t in lean], "idle_all": [t.seconds for t in full]}
+        out["sources"][source] = {**price([t.seconds for t in lean], [t.seconds for t in full]),
+                                  "error": sim.max_error(full[0], lean[0]),
+                                  "evaluations": [lean[0].evaluations, full[0].evaluations], "method": method}
         if source == SYMBOLIC and repeats > 1:
             out["sources"][source]["per_call"] = per_call(lean_system, lean_scene, idle_system, idle_scene, repeats)
     return out
@@ -184,9 +178,8 @@ CALLS = 500   # right-hand-side calls per timing of :func:`per_call`
 def per_call(system, scene, idle_system, idle_scene, repeats: int) -> dict:
     """Where the symbolic run's time goes: one call of the compiled right-hand side ``q̈(t, q, q̇)``
     (:class:`~harness.scenes.simulate.Dynamics`) of the pruned and of the idle model at the scene's initial state,
-    :data:`CALLS` calls per timing, ``repeats`` alternating pairs: ``{"pruned_seconds", "idle_seconds"}`` (per call,
-    the fastest timing of each), the pairs' median ratio and its interval (:func:`ratio_interval`). What pruning
-    saves per evaluation, without the integrator's own work around it."""
+    :data:`CALLS` calls per timing, ``repeats`` alternating pairs: their :func:`price` (seconds per call) and
+    ``calls``. What pruning saves per evaluation, without the integrator's own work around it."""
     lean, idle = sim.Dynamics(system, scene, SYMBOLIC), sim.Dynamics(idle_system, idle_scene, SYMBOLIC)
     q, qd = np.asarray(scene.q0, dtype=float), np.asarray(scene.qd0, dtype=float)
 
@@ -198,14 +191,8 @@ def per_call(system, scene, idle_system, idle_scene, repeats: int) -> dict:
             return (time.perf_counter() - start) / CALLS
         return run
 
-    timings = {"pruned": [], "idle": []}
     timing(lean)(), timing(idle)()  # the first calls compile: not timed
-    for k in range(repeats):
-        for run, into in alternating(k, (timing(lean), timings["pruned"]), (timing(idle), timings["idle"])):
-            into.append(run())
-    ratio, low, high = ratio_interval(timings["idle"], timings["pruned"])
-    return {"pruned_seconds": min(timings["pruned"]), "idle_seconds": min(timings["idle"]), "ratio": ratio,
-            "ratio_low": low, "ratio_high": high, "calls": CALLS}
+    return price(*paired(timing(lean), timing(idle), repeats)) | {"calls": CALLS}
 
 
 def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalogue, given, made):
@@ -248,6 +235,25 @@ REPEATS = 21        # alternating pairs of runs the bench times: [r_(4), r_(18)]
                     # CPU time as wall time, in phases of ~4 runs); 9 pairs' [min, max] left most targets undecided
 
 
+def paired(pruned, idle, repeats: int) -> tuple[list, list]:
+    """``repeats`` pairs of calls of ``pruned`` and ``idle``, each pair in turn pruned first and idle first
+    (:func:`alternating`): what each call returned, in order."""
+    lean, full = [], []
+    for k in range(repeats):
+        for run, into in alternating(k, (pruned, lean), (idle, full)):
+            into.append(run())
+    return lean, full
+
+
+def price(pruned_all, idle_all) -> dict:
+    """The time ratio of :func:`paired` runs' seconds: ``{"pruned_seconds", "idle_seconds"}`` the fastest of each,
+    ``ratio`` the median of the pairs' ratios within ``[ratio_low, ratio_high]`` (:func:`ratio_interval`), and
+    every run's seconds (``pruned_all``, ``idle_all``)."""
+    ratio, low, high = ratio_interval(idle_all, pruned_all)
+    return {"pruned_seconds": min(pruned_all), "idle_seconds": min(idle_all), "ratio": ratio, "ratio_low": low,
+            "ratio_high": high, "pruned_all": list(pruned_all), "idle_all": list(idle_all)}
+
+
 def alternating(k: int, first, second) -> tuple:
     """The order of pair ``k``'s two runs: ``first`` ahead in even pairs, ``second`` in odd ones. A fixed order
     biases the ratio: measured on tower_crane/swing (symbolic), the second run of every pair ~2 % faster (24.4 ms
@@ -283,12 +289,10 @@ def ratio_interval(idle_all, pruned_all) -> tuple[float, float, float]:
 
 
 def interval(m: dict) -> tuple[float, float]:
-    """The confidence interval of a measured ratio ``m`` (:func:`measure`'s per-source entry, its ``per_call``, or
-    the contact pruning's): from its pairs, as kept, or ``(ratio, ratio)`` where it has none (a single timing)."""
+    """The confidence interval of a measured ratio ``m`` (a :func:`price`: :func:`measure`'s per-source entry, its
+    ``per_call``, the contact pruning's): from its pairs, ``(ratio, ratio)`` where it has none (a single timing)."""
     if m.get("idle_all") and m.get("pruned_all"):
         return ratio_interval(m["idle_all"], m["pruned_all"])[1:]
-    if "ratio_low" in m:  # kept without its runs (per_call)
-        return m["ratio_low"], m["ratio_high"]
     return m["ratio"], m["ratio"]
 
 
