@@ -14,19 +14,20 @@ def _row(system, scene, ratios):
 
 
 def test_pruning_rows_goals_and_findings():
-    rows = [_row("governor", "coast", {"symbolic": 0.98, "pinocchio": 1.5, "mujoco": 8.0}),
+    rows = [_row("governor", "coast", {"symbolic": 0.9, "pinocchio": 1.5, "mujoco": 8.0}),
             {"system": "pendulum", "scene": "swing", "nothing": "nothing to prune", "inferred_idle": {}},
             _row("quarter_car", "smooth_road", {"symbolic": 1.1, "pinocchio": 1.4,
                                                 "mujoco": 1.0})]
     rows[2]["sources"]["mujoco"] = {"skipped": "an affine map is needed"}
     text = "\n".join(report._pruning(rows))
-    assert "0.980 × [0.97, 0.99] (980.0 / 1000.0 ms) **finding: slower pruned**" in text
+    # the interval of the pairs [0.891, 0.909] widened by the bench's resolution (pruning.RESOLUTION, 5 %)
+    assert "0.900 × [0.85, 0.95] (900.0 / 1000.0 ms) **finding: slower pruned**" in text
     assert "Nothing to prune (no ratio): pendulum/swing." in text
     assert "not measured: an affine map is needed" in text
     assert "can act but not declared: dampers" in text
     goals = {(g["check"].split(":")[0], g["source"]): g for g in report._pruning_goals(rows)}
-    assert not goals[("pruning pays", "symbolic")]["passed"]          # 0.98 × < 1.3 ×
-    assert goals[("pruning pays", "pinocchio")]["passed"]             # 1.4 × worst ≥ 1.3 ×
+    assert not goals[("pruning pays", "symbolic")]["passed"]          # 0.9 × < 1.3 ×
+    assert goals[("pruning pays", "pinocchio")]["passed"]             # 1.4 × worst, low end 1.32 ≥ 1.3 ×
     assert not goals[("no scene slower pruned", "symbolic")]["passed"]
     assert goals[("no scene slower pruned", "mujoco")]["passed"] and ("pruning pays", "mujoco") in goals
     assert goals[("pruning pays", "symbolic")]["verdict"] == "not met"
@@ -75,6 +76,12 @@ def test_a_ratio_below_one_is_a_finding_only_beyond_the_noise_of_its_pairs():
     slower = {"pruned_all": [220.0, 221.0, 219.5, 220.4, 222.0], "idle_all": [209.0, 210.1, 208.8, 209.5, 210.0]}
     slower["ratio"] = ratio_interval(slower["idle_all"], slower["pruned_all"])[0]
     assert slower_pruned(slower) == "finding: slower pruned"
+    # 2 % slower in every one of 21 pairs: within the bench's resolution (pruning.RESOLUTION, from A/A runs that
+    # missed 1 by up to 1.5 %), no finding
+    close = {"pruned_all": [100.0] * 21, "idle_all": [98.0 + 0.01 * k for k in range(21)]}
+    close["ratio"] = ratio_interval(close["idle_all"], close["pruned_all"])[0]
+    assert ratio_interval(close["idle_all"], close["pruned_all"])[2] < 1
+    assert slower_pruned(close) == "≈ 1: no measurable difference"
 
 
 def test_the_ratio_is_the_median_of_the_pairs_within_its_sign_test_interval():

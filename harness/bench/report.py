@@ -122,7 +122,8 @@ def goals(doc: dict) -> list[dict]:
     c = doc.get("pruning_contact")
     if c and "ratio" in c:
         out.append(Check(f"contact detection pruned: idle / pruned ≥ {CONTACT_GOAL:g} × (MuJoCo, lightweight_robot; "
-                         "low end of its ≥ 99.5 % interval; value pruned / idle)", "mujoco", 1.0 / interval(c)[0],
+                         "low end of its interval, ≥ 99.5 % and the resolution; value pruned / idle)", "mujoco",
+                         1.0 / interval(c)[0],
                          1.0 / CONTACT_GOAL, GOAL,
                          f"idle / pruned {c['ratio']:.2f} ×{_noise(c)}, {against(c, CONTACT_GOAL)}, over the "
                          f"contact-free {c['measured_horizon']:.3f} s ({c['idle_seconds'] * 1e3:.1f} / "
@@ -257,7 +258,7 @@ PRUNING_GOAL = 1.3      # idle / pruned, every source where something is pruned 
 
 def _pruning(rows: list[dict]) -> list[str]:
     """Effects inferred beside the declared ones, and idle / pruned per source (the median of N alternating pairs'
-    ratios, its ≥ 99.5 % interval)."""
+    ratios, its interval: ≥ 99.5 % and the bench's resolution)."""
     lines = ["## Effect pruning: every effect present but idle / only what can act of the scene's effects, per source",
              "",
              "Left out: the effects the scene does not call for, those it calls for found idle, and the force "
@@ -269,7 +270,8 @@ def _pruning(rows: list[dict]) -> list[str]:
              "force elements left out of the MJCF (a joint spring or damper is only a coefficient, 0 in the idle "
              "model too: nothing saved), the idle loads and inputs evaluated at every step. Ratio = idle / pruned: "
              "the median of the ratios of N alternating pairs of runs, in brackets its distribution-free ≥ 99.5 % "
-             "confidence interval (sign test), the milliseconds the fastest run of each; **a whole interval below 1: "
+             "confidence interval (sign test) widened by the bench's 5 % resolution (A/A runs: `python -m "
+             "harness.bench.resolution`), the milliseconds the fastest run of each; **a whole interval below 1: "
              "a finding** (the pruned run is slower); a target is met where the whole interval is at or above it. "
              "A scene that "
              "calls for every effect of its system, each able to act, has nothing to prune and no ratio.", "",
@@ -341,9 +343,9 @@ def _pruning_goals(rows: list[dict]) -> list[dict]:
         listed = ", ".join(f"{r['system']}/{r['scene']} {m['ratio']:.2f} ×{_noise(m)}" for r, m in got)
         for target, end, what in (
                 (PRUNING_GOAL, 0, f"pruning pays: idle / pruned ≥ {PRUNING_GOAL:g} × ({source}, worst scene, low end "
-                                  "of its ≥ 99.5 % interval; value pruned / idle)"),
+                                  "of its interval, ≥ 99.5 % and the resolution; value pruned / idle)"),
                 (1.0, 1, f"no scene slower pruned: idle / pruned ≥ 1 × ({source}, worst scene, high end of its "
-                         "≥ 99.5 % interval; value pruned / idle)")):
+                         "interval, ≥ 99.5 % and the resolution; value pruned / idle)")):
             worst_row, worst = min(got, key=lambda x: interval(x[1])[end])
             verdicts = [against(m, target) for _, m in got]
             counts = ", ".join(f"{v} on {verdicts.count(v)}" for v in ("met", "undecided", "not met")
@@ -366,7 +368,7 @@ def _overall(verdicts: list[str]) -> str:
 
 
 def _noise(m: dict) -> str:
-    """A ratio's ≥ 99.5 % confidence interval from its pairs of runs, where it has more than one."""
+    """A ratio's interval from its pairs of runs (≥ 99.5 %, widened by the resolution), where it has more than one."""
     low, high = interval(m)
     return "" if low == high else f" [{low:.2f}, {high:.2f}]"
 
