@@ -126,6 +126,11 @@ def test_merge_takes_the_parts_another_run_measured(tmp_path):
     assert merged["updates"] == [{"command": "second", "generated": "2026-01-01T00:00:00+00:00", "seconds": 1.0,
                                   "machine": doc(0, "")["machine"], "versions": {}, "parts": ["pruning"]}]
     assert "Re-measured and merged: pruning by `second`" in (tmp_path / "bench.md").read_text()
+    other.write_text(json.dumps(doc(3.5, "third")))  # the same part again: the second run's line is superseded
+    merge(tmp_path, other)
+    text = (tmp_path / "bench.md").read_text()
+    assert "by `third`" in text and "by `second`" not in text
+    assert "1 earlier re-measurement of the same parts, superseded by the ones above, is kept" in text
     other.write_text(json.dumps({"schema": 1}))
     with pytest.raises(InputError, match="measures none of"):
         merge(tmp_path, other)

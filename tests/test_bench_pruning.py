@@ -46,7 +46,12 @@ def test_pruning_rows_goals_and_findings():
     doc.update(goals=report.goals(doc), command="harness bench", generated="2026-11-26", quick=False, seconds=1.0,
                versions={},
                machine={"cpus": 2, "loadavg_start": [0.0, 0.0, 0.0], "loadavg_end": [0.0, 0.0, 0.0]})
-    assert "| **undecided** |" in report.markdown(doc)
+    text = report.markdown(doc)
+    assert "| **undecided** |" in text
+    # shown the way round it is stated: idle / pruned at least 3, the low end of the interval (kept inverted)
+    low = 1.0 / goal["value"]
+    assert goal["at_least"] == 3.0 and f"| ≥ 3 × | {low:.3g} × | **undecided** |" in text
+    assert "slower pruned (the whole interval below 1 ×, a finding) on 1 of 2 scenes" in text
 
 
 def test_contact_is_proved_idle_until_just_before_the_arm_touches_itself():
