@@ -280,3 +280,21 @@ def test_relative_errors_of_rows_are_those_of_each_row():
     for scale in (0.0, 0.5):
         assert relative_error_rows(a, b, scale) == [relative_error(x, y, scale, symmetric=False) for x, y in zip(a, b)]
     assert relative_error_rows(np.zeros((0, 3)), np.zeros((0, 3)), 1.0) == []
+
+
+def test_symmetric_eigen_is_numpys_eigh_bit_for_bit():
+    """The right-hand side's eigendecomposition (:func:`harness.derivation.compile.symmetric_eigen`, NumPy's gufunc
+    without its Python wrapper) gives what ``numpy.linalg.eigh`` gives, bit for bit, for mass matrices of 1 to 7
+    coordinates, and non-finite eigenvalues for a non-finite M (which the regularity test rejects)."""
+    from harness.derivation.compile import regular_spectrum, symmetric_eigen
+
+    rng = np.random.default_rng(7)
+    for n in range(1, 8):
+        for _ in range(50):
+            A = rng.normal(size=(n, n)) * 10.0 ** rng.uniform(-3, 3)
+            M = A @ A.T + np.eye(n) * 10.0 ** rng.uniform(-6, 0)
+            w, V = symmetric_eigen(M)
+            w_np, V_np = np.linalg.eigh(M)
+            assert np.array_equal(w, w_np) and np.array_equal(V, V_np)
+    bad = np.array([[np.nan, 0.0], [0.0, 1.0]])
+    assert not regular_spectrum(symmetric_eigen(bad)[0])

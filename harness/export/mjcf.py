@@ -276,8 +276,6 @@ _FIELDS = {
 }
 _ID_TAGS = {_OBJ.mjOBJ_BODY: "body", _OBJ.mjOBJ_JOINT: "joint", _OBJ.mjOBJ_SITE: "site",
             _OBJ.mjOBJ_TENDON: "spatial", _OBJ.mjOBJ_ACTUATOR: "general", _OBJ.mjOBJ_GEOM: "geom"}
-_ACCESSORS = {_OBJ.mjOBJ_BODY: "body", _OBJ.mjOBJ_JOINT: "joint", _OBJ.mjOBJ_SITE: "site",  # MjModel's named views
-              _OBJ.mjOBJ_TENDON: "tendon", _OBJ.mjOBJ_ACTUATOR: "actuator", _OBJ.mjOBJ_GEOM: "geom"}
 _NAME_ATTRIBUTES = {"name", "model", "joint", "site"}
 
 
@@ -289,14 +287,21 @@ def _is_number_list(text: str) -> bool:
     return bool(text.split())
 
 
-def _element_id(root, model: mujoco.MjModel, obj, element) -> int:
-    """Id of ``element`` (of kind ``obj``) in ``model``: by name, else by document order (body 0 is the
-    world; a tendon's ``<site site=...>`` references are not sites, hence only ``<worldbody>`` is searched
-    for bodies, joints and sites)."""
-    if (name := element.get("name")) is not None:
-        return getattr(model, _ACCESSORS[obj])(name).id
-    scope = root.find("worldbody") if obj in (_OBJ.mjOBJ_BODY, _OBJ.mjOBJ_JOINT, _OBJ.mjOBJ_SITE) else root
-    return list(scope.iter(_ID_TAGS[obj])).index(element) + (1 if obj == _OBJ.mjOBJ_BODY else 0)
+def _element_ids(root, model: mujoco.MjModel):
+    """``element -> id`` in ``model`` for the elements of each kind in :data:`_ID_TAGS`: by name, else by document
+    order (body 0 is the world; a tendon's ``<site site=...>`` references are not sites, hence only ``<worldbody>``
+    is searched for bodies, joints and sites). Built once per document: looking each element up again cost a
+    list of its kind per attribute."""
+    ids = {}
+    for obj, tag in _ID_TAGS.items():
+        scope = root.find("worldbody") if obj in (_OBJ.mjOBJ_BODY, _OBJ.mjOBJ_JOINT, _OBJ.mjOBJ_SITE) else root
+        if scope is None:
+            continue
+        for k, element in enumerate(scope.iter(tag)):
+            name = element.get("name")
+            ids[element] = mujoco.mj_name2id(model, obj, name) if name is not None else \
+                k + (1 if obj == _OBJ.mjOBJ_BODY else 0)
+    return ids
 
 
 def _full_precision(xml: str, model: mujoco.MjModel) -> str:
@@ -312,6 +317,7 @@ def _full_precision(xml: str, model: mujoco.MjModel) -> str:
     rounded.
     """
     root = etree.fromstring(xml.encode())
+    ids = _element_ids(root, model)
     for element in root.iter(etree.Element):
         for attribute, text in element.attrib.items():
             if attribute in _NAME_ATTRIBUTES or not _is_number_list(text):
@@ -320,7 +326,7 @@ def _full_precision(xml: str, model: mujoco.MjModel) -> str:
                 raise NotImplementedError(f"MJCF <{element.tag} {attribute}=...>: no full-precision source")
             obj, values = _FIELDS[element.tag, attribute]
             owner = element.getparent() if element.tag == "inertial" else element
-            index = None if obj is None else _element_id(root, model, obj, owner)
+            index = None if obj is None else ids[owner]
             element.set(attribute, _numbers(list(values(model, index))[:len(text.split())]))
     return etree.tostring(root, encoding="unicode") + "\n"
 
