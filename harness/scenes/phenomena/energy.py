@@ -5,7 +5,7 @@ energy across its events itself (:mod:`.switching`).
 
 Before, a conservative scene was integrated a second time for this check (with a work integral that is 0 there):
 2.5 CPU s of the main job (measured per scene with ``_energy_balance``), for a check of another trajectory than the
-one compared; along the reference its values went from 1.4e-13–1.2e-10 to 1.8e-15–1.7e-11 (its atol is 1e-14, the
+one compared; along the reference its values went from 5.3e-15–1.2e-10 to 1.8e-15–1.7e-11 (its atol is 1e-14, the
 second run's 1e-12), bound 1e-8."""
 
 from __future__ import annotations
