@@ -68,7 +68,8 @@ SYSTEM = System(
     # joints: parent -> child, rotation about the x axis by the lecture coordinate of the same name
     joints=(Joint("phi_1", "revolute", "world", "rod", axis="x"),),
     gravity=Gravity(g, (0, 0, -1)),
-    # force elements (delete what the lecture's system does not have)
+    # force elements (delete what the lecture's system does not have); a driven joint: an input declared as
+    # tau_1 = Input("tau_1", "N m", "motor torque in joint 1") and JointInput("motor_1", "phi_1", tau_1) here
     forces=(JointSpring("spring_1", "phi_1", c_1, 0), JointDamper("friction_1", "phi_1", d_1)),
     doc=__doc__,
 )

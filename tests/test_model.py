@@ -274,6 +274,9 @@ def test_symbols_the_system_does_not_declare_are_caught():
                   Joint("j2", "revolute", "a", "bob", axis="x", phi=2 * sp.Symbol("phi", real=True) + 2 * sp.Symbol("psi", real=True)))),
      "Jacobian rank 1 < 2"),
     (dict(coordinates=(Coordinate("phi", "rad", "angle", range=(1.0, -1.0)),)), "range must be (low, high)"),
+    # an input named but not declared: the message says how to declare it
+    (dict(forces=(JointInput("motor", "phi", "tau"),)),
+     "uses undeclared input 'tau': declare it, tau = Input('tau', UNIT, DESCRIPTION)"),
 ])
 def test_modeling_mistakes_are_caught_at_load(change, message):
     with pytest.raises(ModelError) as exc:

@@ -672,7 +672,9 @@ def validate(system: System) -> None:
         if isinstance(f, (JointSpring, JointDamper, JointInput)):
             system.joint(f.joint)
         if isinstance(f, JointInput) and f.input not in unames:
-            raise ModelError(f"{where}: force {f.name} uses undeclared input {f.input!r}")
+            raise ModelError(f"{where}: force {f.name} uses undeclared input {f.input!r}: declare it, "
+                             f"{f.input} = Input({f.input!r}, UNIT, DESCRIPTION) (harness.modeling), and pass "
+                             f"that symbol: JointInput({f.name!r}, {f.joint!r}, {f.input})")
     for cf in system.constraint_forces:
         links = [a[0] for a in cf.forces] + [a[1].link for a in cf.forces] + [t[0] for t in cf.torques]
         if any(link not in known_links for link in links):
