@@ -108,7 +108,6 @@ def relative_error(a, b, scale: float = 0.0, symmetric: bool = True) -> float:
     return diff / max(scale, max_abs(a) if symmetric else 0.0, max_abs(b), 1e-300)
 
 
-
 def relative_error_rows(a: np.ndarray, b: np.ndarray, scale: float) -> list[float]:
     """``relative_error(a[k], b[k], scale, symmetric=False)`` of every row ``k`` at once (``b`` the reference: relative
     to ``max(scale, max|b[k]|)``): the same numbers, 0 where equal, inf where the difference is not finite."""
@@ -120,6 +119,7 @@ def relative_error_rows(a: np.ndarray, b: np.ndarray, scale: float) -> list[floa
     with np.errstate(over="ignore", invalid="ignore"):
         out = np.where(diff == 0.0, 0.0, np.where(np.isfinite(diff), diff / size, math.inf))
     return out.tolist()
+
 
 # --------------------------------------------------------------------------- the JSON codec of every document
 NON_FINITE = ("inf", "-inf", "nan")

@@ -26,6 +26,8 @@ import time
 
 import numpy as np
 
+from harness.scenes.phenomena.pruning import REPEATS
+
 ROBOT, SCENE = "lightweight_robot", "fall"
 STEPS = 2000             # RK4 steps over the 0.5 s horizon (dt = 0.25 ms)
 FLOOR = 0.0              # the floor through the base's origin, z = 0
@@ -118,13 +120,13 @@ def certified_contact_free(model, q0, qd0, steps: int) -> tuple[int, tuple[str, 
     return steps, None
 
 
-def task(catalogue, repeats: int | None = None) -> dict:
+def task(catalogue, repeats: int = REPEATS) -> dict:
     """Contact detection on (idle: nothing touches) against pruned (the collision geometry dropped,
     ``mjDSBL_CONTACT``), MuJoCo's own RK4; ``repeats`` runs of each, alternating, in this process: the ratio the
     median of the pairs' with its ≥ 99.5 % interval (:func:`~harness.scenes.phenomena.pruning.ratio_interval`), the
     seconds the fastest of each."""
     from harness.engines.mujoco_engine import CollisionMeshes, MujocoModel, Options
-    from harness.scenes.phenomena.pruning import REPEATS, paired, price
+    from harness.scenes.phenomena.pruning import paired, price
     from harness.export.numeric import instantiate
     from harness.scenes import simulate as sim
 
@@ -177,7 +179,6 @@ def task(catalogue, repeats: int | None = None) -> dict:
     certified, ends_at = certified_contact_free(probe, np.asarray(scene.q0, float), np.asarray(scene.qd0, float),
                                                 STEPS)
     free = (certified // EVERY) * EVERY   # contact provably idle: the samples before its bound ends
-    repeats = repeats or REPEATS
     lean_runs, idle_runs = paired(lambda: run(lean, free)[0], lambda: run(idle, free)[0], repeats)
     pruned_whole = run(lean, STEPS)[0]
     return {"system": ROBOT, "scene": SCENE, "source": "mujoco", "method": f"mj_step RK4, dt={dt:g}",

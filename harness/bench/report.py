@@ -167,9 +167,9 @@ def markdown(doc: dict) -> str:
                   f"({u['seconds']:.0f} s; load average "
                   f"{' / '.join(f'{x:.2f}' for x in load.get('loadavg_start', []))} at its start).", ""]
     if superseded:
-        lines += [f"{superseded} earlier re-measurement{'s' if superseded > 1 else ''} of the same parts, superseded "
-                  "by the ones above, {} kept in bench.json under `updates`.".format(
-                      "are" if superseded > 1 else "is"), ""]
+        many = superseded > 1
+        lines += [f"{superseded} earlier re-measurement{'s' if many else ''} of the same parts, superseded by the ones "
+                  f"above, {'are' if many else 'is'} kept in bench.json under `updates`.", ""]
     lines += ["## Goals", "", "| goal | target | measured | met | where the time goes |", "|---|---|---|---|---|"]
     for g in doc.get("goals", []):
         measured = _num(g["value"])

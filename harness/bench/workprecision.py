@@ -43,6 +43,7 @@ from harness.modeling.events import RollSlip
 from harness.modeling.scenes import Scene
 from harness.scenes.base import REFERENCE_TOL
 from harness.scenes.phenomena import motion_of, mujoco_own
+from harness.scenes.phenomena.pruning import REPEATS
 
 SCIPY_METHODS = ("RK45", "DOP853", "Radau", "LSODA")
 ADAPTIVE = (*SCIPY_METHODS, sim.ODEINT)
@@ -339,17 +340,16 @@ def fixed_step(rhs, scene: Scene, y0, method: str, k: int, t_eval):
 
 
 # --------------------------------------------------------------------------- effect pruning
-def pruning_task(catalogue, system: str, scene: str, repeats: int | None = None) -> dict:
+def pruning_task(catalogue, system: str, scene: str, repeats: int = REPEATS) -> dict:
     """Idle against pruned by every source (:func:`harness.scenes.phenomena.pruning.measure`: symbolic and
     Pinocchio forward dynamics by DOP853 1e-10, MuJoCo's own RK4 with the pruned effects' disable flags),
-    ``repeats`` alternating pairs of runs in this process (default :data:`~harness.scenes.phenomena.pruning.REPEATS`);
+    ``repeats`` alternating pairs of runs in this process (:data:`~harness.scenes.phenomena.pruning.REPEATS`);
     the effects inferred beside the declared ones
     (:func:`harness.scenes.effects.infer`)."""
     from harness.scenes.effects import infer
-    from harness.scenes.phenomena.pruning import REPEATS, measure
+    from harness.scenes.phenomena.pruning import measure
 
     s, sc = get_scene(catalogue, system, scene)
-    repeats = repeats or REPEATS
     found = infer(s, sc)
     motion, event = motion_of(sc)
     row = {"system": system, "scene": scene, "declared": sorted(found.declared), "inferred": sorted(found.acting),

@@ -270,7 +270,7 @@ def symmetric_eigen(M: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``numpy.linalg.eigh(M)`` of a float64 ``M`` (its lower triangle): the same LAPACK gufunc, bit for bit, without
     NumPy's Python wrapper around it (its checks and conversions: 5.7 of 7.5 µs for a 2 × 2 ``M``, a third of a
     scene's right-hand side call, measured with NumPy 2.4.6). A non-finite ``M`` gives non-finite eigenvalues here as
-    there, which :func:`regular_spectrum` rejects; tests/test_compile.py checks the identity with the pinned NumPy."""
+    there, which :func:`regular_spectrum` rejects; tests/test_engines.py checks the identity with the pinned NumPy."""
     return _umath_linalg.eigh_lo(M, signature="d->dd")
 
 

@@ -19,7 +19,7 @@ from harness.scenes import simulate as sim
 from harness.scenes.base import INVARIANT, Phenomenon, SceneRun
 
 
-def _energy_balance(system: System, scene: Scene, reference: sim.Trajectory | None = None) -> tuple[float, float]:
+def _energy_balance(system: System, scene: Scene, reference: sim.Trajectory) -> tuple[float, float]:
     """Largest ``|E(t) − E(0) − W(t)|`` relative to the energy scale. A conservative scene (no damper, input, load,
     friction or contact: ``f_np ≡ 0``, ``W ≡ 0``) is checked along ``reference`` itself, the trajectory every source is
     compared with (DOP853 at rtol 1e-12, atol 1e-14); otherwise ``Ẇ = q̇ᵀ f_np`` is integrated alongside the motion
@@ -29,7 +29,7 @@ def _energy_balance(system: System, scene: Scene, reference: sim.Trajectory | No
     params = {**system.default_parameters(), **scene.params}
     p = np.array([params[x.name] for x in s.parameters])
     n = len(s.q)
-    if scene.conservative and reference is not None:
+    if scene.conservative:
         qs, qds, work = reference.q, reference.qd, np.zeros(len(reference.t))
     else:
         def rhs(t, y):

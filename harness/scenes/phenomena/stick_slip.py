@@ -236,4 +236,5 @@ class StickSlipMotion(Switching):
             result.add(STEP_EVENT.check("MuJoCo frictionloss event times, s", "mujoco",
                                         event_error(fine, ref, kinds=False), scale=dt / 2, detail=f"dt={dt / 2:g}"))
 
+
 PLUGIN = StickSlipMotion()
