@@ -142,10 +142,12 @@ def test_per_body_derivation_is_cached_as_a_graph(tmp_path, monkeypatch):
     assert doc["replacements"] and all(name.startswith("_cse_") for name, _ in doc["replacements"])
     lazy = derive(s)  # the trees are built when first read: θ = q needs none of the replacements
     assert lazy.from_cache and "M" not in vars(lazy) and list(lazy.phi) == list(s.q) and not lazy._trees._shared
+    assert "replacements" not in vars(lazy.graph)  # the graph's values too: built when a compiler needs them
     assert "M" in lazy._trees and not hasattr(lazy, "N") and "M" not in vars(lazy)
     second = derive(s)
     assert second.from_cache and second.M == first.M and second.C == first.C and second.g == first.g
-    assert pickle.loads(pickle.dumps(lazy)).M_dot == first.M_dot
+    copy = pickle.loads(pickle.dumps(lazy))  # to another process: the trees and the graph's values built
+    assert copy.M_dot == first.M_dot and copy.graph.replacements == lazy.graph.replacements
     _compiled_from_the_stored_graph_equals_compiled_from_the_trees(s, second)
     doc["replacements"][0][1] = doc["replacements"][0][1].replace("1", "2", 1)  # damage, checksum kept
     entry.write_text(json.dumps(doc))

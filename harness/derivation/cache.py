@@ -20,6 +20,7 @@ then rebuilt. The accepted syntax tree is evaluated without builtins.
 from __future__ import annotations
 
 import ast
+import functools
 import hashlib
 import json
 import os
@@ -99,9 +100,8 @@ def _read(entries: dict, replacements: list, as_computed: bool = False) -> tuple
         with distribute(False) if as_computed else nullcontext():
             return {name: _evaluate(code, {}) for name, code in entry_codes.items()}, None
     symbols = {symbol: sp.Symbol(symbol) for symbol in names}
-    reduced_replacements = tuple((symbols[symbol], _evaluate(code, symbols)) for symbol, code in codes)
     reduced = {name: _evaluate(code, symbols) for name, code in entry_codes.items()}
-    return Trees(entry_codes, codes), Graph(reduced_replacements, reduced,
+    return Trees(entry_codes, codes), Graph(codes, symbols, reduced,
                                             hashlib.sha256(json.dumps(replacements).encode()).hexdigest())
 
 
@@ -139,14 +139,26 @@ class Trees(Mapping):
 
 @dataclass(frozen=True, eq=False)
 class Graph:
-    """Values stored as a graph (``store(..., graph=True)``), in the form a compiler takes them: ``replacements``
+    """Values stored as a graph (``store(..., graph=True)``), in the form a compiler takes them: :attr:`replacements`
     ``((symbol, value), …)``, each value in the symbols of earlier ones, and each entry ``reduced`` in those symbols.
     Compiling the values themselves would search the huge trees for their common subexpressions once more
     (SymPy's ``cse`` comparing equal sub-trees node by node: 10 s of the 6-DoF so101's 17)."""
 
-    replacements: tuple
+    codes: tuple               # ``(symbol name, compiled text)`` of each stored replacement, checked (:func:`_code`)
+    symbols: dict              # symbol name -> Symbol
     reduced: dict
     digest: str | None = None  # SHA-256 of the stored replacements' texts (keys the compiled code of this graph)
+
+    @functools.cached_property
+    def replacements(self) -> tuple:
+        """The replacements' values, built when a compiler first needs them: a function whose generated code is
+        kept on disk (:mod:`harness.derivation.lambdified`, keyed by the reduced entries and :attr:`digest`)
+        needs none of them. Building them at every load cost ``harness robots --symbolic`` about 1 CPU s (its
+        robots' "derive or load" seconds summed: 3.0 s built, 2.0 s not), every function read from disk."""
+        return tuple((self.symbols[symbol], _evaluate(code, self.symbols)) for symbol, code in self.codes)
+
+    def __reduce__(self):  # code objects do not pickle: a copy sent to another process carries the values
+        return _built_graph, (self.replacements, self.reduced, self.digest)
 
     @property
     def cse(self):
@@ -166,6 +178,12 @@ class Graph:
                 kept.append((symbol, value))
                 needed |= value.free_symbols
         return kept[::-1], exprs
+
+
+def _built_graph(replacements: tuple, reduced: dict, digest: str | None) -> Graph:
+    graph = Graph((), {}, reduced, digest)
+    graph.__dict__["replacements"] = replacements  # what the cached property would have built
+    return graph
 
 
 GRAPH_SYMBOLS = "_cse_"  # names of the stored replacements (no model symbol starts with an underscore)
