@@ -281,20 +281,34 @@ def cmd_main(args) -> int:
                         break
                     work()
             if not any(code == 130 for _, code, _ in ended):
+                _profile_main(out, sorted(ended, key=lambda e: ORDER.index(e[0])), args.jobs,
+                              time.perf_counter() - start, side_by_side, ["main", "--jobs", jobs, "--out", out])
                 phase("report", "--jobs", jobs, "--out", out)
     except KeyboardInterrupt:  # between the phases' own handling (the workers are ended by workers_kept)
         print("error: interrupted", file=sys.stderr)
         return 130
     codes = [code for _, code, _ in ended]
     status = 130 if 130 in codes else max(codes)
-    order = ["check", "export --check", "claims", "robots", "report"]
     sys.stdout.flush()
     print("main job: " + ", ".join(
         f"{name} {'ok' if code == 0 else f'exit {code}'}"
         + ("" if seconds is None else f" (ended at {seconds:.1f} s)" if side_by_side and name != "report"
-           else f" ({seconds:.1f} s)") for name, code, seconds in sorted(ended, key=lambda e: order.index(e[0])))
+           else f" ({seconds:.1f} s)") for name, code, seconds in sorted(ended, key=lambda e: ORDER.index(e[0])))
         + f"; exit {status} after {time.perf_counter() - start:.1f} s", file=sys.stderr, flush=True)
     return status
+
+
+ORDER = ["check", "export --check", "claims", "robots", "report"]
+"""The main job's phases in the order its last line (and the profile page) lists them."""
+
+
+def _profile_main(out, ended: list, jobs: int, seconds: float, side_by_side: bool, argv: list) -> None:
+    """The main job's overview on the profile page (the ``main`` section of ``out/profile.json``), written before
+    the report renders it; a folder that cannot be written is reported, the report still runs."""
+    try:
+        profiling.write(profiling.main_section(ended, jobs, seconds, argv, side_by_side), out)
+    except HarnessError as exc:
+        print(f"error: the main job's profile: {exc}", file=sys.stderr)
 
 
 def _side_by_side(phases) -> None:

@@ -135,8 +135,43 @@ def document(command: str, total: dict, per_system: dict, seconds: float, jobs: 
                         for name, snap in per_system.items()}}
 
 
+FIGURE = "profile/time.svg"
+"""The figure of the profile page, drawn by ``harness report`` from ``profile.json``
+(:func:`harness.report.figures.profile_figure`)."""
+
+
+def main_section(ended: list, jobs: int, seconds: float, argv=None, side_by_side: bool = True) -> dict:
+    """The ``main`` section of ``profile.json``: how each phase of the main job (``harness main``) ended before
+    the report: ``(phase, exit code, seconds)``, the seconds counted from the job's start when its phases run side
+    by side, else each phase's own."""
+    return {"command": "main", "argv": argv, "jobs": jobs, "seconds": round(seconds, 2), "machine": machine(),
+            "at": time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime()),
+            "steps": [{"phase": name, "exit": code,
+                       ("ended_at" if side_by_side else "seconds"): None if took is None else round(took, 1)}
+                      for name, code, took in ended]}
+
+
+def main_markdown(doc: dict) -> str:
+    """The main job's overview: when each phase ended, the figure of the check's and the claims' phases."""
+    m, overlap = doc["machine"], "ended_at" in (doc["steps"] or [{}])[0]
+    lines = [f"# The main job (`harness {' '.join(doc.get('argv') or ['main'])}`, {doc['at']})", "",
+             f"{doc['seconds']:.1f} s wall before the report, jobs {doc['jobs']}, {m['cpus']} CPUs, load average "
+             f"{m['load_average']} then. The check's jobs classify each system's printed equations too"
+             + (", and the robots' jobs follow theirs on the same processes: the phases overlap, each line says when "
+                "it ended." if overlap else "; each line gives a phase's own seconds.")
+             + " The report follows; the job's last log line gives its time.", "",
+             "| phase | ended at s | exit |" if overlap else "| phase | s | exit |", "|---|---:|---:|"]
+    for step in doc["steps"]:
+        took = step.get("ended_at", step.get("seconds"))
+        lines.append(f"| {step['phase']} | {'' if took is None else f'{took:.1f}'} | {step['exit']} |")
+    return "\n".join(lines) + "\n"
+
+
 def markdown(doc: dict, systems: bool = True) -> str:
     """``profile.md``: the summed table, then (``systems``) the systems by their CPU time."""
+    if doc.get("command") == "main":
+        return main_markdown(doc)
+
     def rows(table_rows):
         out = ["| phase | wall s | CPU s | calls | ms per call |", "|---|---:|---:|---:|---:|"]
         for r in table_rows:
@@ -149,7 +184,10 @@ def markdown(doc: dict, systems: bool = True) -> str:
     lines = [f"# Profile of `harness {doc['command']}`", "",
              f"{doc['seconds']:.1f} s wall, {doc['cpu_seconds']:.1f} CPU s in the phases, jobs {doc['jobs']}, "
              f"{m['cpus']} CPUs, load average {m['load_average']} at the end; phases summed over the systems (a "
-             "worker's phases run in parallel with the others').", ""]
+             "worker's phases run in parallel with the others')."
+             + (f" {doc['classified_in_check']} of its {len(doc['systems'])} systems were classified in the check's "
+                "jobs, on the states their conformance run evaluated: their CPU seconds are counted here, their "
+                "wall time is the check's." if doc.get("classified_in_check") else ""), ""]
     lines += rows(doc["phases"])
     if doc.get("counts"):
         lines += ["", "| counter | count |", "|---|---:|"]
@@ -200,5 +238,9 @@ def write(doc: dict, out) -> list:
     sections[doc["command"]] = doc
     atomic_write_text(path, json.dumps(sections, indent=1, sort_keys=True) + "\n")
     md = Path(out) / "profile.md"
-    atomic_write_text(md, "\n".join(markdown(sections[k]) for k in sorted(sections)))
+    order = sorted(sections, key=lambda k: (k != "main", k))  # the main job's overview first, then its figure
+    parts = [markdown(sections[k]) for k in order]
+    parts.insert(1 if order[0] == "main" else 0,
+                 f"![CPU seconds per phase (drawn by harness report from profile.json)]({FIGURE})\n")
+    atomic_write_text(md, "\n".join(parts))
     return [str(path), str(md)]

@@ -643,6 +643,7 @@ def claims(catalogue: Catalogue, names=None, examples: int | None = None, jobs: 
                                                for r in per_system if "seconds" in r}))
     if profile:
         run.profile = _profile_document("claims", profiles, start, cpu, jobs)
+        run.profile["classified_in_check"] = len([name for name in names if classified and name in classified])
         if out:
             run.written += profiling.write(run.profile, out)
     if interrupted:

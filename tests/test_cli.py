@@ -118,7 +118,9 @@ def test_profile_says_where_the_time_goes_and_changes_no_result(capsys, tmp_path
     assert cli.main(["claims", "pendulum", "--examples", "5", "--out", str(profiled), "--profile"]) == 0
     sections = json.loads((profiled / "profile.json").read_text())
     assert set(sections) == {"check", "claims"}
-    assert "harness claims" in (profiled / "profile.md").read_text()
+    page = (profiled / "profile.md").read_text()
+    assert page.startswith("![CPU seconds per phase") and "harness claims" in page  # the figure on top
+    assert "classified in the check's jobs" not in page  # here the claims ran on their own
     # the report's figure of it: a bar per phase of each command (text kept as text in the SVG)
     from harness.report.site import _profile_figure
 
@@ -166,6 +168,13 @@ def test_the_main_job_runs_every_phase_as_its_command_and_exits_with_the_worst(m
     assert "stale: " in err and f"== harness claims --jobs 1 --profile --out {out}" in err
     assert re.search(r"main job: check exit 1 \(\d+\.\d s\), export --check exit 1, claims ok \(\d+\.\d s\), .*"
                      r"report ok \(\d+\.\d s\); exit 1 after \d+\.\d s\n$", err)
+    # the profile page's overview, written before the report: each phase with its exit code, the figure below it
+    main = json.loads((tmp_path / "reports" / "profile.json").read_text())["main"]
+    assert [(s["phase"], s["exit"]) for s in main["steps"]] == [("check", 1), ("export --check", 1), ("claims", 0),
+                                                                 ("robots", 0)]
+    page = (tmp_path / "reports" / "profile.md").read_text()
+    assert page.startswith("# The main job (`harness main --jobs 1 --out") and "| check | " in page
+    assert page.index("| robots | ") < page.index("](profile/time.svg)")
 
     calls.clear()
     monkeypatch.setattr(application, "stale_exports", lambda catalogue, folder: [])

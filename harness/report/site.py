@@ -142,9 +142,10 @@ def pruning_view(system: str, scene: dict, bench: dict | None) -> dict | None:
 def _profile_figure(out: Path) -> None:
     """``profile/time.svg``, where the time went (:func:`harness.report.figures.profile_figure`), beside the
     profile page's tables; none without ``profile.json``."""
+    from harness.profiling import FIGURE
     from harness.report.figures import profile_figure
 
-    sections, target = _read_json(out / "profile.json"), out / "profile" / "time.svg"
+    sections, target = _read_json(out / "profile.json"), out / FIGURE
     if not isinstance(sections, dict) or not sections:
         target.unlink(missing_ok=True)
         return
