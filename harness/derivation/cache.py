@@ -153,8 +153,9 @@ class Graph:
     def replacements(self) -> tuple:
         """The replacements' values, built when a compiler first needs them: a function whose generated code is
         kept on disk (:mod:`harness.derivation.lambdified`, keyed by the reduced entries and :attr:`digest`)
-        needs none of them. Building them at every load cost ``harness robots --symbolic`` about 1 CPU s (its
-        robots' "derive or load" seconds summed: 3.0 s built, 2.0 s not), every function read from disk."""
+        needs none of them. Building them at every load cost ``harness robots --symbolic`` about 2 CPU s, every
+        function read from disk (three runs each, alternating, one process: its robots' "derive or load" seconds
+        summed 3.3–4.5 s built, 2.0–2.1 s not; user time 16.1–19.9 s against 14.2–18.0 s)."""
         return tuple((self.symbols[symbol], _evaluate(code, self.symbols)) for symbol, code in self.codes)
 
     def __reduce__(self):  # code objects do not pickle: a copy sent to another process carries the values
