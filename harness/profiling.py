@@ -129,10 +129,25 @@ def document(command: str, total: dict, per_system: dict, seconds: float, jobs: 
     """``profile.json``: the run's phases summed over systems (``phases``, a :func:`table`), each system's own
     table, counters, the wall and CPU time of the command and the machine's load."""
     return {"command": command, "argv": argv, "jobs": jobs, "seconds": round(seconds, 2), "machine": machine(),
+            "at": _now(),
             "cpu_seconds": round(sum(v["cpu"] for k, v in total.get("phases", {}).items() if "/" not in k), 2),
             "phases": table(total), "counts": total.get("counts", {}),
             "systems": {name: {"phases": table(snap), "counts": snap.get("counts", {})}
                         for name, snap in per_system.items()}}
+
+
+def _now() -> str:
+    return time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime())
+
+
+def previous_run(doc: dict) -> dict:
+    """What a section of ``profile.json`` keeps of the run it replaces (its ``previous``), for the page's before/after:
+    when it ran, its wall and CPU seconds, and per phase the CPU seconds (``harness check``/``claims``) or when it
+    ended (the main job)."""
+    kept = {"at": doc.get("at"), "seconds": doc.get("seconds"), "machine": doc.get("machine")}
+    if doc.get("command") == "main":
+        return kept | {"ended": {step["phase"]: step.get("ended_at", step.get("seconds")) for step in doc["steps"]}}
+    return kept | {"cpu_seconds": doc.get("cpu_seconds"), "cpu": {row["phase"]: row["cpu"] for row in doc["phases"]}}
 
 
 FIGURE = "profile/time.svg"
@@ -145,7 +160,7 @@ def main_section(ended: list, jobs: int, seconds: float, argv=None, side_by_side
     the report: ``(phase, exit code, seconds)``, the seconds counted from the job's start when its phases run side
     by side, else each phase's own."""
     return {"command": "main", "argv": argv, "jobs": jobs, "seconds": round(seconds, 2), "machine": machine(),
-            "at": time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime()),
+            "at": _now(),
             "steps": [{"phase": name, "exit": code,
                        ("ended_at" if side_by_side else "seconds"): None if took is None else round(took, 1)}
                       for name, code, took in ended]}
@@ -153,18 +168,32 @@ def main_section(ended: list, jobs: int, seconds: float, argv=None, side_by_side
 
 def main_markdown(doc: dict) -> str:
     """The main job's overview: when each phase ended, the figure of the check's and the claims' phases."""
-    m, overlap = doc["machine"], "ended_at" in (doc["steps"] or [{}])[0]
+    m, overlap, before = doc["machine"], "ended_at" in (doc["steps"] or [{}])[0], doc.get("previous")
     lines = [f"# The main job (`harness {' '.join(doc.get('argv') or ['main'])}`, {doc['at']})", "",
              f"{doc['seconds']:.1f} s wall before the report, jobs {doc['jobs']}, {m['cpus']} CPUs, load average "
              f"{m['load_average']} then. The check's jobs classify each system's printed equations too"
              + (", and the robots' jobs follow theirs on the same processes: the phases overlap, each line says when "
                 "it ended." if overlap else "; each line gives a phase's own seconds.")
-             + " The report follows; the job's last log line gives its time.", "",
-             "| phase | ended at s | exit |" if overlap else "| phase | s | exit |", "|---|---:|---:|"]
+             + " The report follows; the job's last log line gives its time."
+             + (f" Before: the main job this folder held before, {_when(before)}." if before else ""), "",
+             ("| phase | ended at s | exit |" if overlap else "| phase | s | exit |") + (" before |" if before else ""),
+             "|---|---:|---:|" + ("---:|" if before else "")]
     for step in doc["steps"]:
         took = step.get("ended_at", step.get("seconds"))
-        lines.append(f"| {step['phase']} | {'' if took is None else f'{took:.1f}'} | {step['exit']} |")
+        was = before["ended"].get(step["phase"]) if before else None
+        lines.append(f"| {step['phase']} | {_number(took, 1)} | {step['exit']} |" + (f" {_number(was, 1)} |" if before
+                                                                                      else ""))
     return "\n".join(lines) + "\n"
+
+
+def _when(before: dict) -> str:
+    m = before.get("machine") or {}
+    return (f"{before.get('at') or 'time not recorded'}: {_number(before.get('seconds'), 1)} s wall"
+            + (f", load average {m['load_average']} then" if m.get("load_average") else ""))
+
+
+def _number(x, digits: int) -> str:
+    return "" if x is None else f"{x:.{digits}f}"
 
 
 def markdown(doc: dict, systems: bool = True) -> str:
@@ -172,23 +201,27 @@ def markdown(doc: dict, systems: bool = True) -> str:
     if doc.get("command") == "main":
         return main_markdown(doc)
 
-    def rows(table_rows):
-        out = ["| phase | wall s | CPU s | calls | ms per call |", "|---|---:|---:|---:|---:|"]
+    def rows(table_rows, before=None):
+        out = ["| phase | wall s | CPU s | calls | ms per call |" + (" CPU s before |" if before else ""),
+               "|---|---:|---:|---:|---:|" + ("---:|" if before else "")]
         for r in table_rows:
             label = r["phase"].replace("/", " / ")
             per = "" if r["per_call_ms"] is None else f"{r['per_call_ms']:.3f}"
-            out.append(f"| {label} | {r['wall']:.3f} | {r['cpu']:.3f} | {r['calls']} | {per} |")
+            out.append(f"| {label} | {r['wall']:.3f} | {r['cpu']:.3f} | {r['calls']} | {per} |"
+                       + (f" {_number(before['cpu'].get(r['phase']), 3)} |" if before else ""))
         return out
 
-    m = doc["machine"]
+    m, before = doc["machine"], doc.get("previous")
     lines = [f"# Profile of `harness {doc['command']}`", "",
              f"{doc['seconds']:.1f} s wall, {doc['cpu_seconds']:.1f} CPU s in the phases, jobs {doc['jobs']}, "
              f"{m['cpus']} CPUs, load average {m['load_average']} at the end; phases summed over the systems (a "
              "worker's phases run in parallel with the others')."
              + (f" {doc['classified_in_check']} of its {len(doc['systems'])} systems were classified in the check's "
                 "jobs, on the states their conformance run evaluated: their CPU seconds are counted here, their "
-                "wall time is the check's." if doc.get("classified_in_check") else ""), ""]
-    lines += rows(doc["phases"])
+                "wall time is the check's." if doc.get("classified_in_check") else "")
+             + (f" Before: the run this folder held before, {_when(before)}, {_number(before.get('cpu_seconds'), 1)} "
+                "CPU s in the phases." if before else ""), ""]
+    lines += rows(doc["phases"], before)
     if doc.get("counts"):
         lines += ["", "| counter | count |", "|---|---:|"]
         lines += [f"| {k} | {v} |" for k, v in sorted(doc["counts"].items())]
@@ -222,7 +255,8 @@ def instrument_scenes() -> None:
 
 def write(doc: dict, out) -> list:
     """``out/profile.json`` (one section per command: a ``check`` run replaces the ``check`` section and keeps a
-    ``claims`` one) and ``out/profile.md``, written atomically; the paths written."""
+    ``claims`` one; the section keeps what the one it replaces measured, :func:`previous_run`, shown beside it as
+    "before") and ``out/profile.md``, written atomically; the paths written."""
     import json
     from pathlib import Path
 
@@ -235,6 +269,12 @@ def write(doc: dict, out) -> list:
             sections = {}
     except (OSError, ValueError):
         sections = {}
+    replaced = sections.get(doc["command"])
+    if isinstance(replaced, dict):  # before/after on the page; one level: the previous' own previous is dropped
+        try:
+            doc = doc | {"previous": previous_run(replaced)}
+        except (KeyError, TypeError, AttributeError):  # a section of another shape: no before
+            pass
     sections[doc["command"]] = doc
     atomic_write_text(path, json.dumps(sections, indent=1, sort_keys=True) + "\n")
     md = Path(out) / "profile.md"

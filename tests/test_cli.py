@@ -121,6 +121,16 @@ def test_profile_says_where_the_time_goes_and_changes_no_result(capsys, tmp_path
     page = (profiled / "profile.md").read_text()
     assert page.startswith("![CPU seconds per phase") and "harness claims" in page  # the figure on top
     assert "classified in the check's jobs" not in page  # here the claims ran on their own
+    # a second run keeps what the one it replaces measured: before/after per phase on the page
+    before = sections["check"]
+    strategies._STATES.clear()
+    assert cli.main([*args, "--out", str(profiled), "--profile"]) == 0
+    again = json.loads((profiled / "profile.json").read_text())["check"]
+    assert again["previous"]["at"] == before["at"] and "previous" not in again["previous"]
+    assert again["previous"]["cpu"]["conformance"] == phases["conformance"]["cpu"]
+    page = (profiled / "profile.md").read_text()
+    assert "| phase | wall s | CPU s | calls | ms per call | CPU s before |" in page
+    assert f"Before: the run this folder held before, {before['at']}" in page
     # the report's figure of it: a bar per phase of each command (text kept as text in the SVG)
     from harness.report.site import _profile_figure
 
@@ -175,11 +185,14 @@ def test_the_main_job_runs_every_phase_as_its_command_and_exits_with_the_worst(m
     page = (tmp_path / "reports" / "profile.md").read_text()
     assert page.startswith("# The main job (`harness main --jobs 1 --out") and "| check | " in page
     assert page.index("| robots | ") < page.index("](profile/time.svg)")
+    assert "before |" not in page  # the first main job in this folder: nothing before it
 
     calls.clear()
     monkeypatch.setattr(application, "stale_exports", lambda catalogue, folder: [])
     codes.update(check=0, claims=2)
     assert cli.main(["main", "--jobs", "1", "--out", out]) == 2 and len(calls) == 4
+    page = (tmp_path / "reports" / "profile.md").read_text()
+    assert "| phase | s | exit | before |" in page and "| claims | " in page  # the job before this one beside it
 
     calls.clear()
     codes.update(claims=130)
