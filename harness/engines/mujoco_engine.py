@@ -81,11 +81,13 @@ def check_state(model: mujoco.MjModel, data: mujoco.MjData, what: str) -> None:
 
 
 def compile_text(text: str | None, source: str, path: Path | None = None,
-                 bound: float | None = None, edit=None) -> mujoco.MjModel:
+                 bound: float | None = None, edit=None, tree=None, accepted: list | None = None) -> mujoco.MjModel:
     """An MJCF or URDF of other origin compiled by MuJoCo (from ``path`` when the model refers to files, else
     from ``text``); ``bound`` sets ``compiler.boundmass``/``boundinertia``; ``edit(spec)`` changes the spec before
     compiling (e.g. :func:`add_free_joint`). A refusal or a compiler warning is a :class:`ModelError` (what
-    MuJoCo prints is captured)."""
+    MuJoCo prints is captured) — but for a file we exported from ``tree``: a warning
+    :func:`~harness.engines.warnings_log.explain` explains for that tree is accepted as the conformance run accepts
+    it, and ``(message, reason)`` appended to ``accepted``."""
     with captured_output(), warnings.catch_warnings(record=True) as warned:
         warnings.simplefilter("always")
         try:
@@ -98,8 +100,13 @@ def compile_text(text: str | None, source: str, path: Path | None = None,
             model = spec.compile()
         except (ValueError, RuntimeError) as exc:
             raise ModelError(f"{source}: MuJoCo refused the model: {one_line(exc)}") from None
-    if warned:  # e.g. "Inertia matrix is too close to singular": a model MuJoCo only half accepts
-        raise ModelError(f"{source}: MuJoCo warned while compiling: {one_line(warned[0].message)}")
+    for warning in warned:  # e.g. "Inertia matrix is too close to singular": a model MuJoCo only half accepts
+        message = str(warning.message)
+        explained, reason = warnings_log.explain("mujoco", message, tree) if tree is not None else (False, "")
+        if not explained:
+            raise ModelError(f"{source}: MuJoCo warned while compiling: {one_line(message)}")
+        if accepted is not None:
+            accepted.append((one_line(message), reason))
     return model
 
 
