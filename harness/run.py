@@ -627,6 +627,7 @@ def claims(catalogue: Catalogue, names=None, examples: int | None = None, jobs: 
         check_folder(out)
     previous = read_timings(out) if out else {}
     finished: dict[str, dict] = {name: classified[name] for name in names if classified and name in classified}
+    from_check = len(finished)  # classified in the check's jobs (the main job)
     jobs_ = longest_first([(catalogue, name, examples, profile) for name in names if name not in finished],
                           lambda job: previous.get(f"claims/{job[1]}/seconds"))
     interrupted = parallel(classify_system, jobs_, jobs, lambda result: finished.__setitem__(result["system"], result),
@@ -643,7 +644,7 @@ def claims(catalogue: Catalogue, names=None, examples: int | None = None, jobs: 
                                                for r in per_system if "seconds" in r}))
     if profile:
         run.profile = _profile_document("claims", profiles, start, cpu, jobs)
-        run.profile["classified_in_check"] = len([name for name in names if classified and name in classified])
+        run.profile["classified_in_check"] = from_check
         if out:
             run.written += profiling.write(run.profile, out)
     if interrupted:

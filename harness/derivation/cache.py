@@ -101,7 +101,7 @@ def _read(entries: dict, replacements: list, as_computed: bool = False) -> tuple
             return {name: _evaluate(code, {}) for name, code in entry_codes.items()}, None
     symbols = {symbol: sp.Symbol(symbol) for symbol in names}
     reduced = {name: _evaluate(code, symbols) for name, code in entry_codes.items()}
-    return Trees(entry_codes, codes), Graph(codes, symbols, reduced,
+    return Trees(entry_codes, codes), Graph(tuple(codes), reduced,
                                             hashlib.sha256(json.dumps(replacements).encode()).hexdigest())
 
 
@@ -145,7 +145,6 @@ class Graph:
     (SymPy's ``cse`` comparing equal sub-trees node by node: 10 s of the 6-DoF so101's 17)."""
 
     codes: tuple               # ``(symbol name, compiled text)`` of each stored replacement, checked (:func:`_code`)
-    symbols: dict              # symbol name -> Symbol
     reduced: dict
     digest: str | None = None  # SHA-256 of the stored replacements' texts (keys the compiled code of this graph)
 
@@ -156,7 +155,8 @@ class Graph:
         needs none of them. Building them at every load cost ``harness robots --symbolic`` about 2 CPU s, every
         function read from disk (three runs each, alternating, one process: its robots' "derive or load" seconds
         summed 3.3–4.5 s built, 2.0–2.1 s not; user time 16.1–19.9 s against 14.2–18.0 s)."""
-        return tuple((self.symbols[symbol], _evaluate(code, self.symbols)) for symbol, code in self.codes)
+        symbols = {name: sp.Symbol(name) for name, _ in self.codes}
+        return tuple((symbols[name], _evaluate(code, symbols)) for name, code in self.codes)
 
     def __reduce__(self):  # code objects do not pickle: a copy sent to another process carries the values
         return _built_graph, (self.replacements, self.reduced, self.digest)
@@ -182,7 +182,7 @@ class Graph:
 
 
 def _built_graph(replacements: tuple, reduced: dict, digest: str | None) -> Graph:
-    graph = Graph((), {}, reduced, digest)
+    graph = Graph((), reduced, digest)
     graph.__dict__["replacements"] = replacements  # what the cached property would have built
     return graph
 
