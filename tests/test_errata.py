@@ -95,3 +95,12 @@ def test_errata_sheet_renders_a_finding_in_the_lecture_notation():
     assert "<math" in page and "(5.92b)" in page
     assert "href='#cart-pendulum-5.92b'" in page and "<section id='cart-pendulum-5.92b'>" in page  # summary -> finding
     assert "| (5.92b) | cart_pendulum | substantive |" in errata.markdown(records)
+
+
+def test_a_correction_of_two_terms_reads_as_one_sum_in_a_fixed_order():
+    """Two terms that differ are printed as SymPy prints their sum (``a - b``, not ``a + -b``), in SymPy's order, not
+    a set's (which changes with the process's hash seed): the same sentence on every run."""
+    x, y, z = sp.symbols("x y z")
+    phrase = errata._entry_phrase(x + y**2 / 12, x - y**2 / 12 + z**2 / 6)
+    assert phrase == "the term y**2/12 should read -y**2/12 + z**2/6"
+    assert errata._entry_phrase(x, x + y - z) == "the terms y - z are missing"

@@ -233,12 +233,21 @@ def _entry_phrase(printed, corrected) -> str | None:
     want = set(sp.Add.make_args(sp.expand(corrected)))
     extra, lacking = have - want, want - have
     if 0 < len(extra) <= 2 and 0 < len(lacking) <= 2:
-        return f"the term {' + '.join(map(str, extra))} should read {' + '.join(map(str, lacking))}"
+        return f"{_terms(extra)} should read {_sum(lacking)}"
     if not extra and 0 < len(lacking) <= 2:
-        return f"the term {' + '.join(map(str, lacking))} is missing"
+        return f"{_terms(lacking)} {'is' if len(lacking) == 1 else 'are'} missing"
     if not lacking and 0 < len(extra) <= 2:
-        return f"the term {' + '.join(map(str, extra))} does not belong"
+        return f"{_terms(extra)} {'does' if len(extra) == 1 else 'do'} not belong"
     return None
+
+
+def _sum(terms) -> str:
+    """Terms of an expanded sum as SymPy prints their sum (``a - b``, in its canonical order, not the set's)."""
+    return str(sp.Add(*terms))
+
+
+def _terms(terms) -> str:
+    return f"the term{'' if len(terms) == 1 else 's'} {_sum(terms)}"
 
 
 def _short(m):
