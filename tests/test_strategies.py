@@ -40,3 +40,40 @@ def test_random_states_share_their_parameter_draw(data):
             assert np.all(np.isfinite(state.q)) and set(state.u) == {i.name for i in system.inputs}
         assert all(state.params == batch[0].params for state in batch)
         assert all(state.tree is batch[0].tree for state in batch)  # one tree: each engine builds one model
+
+
+def test_a_systems_kept_states_are_the_drawn_ones_bit_for_bit(tmp_path, monkeypatch):
+    """:func:`system_states` keeps what it drew (``states/`` beside the derivation cache); read back (a new process:
+    the in-process copy dropped) they are the drawn states, every number's bits, in order; a damaged entry is drawn
+    again; where the settings do not fix the examples (a random seed) nothing is kept."""
+    from harness.compare import strategies
+    from harness.settings import draws_from_seed_only, load_hypothesis_profile
+
+    monkeypatch.setenv("HARNESS_CACHE_DIR", str(tmp_path / "derivations"))
+    system = models.get("planar_manipulator")   # parameter groups, inputs, two coordinates
+
+    def bits(batches):
+        return [[(s.q.tobytes(), s.qd.tobytes(), list(s.params.items()), list(s.u.items())) for s in batch]
+                for batch in batches]
+
+    load_hypothesis_profile()
+    with draws_from_seed_only():
+        drawn = strategies.system_states(system, examples=40)
+        path = strategies._kept_path(system, 40, True)
+        assert path.is_file() and path.parent == tmp_path / "states"
+        strategies._STATES.clear()
+        read = strategies.system_states(system, examples=40)
+    assert read is not drawn and len(read) == 20
+    assert bits(read) == bits(drawn)
+    assert strategies._kept_path(system, 42, True) != path
+
+    path.write_text(path.read_text().replace('"q": [', '"q": [1.5, ', 1))
+    assert strategies._read_kept(path, system) is None   # the checksum no longer matches: drawn again
+
+    settings.register_profile("random draws", settings.get_profile("ci"), derandomize=False, database=None)
+    settings.load_profile("random draws")
+    try:
+        with draws_from_seed_only():
+            assert strategies._kept_path(system, 40, True) is None
+    finally:
+        load_hypothesis_profile()

@@ -14,13 +14,17 @@
 from __future__ import annotations
 
 import hashlib
+import json
 import math
 
 import numpy as np
 from hypothesis import settings, strategies as st
 
 from harness import profiling
+from harness.derivation.cache import cache_dir, checksum
 from harness.engines.base import State
+from harness.errors import HarnessError, OutputError
+from harness.io import atomic_write_text
 from harness.modeling.system import System
 
 ANGLE = math.pi
@@ -176,13 +180,20 @@ def system_states(system: System, examples: int | None = None, random_parameters
     kept = _STATES.get(key)
     if kept is not None and kept[0] is system:  # the system is kept alive with its states: its id is not reused
         return kept[1]
-    seen: list = []
+    path = _kept_path(system, examples, random_parameters)
+    seen = _read_kept(path, system) if path is not None else None
+    if seen is None:
+        seen = []
 
-    def record(batch):
-        seen.append(batch)
+        def record(batch):
+            seen.append(batch)
 
-    property_test(draws(system, STATES_PER_DRAW, random_parameters), record,
-                  hypothesis_examples(examples, STATES_PER_DRAW), shrink=False, seed=states_seed(system))()
+        property_test(draws(system, STATES_PER_DRAW, random_parameters), record,
+                      hypothesis_examples(examples, STATES_PER_DRAW), shrink=False, seed=states_seed(system))()
+        if path is not None:
+            _keep(path, seen)
+    else:
+        profiling.count("system states read back")
     if len(_STATES) >= 256:
         _STATES.clear()
     _STATES[key] = (system, seen)
@@ -190,3 +201,51 @@ def system_states(system: System, examples: int | None = None, random_parameters
 
 
 _STATES: dict = {}
+
+
+# --------------------------------------------------------------------------- the system's states kept on disk
+def _kept_path(system: System, examples: int | None, random_parameters: bool):
+    """Where :func:`system_states` keeps the states it drew (``states/`` beside the derivation cache), under a hash
+    of all that decides them: our code, the installed packages and Python
+    (:func:`harness.compare.remembered.installation`: hypothesis's version among them), the system's strategies (its
+    parameters' defaults and assumptions, its coordinates' ranges, its inputs), the number of states, the settings
+    and the seed. None where the settings do not fix the examples (:func:`harness.settings.fixed_examples`: a random
+    seed, an example database). Drawing them is hypothesis's generation, ~0.1 s a system; reading them back ~2 ms."""
+    from harness.compare.remembered import installation  # it imports this module
+    from harness.settings import fixed_examples
+
+    fixed = fixed_examples()
+    if fixed is None:
+        return None
+    plan = _plan(system)
+    parts = [installation(), system.name, repr(plan.groups), repr(plan.others), repr(plan.q), repr(plan.qd),
+             repr(plan.u), repr(sorted(system.default_parameters().items())),
+             repr((examples, random_parameters, STATES_PER_DRAW, settings.default.max_examples, states_seed(system),
+                   fixed))]
+    digest = hashlib.sha256("\0".join(parts).encode()).hexdigest()[:24]
+    return cache_dir().parent / "states" / f"{system.name}-{digest}.json"
+
+
+def _keep(path, batches: list[list[State]]) -> None:
+    doc = [{"params": batch[0].params, "states": [{"q": s.q.tolist(), "qd": s.qd.tolist(), "u": s.u} for s in batch]}
+           for batch in batches]
+    try:
+        atomic_write_text(path, json.dumps({"sha256": checksum(doc), "batches": doc}))
+    except OutputError:  # a full disk or a read-only folder: the states in memory are still good
+        pass
+
+
+def _read_kept(path, system: System) -> list[list[State]] | None:
+    """The kept states, made again (:meth:`State.make`: each number's bits as drawn); None when absent, damaged or
+    not states of ``system`` (then they are drawn again)."""
+    try:
+        entry = json.loads(path.read_text())
+        doc = entry["batches"]
+        if entry["sha256"] != checksum(doc):
+            return None
+        return [[State.make(system, s["q"], s["qd"], batch["params"], s["u"]) for s in batch["states"]]
+                for batch in doc]
+    except (OSError, ValueError, KeyError, TypeError, HarnessError):
+        return None
+
+
