@@ -170,7 +170,8 @@ def system_states(system: System, examples: int | None = None, random_parameters
     :func:`states_seed` for a check that never fails. Drawn once per process and settings: the conformance run and
     every printed equation of the system are checked on the same states, each source evaluated once at each
     (:mod:`harness.compare.evaluations`); where a check fails on one, hypothesis runs that check from the same seed,
-    meets the failure at the same state and shrinks it."""
+    meets the failure at the same state and shrinks it. Where the settings fix the examples, they are kept on disk
+    (:func:`_kept_path`) and read back by the next run with the same code and settings."""
     from harness.settings import property_test
 
     import hypothesis.core
@@ -210,7 +211,8 @@ def _kept_path(system: System, examples: int | None, random_parameters: bool):
     (:func:`harness.compare.remembered.installation`: hypothesis's version among them), the system's strategies (its
     parameters' defaults and assumptions, its coordinates' ranges, its inputs), the number of states, the settings
     and the seed. None where the settings do not fix the examples (:func:`harness.settings.fixed_examples`: a random
-    seed, an example database). Drawing them is hypothesis's generation, ~0.1 s a system; reading them back ~2 ms."""
+    seed, an example database). Drawing them (hypothesis's generation) took 0.18–0.20 CPU s a system, reading them
+    back and making the states again 0.04–0.06 s (the catalogue in one process)."""
     from harness.compare.remembered import installation  # it imports this module
     from harness.settings import fixed_examples
 
