@@ -94,11 +94,12 @@ def test_one_system_raising_does_not_lose_the_others(monkeypatch, capsys, tmp_pa
     assert by_name["cart_pendulum"]["passed"] and by_name["cart_pendulum"]["checks"]
 
 
-def test_profile_says_where_the_time_goes_and_changes_no_result(capsys, tmp_path):
+def test_profile_says_where_the_time_goes_and_changes_no_result(capsys, tmp_path, monkeypatch):
     """``check --profile`` prints and writes the phases (profile.json, profile.md) and leaves results.json as a run
     without it writes it; ``claims --profile`` adds its own section."""
     from harness.compare import strategies
 
+    monkeypatch.setattr(strategies, "_kept_path", lambda *args: None)  # drawn, not read back: the draws are profiled
     plain, profiled = tmp_path / "plain", tmp_path / "profiled"
     args = ["check", "pendulum", "--no-scenes", "--examples", "20"]
     assert cli.main([*args, "--out", str(plain)]) == 0
