@@ -34,14 +34,22 @@ def load_hypothesis_profile() -> str:
 
 def apply_seed(seed: int | None) -> None:
     """Load the hypothesis profile; with ``seed``, every check draws from ``Random(seed)`` (no example
-    database, so that saved failures cannot change the run)."""
+    database, so that saved failures cannot change the run). Without, the process's own forced seed (None, or
+    hypothesis's pytest option ``--hypothesis-seed``) again: a process that runs several jobs (a kept worker, a Dask
+    worker, the test suite) drew every later job's states from an earlier job's ``--seed``."""
     import hypothesis.core
 
+    if not _OWN_FORCED_SEED:
+        _OWN_FORCED_SEED.append(hypothesis.core.global_force_seed)
     name = load_hypothesis_profile()
     if seed is not None:
         settings.register_profile("seeded", parent=settings.get_profile(name), derandomize=False, database=None)
         settings.load_profile("seeded")
-        hypothesis.core.global_force_seed = seed
+    hypothesis.core.global_force_seed = seed if seed is not None else _OWN_FORCED_SEED[0]
+
+
+_OWN_FORCED_SEED: list = []
+"""The process's forced seed before :func:`apply_seed` first set one."""
 
 
 def property_test(strategy, check, examples: int | None = None, shrink: bool = True, seed: int | None = None):

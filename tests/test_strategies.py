@@ -70,6 +70,9 @@ def test_a_systems_kept_states_are_the_drawn_ones_bit_for_bit(tmp_path, monkeypa
     path.write_text(path.read_text().replace('"q": [', '"q": [1.5, ', 1))
     assert strategies._read_kept(path, system) is None   # the checksum no longer matches: drawn again
 
+    import hypothesis.core
+
+    monkeypatch.setattr(hypothesis.core, "global_force_seed", None)  # a --seed run of another test in this process
     settings.register_profile("random draws", settings.get_profile("ci"), derandomize=False, database=None)
     settings.load_profile("random draws")
     try:
@@ -77,3 +80,23 @@ def test_a_systems_kept_states_are_the_drawn_ones_bit_for_bit(tmp_path, monkeypa
             assert strategies._kept_path(system, 40, True) is None
     finally:
         load_hypothesis_profile()
+
+
+def test_a_seeded_job_leaves_the_next_jobs_seed_alone(monkeypatch):
+    """:func:`harness.settings.apply_seed` in a process that runs several jobs (a kept or Dask worker, the test
+    suite): after a job with ``--seed`` one without draws from the system's own seed, as a fresh process does (it
+    drew from the earlier job's seed: found when a ``--seed`` test left it to the next test of its worker)."""
+    import hypothesis.core
+
+    from harness import settings as harness_settings
+    from harness.compare.strategies import states_seed
+
+    system = models.get("pendulum")
+    monkeypatch.setattr(hypothesis.core, "global_force_seed", None)
+    monkeypatch.setattr(harness_settings, "_OWN_FORCED_SEED", [])
+    harness_settings.apply_seed(None)
+    fresh = states_seed(system)
+    harness_settings.apply_seed(7)
+    assert states_seed(system) == 7
+    harness_settings.apply_seed(None)
+    assert states_seed(system) == fresh and hypothesis.core.global_force_seed is None
