@@ -72,7 +72,7 @@ def test_a_systems_kept_states_are_the_drawn_ones_bit_for_bit(tmp_path, monkeypa
 
     import hypothesis.core
 
-    monkeypatch.setattr(hypothesis.core, "global_force_seed", None)  # a --seed run of another test in this process
+    monkeypatch.setattr(hypothesis.core, "global_force_seed", None)  # as pytest --hypothesis-seed would fix them
     settings.register_profile("random draws", settings.get_profile("ci"), derandomize=False, database=None)
     settings.load_profile("random draws")
     try:
