@@ -227,3 +227,4 @@ def test_catalogue_report(case, tmp_path):
                 assert check["ratio"] <= 0.1, check
         if record["figure"]:
             assert (tmp_path / record["figure"]).exists()
+        assert f"## {record['id']}: {record['title']}" in (tmp_path / "hard.md").read_text()  # its page

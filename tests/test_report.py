@@ -101,6 +101,38 @@ def test_markdown_bold_and_italic_beside_links():
     assert "<b>no</b>" in html and "<i>x</i>" in html and '<a href="bench.md">l</a>' in html
 
 
+def test_an_in_page_link_reaches_its_heading_as_on_a_code_host():
+    """A heading's anchor is a code host's (lower case, punctuation dropped, spaces as ``-``): ``[x](#slug)`` in our
+    Markdown leads to it in the HTML too (the hard cases' table links each case's section)."""
+    from harness.report.mdhtml import markdown_html, slug
+
+    assert slug("pendulum_long_horizon: Pendulum over 10000 periods, `T/64`") == \
+        "pendulum_long_horizon-pendulum-over-10000-periods-t64"
+    html = markdown_html("[case](#a_b-c-d)\n\n## a_b: C d", local=lambda target: False)
+    assert '<a href="#a_b-c-d">case</a>' in html and '<h3 id="a_b-c-d">a_b: C d</h3>' in html
+
+
+def test_the_hard_cases_page_reads_case_by_case(tmp_path):
+    """``hard.md`` (written with hard.json by harness hard; rendered as hard.html): a table of the cases linking
+    each case's section, which shows what goes wrong naively with its number, the remedy, the checks against their
+    bounds and the case's figure."""
+    import json as _json
+
+    from harness.report.markdown import hard_markdown
+    from harness.report.mdhtml import markdown_html, slug
+
+    doc = _json.loads((Path(__file__).parents[1] / "reports" / "hard.json").read_text())
+    text = hard_markdown(doc)
+    for case in doc["cases"]:
+        heading = f"{case['id']}: {case['title']}"
+        assert f"## {heading}" in text and f"(#{slug(heading)})" in text
+        assert f"![{case['title']}]({case['figure']})" in text
+        for check in case["checks"]:
+            assert check["check"].replace("|", "\\|") in text
+    html = markdown_html(text)
+    assert html.count("<img") == sum(1 for c in doc["cases"] if c["figure"]) and "**" not in html
+
+
 def test_a_scene_shows_the_work_precision_the_bench_measured(tmp_path):
     """The system page's work-precision of a scene: the bench's diagram (inside the report folder only) and the
     fastest configuration per source at the bench's accuracy, with the command and date of the run that measured

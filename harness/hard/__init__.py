@@ -61,6 +61,7 @@ from pathlib import Path
 from harness.checks import json_clean
 from harness.errors import InputError
 from harness.io import atomic_write_text
+from harness.report.markdown import hard_markdown
 
 CASES = {
     "spherical_pendulum_pole": ("harness.hard.singular", "spherical_pendulum_pole"),
@@ -92,7 +93,8 @@ def run_case(catalogue, case_id: str, quick: bool = False):
 
 
 def write_report(results: list, out: Path, quick: bool, pending: list = ()) -> Path:
-    """``out/hard.json`` and ``out/hard/<id>.svg`` (atomic writes; figures first, then the JSON)."""
+    """``out/hard.json``, ``out/hard.md`` and ``out/hard/<id>.svg`` (atomic writes; figures first, then the JSON and
+    its page)."""
     import matplotlib
     import matplotlib.pyplot as plt
 
@@ -115,6 +117,7 @@ def write_report(results: list, out: Path, quick: bool, pending: list = ()) -> P
               "cases": records, "pending": pending}
     target = out / "hard.json"
     atomic_write_text(target, json.dumps(json_clean(report), indent=1, ensure_ascii=False, allow_nan=False) + "\n")
+    atomic_write_text(out / "hard.md", hard_markdown(json_clean(report)))  # the page (harness report renders it)
     return target
 
 

@@ -3,6 +3,8 @@
 
 from __future__ import annotations
 
+from harness.report.mdhtml import slug
+
 
 def fmt_error(value) -> str:
     return "—" if value is None else f"{value:.2e}"
@@ -104,3 +106,56 @@ def summary_markdown(doc: dict) -> str:
                       f"examples (states) per system{_per_draw(hyp)}, example database: {hyp['database'] or 'none'}."]
     lines += ["", "Versions: " + ", ".join(f"{k} {v}" for k, v in doc.get("versions", {}).items()), ""]
     return "\n".join(lines)
+
+
+def hard_markdown(doc: dict) -> str:
+    """``hard.md``: the hard cases (``hard.json``, :mod:`harness.hard`) as a reader takes them in: a table of the
+    cases, then per case what goes wrong when done naively (with its number), what the harness does instead, its
+    checks against their bounds, its figure and notes; the measured numbers stay in ``hard.json``."""
+    cases = doc.get("cases", [])
+    worst = {c["id"]: max(c["checks"], key=_ratio_of, default=None) for c in cases}
+    lines = ["# Hard cases: numerically hard, and stable", "",
+             "Where a naive simulation goes wrong, what the harness does instead, and the bounds that hold "
+             f"(`harness hard --out reports`{', shortened horizons' if doc.get('quick') else ''}; the numbers of "
+             "each case: `hard.json`). "
+             f"{sum(c['passed'] for c in cases)} of {len(cases)} cases pass.", ""]
+    lines += _table(("case", "strategy", "naive", "checks", "largest share of a bound", "seconds", "verdict"),
+                    [(f"[{c['id']}](#{slug(_hard_heading(c))})", c["strategy"], _naive_value(c.get("naive") or {}),
+                      len(c["checks"]), "—" if worst[c["id"]] is None else
+                      f"{fmt_ratio(worst[c['id']].get('ratio'))} ({worst[c['id']]['check']}, "
+                      f"{worst[c['id']]['source']})", f"{c.get('seconds', 0):.1f}",
+                      "ok" if c["passed"] else "FAIL") for c in cases])
+    for c in cases:
+        naive = c.get("naive") or {}
+        lines += ["", f"## {_hard_heading(c)}", "",
+                  f"Systems: {', '.join(c['systems'])}. Strategy: {c['strategy']}. "
+                  f"{'Passed' if c['passed'] else '**Failed**'} in {c.get('seconds', 0):.1f} s.", "",
+                  f"**Naively:** {c['problem']}"]
+        if naive:
+            lines += ["", f"Done naively ({naive.get('what', '')}): {naive.get('metric', '')} = "
+                          f"**{_naive_value(naive)}**."]
+        lines += ["", f"**Instead:** {c['remedy']}", ""]
+        lines += _table(("check", "source", *CHECK_HEADER, "why this bound"),
+                        [(k["check"], k["source"], *check_cells(k), k.get("detail") or k.get("basis") or "")
+                         for k in c["checks"]])
+        if c.get("figure"):
+            lines += ["", f"![{c['title']}]({c['figure']})"]
+        if c.get("notes"):
+            lines += [""] + [f"- {note}" for note in c["notes"]]
+    if doc.get("pending"):
+        lines += ["", "## Pending", ""] + [f"- `{p['id']}`: {p['reason']}" for p in doc["pending"]]
+    return "\n".join(lines) + "\n"
+
+
+def _hard_heading(case: dict) -> str:
+    return f"{case['id']}: {case['title']}"
+
+
+def _ratio_of(check: dict) -> float:
+    ratio = check.get("ratio")
+    return float("inf") if ratio == "inf" else -1.0 if ratio is None or isinstance(ratio, str) else ratio
+
+
+def _naive_value(naive: dict) -> str:
+    value = naive.get("value")
+    return "—" if value is None else value if isinstance(value, str) else f"{value:.4g}"

@@ -1,5 +1,5 @@
-"""The Markdown the harness writes (``bench.md``, ``hard.md``, ``importer.md``, ``errata.md``) as HTML: headings,
-paragraphs, bullet lists, pipe tables, fenced code, inline code, emphasis and links/images. Enough for our own
+"""The Markdown the harness writes (``bench.md``, ``hard.md``, ``importer.md``, ``errata.md``) as HTML: headings
+(with a code host's anchors, :func:`slug`), paragraphs, bullet lists, pipe tables, fenced code, inline code, emphasis and links/images. Enough for our own
 files; not a general Markdown implementation (no such library is among the pinned dependencies)."""
 
 from __future__ import annotations
@@ -34,9 +34,15 @@ def _inline(text: str, local=lambda target: True) -> str:
 
 def _link(match, repl: str, local) -> str:
     target = match.group(2)
-    if not local(target):  # a link the report folder cannot serve: keep the text only
+    if not target.startswith("#") and not local(target):  # a link the report folder cannot serve: the text only
         return match.group(1)
     return match.expand(repl.replace(r"\2", html.escape(target)))
+
+
+def slug(heading: str) -> str:
+    """The anchor of a heading as a code host makes it (lower case; letters, digits, ``_``, ``-`` and spaces kept,
+    spaces as ``-``): ``[text](#slug)`` links to it here and there."""
+    return re.sub(r"[^\w\- ]", "", heading.lower()).replace(" ", "-")
 
 
 def _cells(line: str) -> list[str]:
@@ -60,7 +66,7 @@ def markdown_html(text: str, local=lambda target: True) -> str:
         heading = re.match(r"(#{1,6})\s+(.*)", line)
         if heading:
             level = min(len(heading.group(1)) + 1, 6)  # the page has its own <h1>
-            out.append(f"<h{level}>{_inline(heading.group(2), local)}</h{level}>")
+            out.append(f'<h{level} id="{slug(heading.group(2))}">{_inline(heading.group(2), local)}</h{level}>')
             k += 1
             continue
         if line.lstrip().startswith("|") and k + 1 < len(lines) and re.match(r"\s*\|?\s*:?-{3,}", lines[k + 1]):
