@@ -76,7 +76,7 @@ up to {{ hypothesis.max_examples }} examples (states) per system{% if hypothesis
 {% endfor %}
 </table>
 <h2>Systems × checks × engines</h2>
-<p><small>P = Pinocchio, M = MuJoCo, S = symbolic self-check; <code>error / tolerance</code>.</small></p>
+<p><small>P = Pinocchio, M = MuJoCo, D = Drake, S = symbolic self-check; <code>error / tolerance</code>.</small></p>
 <div class="wide"><table class="matrix">
 <tr><th>system</th>{% for c in check_names %}<th>{{ c }}</th>{% endfor %}</tr>
 {% for s in systems %}<tr><td><a href="systems/{{ s.name }}.html">{{ s.name }}</a></td>
