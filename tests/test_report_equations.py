@@ -138,3 +138,27 @@ def test_equations_simplified_ahead_in_other_processes_are_the_pages_own(monkeyp
     assert again.futures == {} and again.pool is None and sorted(again.read) == names  # each read once
     assert again("pulley") == equations.page_equations(models.CATALOGUE.get("pulley"),
                                                        models.CATALOGUE.claims("pulley"), use_cache=False)
+
+
+def _tokens(fragment: str) -> str:
+    import re
+
+    return " ".join(re.sub(r"<[^>]+>", " ", fragment).replace("&#8290;", "").split())
+
+
+def test_a_sum_reads_each_term_with_its_own_sign_in_the_lecture_order():
+    """``signed_terms``: SymPy's printer wrote ``a + (−c x + c y)`` as ``a − c x − c y`` (a minus pulled out of the
+    nested sum, its negation unbracketed); the equations of motion of 5 systems showed a wrong sign so. The terms
+    keep their order (M q̈, C q̇, g) and each its sign; torsion_spring_body's spring term reads ``+ c_F φ``."""
+    from harness.report.mathml import body, signed_terms
+
+    a, c, x, y = sp.symbols("a c x y")
+    nested = sp.Add(a, -c * x + c * y, evaluate=False)
+    assert _tokens(body(nested)) == "a - c x - c y"          # SymPy's reading: the sign of c y is lost
+    assert _tokens(signed_terms([a, -c * x, c * y])) == "a - c x + c y"
+    assert _tokens(signed_terms([-a, c * x])) == "- a + c x"
+    page = equations.page_equations(models.get("torsion_spring_body"), models.claims("torsion_spring_body"),
+                                    use_cache=False)
+    row = page["equations"]["eom"][0]["math"]
+    _parses(row)
+    assert "+ c F &#966; - L s g m" in _tokens(row)           # M q̈, then g: + c_F φ − L_s g m (…)

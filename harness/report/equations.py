@@ -19,7 +19,7 @@ from html import escape
 import sympy as sp
 
 from harness.limits import OutOfTime, cpu_budget
-from harness.report.mathml import body, bold, math
+from harness.report.mathml import body, bold, math, signed_terms
 
 SIMPLIFY_MAX_OPS = 150
 """Entries with more operations are shown as derived, and an entry with more once expanded is not passed to
@@ -134,13 +134,16 @@ def derived_equations(system, claims=(), budget: Budget | None = None) -> dict:
                 by_row.setdefault(k, []).append(c.equation)
     Cqd = C * qd
     for k in range(len(q)):
-        terms = [M[k, j] * qdd[j] for j in range(len(q))] + [budget.simplify(Cqd[k]), g[k]]
-        lhs = sp.Add(*[t for t in terms if t != 0], evaluate=False) if any(t != 0 for t in terms) else sp.S.Zero
+        # the terms of M q̈, C q̇ and g, in that order, each with its own sign (:func:`signed_terms`)
+        terms = [t for t in [M[k, j] * qdd[j] for j in range(len(q))] + [*sp.Add.make_args(budget.simplify(Cqd[k])),
+                                                                          *sp.Add.make_args(g[k])] if t != 0]
+        lhs = sp.Add(*terms, evaluate=False) if terms else sp.S.Zero
         if _too_large(lhs) or _too_large(f[k]):
             eom.append({"math": "", "label": GENERAL["eom"], "lecture": ", ".join(by_row.get(k, [])),
                         "note": f"row {k + 1}: {sp.count_ops(lhs) + sp.count_ops(f[k])} operations, too large to print"})
             continue
-        eom.append({"math": math(body(lhs), "<mo>=</mo>", body(f[k])), "label": GENERAL["eom"],
+        eom.append({"math": math(signed_terms(terms) if terms else body(lhs), "<mo>=</mo>", body(f[k])),
+                    "label": GENERAL["eom"],
                     "lecture": ", ".join(by_row.get(k, [])), "note": ""})
     return {"quantities": quantities, "eom": eom, "notes": []}
 

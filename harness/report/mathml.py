@@ -110,6 +110,22 @@ def body(expr, *, names: dict[str, Override] | None = None) -> str:
     return _numeric_entities(LecturePrinter(names, mat_delim="[").doprint(readable(expr)))
 
 
+def signed_terms(terms) -> str:
+    """The sum of ``terms`` as presentation MathML in the given order, each term after its own sign. SymPy's printer
+    sorts a sum's terms, and prints a sum nested in a sum that it can pull a minus sign out of as ``−`` and the
+    negated sum without parentheses: ``a + (−c x + c y)`` read ``a − c x − c y`` (the equations of motion of 5
+    systems on their report pages had a wrong sign so, e.g. torsion_spring_body's ``− c_F φ`` for ``+ c_F φ``)."""
+    out = []
+    for k, term in enumerate(terms):
+        if term.could_extract_minus_sign():
+            out.append("<mo>-</mo>")
+            term = -term
+        elif k:
+            out.append("<mo>+</mo>")
+        out.append(body(term))
+    return f"<mrow>{''.join(out)}</mrow>"
+
+
 def bold(letter: str, *, subscript: str = "", superscript: str = "", args: str = "") -> str:
     """The lecture's bold quantity symbol (``M``, ``C``, ``g``, ``f``) with optional sub- and superscript and
     argument list (``args="q"`` gives M(q), ``"q, qd"`` gives C(q, q̇)) as MathML, for left-hand sides."""
