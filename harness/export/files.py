@@ -19,8 +19,9 @@ def coordinate_map(system: System) -> str:
     return json.dumps(doc, indent=1) + "\n"
 
 
-def system_files(system: System) -> dict[str, str]:
-    tree = instantiate(system, system.default_parameters())
+def system_files(system: System, tree=None) -> dict[str, str]:
+    """The exported files of ``system`` at its default parameters (``tree``: their tree, when the caller has it)."""
+    tree = instantiate(system, system.default_parameters()) if tree is None else tree
     return {f"{system.name}.urdf": urdf_string(tree), f"{system.name}.xml": mjcf_string(tree),
             f"{system.name}.map.json": coordinate_map(system)}
 

@@ -426,14 +426,14 @@ def compare_system(system, states: int = STATES, seed: int = SEED) -> dict:
     """MuJoCo's import of our ``<system>.urdf`` against our MJCF of the same system (default parameters)."""
     from harness.export.files import system_files
 
-    files = system_files(system)
+    tree, accepted = instantiate(system, system.default_parameters()), []  # the files' tree
+    files = system_files(system, tree)
     urdf_text, mjcf_text = files[f"{system.name}.urdf"], files[f"{system.name}.xml"]
     record = _record(system.name, "system", PROJECT_ROOT / "urdf" / f"{system.name}.urdf",
                      f"our MJCF urdf/{system.name}.xml")
     try:
         joints = [j.name for j in system.joints]
         prismatic = {j.name for j in system.joints if j.type == "prismatic"}
-        tree, accepted = instantiate(system, system.default_parameters()), []  # the files' tree
         ours = compile_text(mjcf_text, f"urdf/{system.name}.xml", tree=tree, accepted=accepted)
         imported, bound = _load_import(urdf_text, record["urdf"], record, tree, accepted)
         for message, reason in dict.fromkeys(accepted):  # as the conformance run accepts them: explained

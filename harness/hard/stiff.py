@@ -40,31 +40,18 @@ def stiff_tyre_scene(catalogue, quick: bool = False) -> Scene:
 
 def stiff_tyre_run(system, scene: Scene, source: str, method: str, tol: float):
     """``(y at the sample times, CPU s, right-hand side evaluations)`` of ``scene`` from ``source`` by ``method`` at
-    ``rtol = atol = tol``, restarted at the road's breakpoints; Radau and BDF with :func:`fd_jacobian`."""
+    ``rtol = atol = tol``, restarted at the road's breakpoints (:func:`solve_piecewise`); Radau and BDF with
+    :func:`fd_jacobian`."""
     import time
-
-    from scipy.integrate import solve_ivp
 
     from harness.hard.common import fd_jacobian
 
     d = Dynamics(system, scene, source)
     rhs = second_order(d, 2)
-    t_eval = sample_times(scene)
-    y0 = np.concatenate([scene.q0, scene.qd0])
+    jac = fd_jacobian(rhs) if method in ("Radau", "BDF") else None
     start = time.process_time()
-    if method in ("Radau", "BDF"):
-        edges = [0.0, *scene.breakpoints, scene.horizon]
-        ys, y = [], y0
-        for k, (a, b) in enumerate(zip(edges[:-1], edges[1:])):
-            last = k == len(edges) - 2
-            inside = t_eval[(t_eval >= a) & ((t_eval <= b) if last else (t_eval < b))]
-            sol = solve_ivp(rhs, (a, b), y, method=method, rtol=tol, atol=tol, t_eval=inside, dense_output=True,
-                            jac=fd_jacobian(rhs))
-            ys.append(sol.y)
-            y = sol.sol(b)
-        out = np.concatenate(ys, axis=1)
-    else:
-        _, out, _ = solve_piecewise(rhs, scene, y0, method, tol, tol, t_eval)
+    _, out, _ = solve_piecewise(rhs, scene, np.concatenate([scene.q0, scene.qd0]), method, tol, tol,
+                                sample_times(scene), jac=jac)
     return out, time.process_time() - start, d.evaluations
 
 

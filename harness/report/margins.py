@@ -11,7 +11,8 @@ import math
 from harness.checks import MARGIN
 
 
-def _ratio(check: dict) -> float:
+def ratio_of(check: dict) -> float:
+    """A check record's ratio as a number: ``"inf"``/``"nan"`` (non-finite, as JSON holds them) as infinite."""
     r = check.get("ratio")
     return math.inf if isinstance(r, str) else float(r or 0.0)
 
@@ -32,7 +33,7 @@ def rows(doc: dict) -> list[dict]:
                 basis = c.get("basis", "")
                 out.append({"system": r["system"], "scene": scene, "check": c.get("check", ""),
                             "source": c.get("source", ""), "value": c.get("value"), "bound": bound,
-                            "ratio": _ratio(c), "basis": basis,
+                            "ratio": ratio_of(c), "basis": basis,
                             "derived": bool((bounds.get(basis) or {}).get("derived")),
                             "reason": (bounds.get(basis) or {}).get("reason", "")})
     return sorted(out, key=lambda row: (-row["ratio"], row["system"], row["scene"], row["check"], row["source"]))

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+from harness.report.margins import ratio_of
 from harness.report.mdhtml import slug
 
 
@@ -113,7 +114,7 @@ def hard_markdown(doc: dict) -> str:
     cases, then per case what goes wrong when done naively (with its number), what the harness does instead, its
     checks against their bounds, its figure and notes; the measured numbers stay in ``hard.json``."""
     cases = doc.get("cases", [])
-    worst = {c["id"]: max(c["checks"], key=_ratio_of, default=None) for c in cases}
+    worst = {c["id"]: max(c["checks"], key=ratio_of, default=None) for c in cases}
     lines = ["# Hard cases: numerically hard, and stable", "",
              "Where a naive simulation goes wrong, what the harness does instead, and the bounds that hold "
              f"(`harness hard --out reports`{', shortened horizons' if doc.get('quick') else ''}; the numbers of "
@@ -149,11 +150,6 @@ def hard_markdown(doc: dict) -> str:
 
 def _hard_heading(case: dict) -> str:
     return f"{case['id']}: {case['title']}"
-
-
-def _ratio_of(check: dict) -> float:
-    ratio = check.get("ratio")
-    return float("inf") if ratio == "inf" else -1.0 if ratio is None or isinstance(ratio, str) else ratio
 
 
 def _naive_value(naive: dict) -> str:

@@ -160,12 +160,12 @@ def grid_steps(scene: Scene, at_least: int) -> int:
 
 
 def solve_piecewise(rhs, scene: Scene, y0, method: str, rtol: float, atol: float, t_eval, end: float | None = None,
-                    max_step: float = np.inf):
+                    max_step: float = np.inf, jac=None):
     """``solve_ivp`` restarted at the scene's input breakpoints, from 0 to ``end`` (the horizon by default), steps
     of at most ``max_step``; returns ``(t, y, nfev)`` at ``t_eval``. A piece's end state, where the next piece
     starts, is one more sample time of the piece: read from its last step's interpolant, bit for bit what the
     piece's dense output gives at ``b``, without the dense output of every step (DOP853: 3 more evaluations of
-    ``rhs`` a step)."""
+    ``rhs`` a step). ``jac``: the Jacobian an implicit method takes (``solve_ivp``'s)."""
     end = scene.horizon if end is None else end
     t_eval = t_eval[t_eval <= end]
     edges = [0.0, *[b for b in scene.breakpoints if b < end], end]
@@ -174,7 +174,8 @@ def solve_piecewise(rhs, scene: Scene, y0, method: str, rtol: float, atol: float
         last = k == len(edges) - 2
         inside = t_eval[(t_eval >= a) & ((t_eval <= b) if last else (t_eval < b))]
         sol = solve_ivp(rhs, (a, b), y, method=method, rtol=rtol, atol=atol,
-                        t_eval=inside if last else np.append(inside, b), max_step=max_step)
+                        t_eval=inside if last else np.append(inside, b), max_step=max_step,
+                        **({} if jac is None else {"jac": jac}))
         if not sol.success:
             raise RuntimeError(f"{scene.name}: integration failed on [{a}, {b}]: {sol.message}")
         ts.append(sol.t[:len(inside)])
