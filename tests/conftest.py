@@ -33,6 +33,7 @@ def _isolated_cache(tmp_path_factory):
     _seed(project.parent / "equations", shared / "equations")  # the report's page equations (harness.report)
     _seed(project.parent / "results", shared / "results")  # the main job's conformance summaries (remembered)
     _seed(project.parent / "states", shared / "states")  # the systems' drawn states (harness.compare.strategies)
+    _seed(project.parent / "counterexamples", shared / "counterexamples")  # printed equations' (compare.claims)
     _seed(project.parent / "compiled", shared / "compiled")  # generated code (harness.derivation.lambdified)
     mp = pytest.MonkeyPatch()
     mp.setenv("HARNESS_CACHE_DIR", str(shared / "derivations"))

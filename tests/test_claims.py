@@ -49,6 +49,44 @@ def test_the_systems_states_come_first_and_a_failure_is_shrunk_from_their_seed(m
         (first.classification, first.counterexample, first.examples, first.errors)
 
 
+def test_a_shrunk_counterexample_is_kept_and_fails_again_when_read_back(monkeypatch, tmp_path):
+    """The shrink's result is kept for the next run with the same code, packages, settings and seed (``.cache/
+    counterexamples/``). Read back, the check must fail there again: then no hypothesis run, and the same verdict,
+    counterexample and errors as shrunk. A kept state where the check passes, or a damaged entry, is shrunk again.
+    The verdict counts the system's states up to the failing one and the counterexample: the shrink's candidates
+    are its search, not examples."""
+    from harness.compare import claims, strategies
+
+    monkeypatch.setattr(strategies, "cache_dir", lambda: tmp_path / "derivations")  # what is kept: here
+    wrong = CHRISTOFFEL.copy()
+    wrong[1, 0] = -wrong[1, 0]
+    claim, engines = Claim("(t10)", "C", wrong), ("pinocchio", "mujoco")
+    runs = []
+    real = claims._hypothesis_run
+    monkeypatch.setattr(claims, "_hypothesis_run", lambda *a, **k: runs.append(1) or real(*a, **k))
+
+    def verdict():
+        v = claims.classify_as_printed(SYSTEM, claim, engines, 20)
+        return v.classification, v.counterexample, v.examples, v.errors, v.state.q.tobytes(), v.state.qd.tobytes()
+
+    shrunk = verdict()
+    assert shrunk[0] == "erratum" and len(runs) == 2   # a printed C: its C q̇ is checked too
+    kept = sorted((tmp_path / "counterexamples").iterdir())
+    assert len(kept) == 2
+    states = [s for batch in strategies.system_states(SYSTEM, 20) for s in batch]
+    first_failing = next(k for k, s in enumerate(states)
+                         if any(v > 1 for v in claims.evaluate_claim(SYSTEM, claim, s, engines).values()))
+    assert shrunk[2] == first_failing + 2   # the states up to the failing one, and the counterexample
+
+    assert verdict() == shrunk and len(runs) == 2   # read back and failing again: not shrunk again
+
+    # C is linear in q̇: at q̇ = 0 the printed and the derived C vanish (C q̇ too): the check passes there
+    strategies.keep(kept[0], {**strategies.read_kept(kept[0]), "qd": [0.0, 0.0]})
+    assert verdict() == shrunk and len(runs) == 3
+    kept[1].write_text(kept[1].read_text().replace('"q": [', '"q": [1.5, ', 1))  # damaged: the checksum fails
+    assert verdict() == shrunk and len(runs) == 4
+
+
 def test_claims_read_the_numbers_the_conformance_run_computed(monkeypatch):
     """Within evaluations.sharing() (a job of the main job), a claim of an engine quantity checked after the
     system's conformance run evaluates no engine again: the states and their numbers are the conformance run's."""

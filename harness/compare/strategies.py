@@ -204,15 +204,17 @@ def system_states(system: System, examples: int | None = None, random_parameters
 _STATES: dict = {}
 
 
-# --------------------------------------------------------------------------- the system's states kept on disk
-def _kept_path(system: System, examples: int | None, random_parameters: bool):
-    """Where :func:`system_states` keeps the states it drew (``states/`` beside the derivation cache), under a hash
-    of all that decides them: our code, the installed packages and Python
+# --------------------------------------------------------------------------- what a run keeps for the next on disk
+def kept_path(kind: str, system: System, examples: int | None, random_parameters: bool = True, *check: str):
+    """Where a run keeps what hypothesis decided from ``system``'s seed for the next run (``kind/`` beside the
+    derivation cache: ``states`` of :func:`system_states`, ``counterexamples`` of
+    :mod:`harness.compare.claims`), under a hash of all that decides it: our code, the installed packages and Python
     (:func:`harness.compare.remembered.installation`: hypothesis's version among them), the system's strategies (its
-    parameters' defaults and assumptions, its coordinates' ranges, its inputs), the number of states, the settings
-    and the seed. None where the settings do not fix the examples (:func:`harness.settings.fixed_examples`: a random
-    seed, an example database). Drawing them (hypothesis's generation) took 0.18–0.20 CPU s a system, reading them
-    back and making the states again 0.04–0.06 s (the catalogue in one process)."""
+    parameters' defaults and assumptions, its coordinates' ranges, its inputs), the number of states, the settings,
+    the seed and ``check`` (what a check evaluates, in words and SymPy's ``srepr``). None where the settings do not
+    fix the examples (:func:`harness.settings.fixed_examples`: a random seed, an example database). Drawing the
+    states (hypothesis's generation) took 0.18–0.20 CPU s a system, reading them back and making the states again
+    0.04–0.06 s (the catalogue in one process)."""
     from harness.compare.remembered import installation  # it imports this module
     from harness.settings import fixed_examples
 
@@ -223,31 +225,55 @@ def _kept_path(system: System, examples: int | None, random_parameters: bool):
     parts = [installation(), system.name, repr(plan.groups), repr(plan.others), repr(plan.q), repr(plan.qd),
              repr(plan.u), repr(sorted(system.default_parameters().items())),
              repr((examples, random_parameters, STATES_PER_DRAW, settings.default.max_examples, states_seed(system),
-                   fixed))]
+                   fixed)), *check]
     digest = hashlib.sha256("\0".join(parts).encode()).hexdigest()[:24]
-    return cache_dir().parent / "states" / f"{system.name}-{digest}.json"
+    return cache_dir().parent / kind / f"{system.name}-{digest}.json"
 
 
-def _keep(path, batches: list[list[State]]) -> None:
-    doc = [{"params": batch[0].params, "states": [{"q": s.q.tolist(), "qd": s.qd.tolist(), "u": s.u} for s in batch]}
-           for batch in batches]
+def _kept_path(system: System, examples: int | None, random_parameters: bool):
+    return kept_path("states", system, examples, random_parameters)
+
+
+def state_record(state: State) -> dict:
+    """A state as JSON (Python writes each float's shortest exact text: read back, the same bits)."""
+    return {"q": state.q.tolist(), "qd": state.qd.tolist(), "u": state.u, "params": state.params}
+
+
+def state_from(system: System, record: dict) -> State:
+    """The state of :func:`state_record`, made again (:meth:`State.make`)."""
+    return State.make(system, record["q"], record["qd"], record["params"], record["u"])
+
+
+def keep(path, doc) -> None:
+    """``doc`` written to ``path`` with its checksum (atomically; a full disk or a read-only folder only costs the
+    next run the time)."""
     try:
-        atomic_write_text(path, json.dumps({"sha256": checksum(doc), "batches": doc}))
-    except OutputError:  # a full disk or a read-only folder: the states in memory are still good
+        atomic_write_text(path, json.dumps({"sha256": checksum(doc), "doc": doc}))
+    except OutputError:
         pass
 
 
-def _read_kept(path, system: System) -> list[list[State]] | None:
-    """The kept states, made again (:meth:`State.make`: each number's bits as drawn); None when absent, damaged or
-    not states of ``system`` (then they are drawn again)."""
+def read_kept(path):
+    """The ``doc`` :func:`keep` wrote to ``path``; None when absent or damaged."""
     try:
         entry = json.loads(path.read_text())
-        doc = entry["batches"]
-        if entry["sha256"] != checksum(doc):
-            return None
-        return [[State.make(system, s["q"], s["qd"], batch["params"], s["u"]) for s in batch["states"]]
-                for batch in doc]
-    except (OSError, ValueError, KeyError, TypeError, HarnessError):
+        doc = entry["doc"]
+        return doc if entry["sha256"] == checksum(doc) else None
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+
+
+def _keep(path, batches: list[list[State]]) -> None:
+    keep(path, [[state_record(s) for s in batch] for batch in batches])
+
+
+def _read_kept(path, system: System) -> list[list[State]] | None:
+    """The kept states, made again (each number's bits as drawn); None when absent, damaged or not states of
+    ``system`` (then they are drawn again)."""
+    doc = read_kept(path)
+    try:
+        return None if doc is None else [[state_from(system, s) for s in batch] for batch in doc]
+    except (ValueError, KeyError, TypeError, HarnessError):
         return None
 
 
