@@ -176,6 +176,13 @@ class Catalogue:
         self.get(name)
         return list(getattr(self._load_all()[0][name], "CLAIMS", []))
 
+    def lecture_claims(self) -> set[str]:
+        """The systems of the package's own folder (the lecture's catalogue, not the added folders) that list
+        printed equations: the systems whose claims decide which numbered equations have none."""
+        own = Path(self.path[0]).resolve()
+        return {name for name, module in self._load_all()[0].items()
+                if Path(module.__file__).resolve().parent == own and getattr(module, "CLAIMS", None)}
+
     def module(self, name: str) -> ModuleType:
         """The model module of system ``name`` (for what a model states beyond SYSTEM, CLAIMS, SCENES: e.g. the
         lightweight robot's URDF file)."""

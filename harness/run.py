@@ -639,7 +639,7 @@ def claims(catalogue: Catalogue, names=None, examples: int | None = None, jobs: 
                     [result["failure"] for result in per_system if result["failure"]])
     if out:  # merged by system: the classified systems replace their records, the others are kept
         merged = merge_claims(catalogue, read_claims(out), [result["system"] for result in per_system], run.records)
-        run.written = write_claims(merged, out)
+        run.written = write_claims(merged, out, catalogue.lecture_claims())
         run.written.append(write_timings(out, {f"claims/{r['system']}/seconds": r["seconds"]
                                                for r in per_system if "seconds" in r}))
     if profile:

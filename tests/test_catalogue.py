@@ -51,3 +51,16 @@ def test_library_code_never_imports_models():
             if any(n == "models" or n.startswith("models.") for n in names):
                 offenders.append(f"{path.relative_to(HARNESS.parent)}:{node.lineno}")
     assert not offenders, offenders
+
+
+def test_the_lecture_systems_with_printed_equations_are_those_of_the_models_folder(user_models):
+    """Which numbered equations of the lecture have no claim is decided by the systems of ``models/`` that list
+    printed equations (the errata sheet's last section), not by a user's own models beside them."""
+    (user_models / "user_pendulum.py").write_text(
+        "import dataclasses\nfrom models.pendulum import SYSTEM as _S, CLAIMS\n"
+        "SYSTEM = dataclasses.replace(_S, name='user_pendulum')\n")
+    models.reload()
+    lecture = models.CATALOGUE.lecture_claims()
+    assert "user_pendulum" in models.names() and "user_pendulum" not in lecture
+    assert lecture == {name for name in models.names() if name != "user_pendulum" and models.CATALOGUE.claims(name)}
+    assert "pendulum" in lecture and "lightweight_robot" not in lecture   # the robot lists no printed equation

@@ -104,3 +104,22 @@ def test_a_correction_of_two_terms_reads_as_one_sum_in_a_fixed_order():
     phrase = errata._entry_phrase(x + y**2 / 12, x - y**2 / 12 + z**2 / 6)
     assert phrase == "the term y**2/12 should read -y**2/12 + z**2/6"
     assert errata._entry_phrase(x, x + y - z) == "the terms y - z are missing"
+
+
+def test_the_equations_without_a_claim_are_listed_only_over_every_lecture_system():
+    """The sheet's last section lists the lecture's numbered equations no system claims: only where the records
+    hold every lecture system that lists printed equations. A run over some of them says so; a run over one's own
+    models (a paper's system) has no such section: the lecture's coverage is not theirs."""
+    def confirmed(system, equation):
+        return {"system": system, "equation": equation, "quantity": "M", "classification": "confirmed", "note": ""}
+
+    pendulum = [confirmed("pendulum", "(3.111)")]
+    lecture = {"pendulum", "planar_manipulator"}
+    whole = pendulum + [confirmed("planar_manipulator", "(5.27)")]
+    missing = errata.unclaimed(whole, lecture)
+    assert missing and all(e["eq"] not in ("3.111", "5.27") for e in missing)
+    assert "| (3.1) |" in errata.markdown(whole, lecture)
+    some = errata.markdown(pendulum, lecture)
+    assert "| (3.1) |" not in some and "these hold 1 of the 2 systems" in some
+    own = [confirmed("furuta", "(33)")]
+    assert "without a claim" not in errata.markdown(own, lecture) and "without a claim" not in errata.sheet(own, lecture)

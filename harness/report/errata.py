@@ -294,14 +294,29 @@ def reduced_counterexample(system, claim, verdict, delta, relations) -> dict:
 
 
 # ----------------------------------------------------------------------------- the sheet
-def unclaimed(records) -> list[dict]:
-    """Numbered equations of chapters 3–5 and appendix A without a claim, with the reason."""
+def unclaimed(records, lecture: set[str] | None) -> list[dict]:
+    """Numbered equations of chapters 3–5 and appendix A without a claim, with the reason; listed only where
+    ``records`` hold the claims of every lecture system that has some (``lecture``:
+    :meth:`harness.catalogue.Catalogue.lecture_claims`): a run over some systems, or over one's own models, would
+    list the equations the others claim."""
+    if not lecture or not lecture <= {r["system"] for r in records}:
+        return []
     try:
         table = json.loads(UNCLAIMED.read_text())
     except (OSError, ValueError):
         return []
     labels = " ".join(r["equation"] for r in records)
     return [e for e in table if f"({e['eq']})" not in labels and not _in_range(e["eq"], labels)]
+
+
+def _partial(records, lecture: set[str] | None) -> str:
+    """Why the numbered equations without a claim are not listed, where the records hold some lecture systems'
+    claims but not all; empty otherwise (one's own models only: the lecture's coverage is not theirs)."""
+    present = {r["system"] for r in records}
+    if not lecture or lecture <= present or not lecture & present:
+        return ""
+    return (f"Listed when the printed equations of every lecture system are classified: these hold "
+            f"{len(lecture & present)} of the {len(lecture)} systems that list some.")
 
 
 def _in_range(eq: str, labels: str) -> bool:
@@ -337,7 +352,8 @@ def _correction(r) -> str:
     return r.get("sentence") or ""
 
 
-def markdown(records) -> str:
+def markdown(records, lecture: set[str] | None = None) -> str:
+    """``errata.md``: the sheet in Markdown (``lecture``: see :func:`unclaimed`)."""
     counts = _counts(records)
     symbolic = sum(1 for r in records if r.get("decided_by") == "symbolic")
     lines = ["# Printed equations of the lecture, checked", "",
@@ -381,10 +397,12 @@ def markdown(records) -> str:
         if r["note"]:
             lines.append(f"- transcription note: {r['note']}")
         lines.append("")
-    missing = unclaimed(records)
+    missing = unclaimed(records, lecture)
     if missing:
         lines += ["## Numbered equations without a claim", "", "| equation | reason |", "|---|---|"]
         lines += [f"| ({e['eq']}) | {e['reason']} |" for e in missing]
+    elif _partial(records, lecture):
+        lines += ["## Numbered equations without a claim", "", _partial(records, lecture)]
     return "\n".join(lines) + "\n"
 
 
@@ -405,11 +423,11 @@ STYLE = ("table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:2px
 """The errata sheet's own style (standalone in ``errata.html`` of ``harness claims``, and inside the report site)."""
 
 
-def html(records) -> str:
+def html(records, lecture: set[str] | None = None) -> str:
     """``errata.html`` of ``harness claims``: the sheet (:func:`sheet`) as a standalone page."""
     return ("<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>Errata</title>"
             f"<style>body{{font-family:sans-serif;max-width:60em;margin:auto}}{STYLE}</style></head><body>"
-            + sheet(records) + "</body></html>\n")
+            + sheet(records, lecture) + "</body></html>\n")
 
 
 def _anchor(record) -> str:
@@ -417,9 +435,9 @@ def _anchor(record) -> str:
     return re.sub(r"[^A-Za-z0-9.]+", "-", f"{record['system']}-{record['equation']}").strip("-")
 
 
-def sheet(records) -> str:
+def sheet(records, lecture: set[str] | None = None) -> str:
     """The errata sheet: summary table, each finding with printed and corrected equation as MathML, the
-    numbered equations without a claim."""
+    numbered equations without a claim (``lecture``: see :func:`unclaimed`)."""
     counts = _counts(records)
     findings = [r for r in records if r["classification"] in FINDINGS]
     body = ["<h1>Errata of the lecture <i>Mathematical Modeling</i></h1>",
@@ -448,9 +466,11 @@ def sheet(records) -> str:
         if r["note"]:
             body.append(f"<p class='note'>transcription note: {escape(r['note'])}</p>")
         body.append("</section>")
-    missing = unclaimed(records)
+    missing = unclaimed(records, lecture)
     if missing:
         body.append("<h2>Numbered equations without a claim</h2><table><tr><th>equation</th><th>reason</th></tr>")
         body += [f"<tr><td>({escape(e['eq'])})</td><td>{escape(e['reason'])}</td></tr>" for e in missing]
         body.append("</table>")
+    elif _partial(records, lecture):
+        body.append(f"<h2>Numbered equations without a claim</h2><p>{escape(_partial(records, lecture))}</p>")
     return "\n".join(body)

@@ -93,13 +93,14 @@ def read_claims(out: Path | str) -> list[dict]:
     return [r for r in records if isinstance(r, dict) and "system" in r] if isinstance(records, list) else []
 
 
-def write_claims(records: list[dict], out: Path | str) -> list[Path]:
+def write_claims(records: list[dict], out: Path | str, lecture: set[str] | None = None) -> list[Path]:
     """``claims.json`` (the records, non-finite numbers as strings) and the errata sheet ``errata.md`` and
-    ``errata.html`` (:mod:`harness.report.errata`), atomically."""
+    ``errata.html`` (:mod:`harness.report.errata`; ``lecture``: the lecture systems with printed equations,
+    :func:`harness.report.errata.unclaimed`), atomically."""
     from harness.report import errata
 
     out = Path(out)
     atomic_write_text(out / "claims.json", json.dumps(json_clean(records), indent=1) + "\n")
-    atomic_write_text(out / "errata.md", errata.markdown(records))
-    atomic_write_text(out / "errata.html", errata.html(records))
+    atomic_write_text(out / "errata.md", errata.markdown(records, lecture))
+    atomic_write_text(out / "errata.html", errata.html(records, lecture))
     return [out / "claims.json", out / "errata.md", out / "errata.html"]
