@@ -463,7 +463,8 @@ def build_site(out: Path | str, catalogue=None, progress=None, jobs: int = 1) ->
         from harness.report import errata
 
         atomic_write_text(out / "errata.html", env.get_template("errata").render(
-            records=claims, sheet=errata.sheet(claims, catalogue.lecture_claims() if catalogue else None), style=errata.STYLE, root="", **common))
+            records=claims, sheet=errata.sheet(claims, catalogue.lecture_claims() if catalogue else None),
+            style=errata.STYLE, root="", **common))
         written.append("errata.html")
     written += robot_pages(out, env, common)   # before robots.html, whose table links them
     _profile_figure(out)
