@@ -124,3 +124,18 @@ def test_the_equations_without_a_claim_are_listed_only_over_every_lecture_system
     own = [confirmed("furuta", "(33)")]
     assert "without a claim" not in errata.markdown(own, lecture)
     assert "without a claim" not in errata.sheet(own, lecture)
+
+
+def test_a_sheet_over_ones_own_models_is_not_titled_the_lectures_errata():
+    """A paper's system classified beside (or instead of) the lecture's: its errata are the printed equations', not
+    the lecture's, and the sheet names the systems from outside the lecture."""
+    def confirmed(system):
+        return {"system": system, "equation": "(1)", "quantity": "M", "classification": "confirmed", "note": ""}
+
+    lecture = {"pendulum"}
+    assert errata.title([confirmed("pendulum")], lecture) == "Errata of the lecture Mathematical Modeling"
+    assert "Errata of the lecture" in errata.sheet([confirmed("pendulum")], lecture)
+    own = [confirmed("pendulum"), confirmed("furuta")]
+    assert errata.title(own, lecture) == "Errata of the printed equations"
+    for text in (errata.sheet(own, lecture), errata.markdown(own, lecture), errata.html(own, lecture)):
+        assert "of the lecture" not in text and "from outside the lecture" in text and "furuta" in text

@@ -462,8 +462,9 @@ def build_site(out: Path | str, catalogue=None, progress=None, jobs: int = 1) ->
     if claims:
         from harness.report import errata
 
+        lecture = catalogue.lecture_claims() if catalogue else None
         atomic_write_text(out / "errata.html", env.get_template("errata").render(
-            records=claims, sheet=errata.sheet(claims, catalogue.lecture_claims() if catalogue else None),
+            records=claims, sheet=errata.sheet(claims, lecture), errata_title=errata.title(claims, lecture),
             style=errata.STYLE, root="", **common))
         written.append("errata.html")
     written += robot_pages(out, env, common)   # before robots.html, whose table links them

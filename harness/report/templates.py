@@ -193,7 +193,7 @@ number follows (compared in <a href="#claims">Printed equations</a>).</p>
 <p><small>Measured by <code>{{ wp.command }}</code> on {{ wp.generated }} ({{ wp.machine }}); timings are of that machine, the errors of any (<a href="../bench.html">Benchmarks</a>).</small></p>
 {% endif %}
 {% else %}<p>No scene results in results.json{% if model and model.scene_names %} (declared scenes: {{ model.scene_names|join(", ") }}; they appear once <code>harness check</code> simulates them){% endif %}.</p>{% endfor %}
-<h2 id="claims">Printed equations of the lecture</h2>
+<h2 id="claims">Printed equations</h2>
 {% if model and model.claims %}<p>Each equation as the lecture prints it, and under it the derived quantity it is compared with
 (equations of motion as residuals = 0).{% if not s.claims %} Not classified yet: run <code>harness claims --out</code>.{% endif %}</p>
 {% for c in model.claims %}{% set r = c.record %}<div class="claim {{ 'na' if not r else ('ok' if r.classification == 'confirmed' else 'erratum') }}">
@@ -209,7 +209,7 @@ number follows (compared in <a href="#claims">Printed equations</a>).</p>
 """
 
 ERRATA = """{% extends "base" %}
-{% block title %}Errata of the lecture{% endblock %}
+{% block title %}{{ errata_title }}{% endblock %}
 {% block body %}
 <style>{{ style }}</style>
 {{ sheet|safe }}
