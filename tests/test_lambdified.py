@@ -107,6 +107,31 @@ def test_a_damaged_entry_is_generated_again(cache):
     assert json.loads(entry.read_text())["source"] == doc["source"]
 
 
+def test_a_built_expression_is_found_by_its_recipe_without_building_it(cache, monkeypatch):
+    """``lambdify_built``: the kept code of what ``build()`` returns is found by the recipe's hash (texts that
+    decide the expression) without calling ``build``; another recipe builds; a damaged alias builds and compiles as
+    ``lambdify`` does (the same code, read by its key)."""
+    built = []
+
+    def build():
+        built.append(1)
+        return sp.Matrix([sp.Abs(X * Y) + sp.Abs(X)])
+
+    fresh = lambdified.lambdify_built(("terms of x*y + x", sp.srepr(X * Y + X)), [X, Y], build, modules="numpy")
+    (alias,) = cache.glob("recipes/*.json")
+    assert len(built) == 1 and len(list(cache.glob("*.json"))) == 1
+    kept = lambdified.lambdify_built(("terms of x*y + x", sp.srepr(X * Y + X)), [X, Y], build, modules="numpy")
+    assert len(built) == 1, "found by its recipe: not built again"
+    assert np.array_equal(fresh(-0.3, 2.0), kept(-0.3, 2.0)) and float(kept(-0.3, 2.0)[0, 0]) == 0.3 * 2.0 + 0.3
+    lambdified.lambdify_built(("terms of x*y - x", sp.srepr(X * Y - X)), [X, Y], build, modules="numpy")
+    assert len(built) == 2   # another recipe: built (the same expression: its code read by its key)
+    for damaged in ("{not json", json.dumps({"key": "0" * 64, "sha256": "0"})):
+        alias.write_text(damaged)
+        again = lambdified.lambdify_built(("terms of x*y + x", sp.srepr(X * Y + X)), [X, Y], build, modules="numpy")
+        assert np.array_equal(again(-0.3, 2.0), fresh(-0.3, 2.0))
+    assert len(built) == 4
+
+
 @pytest.mark.parametrize("name", ["stick_slip", "free_fall_drag", "quarter_car", "governor", "lightweight_robot"])
 def test_what_the_project_compiles_is_kept(cache, name):
     """Every function compiled for a system (its quantities, its terms of (5.93), per-body graphs included) is of

@@ -60,7 +60,7 @@ from hypothesis.errors import UnsatisfiedAssumption
 from harness import profiling
 from harness.checks import Bound, Check, relative_error
 from harness.derivation.compile import compiled
-from harness.derivation.lambdified import lambdify
+from harness.derivation.lambdified import lambdify, lambdify_built
 from harness.derivation.derive import SIMPLIFY_MAX_OPS
 from harness.compare import evaluations as at_state
 from harness.compare.conformance import FLOAT64_RTOL, scales
@@ -310,8 +310,11 @@ _COMPILED_CLAIMS: dict = {}
 
 
 def _accel_coefficients(system: System, printed: sp.Matrix, key):
-    """``∂R/∂q̈`` of a printed residual ``R`` (its 'mass matrix' rows), compiled (differentiated once per key)."""
-    return _lambdify(system, lambda: printed.jacobian([c.accel for c in system.coordinates]), key=("accel",) + key)
+    """``∂R/∂q̈`` of a printed residual ``R`` (its 'mass matrix' rows), compiled (differentiated once per key, and
+    not at all where the compiled function is kept: :func:`_lambdify`'s ``recipe``)."""
+    accels = [c.accel for c in system.coordinates]
+    return _lambdify(system, lambda: printed.jacobian(accels), key=("accel",) + key,
+                     recipe=lambda: ("claims: ∂R/∂q̈", sp.srepr(printed), sp.srepr(accels)))
 
 
 _PRINTED: dict = {}
@@ -330,17 +333,27 @@ def _printed(claim: Claim, substitution: dict | None) -> sp.Matrix:
     return kept[2]
 
 
-def _lambdify(system: System, expr, key=None):
+def _lambdify(system: System, expr, key=None, recipe=None):
     """Compiled once per ``key`` (classification evaluates the same claim hundreds of times). ``expr`` may be a
     function of no arguments building the expression, called only when ``key`` is not compiled yet (a derivative or
-    the terms' sizes: SymPy work that cost 19 CPU s per claims run when built at every evaluation)."""
+    the terms' sizes: SymPy work that cost 19 CPU s per claims run when built at every evaluation); with ``recipe``
+    (a function giving the texts that decide what ``expr`` builds, beside our code), not even then where the compiled
+    function is kept (:func:`harness.derivation.lambdified.lambdify_built`)."""
     build = expr if callable(expr) and not isinstance(expr, (sp.Basic, sp.MatrixBase)) else lambda: expr
-    if key is None:
-        return lambdify(_symbols(system), _as_matrix(build()), modules="numpy")
-    if key not in _COMPILED_CLAIMS:
-        with profiling.phase("lambdify claims"):
-            _COMPILED_CLAIMS[key] = lambdify(_symbols(system), _as_matrix(build()), modules="numpy")
-    return _COMPILED_CLAIMS[key]
+    if key is not None and key in _COMPILED_CLAIMS:
+        return _COMPILED_CLAIMS[key]
+    with profiling.phase("lambdify claims"):
+        args = _symbols(system)
+        if recipe is not None:
+            from harness.compare.remembered import installation
+
+            fn = lambdify_built((installation(), sp.srepr(args), *recipe()), args, lambda: _as_matrix(build()),
+                                modules="numpy")
+        else:
+            fn = lambdify(args, _as_matrix(build()), modules="numpy")
+    if key is not None:
+        _COMPILED_CLAIMS[key] = fn
+    return fn
 
 
 class _Disagrees(AssertionError):
@@ -392,7 +405,7 @@ def _terms_size(system: System, expr, key, args) -> float:
     """``max Σ |t|`` over the entries of ``expr``, ``t`` the terms of each entry's sum: the scale its round-off is
     relative to."""
     size = _lambdify(system, lambda: _as_matrix(expr).applyfunc(lambda e: sum(map(abs, sp.Add.make_args(e)))),
-                     key=key)
+                     key=key, recipe=lambda: ("claims: the terms' sizes", sp.srepr(_as_matrix(expr))))
     return float(np.max(np.abs(np.asarray(size(*args), dtype=float)), initial=0.0))
 
 
