@@ -50,10 +50,10 @@ def lambdify(args, expr, modules=None, **options):
 
 def lambdify_built(recipe: tuple[str, ...], args, build, modules=None, **options):
     """:func:`lambdify` of the expression ``build()`` returns, where ``recipe`` (texts) decides that expression
-    completely: the code that builds it and its inputs (``srepr``). The kept source is found by the recipe's hash
-    (a file in ``compiled/recipes/`` naming its key) without building the expression or printing it, SymPy work that a warm
-    run repeated: the claims' terms sizes (``Abs`` of each term) and ``∂R/∂q̈``, 2.3 of 17.8 profiled CPU s of eight
-    systems' claims. A missing or damaged alias, or a kept source that does not load, builds and compiles as
+    completely: the code that builds it and its inputs (``srepr``). The kept source is found by the recipe's hash (a
+    file in ``compiled/recipes/`` naming its key) without building the expression or printing it, SymPy work that a
+    warm run repeated: the claims' terms sizes (``Abs`` of each term) and ``∂R/∂q̈``, 2.3 of 17.8 profiled CPU s of
+    eight systems' claims. A missing or damaged recipe, or a kept source that does not load, builds and compiles as
     :func:`lambdify` does."""
     from harness import profiling
 
