@@ -249,3 +249,20 @@ def test_kept_pictures_start_no_rendering_process(tmp_path, monkeypatch):
     real = futures.ProcessPoolExecutor
     monkeypatch.setattr(futures, "ProcessPoolExecutor", lambda *a, **k: started.append(1) or real(*a, **k))
     assert render.render_all(jobs)() == drawn and not started
+
+
+def test_a_notation_typo_is_near_its_boundary_only_where_it_nearly_fails_under_its_renaming():
+    """The index's table of printed equations near their verdict's boundary: a notation typo's recorded errors are
+    those under its renaming, where it holds, so it is near its boundary like a confirmed claim (above 0.1 of the
+    tolerance), not like a wrong one (below 10×). All 13 of the lecture's notation typos were listed before."""
+    from harness.report import margins
+
+    def record(classification, **errors):
+        return {"system": "s", "equation": classification, "classification": classification,
+                "errors_over_tolerance": errors}
+
+    rows = margins.claim_rows([record("notation typo", derivation=2e-4), record("notation typo", derivation=0.5),
+                               record("confirmed", derivation=0.5, mujoco=0.01), record("confirmed", derivation=0.01),
+                               record("erratum", derivation=5.0, mujoco=3e7), record("erratum", derivation=1e9)])
+    assert [(r["classification"], r["ratio"]) for r in rows] == [("notation typo", 0.5), ("confirmed", 0.5),
+                                                                 ("erratum", 5.0)]

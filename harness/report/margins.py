@@ -81,17 +81,24 @@ def figure_svg(doc: dict) -> str | None:
     return text
 
 
+HOLDING = ("confirmed", "notation typo")
+"""Claim classifications whose recorded errors are those of a check that holds (:func:`claim_rows`)."""
+
+
 def claim_rows(claims: list[dict], margin: float = MARGIN) -> list[dict]:
-    """Printed equations whose verdict sits near its boundary: a claim confirmed with a source above ``margin``
-    of its tolerance, or a claim found wrong (erratum, convention-dependent as printed) whose smallest ratio over
-    the sources is below ``1 / margin``; each ratio is the largest over the examples (``errors_over_tolerance``)."""
+    """Printed equations whose verdict sits near its boundary: a claim that holds with a source above ``margin`` of
+    its tolerance (confirmed, or a notation typo: its errors are those under its renaming, where it holds), or a
+    claim found wrong (erratum, convention-dependent as printed) whose smallest ratio over the sources is below
+    ``1 / margin``; each ratio is the largest over the examples (``errors_over_tolerance``). Before, a notation
+    typo's ratios under its renaming (1e-5–2e-4) were read as those of a wrong claim: all 13 were listed as wrong
+    by less than 10×."""
     out = []
     for c in claims:
         ratios = {k: (math.inf if isinstance(v, str) else float(v))
                   for k, v in (c.get("errors_over_tolerance") or {}).items() if not k.startswith("Cqd (from")}
         if not ratios:
             continue
-        if c.get("classification") == "confirmed":
+        if c.get("classification") in HOLDING:
             worst = max(ratios.values())
             near = worst > margin
         else:

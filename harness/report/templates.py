@@ -94,8 +94,8 @@ method itself (its reason below) and may be approached.</p>
 {% for r in margin_rows %}<tr class="{{ 'ok' if r.derived else 'fail' }}"><td>{{ r.system }}</td><td>{{ r.scene }}</td><td>{{ r.check }}</td><td>{{ r.source }}</td>
 <td class="num">{{ '%.2e'|format(r.value) if r.value is number else r.value }}</td><td class="num">{{ '%.1e'|format(r.bound) }}</td><td class="num">{{ '%.2g'|format(r.ratio) }}</td>
 <td>{{ r.basis }}{{ ' (derived)' if r.derived else '' }}</td></tr>{% endfor %}</table>{% endif %}
-{% if claim_margin_rows %}<p>Printed equations near their verdict's boundary (confirmed above {{ margin_limit }} of the
-tolerance, or wrong by less than {{ (1 / margin_limit)|round|int }}× it):</p>
+{% if claim_margin_rows %}<p>Printed equations near their verdict's boundary (confirmed, or a notation typo under its
+renaming, above {{ margin_limit }} of the tolerance, or wrong by less than {{ (1 / margin_limit)|round|int }}× it):</p>
 <table><tr><th>system</th><th>equation</th><th>classification</th><th>ratio</th><th>per source</th></tr>
 {% for r in claim_margin_rows %}<tr><td>{{ r.system }}</td><td>{{ r.equation }}</td><td>{{ r.classification }}</td><td class="num">{{ '%.2g'|format(r.ratio) }}</td><td>{{ r.sources }}</td></tr>{% endfor %}</table>
 {% elif claims_present %}<p>Every printed equation's verdict holds with a margin of at least {{ (1 / margin_limit)|round|int }}×.</p>{% endif %}
