@@ -64,6 +64,7 @@ from harness.derivation.lambdified import lambdify, lambdify_built
 from harness.derivation.derive import SIMPLIFY_MAX_OPS
 from harness.compare import evaluations as at_state
 from harness.compare.conformance import FLOAT64_RTOL, scales
+from harness.compare.remembered import installation
 from harness.engines import ENGINES, models_kept, symbolic
 from harness.engines import model as engine_model
 from harness.engines.base import State
@@ -345,8 +346,6 @@ def _lambdify(system: System, expr, key=None, recipe=None):
     with profiling.phase("lambdify claims"):
         args = _symbols(system)
         if recipe is not None:
-            from harness.compare.remembered import installation
-
             fn = lambdify_built((installation(), sp.srepr(args), *recipe()), args, lambda: _as_matrix(build()),
                                 modules="numpy")
         else:

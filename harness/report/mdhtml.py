@@ -1,6 +1,7 @@
 """The Markdown the harness writes (``bench.md``, ``hard.md``, ``importer.md``, ``errata.md``) as HTML: headings
-(with a code host's anchors, :func:`slug`), paragraphs, bullet lists, pipe tables, fenced code, inline code, emphasis and links/images. Enough for our own
-files; not a general Markdown implementation (no such library is among the pinned dependencies)."""
+(with a code host's anchors, :func:`slug`), paragraphs, bullet lists, pipe tables, fenced code, inline code,
+emphasis and links/images. Enough for our own files; not a general Markdown implementation (no such library is
+among the pinned dependencies)."""
 
 from __future__ import annotations
 
