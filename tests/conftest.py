@@ -35,6 +35,8 @@ def _isolated_cache(tmp_path_factory):
     _seed(project.parent / "states", shared / "states")  # the systems' drawn states (harness.compare.strategies)
     _seed(project.parent / "counterexamples", shared / "counterexamples")  # printed equations' (compare.claims)
     _seed(project.parent / "compiled", shared / "compiled")  # generated code (harness.derivation.lambdified)
+    _seed(project.parent / "exports", shared / "exports")  # each numeric tree's MJCF (harness.export.mjcf)
+    _seed(project.parent / "trajectories", shared / "trajectories")  # scene references (harness.scenes.simulate)
     mp = pytest.MonkeyPatch()
     mp.setenv("HARNESS_CACHE_DIR", str(shared / "derivations"))
     yield

@@ -55,9 +55,10 @@ def test_a_shrunk_counterexample_is_kept_and_fails_again_when_read_back(monkeypa
     counterexample and errors as shrunk. A kept state where the check passes, or a damaged entry, is shrunk again.
     The verdict counts the system's states up to the failing one and the counterexample: the shrink's candidates
     are its search, not examples."""
+    import harness.kept
     from harness.compare import claims, strategies
 
-    monkeypatch.setattr(strategies, "cache_dir", lambda: tmp_path / "derivations")  # what is kept: here
+    monkeypatch.setattr(harness.kept, "cache_dir", lambda: tmp_path / "derivations")  # what is kept: here
     wrong = CHRISTOFFEL.copy()
     wrong[1, 0] = -wrong[1, 0]
     claim, engines = Claim("(t10)", "C", wrong), ("pinocchio", "mujoco")
@@ -81,7 +82,7 @@ def test_a_shrunk_counterexample_is_kept_and_fails_again_when_read_back(monkeypa
     assert verdict() == shrunk and len(runs) == 2   # read back and failing again: not shrunk again
 
     # C is linear in q̇: at q̇ = 0 the printed and the derived C vanish (C q̇ too): the check passes there
-    strategies.keep(kept[0], {**strategies.read_kept(kept[0]), "qd": [0.0, 0.0]})
+    harness.kept.keep(kept[0], {**harness.kept.read_kept(kept[0]), "qd": [0.0, 0.0]})
     assert verdict() == shrunk and len(runs) == 3
     kept[1].write_text(kept[1].read_text().replace('"q": [', '"q": [1.5, ', 1))  # damaged: the checksum fails
     assert verdict() == shrunk and len(runs) == 4

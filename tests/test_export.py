@@ -136,3 +136,43 @@ def test_compiled_functions_keep_every_float_constant(modules):
     fn = lambdify([x], [c * x + sp.Float(c) for c in constants], modules=modules)
     assert [float(v) for v in fn(0.0)] == constants
     assert float(sp.lambdify([], sp.Float(constants[0]))()) != constants[0]  # why the printer is ours
+
+
+def test_the_texts_of_a_tree_are_kept_with_their_warnings_and_written_again_when_damaged(tmp_path, monkeypatch):
+    """What the engines load in a check (``exported_mjcf``, ``exported_urdf``) is ``mjcf_string`` and
+    ``urdf_string`` of the tree, kept on disk under the tree's bits and our installation; the warnings writing the
+    MJCF raised are logged again when it is read back (the tower crane's "Inertia matrix is too close to singular"
+    at qpos0), a damaged entry is written again, another tree is another entry."""
+    import harness.kept
+    from harness.engines import warnings_log
+    from harness.export import mjcf, urdf
+
+    monkeypatch.setattr(harness.kept, "cache_dir", lambda: tmp_path / "derivations")
+    system = models.get("tower_crane")
+    tree = instantiate(system, system.default_parameters())
+    write, written = mjcf.mjcf_string, []
+    monkeypatch.setattr(mjcf, "mjcf_string", lambda t: written.append(t) or write(t))
+
+    def exported(t=tree):
+        with warnings_log.discarded():
+            start = warnings_log.logged()
+            text = mjcf.exported_mjcf(t)
+            return text, warnings_log.messages_since(start)
+
+    first = exported()
+    with warnings_log.discarded():
+        assert len(written) == 1 and first[0] == write(tree)
+    assert len(first[1]) > 0 and all("too close to singular" in m for m in first[1])
+    assert exported() == first and len(written) == 1          # read back: not written, the same warnings logged
+    (entry,) = (tmp_path / "exports").glob("tower_crane.mjcf-*.json")
+    entry.write_text(entry.read_text().replace("<body", "<body pos='1 0 0'", 1))   # damaged: the checksum fails
+    assert exported() == first and len(written) == 2
+    other = instantiate(system, {**system.default_parameters(), "m_L": 25.0})
+    assert exported(other)[0] != first[0] and len(written) == 3   # another tree: another entry
+
+    texts = {id(t): urdf._urdf_string(t) for t in (tree, other)}
+    for t in (tree, other):
+        assert urdf.exported_urdf(t) == texts[id(t)]
+    monkeypatch.setattr(urdf, "_urdf_string", lambda t: pytest.fail("written again, not read back"))
+    for t in (other, tree, other):
+        assert urdf.exported_urdf(t) == texts[id(t)]

@@ -113,3 +113,40 @@ def test_a_new_phenomenon_plugs_in_without_touching_the_loop(monkeypatch):
     result = run_scene(models.get("pendulum"), models.scenes("pendulum")[0], engines=("pinocchio",))
     assert asked == [True] and result.checks[-1].name == "probe"
     assert phenomena.CHECKS != trajectories.CHECKS
+
+
+def test_our_models_reference_is_kept_bit_for_bit_and_integrated_again_when_it_cannot_be_named(tmp_path, monkeypatch):
+    """The symbolic reference (``integrate(..., keep=True)``) is kept on disk and read back with every bit; another
+    tolerance is another entry, a damaged entry is integrated again, and a scene with an input of a model's own
+    (a function whose text does not say what it computes) is integrated on every run. Engines are never kept."""
+    import dataclasses
+
+    import harness.kept
+    from harness.scenes import simulate as sim
+
+    monkeypatch.setattr(harness.kept, "cache_dir", lambda: tmp_path / "derivations")
+    system = models.get("quarter_car")
+    scene = next(s for s in models.scenes("quarter_car") if s.name == "bump")
+    solved = []
+    solve_piecewise = sim.solve_piecewise
+    monkeypatch.setattr(sim, "solve_piecewise", lambda *a, **k: solved.append(1) or solve_piecewise(*a, **k))
+
+    def reference(sc=scene, source="symbolic", rtol=1e-10):
+        tr = sim.integrate(system, sc, source, rtol=rtol, atol=rtol, keep=True)
+        return tr.t.tobytes(), tr.q.tobytes(), tr.qd.tobytes(), tr.evaluations, tr.energies().tobytes()
+
+    first = reference()
+    assert len(solved) == 1 and reference() == first and len(solved) == 1
+    assert sim.integrate(system, scene, "symbolic", rtol=1e-10, atol=1e-10).q.tobytes() == first[1]  # as computed
+    assert len(solved) == 2
+    reference(rtol=1e-9)
+    assert len(solved) == 3 and len(list((tmp_path / "trajectories").iterdir())) == 2
+    for entry in (tmp_path / "trajectories").iterdir():
+        entry.write_text(entry.read_text().replace("[", "[1.5, ", 2))   # damaged: the checksum fails
+    assert reference() == first and len(solved) == 4
+    reference(source="pinocchio")
+    reference(source="pinocchio")
+    assert len(solved) == 6                                           # an engine's run: made every time
+    own = dataclasses.replace(scene, inputs={name: (lambda t, f=f: f(t)) for name, f in scene.inputs.items()})
+    assert sim.scene_identity(own) is None
+    assert reference(own) == reference(own) and len(solved) == 8

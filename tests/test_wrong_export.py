@@ -44,7 +44,7 @@ def test_a_failure_on_the_systems_states_is_kept_when_hypothesis_does_not_meet_i
 
 
 def test_cli_check_exits_nonzero_on_wrong_export(monkeypatch, capsys):
-    monkeypatch.setattr(pinocchio_engine, "urdf_string", _com_moved)
+    monkeypatch.setattr(pinocchio_engine, "exported_urdf", _com_moved)
     assert cli.main(["check", "planar_manipulator", "--no-scenes"]) == 1   # the conformance check alone fails
     out = capsys.readouterr().out
     assert "FAILED planar_manipulator:" in out and "from pinocchio" in out

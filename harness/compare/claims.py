@@ -64,16 +64,16 @@ from harness.derivation.lambdified import lambdify, lambdify_built
 from harness.derivation.derive import SIMPLIFY_MAX_OPS
 from harness.compare import evaluations as at_state
 from harness.compare.conformance import FLOAT64_RTOL, scales
-from harness.compare.remembered import installation
 from harness.engines import ENGINES, models_kept, symbolic
 from harness.engines import model as engine_model
 from harness.engines.base import State
 from harness.errors import HarnessError
+from harness.kept import installation, keep, read_kept
 from harness.derivation import bodies
 from harness.derivation.bodies import element_force, element_generalized_force, point_in_q, rotational_jacobian
 from harness.modeling.claims import ENGINE_QUANTITIES, Claim, as_matrix as _as_matrix, symbols as _symbols
 from harness.modeling.system import WORLD, Point, System
-from harness.compare.strategies import (draws, hypothesis_examples, keep, kept_path, read_kept, state_from,
+from harness.compare.strategies import (draws, hypothesis_examples, kept_path, state_from,
                                         state_record, states_seed, system_states)
 from harness.settings import property_test
 

@@ -13,48 +13,23 @@ the project's (``tests/conftest.py``)."""
 
 from __future__ import annotations
 
-import functools
 import hashlib
-import importlib.metadata
 import json
-import os
-import sys
 from pathlib import Path
 
-import harness
 from harness import profiling
 from harness.checks import Check
 from harness.compare import conformance
 from harness.derivation.cache import checksum  # one checksum for what is kept on disk
 from harness.errors import OutputError
 from harness.io import atomic_write_text
-
-NUMERIC_ENVIRONMENT = ("OPENBLAS", "NPY_", "OMP_", "MKL_", "HYPOTHESIS")
-"""Prefixes of the environment variables that can change a run's numbers or examples."""
+from harness.kept import files_digest, installation, numeric_environment
 
 
 def folder() -> Path:
     from harness.derivation.cache import cache_dir
 
     return cache_dir().parent / "results"
-
-
-def files_digest(folders) -> str:
-    digest = hashlib.sha256()
-    for root in folders:
-        root = Path(root)
-        for path in sorted(p for p in root.rglob("*") if p.is_file() and "__pycache__" not in p.parts):
-            digest.update(str(path.relative_to(root)).encode() + b"\0" + path.read_bytes() + b"\0")
-    return digest.hexdigest()
-
-
-@functools.cache
-def installation() -> str:
-    """Our code (every file under ``harness/``), the installed distributions and Python: once per process."""
-    # a set: the project's own metadata is found twice when the working directory is on sys.path
-    dists = sorted({f"{d.metadata['Name']}=={d.version}" for d in importlib.metadata.distributions()})
-    return hashlib.sha256("\n".join([files_digest([Path(harness.__file__).parent]), sys.version, *dists])
-                          .encode()).hexdigest()
 
 
 def key(catalogue, name: str, examples: int | None) -> str | None:
@@ -64,8 +39,7 @@ def key(catalogue, name: str, examples: int | None) -> str | None:
     fixed = fixed_examples()
     if fixed is None:
         return None
-    variables = sorted((k, v) for k, v in os.environ.items() if k.startswith(NUMERIC_ENVIRONMENT))
-    parts = [installation(), files_digest(catalogue.path), repr(variables), name, repr(examples), repr(fixed)]
+    parts = [installation(), files_digest(catalogue.path), numeric_environment(), name, repr(examples), repr(fixed)]
     return f"conformance-{name}-{hashlib.sha256(chr(0).join(parts).encode()).hexdigest()[:24]}"
 
 

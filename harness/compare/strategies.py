@@ -14,17 +14,15 @@
 from __future__ import annotations
 
 import hashlib
-import json
 import math
 
 import numpy as np
 from hypothesis import settings, strategies as st
 
-from harness import profiling
-from harness.derivation.cache import cache_dir, checksum
+from harness import kept, profiling
 from harness.engines.base import State
-from harness.errors import HarnessError, OutputError
-from harness.io import atomic_write_text
+from harness.errors import HarnessError
+from harness.kept import keep, read_kept
 from harness.modeling.system import System
 
 ANGLE = math.pi
@@ -209,25 +207,23 @@ def kept_path(kind: str, system: System, examples: int | None, random_parameters
     """Where a run keeps what hypothesis decided from ``system``'s seed for the next run (``kind/`` beside the
     derivation cache: ``states`` of :func:`system_states`, ``counterexamples`` of
     :mod:`harness.compare.claims`), under a hash of all that decides it: our code, the installed packages and Python
-    (:func:`harness.compare.remembered.installation`: hypothesis's version among them), the system's strategies (its
+    (:func:`harness.kept.installation`: hypothesis's version among them), the system's strategies (its
     parameters' defaults and assumptions, its coordinates' ranges, its inputs), the number of states, the settings,
     the seed and ``check`` (what a check evaluates, in words and SymPy's ``srepr``). None where the settings do not
     fix the examples (:func:`harness.settings.fixed_examples`: a random seed, an example database). Drawing the
     states (hypothesis's generation) took 0.18–0.20 CPU s a system, reading them back and making the states again
     0.04–0.06 s (the catalogue in one process)."""
-    from harness.compare.remembered import installation  # it imports this module
     from harness.settings import fixed_examples
 
     fixed = fixed_examples()
     if fixed is None:
         return None
     plan = _plan(system)
-    parts = [installation(), system.name, repr(plan.groups), repr(plan.others), repr(plan.q), repr(plan.qd),
+    parts = [kept.installation(), system.name, repr(plan.groups), repr(plan.others), repr(plan.q), repr(plan.qd),
              repr(plan.u), repr(sorted(system.default_parameters().items())),
              repr((examples, random_parameters, STATES_PER_DRAW, settings.default.max_examples, states_seed(system),
                    fixed)), *check]
-    digest = hashlib.sha256("\0".join(parts).encode()).hexdigest()[:24]
-    return cache_dir().parent / kind / f"{system.name}-{digest}.json"
+    return kept.path(kind, system.name, *parts)
 
 
 def _kept_path(system: System, examples: int | None, random_parameters: bool):
@@ -242,25 +238,6 @@ def state_record(state: State) -> dict:
 def state_from(system: System, record: dict) -> State:
     """The state of :func:`state_record`, made again (:meth:`State.make`)."""
     return State.make(system, record["q"], record["qd"], record["params"], record["u"])
-
-
-def keep(path, doc) -> None:
-    """``doc`` written to ``path`` with its checksum (atomically; a full disk or a read-only folder only costs the
-    next run the time)."""
-    try:
-        atomic_write_text(path, json.dumps({"sha256": checksum(doc), "doc": doc}))
-    except OutputError:
-        pass
-
-
-def read_kept(path):
-    """The ``doc`` :func:`keep` wrote to ``path``; None when absent or damaged."""
-    try:
-        entry = json.loads(path.read_text())
-        doc = entry["doc"]
-        return doc if entry["sha256"] == checksum(doc) else None
-    except (OSError, ValueError, KeyError, TypeError):
-        return None
 
 
 def _keep(path, batches: list[list[State]]) -> None:

@@ -28,7 +28,7 @@ from pydrake.multibody.tree import BodyIndex, JacobianWrtVariable
 from harness.engines.base import Base, TreeEngine, TreeQuantities, input_forces, polarization, spring_damper_forces
 from harness.errors import EngineError
 from harness.export.numeric import NumericTree
-from harness.export.urdf import urdf_string
+from harness.export.urdf import exported_urdf
 
 _V = JacobianWrtVariable.kV
 
@@ -44,7 +44,7 @@ class DrakeModel(TreeEngine):
         parser = Parser(plant)
         parser.SetStrictParsing()
         try:
-            parser.AddModelsFromString(urdf if urdf is not None else urdf_string(tree), "urdf")
+            parser.AddModelsFromString(urdf if urdf is not None else exported_urdf(tree), "urdf")
         except RuntimeError as exc:
             raise EngineError(f"{tree.system}: Drake refused the URDF: {exc}") from None
         plant.mutable_gravity_field().set_gravity_vector(np.asarray(tree.gravity, dtype=float))

@@ -26,7 +26,7 @@ from harness.engines import warnings_log
 from harness.engines.base import (FREE_JOINT, Base, TreeEngine, TreeQuantities, captured_output, one_line,
                                   polarization)
 from harness.errors import EngineError, ModelError
-from harness.export.mjcf import mjcf_spec, mjcf_string, rpy_quat
+from harness.export.mjcf import exported_mjcf, mjcf_spec, rpy_quat
 from harness.modeling.system import WORLD
 from harness.export.numeric import NumericTree
 
@@ -149,7 +149,7 @@ class MujocoModel(TreeEngine):
                 transform(spec)
             model = warnings_log.compile_spec(spec, tree, where)
         else:  # MuJoCo loads the MJCF text we export (the same text as urdf/<system>.xml for default parameters)
-            xml = xml if xml is not None else mjcf_string(tree)
+            xml = xml if xml is not None else exported_mjcf(tree)
             with warnings_log.capture("mujoco", "MjModel.from_xml_string", tree):
                 model = mujoco.MjModel.from_xml_string(xml)
         self._attach(model, [j.name for j in tree.joints])

@@ -14,7 +14,7 @@ from harness.engines.base import (FREE_JOINT, Base, State, TreeEngine, TreeQuant
                                   coriolis_to_lecture, input_forces, one_line, spring_damper_forces, to_lecture)
 from harness.errors import EngineError, ModelError
 from harness.export.numeric import NumericTree
-from harness.export.urdf import urdf_string
+from harness.export.urdf import exported_urdf
 
 LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 VERSION = pin.__version__
@@ -113,7 +113,7 @@ class PinocchioModel(TreeEngine):
 
     def __init__(self, tree: NumericTree, urdf: str | None = None):
         self.tree = tree
-        model = pin.buildModelFromXML(urdf if urdf is not None else urdf_string(tree))
+        model = pin.buildModelFromXML(urdf if urdf is not None else exported_urdf(tree))
         model.gravity.linear = np.asarray(tree.gravity, dtype=float)
         for j in tree.joints:  # URDF has no rotor inertia: Pinocchio's armature is set from the model
             if j.armature:

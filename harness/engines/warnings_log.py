@@ -77,10 +77,27 @@ def capture(engine: str, where: str, tree, state: dict | None = None):
             yield
     finally:
         _active[0] -= 1
+    record(engine, where, tree, [str(w.message) for w in caught] + texts_since(start), state)
+
+
+def record(engine: str, where: str, tree, texts, state: dict | None = None) -> None:
+    """Log the warnings ``texts`` that ``engine`` raised at ``where`` for ``tree``, each explained (:func:`explain`):
+    what :func:`capture` does with the warnings of its block, and what a kept export replays (the warnings its
+    writing raised, :func:`harness.export.mjcf.exported_mjcf`)."""
     state = state if state is not None else {"qpos0": {j.name: 0.0 for j in tree.joints}}
-    for text in [str(w.message) for w in caught] + texts_since(start):
+    for text in texts:
         explained, reason = explain(engine, text, tree)
         _log.append(EngineWarning(engine, tree.system, where, text.strip(), explained, reason, state))
+
+
+def logged() -> int:
+    """How many warnings are logged: :func:`messages_since` reads those logged after."""
+    return len(_log)
+
+
+def messages_since(start: int) -> list[str]:
+    """The messages of the warnings logged after position ``start`` (:func:`logged`), in order."""
+    return [w.message for w in _log[start:]]
 
 
 _EXPLAINED: dict = {}

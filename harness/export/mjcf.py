@@ -15,6 +15,7 @@ import mujoco
 import numpy as np
 from lxml import etree
 
+from harness.export.kept import exported
 from harness.export.numeric import MUJOCO_POINT_MASS_INERTIA, NumericTree
 from harness.modeling.system import WORLD
 
@@ -336,7 +337,17 @@ def mjcf_string(tree: NumericTree) -> str:
     from harness.engines.warnings_log import capture
 
     spec = mjcf_spec(tree)
-    with capture("mujoco", "MjSpec.compile (export)", tree):
+    with capture("mujoco", EXPORT, tree):
         model = spec.compile()
         xml = spec.to_xml()
     return _full_precision(xml, model)
+
+
+EXPORT = "MjSpec.compile (export)"
+"""Where the warnings of writing the MJCF are logged (:mod:`harness.engines.warnings_log`)."""
+
+
+def exported_mjcf(tree: NumericTree) -> str:
+    """:func:`mjcf_string` of ``tree``, kept for the next run with the warnings writing it raised
+    (:func:`harness.export.kept.exported`): the text MuJoCo loads in a check."""
+    return exported(tree, "mjcf", lambda t: mjcf_string(t), warned_at=EXPORT)

@@ -10,9 +10,9 @@ Joint viscous friction is recorded as ``<dynamics damping>`` (informative; Pinoc
 from __future__ import annotations
 
 import numpy as np
-import yourdfpy
 from lxml import etree
 
+from harness.export.kept import exported
 from harness.export.numeric import NumericTree
 from harness.modeling.system import WORLD
 
@@ -38,7 +38,19 @@ def urdf_string(tree: NumericTree) -> str:
     return _LAST[1]
 
 
+def exported_urdf(tree: NumericTree) -> str:
+    """:func:`urdf_string` of ``tree``, kept for the next run (:func:`harness.export.kept.exported`): the text
+    Pinocchio and Drake load in a check (yourdfpy, which imports trimesh, 0.7 s a process, only where it is
+    written)."""
+    if _LAST[0] is not tree:
+        _LAST[1] = exported(tree, "urdf", _urdf_string)
+        _LAST[0] = tree
+    return _LAST[1]
+
+
 def _urdf_string(tree: NumericTree) -> str:
+    import yourdfpy
+
     links = [yourdfpy.Link(name=WORLD)]
     joints = []
     for link in tree.links:

@@ -1,7 +1,7 @@
 """Pictures drawn once per content: a scene's figure (SVG, matplotlib) or a mechanism's rendering (PNG, MuJoCo) is
 kept on disk (``pictures/`` beside the derivation cache) under a SHA-256 of everything it is drawn from — the bytes
 of its inputs (the series file, the MJCF text), the catalogue's files, our code and the installed packages
-(:func:`harness.compare.remembered.installation`), the OpenGL backend — and a report whose pictures have the same
+(:func:`harness.kept.installation`), the OpenGL backend — and a report whose pictures have the same
 inputs writes the kept bytes instead of drawing them again: both are byte-identical for the same input
 (:mod:`harness.report.figures`, :mod:`harness.report.render`). An entry carries the SHA-256 of its bytes; a damaged
 one is drawn again; the entries of another installation are removed when a picture is kept. Reading an entry runs
@@ -37,14 +37,14 @@ def key(kind: str, *inputs: bytes | str) -> str:
 
 
 def _installation() -> str:
-    from harness.compare.remembered import installation  # the remembered results' digest of our code and packages
+    from harness.kept import installation  # the kept entries' digest of our code and packages
 
     return installation()
 
 
 def catalogue_digest(catalogue) -> str:
     """The catalogue's model files (what a mechanism's picture shows: its joints, coordinates, scenes)."""
-    from harness.compare.remembered import files_digest
+    from harness.kept import files_digest
 
     return files_digest(catalogue.path)
 

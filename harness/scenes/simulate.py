@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.integrate import odeint, solve_ivp
 
+from harness import kept
 from harness.derivation.compile import compiled
 from harness.engines import SYMBOLIC, engine
 from harness.engines.base import Load, lecture_qdd, load_functions, loads_read_state, to_lecture
@@ -210,24 +211,72 @@ def odeint_piecewise(rhs, scene: Scene, y0, rtol: float, atol: float, t_eval, ma
 
 
 def integrate(system: System, scene: Scene, source: str, method: str = "DOP853", rtol: float = 1e-12,
-              atol: float = 1e-12, t_eval=None) -> Trajectory:
-    dyn = Dynamics(system, scene, source)
+              atol: float = 1e-12, t_eval=None, keep: bool = False) -> Trajectory:
+    """The scene's trajectory from ``source``, integrated by ``method`` at the sample times ``t_eval`` (by default
+    :func:`sample_times`). ``keep``: a trajectory of our symbolic model is kept for the next run
+    (:func:`kept_solution`; its ``seconds`` and ``evaluations`` are then those of the run that computed it)."""
     n = len(system.coordinates)
     t_eval = sample_times(scene) if t_eval is None else t_eval
+    made: list = []
 
-    def rhs(t, y):
-        return np.concatenate([y[n:], dyn(t, y[:n], y[n:])])
+    def solve() -> dict:
+        dyn = Dynamics(system, scene, source)
+        made.append(dyn)
 
-    start = time.perf_counter()
-    y0 = np.concatenate([scene.q0, scene.qd0])
-    if method == ODEINT:
-        t, y, _ = odeint_piecewise(rhs, scene, y0, rtol, atol, t_eval)
-    else:
-        t, y, _ = solve_piecewise(rhs, scene, y0, method, rtol, atol, t_eval)
-    seconds = time.perf_counter() - start
-    q, qd = y[:n].T, y[n:].T
-    return Trajectory(f"{source} ({method}, rtol={rtol:g})", t, q, qd, seconds, dyn.evaluations,
-                      energy_of=dyn.energy)
+        def rhs(t, y):
+            return np.concatenate([y[n:], dyn(t, y[:n], y[n:])])
+
+        start = time.perf_counter()
+        y0 = np.concatenate([scene.q0, scene.qd0])
+        if method == ODEINT:
+            t, y, _ = odeint_piecewise(rhs, scene, y0, rtol, atol, t_eval)
+        else:
+            t, y, _ = solve_piecewise(rhs, scene, y0, method, rtol, atol, t_eval)
+        return {"t": t, "y": y, "seconds": time.perf_counter() - start, "evaluations": dyn.evaluations}
+
+    how = f"{method}, rtol={rtol!r}, atol={atol!r}"
+    run = kept_solution(system, scene, how, t_eval, solve) if keep and source == SYMBOLIC else solve()
+
+    def energy(q, qd) -> float:  # E of the pruned system (a run read back makes its dynamics on the first call)
+        if not made:
+            made.append(Dynamics(system, scene, source))
+        return made[0].energy(q, qd)
+
+    y = run["y"]
+    return Trajectory(f"{source} ({method}, rtol={rtol:g})", run["t"], y[:n].T, y[n:].T, run["seconds"],
+                      run["evaluations"], energy_of=energy)
+
+
+def scene_identity(scene: Scene) -> str | None:
+    """What of ``scene`` decides a trajectory of it (:class:`Dynamics`, :func:`sample_times`): the initial state,
+    the horizon, the effects, the parameter values and the inputs. None where an input is not one of the signals of
+    :mod:`harness.modeling.scenes` (a function of a model's own: its text does not say what it computes)."""
+    from harness.modeling import scenes as signals
+
+    if any(type(signal).__module__ != signals.__name__ for signal in scene.inputs.values()):
+        return None
+    return repr((tuple(scene.q0), tuple(scene.qd0), scene.horizon, sorted(scene.effects),
+                 sorted(scene.inputs.items()), sorted(scene.params.items())))
+
+
+def kept_solution(system: System, scene: Scene, how: str, t_eval, solve) -> dict:
+    """``solve()`` (a dict of arrays and numbers, ``y`` among them) of our symbolic model of ``system`` in
+    ``scene``, kept for the next run (:mod:`harness.kept`, ``trajectories/``) under a hash of our installation,
+    the numeric environment variables, the model (:meth:`System.fingerprint`: every expression and default), the
+    scene (:func:`scene_identity`), the method and tolerances ``how`` and the sample times: read back, every
+    number has the bits it was computed with. Computed every run where the scene has an input of a model's own.
+    The engines' trajectories are integrated on every run."""
+    identity = scene_identity(scene)
+    if identity is None:
+        return solve()
+    where = kept.path("trajectories", f"{system.name}.{scene.name}", kept.installation(), kept.numeric_environment(),
+                      system.fingerprint(), identity, how, np.asarray(t_eval, dtype=float).tobytes().hex())
+    doc = kept.read_kept(where)
+    if isinstance(doc, dict) and "y" in doc:
+        return {k: np.array(v, dtype=float) if isinstance(v, list) else v for k, v in doc.items()}
+    run = solve()
+    kept.keep(where, {k: v.tolist() if isinstance(v, np.ndarray) else v for k, v in run.items()})
+    return run
 
 
 def held_inputs(scene: Scene, names, k: int, timestep: float) -> dict:

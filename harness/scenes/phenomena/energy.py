@@ -23,7 +23,7 @@ def _energy_balance(system: System, scene: Scene, reference: sim.Trajectory) -> 
     """Largest ``|E(t) − E(0) − W(t)|`` relative to the energy scale. A conservative scene (no damper, input, load,
     friction or contact: ``f_np ≡ 0``, ``W ≡ 0``) is checked along ``reference`` itself, the trajectory every source is
     compared with (DOP853 at rtol 1e-12, atol 1e-14); otherwise ``Ẇ = q̇ᵀ f_np`` is integrated alongside the motion
-    (DOP853, 1e-12)."""
+    (DOP853, 1e-12; kept for the next run, :func:`~harness.scenes.simulate.kept_solution`)."""
     s = pruned(system, scene.effects)
     c = compiled(s)
     params = {**system.default_parameters(), **scene.params}
@@ -38,8 +38,12 @@ def _energy_balance(system: System, scene: Scene, reference: sim.Trajectory) -> 
             power = float(qd @ c.generalized_forces(q, qd, p, u))
             return np.concatenate([qd, c.forward_dynamics(q, qd, p, u), [power]])
 
-        y0 = np.concatenate([scene.q0, scene.qd0, [0.0]])
-        _, ys, _ = sim.solve_piecewise(rhs, scene, y0, "DOP853", 1e-12, 1e-12, sim.sample_times(scene))
+        def solve() -> dict:
+            y0 = np.concatenate([scene.q0, scene.qd0, [0.0]])
+            return {"y": sim.solve_piecewise(rhs, scene, y0, "DOP853", 1e-12, 1e-12, sim.sample_times(scene))[1]}
+
+        ys = sim.kept_solution(system, scene, "power balance (3.101), DOP853, rtol=1e-12, atol=1e-12",
+                               sim.sample_times(scene), solve)["y"]
         qs, qds, work = ys[:n].T, ys[n:2 * n].T, ys[2 * n]
     zeros = np.zeros(len(s.u))
     kinetic = np.array([float(c("T", q, qd, p, zeros)) for q, qd in zip(qs, qds)])

@@ -1,0 +1,76 @@
+"""What a run keeps on disk for the next one, under a hash of everything that decides it.
+
+Each kind has its folder beside the derivation cache (``.cache/<kind>/``): the drawn states and the shrunk
+counterexamples (:mod:`harness.compare.strategies`, :mod:`harness.compare.claims`), the exported MJCF of each
+numeric tree (:func:`harness.export.mjcf.exported_mjcf`), the reference trajectories of our symbolic model
+(:func:`harness.scenes.simulate.kept_solution`). A key always hashes :func:`installation` (our code, the installed
+packages, Python), so a change to any of them computes the value again. An entry carries a checksum: a damaged
+one is computed again, and a folder we cannot write to only costs the next run the time. Only what our own code
+computes is kept; every engine call is made again on every run."""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import importlib.metadata
+import json
+import os
+import sys
+from pathlib import Path
+
+import harness
+from harness.derivation.cache import cache_dir, checksum
+from harness.errors import OutputError
+from harness.io import atomic_write_text
+
+NUMERIC_ENVIRONMENT = ("OPENBLAS", "NPY_", "OMP_", "MKL_", "HYPOTHESIS")
+"""Prefixes of the environment variables that can change a run's numbers or examples."""
+
+
+def files_digest(folders) -> str:
+    """SHA-256 over every file under ``folders`` (its path and bytes), ``__pycache__`` left out."""
+    digest = hashlib.sha256()
+    for root in folders:
+        root = Path(root)
+        for path in sorted(p for p in root.rglob("*") if p.is_file() and "__pycache__" not in p.parts):
+            digest.update(str(path.relative_to(root)).encode() + b"\0" + path.read_bytes() + b"\0")
+    return digest.hexdigest()
+
+
+@functools.cache
+def installation() -> str:
+    """Our code (every file under ``harness/``), the installed distributions and Python: once per process."""
+    # a set: the project's own metadata is found twice when the working directory is on sys.path
+    dists = sorted({f"{d.metadata['Name']}=={d.version}" for d in importlib.metadata.distributions()})
+    return hashlib.sha256("\n".join([files_digest([Path(harness.__file__).parent]), sys.version, *dists])
+                          .encode()).hexdigest()
+
+
+def numeric_environment() -> str:
+    """The environment variables (:data:`NUMERIC_ENVIRONMENT`) that can change NumPy's or BLAS's kernels."""
+    return repr(sorted((k, v) for k, v in os.environ.items() if k.startswith(NUMERIC_ENVIRONMENT)))
+
+
+def path(kind: str, name: str, *parts: str) -> Path:
+    """Where an entry of ``kind`` named ``name`` is kept: ``.cache/<kind>/<name>-<hash of parts>.json``."""
+    digest = hashlib.sha256("\0".join(parts).encode()).hexdigest()[:24]
+    return cache_dir().parent / kind / f"{name}-{digest}.json"
+
+
+def keep(where: Path, doc) -> None:
+    """``doc`` written to ``where`` with its checksum (atomically; a full disk or a read-only folder only costs the
+    next run the time)."""
+    try:
+        atomic_write_text(where, json.dumps({"sha256": checksum(doc), "doc": doc}))
+    except OutputError:
+        pass
+
+
+def read_kept(where: Path):
+    """The ``doc`` :func:`keep` wrote to ``where``; None when absent or damaged."""
+    try:
+        entry = json.loads(where.read_text())
+        doc = entry["doc"]
+        return doc if entry["sha256"] == checksum(doc) else None
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
