@@ -37,6 +37,7 @@ def _isolated_cache(tmp_path_factory):
     _seed(project.parent / "compiled", shared / "compiled")  # generated code (harness.derivation.lambdified)
     _seed(project.parent / "exports", shared / "exports")  # each numeric tree's MJCF (harness.export.mjcf)
     _seed(project.parent / "trajectories", shared / "trajectories")  # scene references (harness.scenes.simulate)
+    _seed(project.parent / "decisions", shared / "decisions")  # printed equations' symbolic decisions (errata)
     mp = pytest.MonkeyPatch()
     mp.setenv("HARNESS_CACHE_DIR", str(shared / "derivations"))
     yield

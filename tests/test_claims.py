@@ -225,3 +225,32 @@ def test_a_parameter_draw_is_an_example_when_one_of_its_states_lies_in_the_domai
     with pytest.raises(UnsatisfiedAssumption):
         each(state=[-1.0, -2.0])  # by the name of check's argument, as hypothesis passes it
     assert seen == [2.0]
+
+
+def test_a_holding_claim_is_evaluated_and_decided_again_without_deriving_it(tmp_path, monkeypatch):
+    """A claim's compiled derived expression and its symbolic decision are found by what decides them
+    (``derivation_of``: the model's fingerprint and the claim's quantity, index and ``at``; the printed expression's
+    ``srepr``): the next run neither derives nor reduces it, with the same errors and the same decision. Another
+    quantity is another identity; a parameter claim (its reference a function of the model module) has none."""
+    from harness.compare import claims, errata, strategies
+
+    monkeypatch.setenv("HARNESS_CACHE_DIR", str(tmp_path / "derivations"))   # compiled/, decisions/ here
+    system = models.get("pendulum")
+    claim = next(c for c in models.claims("pendulum") if c.quantity == "v:bob")
+    state = strategies.system_states(system, 20)[0][0]
+
+    def run():
+        claims._COMPILED_CLAIMS.clear()
+        claims._DERIVED.clear()
+        return claims.evaluate_claim(system, claim, state, engines=()), errata.decide(system, claim, None)
+
+    first = run()
+    assert first[1] == "symbolic" and first[0]["derivation"] <= 1
+    assert len(list((tmp_path / "decisions").iterdir())) == 1
+    monkeypatch.setattr(claims, "_derive_claimed", lambda *a: pytest.fail("derived again"))
+    monkeypatch.setattr(errata, "_decide", lambda *a: pytest.fail("decided again"))
+    assert run() == first
+
+    other = next(c for c in models.claims("pendulum") if c.quantity == "a:bob")
+    assert claims.derivation_of(system, other) != claims.derivation_of(system, claim)
+    assert claims.derivation_of(system, next(c for c in models.claims("pendulum") if c.quantity == "parameter")) is None

@@ -310,12 +310,13 @@ def _selected(values, index) -> np.ndarray:
 _COMPILED_CLAIMS: dict = {}
 
 
-def _accel_coefficients(system: System, printed: sp.Matrix, key):
-    """``∂R/∂q̈`` of a printed residual ``R`` (its 'mass matrix' rows), compiled (differentiated once per key, and
-    not at all where the compiled function is kept: :func:`_lambdify`'s ``recipe``)."""
+def _accel_coefficients(system: System, printed: sp.Matrix, key, text):
+    """``∂R/∂q̈`` of a printed residual ``R`` (its 'mass matrix' rows; ``text()`` its ``srepr``), compiled
+    (differentiated once per key, and not at all where the compiled function is kept: :func:`_lambdify`'s
+    ``recipe``)."""
     accels = [c.accel for c in system.coordinates]
     return _lambdify(system, lambda: printed.jacobian(accels), key=("accel",) + key,
-                     recipe=lambda: ("claims: ∂R/∂q̈", sp.srepr(printed), sp.srepr(accels)))
+                     recipe=lambda: ("claims: ∂R/∂q̈", text(), sp.srepr(accels)))
 
 
 _PRINTED: dict = {}
@@ -334,6 +335,30 @@ def _printed(claim: Claim, substitution: dict | None) -> sp.Matrix:
     return kept[2]
 
 
+def printed_text(claim: Claim, substitution: dict | None) -> str:
+    """``srepr`` of :func:`_printed` (what decides every function built from it), once per claim and substitution."""
+    key = (id(claim), id(substitution))
+    kept = _PRINTED_TEXT.get(key)
+    if kept is None or kept[0] is not claim or kept[1] is not substitution:
+        kept = _PRINTED_TEXT[key] = (claim, substitution, sp.srepr(_printed(claim, substitution)))
+    return kept[2]
+
+
+_PRINTED_TEXT: dict = {}
+
+
+def derivation_of(system: System, claim: Claim) -> tuple[str, ...] | None:
+    """What decides the derived expression of ``claim`` (:func:`_derived`) beside our code: the model (its
+    :meth:`~harness.modeling.system.System.fingerprint`: every expression and default) and what the claim asks of it
+    (its quantity, index and ``at``), the only fields of a claim :func:`_derive_claimed` and :func:`_derived` read.
+    A function compiled from the derived expression, or a decision about it, is found by these texts without
+    deriving it again (a confirmed claim's warm run derives nothing). None for a ``parameter`` claim: its reference
+    is a function of the model module, whose text does not say what it computes."""
+    if claim.quantity.split(":")[0] == "parameter":
+        return None
+    return "claims: derived", system.fingerprint(), repr((claim.quantity, claim.index, claim.at))
+
+
 def _lambdify(system: System, expr, key=None, recipe=None):
     """Compiled once per ``key`` (classification evaluates the same claim hundreds of times). ``expr`` may be a
     function of no arguments building the expression, called only when ``key`` is not compiled yet (a derivative or
@@ -346,13 +371,24 @@ def _lambdify(system: System, expr, key=None, recipe=None):
     with profiling.phase("lambdify claims"):
         args = _symbols(system)
         if recipe is not None:
-            fn = lambdify_built((installation(), sp.srepr(args), *recipe()), args, lambda: _as_matrix(build()),
+            fn = lambdify_built((installation(), _symbols_text(system), *recipe()), args, lambda: _as_matrix(build()),
                                 modules="numpy")
         else:
             fn = lambdify(args, _as_matrix(build()), modules="numpy")
     if key is not None:
         _COMPILED_CLAIMS[key] = fn
     return fn
+
+
+def _symbols_text(system: System) -> str:
+    """``srepr`` of the compiled claims' arguments (:func:`_symbols`), once per system."""
+    kept = _SYMBOLS_TEXT.get(id(system))
+    if kept is None or kept[0] is not system:
+        kept = _SYMBOLS_TEXT[id(system)] = (system, sp.srepr(_symbols(system)))
+    return kept[1]
+
+
+_SYMBOLS_TEXT: dict = {}
 
 
 class _Disagrees(AssertionError):
@@ -400,11 +436,18 @@ def _value_of(claim: Claim, ev):
     return {"M": ev.M, "C": ev.C, "Cqd": ev.Cqd, "g": ev.g}[claim.quantity]
 
 
-def _terms_size(system: System, expr, key, args) -> float:
-    """``max Σ |t|`` over the entries of ``expr``, ``t`` the terms of each entry's sum: the scale its round-off is
-    relative to."""
-    size = _lambdify(system, lambda: _as_matrix(expr).applyfunc(lambda e: sum(map(abs, sp.Add.make_args(e)))),
-                     key=key, recipe=lambda: ("claims: the terms' sizes", sp.srepr(_as_matrix(expr))))
+def _derived_recipe(system: System, claim: Claim):
+    """The recipe of a function built from the derived expression: :func:`derivation_of` where it decides it, else
+    the expression's ``srepr`` (built to print it)."""
+    identity = derivation_of(system, claim)
+    return (lambda: identity) if identity is not None else (lambda: (sp.srepr(_derived(system, claim)),))
+
+
+def _terms_size(system: System, expr, key, args, decided_by) -> float:
+    """``max Σ |t|`` over the entries of ``expr()``, ``t`` the terms of each entry's sum: the scale its round-off is
+    relative to. ``decided_by()``: the texts that decide ``expr()`` (:func:`_lambdify`'s recipe)."""
+    size = _lambdify(system, lambda: _as_matrix(expr()).applyfunc(lambda e: sum(map(abs, sp.Add.make_args(e)))),
+                     key=key, recipe=lambda: ("claims: the terms' sizes", *decided_by()))
     return float(np.max(np.abs(np.asarray(size(*args), dtype=float)), initial=0.0))
 
 
@@ -425,7 +468,8 @@ def evaluate_claim(system: System, claim: Claim, state: State, engines=CLAIM_ENG
     """Relative error of the printed expression against each source at one state (relative to tolerance:
     a value ≤ 1 means 'agrees')."""
     printed = _printed(claim, substitution)
-    fn = _lambdify(system, printed, key=("printed", id(system), id(claim), id(substitution)))
+    fn = _lambdify(system, printed, key=("printed", id(system), id(claim), id(substitution)),
+                   recipe=lambda: ("claims: printed", printed_text(claim, substitution)))
     kind = claim.quantity.split(":")[0]
     if kind == "equilibrium":
         n = len(system.coordinates)
@@ -470,12 +514,13 @@ def evaluate_claim(system: System, claim: Claim, state: State, engines=CLAIM_ENG
         if kind == "eom":
             # the residual's own q̈ coefficients ∂R/∂q̈ give its unit: M (a force row) or 1 (solved for q̈)
             key = (id(system), id(claim), id(substitution))
-            coefficients = np.abs(np.asarray(_accel_coefficients(system, printed, key)(*args), dtype=float))
+            coefficients = np.abs(np.asarray(_accel_coefficients(system, printed, key, lambda: printed_text(claim, substitution))(*args), dtype=float))
             terms = s["qdd"] * float(np.max(coefficients)) if np.any(coefficients) else \
                 max(s["qdd"] * float(np.max(np.abs(ev.M))), s["g"])
             # and at least the size of its own terms: a residual whose q̈ terms cancel (a balance its printed
             # ingredients satisfy identically) is round-off of those terms, not of its vanished coefficient
-            terms = max(terms, _terms_size(system, printed, ("terms",) + key, args))
+            terms = max(terms, _terms_size(system, lambda: printed, ("terms",) + key, args,
+                                           lambda: (printed_text(claim, substitution),)))
             residual = value
             out[source] = relative_error(residual, np.zeros_like(residual), terms) / (FLOAT64_RTOL * kappa)
             continue
@@ -483,7 +528,8 @@ def evaluate_claim(system: System, claim: Claim, state: State, engines=CLAIM_ENG
             reference = _selected(_value_of(claim, ev), claim.index)
             scale = s[kind]
         elif source == "derivation":
-            derived_fn = _lambdify(system, _derived(system, claim), key=("derived", id(system), id(claim)))
+            derived_fn = _lambdify(system, lambda: _derived(system, claim), key=("derived", id(system), id(claim)),
+                                   recipe=_derived_recipe(system, claim))
             reference = np.asarray(derived_fn(*args), dtype=float)
             if kind in ("V", "L"):  # a potential is defined up to a constant: compare V(q) - V(0)
                 at_zero = (np.zeros_like(state.q), np.zeros_like(state.qd) if kind == "L" else state.qd, qdd,
@@ -498,8 +544,10 @@ def evaluate_claim(system: System, claim: Claim, state: State, engines=CLAIM_ENG
                      "v_squared": max(1.0, float(np.max(np.abs(state.qd)))) ** 2}.get(kind, 1.0)
             # at least the size of the terms either side is the sum of: a value that cancels to 0 (a bearing
             # force's component) is compared at the round-off of its terms
-            scale = max(scale, _terms_size(system, printed, ("terms", id(system), id(claim), id(substitution)), args),
-                        _terms_size(system, _derived(system, claim), ("terms derived", id(system), id(claim)), args))
+            scale = max(scale, _terms_size(system, lambda: printed, ("terms", id(system), id(claim), id(substitution)),
+                                           args, lambda: (printed_text(claim, substitution),)),
+                        _terms_size(system, lambda: _derived(system, claim), ("terms derived", id(system), id(claim)),
+                                    args, _derived_recipe(system, claim)))
         else:
             continue
         reference = np.asarray(reference, dtype=float).reshape(value.shape)

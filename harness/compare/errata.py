@@ -29,7 +29,7 @@ from pathlib import Path
 
 import sympy as sp
 
-from harness import limits, profiling
+from harness import kept, limits, profiling
 from harness.derivation import cache
 from harness.derivation.bodies import element_generalized_force
 from harness.limits import OutOfTime, cpu_budget
@@ -320,6 +320,26 @@ def row_factor(system: System, printed_row, derived_row):
 
 @profiling.timed("symbolic decision")
 def decide(system: System, claim: Claim, subst: dict | None) -> str:
+    """"symbolic" where ``printed − derived`` (:func:`difference`) reduces to 0, else "numeric only". Kept for the
+    next run (:mod:`harness.kept`, ``decisions/``) under our installation, what decides the derived expression
+    (:func:`~harness.compare.claims.derivation_of`) and the printed one with ``subst`` made (its ``srepr``): a
+    holding claim's warm run neither derives nor reduces it again. A parameter claim is decided every run."""
+    from harness.compare.claims import derivation_of, printed_text
+
+    identity = derivation_of(system, claim)
+    if identity is None:
+        return _decide(system, claim, subst)
+    where = kept.path("decisions", system.name, kept.installation(), *identity,
+                      printed_text(claim, subst or None))
+    doc = kept.read_kept(where)
+    if doc in ("symbolic", "numeric only"):
+        return doc
+    decided = _decide(system, claim, subst)
+    kept.keep(where, decided)
+    return decided
+
+
+def _decide(system: System, claim: Claim, subst: dict | None) -> str:
     try:
         diff = difference(system, claim, subst)
     except Exception:  # noqa: BLE001 - a form the symbolic comparison does not cover stays numeric
