@@ -514,7 +514,8 @@ def evaluate_claim(system: System, claim: Claim, state: State, engines=CLAIM_ENG
         if kind == "eom":
             # the residual's own q̈ coefficients ∂R/∂q̈ give its unit: M (a force row) or 1 (solved for q̈)
             key = (id(system), id(claim), id(substitution))
-            coefficients = np.abs(np.asarray(_accel_coefficients(system, printed, key, lambda: printed_text(claim, substitution))(*args), dtype=float))
+            accel = _accel_coefficients(system, printed, key, lambda: printed_text(claim, substitution))
+            coefficients = np.abs(np.asarray(accel(*args), dtype=float))
             terms = s["qdd"] * float(np.max(coefficients)) if np.any(coefficients) else \
                 max(s["qdd"] * float(np.max(np.abs(ev.M))), s["g"])
             # and at least the size of its own terms: a residual whose q̈ terms cancel (a balance its printed
