@@ -53,14 +53,19 @@ def numeric_environment() -> str:
 
 
 def path(kind: str, name: str, *parts: str) -> Path:
-    """Where an entry of ``kind`` named ``name`` is kept: ``.cache/<kind>/<name>-<hash of parts>.json``."""
-    digest = hashlib.sha256("\0".join(parts).encode()).hexdigest()[:24]
-    return cache_dir().parent / kind / f"{name}-{digest}.json"
+    """Where an entry of ``kind`` named ``name`` is kept: ``.cache/<kind>/<installation>-<name>-<hash>.json``, the
+    hash over :func:`installation` and ``parts`` (the installation's first 12 hex digits lead the name: see
+    :func:`keep`)."""
+    digest = hashlib.sha256("\0".join((installation(), *parts)).encode()).hexdigest()[:24]
+    return cache_dir().parent / kind / f"{installation()[:12]}-{name}-{digest}.json"
 
 
 def keep(where: Path, doc) -> None:
     """``doc`` written to ``where`` with its checksum (atomically; a full disk or a read-only folder only costs the
-    next run the time)."""
+    next run the time). Before the first entry a process keeps in a folder, the entries another installation kept
+    there are removed: an edit of ``harness/`` makes every key new, and the folder held one more set per edit (the
+    exported texts: 21 MB a set)."""
+    _forget_other_installations(where.parent)
     try:
         atomic_write_text(where, json.dumps({"sha256": checksum(doc), "doc": doc}))
     except OutputError:
@@ -75,3 +80,21 @@ def read_kept(where: Path):
         return doc if entry["sha256"] == checksum(doc) else None
     except (OSError, ValueError, KeyError, TypeError):
         return None
+
+
+_FORGOTTEN: set = set()
+
+
+def _forget_other_installations(folder: Path) -> None:
+    """Once per process and folder: remove the entries whose name does not start with this installation's digest."""
+    if folder in _FORGOTTEN:
+        return
+    _FORGOTTEN.add(folder)
+    current = installation()[:12] + "-"
+    try:
+        entries = list(folder.glob("*.json"))
+    except OSError:
+        return
+    for entry in entries:
+        if not entry.name.startswith(current):
+            entry.unlink(missing_ok=True)

@@ -329,8 +329,7 @@ def decide(system: System, claim: Claim, subst: dict | None) -> str:
     identity = derivation_of(system, claim)
     if identity is None:
         return _decide(system, claim, subst)
-    where = kept.path("decisions", system.name, kept.installation(), *identity,
-                      printed_text(claim, subst or None))
+    where = kept.path("decisions", system.name, *identity, printed_text(claim, subst or None))
     doc = kept.read_kept(where)
     if doc in ("symbolic", "numeric only"):
         return doc

@@ -219,7 +219,7 @@ def kept_path(kind: str, system: System, examples: int | None, random_parameters
     if fixed is None:
         return None
     plan = _plan(system)
-    parts = [kept.installation(), system.name, repr(plan.groups), repr(plan.others), repr(plan.q), repr(plan.qd),
+    parts = [system.name, repr(plan.groups), repr(plan.others), repr(plan.q), repr(plan.qd),
              repr(plan.u), repr(sorted(system.default_parameters().items())),
              repr((examples, random_parameters, STATES_PER_DRAW, settings.default.max_examples, states_seed(system),
                    fixed)), *check]

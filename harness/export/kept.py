@@ -22,8 +22,7 @@ def exported(tree: NumericTree, language: str, write, warned_at: str | None = No
     with it and logged again when it is read back, as writing it logs them."""
     from harness.engines import warnings_log
 
-    where = kept.path("exports", f"{tree.system}.{language}", kept.installation(),
-                      hashlib.sha256(pickle.dumps(tree, 4)).hexdigest())
+    where = kept.path("exports", f"{tree.system}.{language}", hashlib.sha256(pickle.dumps(tree, 4)).hexdigest())
     doc = kept.read_kept(where)
     if isinstance(doc, dict) and isinstance(doc.get("text"), str) and isinstance(doc.get("warnings"), list):
         if warned_at is not None:

@@ -269,7 +269,7 @@ def kept_solution(system: System, scene: Scene, how: str, t_eval, solve) -> dict
     identity = scene_identity(scene)
     if identity is None:
         return solve()
-    where = kept.path("trajectories", f"{system.name}.{scene.name}", kept.installation(), kept.numeric_environment(),
+    where = kept.path("trajectories", f"{system.name}.{scene.name}", kept.numeric_environment(),
                       system.fingerprint(), identity, how, np.asarray(t_eval, dtype=float).tobytes().hex())
     doc = kept.read_kept(where)
     if isinstance(doc, dict) and "y" in doc:
