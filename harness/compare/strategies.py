@@ -22,7 +22,6 @@ from hypothesis import settings, strategies as st
 from harness import kept, profiling
 from harness.engines.base import State
 from harness.errors import HarnessError
-from harness.kept import keep, read_kept
 from harness.modeling.system import System
 
 ANGLE = math.pi
@@ -176,9 +175,9 @@ def system_states(system: System, examples: int | None = None, random_parameters
 
     key = (id(system), examples, random_parameters, settings.default.max_examples, settings.default.derandomize,
            hypothesis.core.global_force_seed)
-    kept = _STATES.get(key)
-    if kept is not None and kept[0] is system:  # the system is kept alive with its states: its id is not reused
-        return kept[1]
+    hit = _STATES.get(key)
+    if hit is not None and hit[0] is system:  # the system is kept alive with its states: its id is not reused
+        return hit[1]
     path = _kept_path(system, examples, random_parameters)
     seen = _read_kept(path, system) if path is not None else None
     if seen is None:
@@ -241,13 +240,13 @@ def state_from(system: System, record: dict) -> State:
 
 
 def _keep(path, batches: list[list[State]]) -> None:
-    keep(path, [[state_record(s) for s in batch] for batch in batches])
+    kept.keep(path, [[state_record(s) for s in batch] for batch in batches])
 
 
 def _read_kept(path, system: System) -> list[list[State]] | None:
     """The kept states, made again (each number's bits as drawn); None when absent, damaged or not states of
     ``system`` (then they are drawn again)."""
-    doc = read_kept(path)
+    doc = kept.read_kept(path)
     try:
         return None if doc is None else [[state_from(system, s) for s in batch] for batch in doc]
     except (ValueError, KeyError, TypeError, HarnessError):
