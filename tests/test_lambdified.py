@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
+import harness.kept
 import models
 from harness.derivation import lambdified
 from harness.derivation.lambdified import lambdify
@@ -125,11 +126,14 @@ def test_a_built_expression_is_found_by_its_recipe_without_building_it(cache, mo
     assert np.array_equal(fresh(-0.3, 2.0), kept(-0.3, 2.0)) and float(kept(-0.3, 2.0)[0, 0]) == 0.3 * 2.0 + 0.3
     lambdified.lambdify_built(("terms of x*y - x", sp.srepr(X * Y - X)), [X, Y], build, modules="numpy")
     assert len(built) == 2   # another recipe: built (the same expression: its code read by its key)
-    for damaged in ("{not json", json.dumps({"key": "0" * 64, "sha256": "0"})):
-        alias.write_text(damaged)
+    for damaged in ("{not json", json.dumps({"key": "0" * 64, "sha256": "0"}), None):
+        if damaged is None:   # intact, but naming code that is not kept
+            harness.kept.keep(alias, "0" * 64)
+        else:
+            alias.write_text(damaged)
         again = lambdified.lambdify_built(("terms of x*y + x", sp.srepr(X * Y + X)), [X, Y], build, modules="numpy")
         assert np.array_equal(again(-0.3, 2.0), fresh(-0.3, 2.0))
-    assert len(built) == 4
+    assert len(built) == 5
 
 
 @pytest.mark.parametrize("name", ["stick_slip", "free_fall_drag", "quarter_car", "governor", "lightweight_robot"])

@@ -68,7 +68,7 @@ from harness.engines import ENGINES, models_kept, symbolic
 from harness.engines import model as engine_model
 from harness.engines.base import State
 from harness.errors import HarnessError
-from harness.kept import installation, keep, read_kept
+from harness.kept import keep, read_kept
 from harness.derivation import bodies
 from harness.derivation.bodies import element_force, element_generalized_force, point_in_q, rotational_jacobian
 from harness.modeling.claims import ENGINE_QUANTITIES, Claim, as_matrix as _as_matrix, symbols as _symbols
@@ -319,32 +319,32 @@ def _accel_coefficients(system: System, printed: sp.Matrix, key, text):
                      recipe=lambda: ("claims: ∂R/∂q̈", text(), sp.srepr(accels)))
 
 
+def _once(table: dict, owners: tuple, compute):
+    """``compute()`` once per the objects ``owners`` (by identity; kept alive in ``table`` with the value, so their
+    ids are not reused)."""
+    key = tuple(map(id, owners))
+    hit = table.get(key)
+    if hit is None or any(a is not b for a, b in zip(hit[0], owners)):
+        hit = table[key] = (owners, compute())
+    return hit[1]
+
+
 _PRINTED: dict = {}
+_PRINTED_TEXT: dict = {}
+_SYMBOLS_TEXT: dict = {}
 
 
 def _printed(claim: Claim, substitution: dict | None) -> sp.Matrix:
-    """The printed expression as a matrix with ``substitution`` made, once per claim and substitution (both are
-    kept alive with it: their ids are not reused)."""
-    key = (id(claim), id(substitution))
-    kept = _PRINTED.get(key)
-    if kept is None or kept[0] is not claim or kept[1] is not substitution:
+    """The printed expression as a matrix with ``substitution`` made, once per claim and substitution."""
+    def make():
         printed = _as_matrix(claim.printed)
-        if substitution:
-            printed = printed.xreplace(substitution)
-        kept = _PRINTED[key] = (claim, substitution, printed)
-    return kept[2]
+        return printed.xreplace(substitution) if substitution else printed
+    return _once(_PRINTED, (claim, substitution), make)
 
 
 def printed_text(claim: Claim, substitution: dict | None) -> str:
     """``srepr`` of :func:`_printed` (what decides every function built from it), once per claim and substitution."""
-    key = (id(claim), id(substitution))
-    kept = _PRINTED_TEXT.get(key)
-    if kept is None or kept[0] is not claim or kept[1] is not substitution:
-        kept = _PRINTED_TEXT[key] = (claim, substitution, sp.srepr(_printed(claim, substitution)))
-    return kept[2]
-
-
-_PRINTED_TEXT: dict = {}
+    return _once(_PRINTED_TEXT, (claim, substitution), lambda: sp.srepr(_printed(claim, substitution)))
 
 
 def derivation_of(system: System, claim: Claim) -> tuple[str, ...] | None:
@@ -371,8 +371,7 @@ def _lambdify(system: System, expr, key=None, recipe=None):
     with profiling.phase("lambdify claims"):
         args = _symbols(system)
         if recipe is not None:
-            fn = lambdify_built((installation(), _symbols_text(system), *recipe()), args, lambda: _as_matrix(build()),
-                                modules="numpy")
+            fn = lambdify_built((_symbols_text(system), *recipe()), args, lambda: _as_matrix(build()), modules="numpy")
         else:
             fn = lambdify(args, _as_matrix(build()), modules="numpy")
     if key is not None:
@@ -382,13 +381,7 @@ def _lambdify(system: System, expr, key=None, recipe=None):
 
 def _symbols_text(system: System) -> str:
     """``srepr`` of the compiled claims' arguments (:func:`_symbols`), once per system."""
-    kept = _SYMBOLS_TEXT.get(id(system))
-    if kept is None or kept[0] is not system:
-        kept = _SYMBOLS_TEXT[id(system)] = (system, sp.srepr(_symbols(system)))
-    return kept[1]
-
-
-_SYMBOLS_TEXT: dict = {}
+    return _once(_SYMBOLS_TEXT, (system,), lambda: sp.srepr(_symbols(system)))
 
 
 class _Disagrees(AssertionError):
@@ -626,11 +619,11 @@ def classify_as_printed(system: System, claim: Claim, engines, examples, base: d
 
 
 def _identity(check: str, system: System, claim: Claim, substitution: dict | None, engines):
-    """What a check of ``claim`` evaluates, in words and SymPy's ``srepr`` (the printed expression with
-    ``substitution`` made, the derived one): a function giving the key of its kept counterexample
+    """What a check of ``claim`` evaluates, in words and texts (the printed expression with ``substitution`` made,
+    :func:`printed_text`; what decides the derived one, :func:`_derived_recipe`): a function giving the key of its kept counterexample
     (:func:`_minimal`) beside the code, the packages, the settings and the seed, called only where one is kept."""
     return lambda: (check, claim.equation, claim.quantity, repr(claim.index), claim.at,
-                    sp.srepr(_printed(claim, substitution)), sp.srepr(_derived(system, claim)), repr(tuple(engines)))
+                    printed_text(claim, substitution), *_derived_recipe(system, claim)(), repr(tuple(engines)))
 
 
 def _shrunk_against(failing: list[str], engines) -> tuple:

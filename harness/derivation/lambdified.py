@@ -53,31 +53,22 @@ def lambdify_built(recipe: tuple[str, ...], args, build, modules=None, **options
     completely: the code that builds it and its inputs (``srepr``). The kept source is found by the recipe's hash (a
     file in ``compiled/recipes/`` naming its key) without building the expression or printing it, SymPy work that a
     warm run repeated: the claims' terms sizes (``Abs`` of each term) and ``∂R/∂q̈``, 2.3 of 17.8 profiled CPU s of
-    eight systems' claims. A missing or damaged recipe, or a kept source that does not load, builds and compiles as
-    :func:`lambdify` does."""
-    from harness import profiling
+    eight systems' claims. The alias is kept like every entry of :mod:`harness.kept` (keyed by our installation too,
+    those of another removed). A missing or damaged recipe, or a kept source that does not load, builds and
+    compiles as :func:`lambdify` does."""
+    from harness import kept, profiling
 
-    parts = [_code_version(), repr(modules), *recipe, *(f"{k}={options[k]!r}" for k in sorted(options))]
-    alias = compiled_dir() / "recipes" / f"{_sha(chr(10).join(parts))}.json"
-    try:
-        doc = json.loads(alias.read_text())
-        key = doc["key"] if doc.get("sha256") == _sha(doc["key"]) else None
-    except (OSError, ValueError, KeyError, TypeError, AttributeError):
-        key = None
+    alias = kept.path("compiled/recipes", "recipe", _code_version(), repr(modules), *recipe,
+                      *(f"{k}={options[k]!r}" for k in sorted(options)))
+    key = kept.read_kept(alias)
     if isinstance(key, str):
-        kept = _load(key, modules, _printer_of(modules))
-        if kept is not None:
+        found = _load(key, modules, _printer_of(modules))
+        if found is not None:
             profiling.count("compiled code read from the cache by its recipe")
-            return kept
+            return found
     fn, key = _lambdify_keyed(args, build(), modules, options)
     if key is not None and _path(key).is_file():
-        from harness.io import atomic_write_text
-
-        try:
-            alias.parent.mkdir(parents=True, exist_ok=True)
-            atomic_write_text(alias, json.dumps({"key": key, "sha256": _sha(key)}))
-        except OSError:
-            pass
+        kept.keep(alias, key)
     return fn
 
 
