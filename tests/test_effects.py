@@ -110,6 +110,27 @@ def test_mujoco_disable_flags_are_a_spec_transform():
     assert not on.model.opt.disableflags & bits.mjDSBL_GRAVITY
 
 
+def test_a_pruned_mjcf_drops_the_visual_geoms_and_moves_the_same_bit_for_bit():
+    """VisualGeomsDropped leaves out our export's visual-only geoms (no contact, no mass: the inertia is explicit):
+    the same RK4 steps give the same state to the last bit, with no geom left to pose."""
+    import mujoco
+    import numpy as np
+
+    from harness.engines.mujoco_engine import MujocoModel, Options, VisualGeomsDropped
+    from harness.export.numeric import instantiate
+
+    system = models.get("planar_manipulator")
+    tree = instantiate(system, system.default_parameters())
+    rk4 = Options(timestep=1e-3, integrator="RK4")
+    drawn, bare = MujocoModel(tree, transforms=(rk4,)), MujocoModel(tree, transforms=(rk4, VisualGeomsDropped()))
+    assert drawn.model.ngeom > 0 and bare.model.ngeom == 0
+    for model in (drawn, bare):
+        model.reset()
+        model.set_state(np.array([0.3, -0.7]), np.array([1.0, 0.5]))
+        mujoco.mj_step(model.model, model.data, nstep=200)
+    assert np.array_equal(drawn.data.qpos, bare.data.qpos) and np.array_equal(drawn.data.qvel, bare.data.qvel)
+
+
 def test_pruned_equals_idle_in_every_source_and_nothing_to_prune_has_no_ratio():
     """The per-source measurement (harness/scenes/phenomena/pruning.py) on a small scene: a damper at 0 and an
     input of 0 left out; the pruned trajectory equals the idle one in each source; a scene calling for every
@@ -205,6 +226,13 @@ def test_a_friction_that_never_switches_is_proved_by_a_bound():
     out = measure(system, holds, motion, event, sources=("symbolic", "pinocchio"), repeats=1, found=found)
     assert out["left_out"] == ["external", "gravity"]
     assert all(m["error"] <= 1e-6 for m in out["sources"].values())
+    # pruned, the friction is held: no breakaway guard along the horizon, nothing integrated; the idle run looks
+    _, lean = found.pruned(system, holds)
+    assert [e.held for e in lean.events] == [True] and [e.held for e in holds.events] == [False]
+    for m in out["sources"].values():
+        pruned_evaluations, idle_evaluations = m["evaluations"]
+        assert pruned_evaluations == 0 < idle_evaluations and "friction held" in m["method"]
+    assert not any(e.held for e in infer(system, over).pruned(system, over)[1].events)  # it can switch: looked for
 
 
 @given(st.sampled_from(["constant", "step", "sine", "bump", "rate"]), st.floats(-3.0, 3.0), st.floats(-3.0, 3.0),

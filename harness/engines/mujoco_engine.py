@@ -717,6 +717,22 @@ class Options:
 
 
 @dataclass(frozen=True)
+class VisualGeomsDropped:
+    """The visual-only geoms of our export (group :data:`~harness.export.mjcf.VISUAL_GROUP`, ``contype =
+    conaffinity = 0``, no mass: the bodies' inertia is explicit) left out of a model whose run no renderer reads:
+    MuJoCo still poses every geom at every stage of a step, and with contact detection on bounds each in its broad
+    phase. What they are drawn from changes no number of the dynamics (a pruned run, the same trajectory bit for
+    bit)."""
+
+    def __call__(self, spec) -> None:
+        from harness.export.mjcf import VISUAL_GROUP
+
+        for geom in list(spec.geoms):
+            if geom.group == VISUAL_GROUP and geom.contype == 0 and geom.conaffinity == 0:
+                spec.delete(geom)
+
+
+@dataclass(frozen=True)
 class JointCoupling:
     """``θ_dependent = offset + ratio θ_independent``: ``<equality><joint polycoef="offset ratio 0 0 0">``."""
 

@@ -14,6 +14,8 @@ from harness.modeling.system import name_of, plain, value_at
 def _normalised(event) -> None:
     """Fields naming a parameter/coordinate/link hold its name; expressions hold plain symbols."""
     for f in dataclasses.fields(event):
+        if f.type == "bool":
+            continue
         value = getattr(event, f.name)
         object.__setattr__(event, f.name, name_of(value) if f.type == "str" else plain(value))
 
@@ -21,12 +23,15 @@ def _normalised(event) -> None:
 @dataclass(frozen=True)
 class StickSlip:
     """Coulomb friction on ``coordinate`` with static ``mu_H`` and sliding ``mu_C`` (parameters, held by name)
-    and the normal force ``normal_force`` (an expression in the parameters, (3.76b))."""
+    and the normal force ``normal_force`` (an expression in the parameters, (3.76b)). ``held``: proved to stick
+    from rest over the scene's whole horizon (:func:`harness.scenes.effects.sticks_throughout`; set by the
+    pruning, :meth:`harness.scenes.effects.Inferred.pruned`, never by a model): the stick branch is never left."""
 
     coordinate: str
     mu_H: str
     mu_C: str
     normal_force: sp.Expr
+    held: bool = False
 
     def __post_init__(self):
         _normalised(self)

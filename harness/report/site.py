@@ -102,7 +102,7 @@ _PRUNING_NOTES = {"effects declared": "declared", "effects inferred to act": "ac
                   "effects inferred idle": "idle", "force elements inferred idle": "idle_elements",
                   "never switches": "never_switches",
                   "pruning": "nothing", "pruning: effects left out": "left_out",
-                  "pruning: force elements left out": "left_out_elements"}
+                  "pruning: force elements left out": "left_out_elements", "pruning: friction held": "held"}
 
 
 def pruning_view(system: str, scene: dict, bench: dict | None) -> dict | None:
@@ -110,7 +110,7 @@ def pruning_view(system: str, scene: dict, bench: dict | None) -> dict | None:
     and the disagreements (its notes), and per source the idle / pruned time ratio that ``harness bench --parts
     pruning`` measured (``bench``: bench.json; only where the scene has the check's pruned = idle proof of that
     source, else why not) or "nothing to prune"."""
-    from harness.scenes.phenomena.pruning import CHECK, SOURCES, interval, slower_pruned
+    from harness.scenes.phenomena.pruning import CHECK, PRUNING_GOAL, SOURCES, attainable, interval, slower_pruned
 
     notes = scene.get("notes") or {}
     if "effects declared" not in notes:
@@ -131,6 +131,11 @@ def pruning_view(system: str, scene: dict, bench: dict | None) -> dict | None:
             finding, (low, high) = slower_pruned(m), interval(m)
             shown = (f"{m['ratio']:.3g} ×" + (f" [{low:.3g}, {high:.3g}]" if high > low else "") +
                      (f" ({finding})" if finding else ""))
+            if m.get("per_call"):  # one evaluation of the right-hand side: the most the run's ratio can be
+                c, (low, high) = m["per_call"], interval(m["per_call"])
+                shown += f"; per call {c['ratio']:.3g} ×" + (f" [{low:.3g}, {high:.3g}]" if high > low else "")
+                if attainable(m, PRUNING_GOAL):
+                    shown += f": {PRUNING_GOAL:g} × out of reach of this source"
         elif source in checked:
             shown = m.get("skipped") or "not measured by the bench yet (harness bench --parts pruning)"
         else:

@@ -176,7 +176,7 @@ number follows (compared in <a href="#claims">Printed equations</a>).</p>
 {% if pr.never_switches %}<tr><td>never switches (proof)</td><td>{{ pr.never_switches }}</td></tr>{% endif %}
 {% for k, v in pr.disagreements.items() %}<tr><td>disagreement (a note, not fixed): {{ k }}</td><td>{{ v }}</td></tr>{% endfor %}
 {% if pr.nothing %}<tr><td>idle / pruned</td><td>{{ pr.nothing }}</td></tr>
-{% else %}<tr><td>left out when pruned</td><td>{{ pr.left_out or "no effect" }}{% if pr.left_out_elements %}; force elements {{ pr.left_out_elements }}{% endif %}</td></tr>
+{% else %}<tr><td>left out when pruned</td><td>{{ pr.left_out or "no effect" }}{% if pr.left_out_elements %}; force elements {{ pr.left_out_elements }}{% endif %}{% if pr.held %}; the friction on {{ pr.held }} held (it never switches: no breakaway looked for){% endif %}</td></tr>
 {% for r in pr.ratios %}<tr><td>time idle / pruned, {{ r.source }}</td><td class="num">{{ r.ratio }}</td></tr>{% endfor %}{% endif %}</table>
 {% if not pr.nothing %}<p><small>Idle: every effect present, the left-out ones multiplied by 0; pruned: without them. The check proves pruned = idle from one run of each; the time ratios are the benchmark's (<a href="../bench.html">Benchmarks</a>: the median ratio of {{ pr.repeats or "N" }} alternating pairs of runs, one worker, in brackets its ≥ 99.5 % confidence interval widened by the bench's 5 % resolution; {{ pr.measured or "not measured yet: harness bench --parts pruning" }}).</small></p>{% endif %}
 {% endif %}

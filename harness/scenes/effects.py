@@ -26,9 +26,12 @@ What is inferred, each a proof on the model's expressions, not a sample of the m
   ``f_np(q_0, 0, u(t)) − g(q_0)`` (affine in the inputs), bounded over the horizon by ``|a| + Σ |b_i| sup |u_i|``
   (:func:`bound_over`: the exact supremum of each signal), stays within ``mu_H f_N``: the mass sticks over the
   whole horizon (3.80a), friction acts without switching, and the force elements that vanish at ``q̇ = 0`` (the
-  sliding friction, dampers) cannot act.
+  sliding friction, dampers) cannot act; the pruned scene holds the friction (:attr:`StickSlip.held`): its run
+  looks for no breakaway.
 
-Not inferred (left as declared): contact the geometry cannot reach over the horizon, an inactive closure.
+Not inferred here (left as declared): an inactive closure, and contact the geometry cannot reach, which needs the
+motion: the lecture's systems carry no collision geometry, and for the robot's real meshes it is proved along the
+pruned run (:func:`harness.bench.contact_pruning.certified_contact_free`, a clearance bound at every step).
 """
 
 from __future__ import annotations
@@ -146,12 +149,16 @@ class Inferred:
 
     def pruned(self, system: System, scene: Scene) -> tuple[System, Scene]:
         """``scene`` pruned by what is found idle: the system without the idle force elements
-        (:func:`harness.modeling.scenes.pruned`), the scene with only :attr:`simulated`; the two themselves when
-        nothing the scene declares is idle."""
-        if not self.idle_elements and self.simulated == self.declared:
+        (:func:`harness.modeling.scenes.pruned`), the scene with only :attr:`simulated`, and a friction that never
+        switches held (its :class:`StickSlip` ``held``: the stick branch is not left, so no guard of its breakaway is
+        evaluated); the two themselves when nothing the scene declares is idle."""
+        held = "friction" in self.never_switches
+        if not self.idle_elements and self.simulated == self.declared and not held:
             return system, scene
+        events = tuple(dataclasses.replace(e, held=True) if held and isinstance(e, StickSlip) else e
+                       for e in scene.events)
         return (pruned(system, EFFECTS, without=self.idle_elements),
-                dataclasses.replace(scene, effects=self.simulated))
+                dataclasses.replace(scene, effects=self.simulated, events=events))
 
     def notes(self) -> dict:
         """The record's notes: the inferred set beside the declared one, the reasons, the disagreement."""

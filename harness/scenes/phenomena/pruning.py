@@ -3,7 +3,10 @@ every effect of the system present but idle (multiplied by a parameter set to 0,
 by every source in its own terms. What is left out: the effects the scene does not call for, the called-for
 effects found idle and the force elements found idle inside an acting effect (:mod:`harness.scenes.effects`,
 :meth:`~harness.scenes.effects.Inferred.pruned`: the quarter car's tyre damper at ``d_R = 0`` beside its suspension
-damper); the pruned run equal to the idle one checks that inference.
+damper), and a dry friction proved to stick throughout (:func:`~harness.scenes.effects.sticks_throughout`) is held:
+the pruned run looks for no breakaway and integrates nothing (``ẋ ≡ 0``), where the idle one evaluates the
+breakaway's guard along the horizon (``stick_slip/holds``); the pruned run equal to the idle one checks that
+inference.
 
 * **symbolic**: the right-hand side derived and compiled from the pruned model (DOP853 at 1e-10) against the one
   of the idle model;
@@ -19,7 +22,9 @@ damper); the pruned run equal to the idle one checks that inference.
   Jacobian and force MuJoCo no longer computes once every element on it is removed; a joint spring or damper, or
   one of a tendon's two elements, is only a coefficient, 0 in the idle model already: the same compiled model,
   nothing saved (the quarter car's tyre damper). The idle model's loads and inputs are evaluated and applied at
-  every step (held over the step from its start), the pruned one's only where called for and not idle.
+  every step (held over the step from its start), the pruned one's only where called for and not idle. The pruned
+  MJCF also leaves out the visual geoms (:class:`~harness.engines.mujoco_engine.VisualGeomsDropped`), which a run
+  does not read and MuJoCo poses at every stage.
 
 Each source: the same trajectory (``ENGINE``, :mod:`harness.scenes.base`), checked by ``harness check`` from one
 run of each (the proof), and the time ratio idle / pruned, measured by ``harness bench --parts pruning`` (the price):
@@ -49,6 +54,7 @@ from harness.scenes.effects import infer
 SOURCES = (SYMBOLIC, "pinocchio", "mujoco")
 MUJOCO_STEPS = 2000        # RK4 steps of MuJoCo's own runs (at least; on the scene's grid, simulate.grid_steps)
 CHECK = "pruned = all effects present but idle"
+PRUNING_GOAL = 1.3         # idle / pruned, every source on every scene where something is pruned (issue 17)
 
 
 # --------------------------------------------------------------------------- MuJoCo's own stepping, idle or pruned
@@ -60,7 +66,7 @@ class MujocoStepper:
 
     def __init__(self, system, scene, prune: bool, dt: float, found=None):
         from harness.derivation.compile import compiled
-        from harness.engines.mujoco_engine import MujocoModel, Options, effect_flags
+        from harness.engines.mujoco_engine import MujocoModel, Options, VisualGeomsDropped, effect_flags
         from harness.export.numeric import instantiate
 
         found = found or infer(system, scene)
@@ -69,8 +75,8 @@ class MujocoStepper:
         left_out = every - found.simulated
         params = {**idle_system.default_parameters(), **idle_scene.params}
         transforms = [Options(timestep=dt, integrator="RK4", enable=effect_flags(every - {"friction", "contact"}))]
-        if prune:
-            transforms.append(Options(disable=effect_flags(left_out)))
+        if prune:  # and the visual geoms, which no one reads in a run (VisualGeomsDropped)
+            transforms += [Options(disable=effect_flags(left_out)), VisualGeomsDropped()]
         without = found.idle_elements if prune else ()
         self.model = MujocoModel(instantiate(pruned(idle_system, every, without), params), transforms=transforms,
                                  where="MjSpec.compile (pruning)")
@@ -132,8 +138,9 @@ class MujocoStepper:
 def measure(system, scene, motion, event, catalogue=None, sources=SOURCES, repeats: int = 1,
             found=None, made=None) -> dict:
     """Idle against pruned by each of ``sources``: ``{"left_out": [effect], "left_out_elements": [force element],
+    "held": [coordinate whose friction is held, proved never to switch],
     "sources": {source: {"pruned_seconds", "idle_seconds", "ratio", "ratio_low", "ratio_high", "error",
-    "evaluations", "method", "pruned_all", "idle_all", "per_call" (symbolic, with repeats: :func:`per_call`)} |
+    "evaluations", "method", "pruned_all", "idle_all", "per_call" (a DOP853 run, with repeats: :func:`per_call`)} |
     {"skipped": why}}}``, or ``{"nothing": why}`` when the scene calls for every effect of its system and none of
     them, nor any force element, is found idle (``found``: :func:`~harness.scenes.effects.infer`). Runs alternate
     (:func:`alternating`): the seconds are the fastest of each, the ratio the median of the pairs' ratios within
@@ -146,7 +153,8 @@ def measure(system, scene, motion, event, catalogue=None, sources=SOURCES, repea
     if idle_scene is scene and lean_scene is scene:
         return {"nothing": "nothing to prune: the scene calls for every effect of the system, each can act"}
     out = {"left_out": sorted(set(idle_scene.effects) - set(lean_scene.effects)),
-           "left_out_elements": sorted(found.idle_elements), "sources": {}}
+           "left_out_elements": sorted(found.idle_elements),
+           "held": sorted(e.coordinate for e in lean_scene.events if getattr(e, "held", False)), "sources": {}}
     for source in sources:
         try:
             runs = _runs(lean_system, lean_scene, idle_system, idle_scene, motion, event, source, catalogue,
@@ -157,6 +165,7 @@ def measure(system, scene, motion, event, catalogue=None, sources=SOURCES, repea
         if runs is None:
             continue
         lean_run, full_run, method = runs
+        mujoco_stepping = method.startswith("mj_step")
         same = source != SYMBOLIC and same_force_elements(pruned(lean_system, lean_scene.effects),
                                                           pruned(idle_system, idle_scene.effects))
         lean, full = paired(lean_run, full_run, 1 if same else repeats)
@@ -167,20 +176,23 @@ def measure(system, scene, motion, event, catalogue=None, sources=SOURCES, repea
         out["sources"][source] = {**price([t.seconds for t in lean], [t.seconds for t in full]),
                                   "error": sim.max_error(full[0], lean[0]),
                                   "evaluations": [lean[0].evaluations, full[0].evaluations], "method": method}
-        if source == SYMBOLIC and repeats > 1:
-            out["sources"][source]["per_call"] = per_call(lean_system, lean_scene, idle_system, idle_scene, repeats)
+        if repeats > 1 and not mujoco_stepping and lean[0].evaluations == full[0].evaluations:  # the same steps
+            out["sources"][source]["per_call"] = per_call(lean_system, lean_scene, idle_system, idle_scene, repeats,
+                                                          source)
     return out
 
 
 CALLS = 500   # right-hand-side calls per timing of :func:`per_call`
 
 
-def per_call(system, scene, idle_system, idle_scene, repeats: int) -> dict:
-    """Where the symbolic run's time goes: one call of the compiled right-hand side ``q̈(t, q, q̇)``
-    (:class:`~harness.scenes.simulate.Dynamics`) of the pruned and of the idle model at the scene's initial state,
-    :data:`CALLS` calls per timing, ``repeats`` alternating pairs: their :func:`price` (seconds per call) and
-    ``calls``. What pruning saves per evaluation, without the integrator's own work around it."""
-    lean, idle = sim.Dynamics(system, scene, SYMBOLIC), sim.Dynamics(idle_system, idle_scene, SYMBOLIC)
+def per_call(system, scene, idle_system, idle_scene, repeats: int, source: str = SYMBOLIC) -> dict:
+    """Where a DOP853 run's time goes: one call of the right-hand side ``q̈(t, q, q̇)`` of ``source``
+    (:class:`~harness.scenes.simulate.Dynamics`: our compiled model, or the engine's forward dynamics with the force
+    elements our adapter evaluates) of the pruned and of the idle model at the scene's initial state, :data:`CALLS`
+    calls per timing, ``repeats`` alternating pairs: their :func:`price` (seconds per call) and ``calls``. What
+    pruning saves per evaluation, without the integrator's own work around it: the bound of the run's ratio
+    (:func:`attainable`)."""
+    lean, idle = sim.Dynamics(system, scene, source), sim.Dynamics(idle_system, idle_scene, source)
     q, qd = np.asarray(scene.q0, dtype=float), np.asarray(scene.qd0, dtype=float)
 
     def timing(dynamics):
@@ -206,7 +218,7 @@ def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalog
         dt = scene.horizon / sim.grid_steps(scene, MUJOCO_STEPS)
         lean = MujocoStepper(own_system, own_scene, True, dt, found)
         full = MujocoStepper(own_system, own_scene, False, dt, found)
-        how = [f"disable flags {', '.join(lean.flags)}"] if lean.flags else []
+        how = ([f"disable flags {', '.join(lean.flags)}"] if lean.flags else []) + ["visual geoms dropped"]
         if lean.removed:
             how.append(f"not in the MJCF: {', '.join(lean.removed)}")
         if len(full.loads) > len(lean.loads):
@@ -223,8 +235,12 @@ def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalog
     def one(s, sc):
         if s is given[0] and sc is given[1] and source in made:   # the same call the motion made: its run
             return lambda: made[source]
-        return lambda: motion.simulate(s, sc, event, source, rtol=1e-10, atol=1e-10, catalogue=catalogue)
+        own = event if event is None else next(e for e in sc.events if type(e) is type(event))  # e.g. held
+        return lambda: motion.simulate(s, sc, own, source, rtol=1e-10, atol=1e-10, catalogue=catalogue)
     method = "our compiled right-hand side" if source == SYMBOLIC else f"{source} forward dynamics"
+    if any(getattr(e, "held", False) for e in scene.events):
+        method += ("; pruned: the friction held, proved to stick throughout (no breakaway guard to evaluate, "
+                   "ẋ ≡ 0: the state stays the initial one)")
     return one(system, scene), one(idle_system, idle_scene), f"{method}, DOP853 1e-10"
 
 
@@ -323,6 +339,26 @@ def against(m: dict, target: float) -> str:
     return "met" if low >= target else "not met" if high < target else "undecided"
 
 
+def attainable(m: dict, target: float) -> str:
+    """Whether a target can be met at all by a run integrated by DOP853 (``m``: :func:`measure`'s per-source entry
+    with its ``per_call``): "" where it can, else why not. The pruned and the idle run take the same steps (the same
+    ``evaluations``: the idle terms are multiplied by 0, the error control sees the same state), so each run is
+    ``N (c + o)``: ``N`` evaluations of the right-hand side at ``c`` seconds each and the integrator's own work ``o``
+    per evaluation, the same in both. Then ``idle / pruned = (c_idle + o) / (c_pruned + o) ≤ c_idle / c_pruned``
+    (for ``c_idle ≥ c_pruned``, ``o ≥ 0``): no run can be faster pruned than its right-hand side is. Where the
+    high end of the per-call ratio's interval (:func:`interval`) is below ``target``, the target is out of reach of
+    this source on this scene: what is pruned is too small a part of one evaluation."""
+    c = m.get("per_call")
+    if not c or len(set(m.get("evaluations", ()))) != 1:
+        return ""
+    high = interval(c)[1]
+    if high >= target:
+        return ""
+    return (f"out of reach: one evaluation of the right-hand side is at most {high:.2f} × cheaper pruned "
+            f"({c['idle_seconds'] * 1e6:.2f} / {c['pruned_seconds'] * 1e6:.2f} µs), and with the same "
+            f"{m['evaluations'][0]} evaluations the run's ratio cannot exceed it")
+
+
 def same_right_hand_side(pruned_system, idle_system) -> bool:
     """Whether the two models derive the same expressions of ``M``, ``C``, ``g``, ``f_np`` (then their compiled
     right-hand sides are the same function and a time ratio would measure noise)."""
@@ -364,6 +400,8 @@ class Pruning(Phenomenon):
         result.notes["pruning: effects left out"] = ", ".join(measured["left_out"]) or "none"
         if measured["left_out_elements"]:
             result.notes["pruning: force elements left out"] = ", ".join(measured["left_out_elements"])
+        if measured["held"]:
+            result.notes["pruning: friction held"] = ", ".join(measured["held"])  # it never switches
         for source, m in measured["sources"].items():
             if "skipped" in m:
                 result.notes[f"pruning, {source}"] = f"not measured: {m['skipped']}"
