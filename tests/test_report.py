@@ -266,3 +266,29 @@ def test_a_notation_typo_is_near_its_boundary_only_where_it_nearly_fails_under_i
                                record("erratum", derivation=5.0, mujoco=3e7), record("erratum", derivation=1e9)])
     assert [(r["classification"], r["ratio"]) for r in rows] == [("notation typo", 0.5), ("confirmed", 0.5),
                                                                  ("erratum", 5.0)]
+
+
+def test_a_system_page_says_where_a_target_is_out_of_reach_and_what_pruning_held():
+    """The pruning block of a scene shows a DOP853 source's ratio per call of its right-hand side beside the run's,
+    and "out of reach" where the per-call interval's high end is below the target (no run can gain more with the
+    same evaluations); a friction held in the pruned run is named among what pruning leaves out."""
+    from harness.report.site import pruning_view
+    from harness.scenes.phenomena.pruning import CHECK
+
+    pairs = [1.0 + 0.002 * k for k in range(21)]
+    m = {"ratio": 1.01, "idle_all": pairs, "pruned_all": [1.0] * 21, "idle_seconds": 0.0221, "pruned_seconds": 0.022,
+         "evaluations": [1172, 1172],
+         "per_call": {"ratio": 1.02, "idle_all": pairs, "pruned_all": [1.0] * 21, "idle_seconds": 10.6e-6,
+                      "pruned_seconds": 10.5e-6}}
+    scene = {"scene": "released", "notes": {"effects declared": "gravity", "pruning: effects left out": "dampers",
+                                           "pruning: friction held": "x"},
+             "checks": [{"check": CHECK, "source": "symbolic"}]}
+    view = pruning_view("cart_pendulum", scene, {"pruning": [{"system": "cart_pendulum", "scene": "released",
+                                                              "sources": {"symbolic": m}}]})
+    shown = next(r["ratio"] for r in view["ratios"] if r["source"] == "symbolic")
+    assert "per call 1.02 ×" in shown and "1.3 × out of reach of this source" in shown
+    assert view["held"] == "x"
+    fast = {**m, "per_call": {**m["per_call"], "idle_all": [2.0] * 21}}   # per call 2 ×: the target can be met
+    view = pruning_view("cart_pendulum", scene, {"pruning": [{"system": "cart_pendulum", "scene": "released",
+                                                              "sources": {"symbolic": fast}}]})
+    assert "out of reach" not in next(r["ratio"] for r in view["ratios"] if r["source"] == "symbolic")

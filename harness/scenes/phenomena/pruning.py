@@ -165,7 +165,6 @@ def measure(system, scene, motion, event, catalogue=None, sources=SOURCES, repea
         if runs is None:
             continue
         lean_run, full_run, method = runs
-        mujoco_stepping = method.startswith("mj_step")
         same = source != SYMBOLIC and same_force_elements(pruned(lean_system, lean_scene.effects),
                                                           pruned(idle_system, idle_scene.effects))
         lean, full = paired(lean_run, full_run, 1 if same else repeats)
@@ -176,7 +175,7 @@ def measure(system, scene, motion, event, catalogue=None, sources=SOURCES, repea
         out["sources"][source] = {**price([t.seconds for t in lean], [t.seconds for t in full]),
                                   "error": sim.max_error(full[0], lean[0]),
                                   "evaluations": [lean[0].evaluations, full[0].evaluations], "method": method}
-        if repeats > 1 and not mujoco_stepping and lean[0].evaluations == full[0].evaluations:  # the same steps
+        if repeats > 1 and not steps_itself(source) and lean[0].evaluations == full[0].evaluations:  # same steps
             out["sources"][source]["per_call"] = per_call(lean_system, lean_scene, idle_system, idle_scene, repeats,
                                                           source)
     return out
@@ -207,11 +206,17 @@ def per_call(system, scene, idle_system, idle_scene, repeats: int, source: str =
     return price(*paired(timing(lean), timing(idle), repeats)) | {"calls": CALLS}
 
 
+def steps_itself(source: str) -> bool:
+    """Whether ``source`` is an engine whose pruning runs are its own stepping (MuJoCo's ``mj_step``), not our
+    DOP853 around its forward dynamics."""
+    return source in ENGINES and simulating((source,), "stepping")
+
+
 def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalogue, given, made):
     """``(pruned run, idle run, method)`` of ``source``, each a call returning a trajectory: ``system``,
     ``scene`` the pruned ones, ``given`` the scene's own ``(system, scene, found)``, ``made`` the runs of the
     scene its motion made (:func:`measure`)."""
-    if source in ENGINES and simulating((source,), "stepping"):  # an engine that steps the scene itself: its flags
+    if steps_itself(source):  # an engine that steps the scene itself: its flags
         if event is not None or scene.events:
             raise ValueError("its motion switches at events: MuJoCo's own run of it is the event's plug-in's")
         own_system, own_scene, found = given

@@ -82,6 +82,8 @@ def stick_slip(system, scene, event: StickSlip, source: str, method="DOP853", rt
     t_eval = sim.sample_times(scene) if t_eval is None else t_eval
     y = np.concatenate([scene.q0, scene.qd0]).astype(float)
     if event.held:  # proved to stick from rest throughout (3.80a): ẋ = 0, ẍ = 0, no breakaway to look for
+        if y[1] != 0:
+            raise ModelError(f"{scene.name}: a held friction needs the scene to start at rest (ẋ(0) = {y[1]:g})")
         start = time.perf_counter()
         q = np.full((len(t_eval), 1), y[0])
         return sim.HybridTrajectory(f"{source} (held: sticks throughout)", t_eval.copy(), q, np.zeros_like(q),
