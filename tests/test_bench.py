@@ -136,3 +136,23 @@ def test_merge_takes_the_parts_another_run_measured(tmp_path):
         merge(tmp_path, other)
     with pytest.raises(InputError, match="no such file"):
         merge(tmp_path, tmp_path / "missing.json")
+
+
+def test_a_sweep_task_that_raised_is_a_failed_run_not_the_end_of_the_sweep():
+    """A task that raised comes back from the runner with its message under ``error``; in the sweep it becomes a
+    failed run (``error`` inf, the message under ``failed``), and the scene's frontiers and fastest configurations
+    are summarized without it (a message there once ended a 15 min sweep with a TypeError, nothing written)."""
+    import math
+
+    from harness.bench import as_run, workprecision as wp
+    from harness.bench.runner import Task, execute
+
+    raised = execute(Task("harness.bench.workprecision:run_task", {"system": "no such argument set"}))
+    assert isinstance(raised["error"], str)
+    run = {"engine": "pinocchio", "method": "RK45", **as_run(raised)}
+    assert run["error"] == math.inf and run["failed"] == raised["error"]
+    ok = {"engine": "pinocchio", "method": "DOP853", "rtol": 1e-8, "dt": None, "error": 1e-9, "seconds": 0.01,
+          "evaluations": 100}
+    summary = wp.summarize_scene([run, ok])
+    assert summary["fastest_at_accuracy"]["pinocchio"]["configuration"] == wp.label(ok)
+    assert as_run(ok) is ok

@@ -93,6 +93,7 @@ from __future__ import annotations
 import datetime
 import importlib
 import json
+import math
 import os
 import platform
 import sys
@@ -270,6 +271,16 @@ def dumps(doc: dict) -> str:
     return json.dumps(json_clean(doc), indent=1, allow_nan=False) + "\n"
 
 
+def as_run(result: dict) -> dict:
+    """A sweep task's result as a run: a task that raised (:func:`harness.bench.runner.execute`: ``error`` its
+    message) is a failed run, ``error`` inf and the message under ``failed`` as :func:`~harness.bench.workprecision.
+    run_task` records its own failures, so that the frontiers and the figures read a number (a message there ended
+    a 15 min sweep with a TypeError and nothing written)."""
+    if isinstance(result.get("error"), str):
+        return {**result, "error": math.inf, "failed": result["error"]}
+    return result
+
+
 def _workprecision(catalogue, cases, by_task, grid: wp.Grid, scheduler, workers, out: Path) -> dict:
     configs = wp.configurations(grid)
     tasks, scenes = [], []
@@ -292,7 +303,8 @@ def _workprecision(catalogue, cases, by_task, grid: wp.Grid, scheduler, workers,
     for task, r in zip(tasks, results):
         key = (task.args["system"], task.args["scene"])
         base = {k: task.args[k] for k in ("engine", "method")}
-        runs.setdefault(key, []).append({**base, **{k: v for k, v in r.items() if k not in ("system", "scene")}})
+        runs.setdefault(key, []).append({**base, **{k: v for k, v in as_run(r).items()
+                                                    if k not in ("system", "scene")}})
     for entry in scenes:
         key = (entry["system"], entry["scene"])
         ref = entry.pop("reference")

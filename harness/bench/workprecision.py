@@ -37,7 +37,7 @@ import time
 
 import numpy as np
 
-from harness.engines import ENGINES
+from harness.engines import ENGINES, steps_itself
 from harness.scenes import simulate as sim
 from harness.modeling.events import RollSlip
 from harness.modeling.scenes import Scene
@@ -55,11 +55,6 @@ ACCURACY = 1e-6           # the accuracy at which the engines are compared (the 
 SLIPS = ("the sphere slips: our model (Ex. 3.17) rolls, so there is no reference; MuJoCo's slipping contact is "
          "checked against the predicted threshold by harness check")
 _STAGES = {"RK4": 4, "semi-implicit Euler": 1, "Euler": 1, "implicitfast": 1, "implicit": 1}
-
-
-def steps_itself(engine: str) -> bool:
-    """Whether ``engine`` runs with its own integrators (MuJoCo's ``mj_step``) rather than scipy's."""
-    return engine in ENGINES and bool(ENGINES[engine].integrators)
 
 
 @dataclasses.dataclass(frozen=True)

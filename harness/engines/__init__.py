@@ -104,3 +104,9 @@ def simulating(engines, phenomenon: str) -> tuple[str, ...]:
     """The engines of ``engines`` (names) that simulate ``phenomenon`` themselves
     (:attr:`~harness.engines.base.TreeEngine.natively`), in the given order."""
     return tuple(name for name in engines if engine(name).simulates(phenomenon))
+
+
+def steps_itself(name: str) -> bool:
+    """Whether the source ``name`` steps a scene with its own integrators (MuJoCo's ``mj_step``) rather than being
+    integrated by ours around its forward dynamics (the symbolic model, Pinocchio)."""
+    return name in ENGINES and bool(simulating((name,), "stepping"))

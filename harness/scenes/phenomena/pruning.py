@@ -43,7 +43,7 @@ import time
 
 import numpy as np
 
-from harness.engines import ENGINES, SYMBOLIC, simulating
+from harness.engines import ENGINES, SYMBOLIC, steps_itself
 from harness.engines.base import load_functions
 from harness.modeling.scenes import effects_of, pruned, with_idle_effects
 from harness.modeling.system import JointInput
@@ -204,12 +204,6 @@ def per_call(system, scene, idle_system, idle_scene, repeats: int, source: str =
 
     timing(lean)(), timing(idle)()  # the first calls compile: not timed
     return price(*paired(timing(lean), timing(idle), repeats)) | {"calls": CALLS}
-
-
-def steps_itself(source: str) -> bool:
-    """Whether ``source`` is an engine whose pruning runs are its own stepping (MuJoCo's ``mj_step``), not our
-    DOP853 around its forward dynamics."""
-    return source in ENGINES and simulating((source,), "stepping")
 
 
 def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalogue, given, made):
