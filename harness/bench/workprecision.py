@@ -38,6 +38,7 @@ import time
 import numpy as np
 
 from harness.engines import ENGINES, steps_itself
+from harness.errors import EngineError
 from harness.scenes import simulate as sim
 from harness.modeling.events import RollSlip
 from harness.modeling.scenes import Scene
@@ -237,8 +238,8 @@ def run_task(catalogue, system: str, scene: str, engine: str, method: str, setti
             return {**out, "skipped": str(exc)}
         except _Budget:
             return {**out, "skipped": f"over the budget of {budget} evaluations"}
-        except (RuntimeError, FloatingPointError, np.linalg.LinAlgError) as exc:
-            return {**out, "error": math.inf, "failed": str(exc).splitlines()[0][:200]}
+        except (RuntimeError, FloatingPointError, np.linalg.LinAlgError, EngineError) as exc:  # EngineError: an
+            return {**out, "error": math.inf, "failed": str(exc).splitlines()[0][:200]}  # unstable MuJoCo run
         times.append(tr.seconds)
         first = first or tr
         if sum(times) > 1.0:  # long runs: fewer repeats
