@@ -286,7 +286,7 @@ def test_a_system_page_says_where_a_target_is_out_of_reach_and_what_pruning_held
     view = pruning_view("cart_pendulum", scene, {"pruning": [{"system": "cart_pendulum", "scene": "released",
                                                               "sources": {"symbolic": m}}]})
     shown = next(r["ratio"] for r in view["ratios"] if r["source"] == "symbolic")
-    assert "per call 1.02 ×" in shown and "1.3 × out of reach of this source" in shown
+    assert "per call 1.020 ×" in shown and "1.3 × out of reach of this source" in shown
     assert view["held"] == "x"
     fast = {**m, "per_call": {**m["per_call"], "idle_all": [2.0] * 21}}   # per call 2 ×: the target can be met
     view = pruning_view("cart_pendulum", scene, {"pruning": [{"system": "cart_pendulum", "scene": "released",

@@ -133,7 +133,7 @@ def pruning_view(system: str, scene: dict, bench: dict | None) -> dict | None:
                      (f" ({finding})" if finding else ""))
             if m.get("per_call"):  # one evaluation of the right-hand side: the most the run's ratio can be
                 c, (low, high) = m["per_call"], interval(m["per_call"])
-                shown += f"; per call {c['ratio']:.3g} ×" + (f" [{low:.3g}, {high:.3g}]" if high > low else "")
+                shown += f"; per call {c['ratio']:.3f} ×" + (f" [{low:.3g}, {high:.3g}]" if high > low else "")
                 if attainable(m, PRUNING_GOAL):
                     shown += f": {PRUNING_GOAL:g} × out of reach of this source"
         elif source in checked:
