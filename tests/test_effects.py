@@ -226,9 +226,13 @@ def test_a_friction_that_never_switches_is_proved_by_a_bound():
     out = measure(system, holds, motion, event, sources=("symbolic", "pinocchio"), repeats=1, found=found)
     assert out["left_out"] == ["external", "gravity"]
     assert all(m["error"] <= 1e-6 for m in out["sources"].values())
-    # pruned, the friction is held: no breakaway guard along the horizon, nothing integrated; the idle run looks
+    # pruned, the friction is held: no breakaway guard along the horizon, nothing integrated; the idle run looks.
+    # MuJoCo: its own frictionloss run (the plug-in's) against nothing to step
     _, lean = found.pruned(system, holds)
     assert [e.held for e in lean.events] == [True] and [e.held for e in holds.events] == [False]
+    out["sources"].update(measure(system, holds, motion, event, sources=("mujoco",), repeats=1,
+                                  found=found)["sources"])
+    assert out["sources"]["mujoco"]["error"] <= 1e-6 and "frictionloss" not in out["sources"]["mujoco"]["method"]
     for m in out["sources"].values():
         pruned_evaluations, idle_evaluations = m["evaluations"]
         assert pruned_evaluations == 0 < idle_evaluations and "friction held" in m["method"]

@@ -24,7 +24,9 @@ inference.
   nothing saved (the quarter car's tyre damper). The idle model's loads and inputs are evaluated and applied at
   every step (held over the step from its start), the pruned one's only where called for and not idle. The pruned
   MJCF also leaves out the visual geoms (:class:`~harness.engines.mujoco_engine.VisualGeomsDropped`), which a run
-  does not read and MuJoCo poses at every stage.
+  does not read and MuJoCo poses at every stage. A scene whose motion switches at events has MuJoCo's own run in
+  its event's plug-in (dry friction, contact): not measured here, except a friction held, where that run (MuJoCo's
+  ``frictionloss``) is the idle one and the pruned one has nothing to step.
 
 Each source: the same trajectory (``ENGINE``, :mod:`harness.scenes.base`), checked by ``harness check`` from one
 run of each (the proof), and the time ratio idle / pruned, measured by ``harness bench --parts pruning`` (the price):
@@ -211,6 +213,14 @@ def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalog
     ``scene`` the pruned ones, ``given`` the scene's own ``(system, scene, found)``, ``made`` the runs of the
     scene its motion made (:func:`measure`)."""
     if steps_itself(source):  # an engine that steps the scene itself: its flags
+        held = next((e for e in scene.events if getattr(e, "held", False)), None)
+        if held is not None and motion.mujoco_run is not None:  # its plug-in's own run against nothing to step
+            dt = scene.horizon / sim.grid_steps(scene, MUJOCO_STEPS)
+            idle_event = next(e for e in idle_scene.events if type(e) is type(held))
+            return (lambda: motion.simulate(system, scene, held, source, catalogue=catalogue),
+                    lambda: motion.mujoco_run(idle_system, idle_scene, idle_event, dt),
+                    f"its own run of the event's plug-in, dt={dt:g}, against the friction held: the joint stays at "
+                    "rest, nothing to step")
         if event is not None or scene.events:
             raise ValueError("its motion switches at events: MuJoCo's own run of it is the event's plug-in's")
         own_system, own_scene, found = given
