@@ -145,3 +145,18 @@ def test_a_target_above_what_one_evaluation_saves_is_out_of_reach():
     assert attainable(m, 1.2) == ""                       # within the per-call interval: it may be met
     assert attainable({**m, "evaluations": [1172, 1180]}, 1.3) == ""
     assert attainable({k: v for k, v in m.items() if k != "per_call"}, 1.3) == ""
+
+
+def test_an_undecided_scene_out_of_reach_is_not_met():
+    """The goal's verdict of a scene whose run interval holds 1.3 × but whose right-hand side per call cannot reach
+    it is "not met" (the bound leaves no room the noise could hide), and it stays "undecided" within reach."""
+    from harness.bench.report import _verdict
+
+    wide = [1.1 + 0.02 * k for k in range(21)]                       # runs: 1.10 … 1.50, the interval holds 1.3
+    per_call = {"ratio": 1.1, "idle_seconds": 11e-6, "pruned_seconds": 10e-6,
+                "idle_all": [1.0 + 0.005 * k for k in range(21)], "pruned_all": [1.0] * 21}   # at most ≈ 1.14
+    m = {"ratio": 1.3, "idle_all": wide, "pruned_all": [1.0] * 21, "evaluations": [100, 100], "per_call": per_call}
+    assert _verdict({k: v for k, v in m.items() if k != "per_call"}, 1.3) == "undecided"
+    assert _verdict(m, 1.3) == "not met"
+    reach = {**m, "per_call": {**per_call, "idle_all": [1.5] * 21}}
+    assert _verdict(reach, 1.3) == "undecided"
