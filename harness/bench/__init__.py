@@ -33,8 +33,8 @@ Schema of ``bench.json`` (``schema: 2``; times in seconds, errors relative to th
           "reference": {"method", "confirmed_by", "agreement", "tolerance", "confirmed", "seconds",
                         "evaluations", "confirmation_seconds", "confirmation_evaluations"},
           "runs": [{"engine": "symbolic" | "pinocchio" | "mujoco", "method": str, "rtol": float | null,
-                    "dt": float | null, "error": float ("inf" when diverged), "seconds": median wall time,
-                    "seconds_all": [...], "repeats": int, "evaluations": int,
+                    "dt": float | null, "error": float ("inf" when diverged), "seconds": median wall time of
+                    the "repeats": int runs, "evaluations": int,
                     "skipped": str (instead of error/seconds), "failed": str (optional)}],
           "summary": {"pareto": {engine: [configuration label, fastest first]},
                       "fastest_at_accuracy": {engine: {"configuration", "seconds", "error", "evaluations"} | null},
