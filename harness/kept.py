@@ -5,7 +5,8 @@ counterexamples (:mod:`harness.compare.strategies`, :mod:`harness.compare.claims
 each numeric tree (:func:`harness.export.kept.exported`), the trajectories of our symbolic model a scene is checked
 against (:func:`harness.scenes.simulate.kept_solution`), the printed equations' symbolic decisions
 (:func:`harness.compare.errata.decide`), the recipes naming compiled code (``compiled/recipes/``,
-:func:`harness.derivation.lambdified.lambdify_built`). A key always hashes :func:`installation` (our code, the
+:func:`harness.derivation.lambdified.lambdify_built`), the conformance summaries the tests read (``results/``,
+:mod:`harness.compare.remembered`). A key always hashes :func:`installation` (our code, the
 installed packages, Python), so a change to any of them computes the value again. An entry carries a checksum: a
 damaged one is computed again, and a folder we cannot write to only costs the next run the time. Only what our own
 code computes is kept; every engine call is made again on every run."""

@@ -372,9 +372,9 @@ def _pruning_goals(rows: list[dict]) -> list[dict]:
             if end == 0:
                 counts = ", ".join(f"{v} on {verdicts.count(v)}" for v in ("met", "undecided", "not met")
                                    if v in verdicts)
-                summary = (f"≥ {target:g} × {counts} of {len(got)} scenes (undecided: the interval holds {target:g} ×" +
-                           (" and one call of the right-hand side could reach it)" if any("per_call" in m for _, m in got)
-                            else ")"))
+                per_call = any("per_call" in m for _, m in got)
+                summary = (f"≥ {target:g} × {counts} of {len(got)} scenes (undecided: the interval holds {target:g} ×"
+                           + (" and one call of the right-hand side could reach it)" if per_call else ")"))
                 reach = [f"{r['system']}/{r['scene']}" for r, m in got if attainable(m, target)]
                 if reach:
                     summary += (f"; out of reach of this source on {len(reach)} ({', '.join(reach)}): one evaluation "

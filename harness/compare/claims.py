@@ -620,8 +620,9 @@ def classify_as_printed(system: System, claim: Claim, engines, examples, base: d
 
 def _identity(check: str, system: System, claim: Claim, substitution: dict | None, engines):
     """What a check of ``claim`` evaluates, in words and texts (the printed expression with ``substitution`` made,
-    :func:`printed_text`; what decides the derived one, :func:`_derived_recipe`): a function giving the key of its kept counterexample
-    (:func:`_minimal`) beside the code, the packages, the settings and the seed, called only where one is kept."""
+    :func:`printed_text`; what decides the derived one, :func:`_derived_recipe`): a function giving the key of its
+    kept counterexample (:func:`_minimal`) beside the code, the packages, the settings and the seed, called only
+    where one is kept."""
     return lambda: (check, claim.equation, claim.quantity, repr(claim.index), claim.at,
                     printed_text(claim, substitution), *_derived_recipe(system, claim)(), repr(tuple(engines)))
 

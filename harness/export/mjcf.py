@@ -350,4 +350,4 @@ EXPORT = "MjSpec.compile (export)"
 def exported_mjcf(tree: NumericTree) -> str:
     """:func:`mjcf_string` of ``tree``, kept for the next run with the warnings writing it raised
     (:func:`harness.export.kept.exported`): the text MuJoCo loads in a check."""
-    return exported(tree, "mjcf", lambda t: mjcf_string(t), warned_at=EXPORT)
+    return exported(tree, "mjcf", mjcf_string, warned_at=EXPORT)

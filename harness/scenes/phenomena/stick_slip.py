@@ -78,16 +78,17 @@ def stick_slip(system, scene, event: StickSlip, source: str, method="DOP853", rt
                t_eval=None, catalogue=None) -> sim.HybridTrajectory:
     """Event-located simulation of (3.80) with ``source``'s forward dynamics (``catalogue``: unused, as for
     every switching simulation that stays in its system)."""
-    h = _StickSlipDynamics(system, scene, event, source)
     t_eval = sim.sample_times(scene) if t_eval is None else t_eval
     y = np.concatenate([scene.q0, scene.qd0]).astype(float)
-    if event.held:  # proved to stick from rest throughout (3.80a): ẋ = 0, ẍ = 0, no breakaway to look for
-        if y[1] != 0:
+    if event.held:  # proved to stick from rest throughout (3.80a): ẋ = 0, ẍ = 0, no breakaway to look for and no
+        if y[1] != 0:  # model of the source to make (its energy, E of our model, only where it is read)
             raise ModelError(f"{scene.name}: a held friction needs the scene to start at rest (ẋ(0) = {y[1]:g})")
         start = time.perf_counter()
         q = np.full((len(t_eval), 1), y[0])
         return sim.HybridTrajectory(f"{source} (held: sticks throughout)", t_eval.copy(), q, np.zeros_like(q),
-                                    time.perf_counter() - start, 0, energy_of=h.dyn.energy)
+                                    time.perf_counter() - start, 0,
+                                    energy_of=lambda a, b: sim.Dynamics(system, scene, "symbolic").energy(a, b))
+    h = _StickSlipDynamics(system, scene, event, source)
     mode = int(np.sign(y[1])) if y[1] != 0 else h.next_mode(0.0, y)
     edges = [*scene.breakpoints, scene.horizon]
     ts, ys, events, t, nfev = [], [], [], 0.0, 0
