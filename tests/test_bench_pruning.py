@@ -22,7 +22,7 @@ def test_pruning_rows_goals_and_findings():
     text = "\n".join(report._pruning(rows))
     # the interval of the pairs [0.891, 0.909] widened by the bench's resolution (pruning.RESOLUTION, 5 %)
     assert "0.900 × [0.85, 0.95] (900.0 / 1000.0 ms) **finding: slower pruned**" in text
-    assert "Nothing to prune (no ratio): pendulum/swing." in text
+    assert "No effect to prune (no ratio): pendulum/swing." in text
     assert "not measured: an affine map is needed" in text
     assert "can act but not declared: dampers" in text
     goals = {(g["check"].split(":")[0], g["source"]): g for g in report._pruning_goals(rows)}
@@ -160,3 +160,25 @@ def test_an_undecided_scene_out_of_reach_is_not_met():
     assert _verdict(m, 1.3) == "not met"
     reach = {**m, "per_call": {**per_call, "idle_all": [1.5] * 21}}
     assert _verdict(reach, 1.3) == "undecided"
+
+
+def test_constraint_rows_pruned_are_their_own_measurement():
+    """A scene whose tree's constraint rows are proved inactive has a second measurement beside its effects': the
+    constrained tree / the open tree per engine, in its own table and in the goals as "… (constraint rows)"."""
+    row = _row("governor", "coast", {"symbolic": 1.0, "pinocchio": 1.0, "mujoco": 1.3})
+    timing = {"pruned_seconds": 1.0, "idle_seconds": 2.0, "ratio": 2.0, "error": 1e-12, "evaluations": [10, 20],
+              "method": "m", "pruned_all": [1.0] * 3, "idle_all": [1.9, 2.0, 2.1]}
+    row["rows"] = {"left_out": ["coupling alpha_2 = -2 alpha_1"], "proof": "proved",
+                   "sources": {"pinocchio": timing, "mujoco": {**timing, "idle_all": [0.9, 1.0, 1.1],
+                                                               "ratio": 1.0, "idle_seconds": 0.9}}}
+    text = "\n".join(report._pruning([row]))
+    assert "### Constraint rows pruned" in text and "coupling alpha_2 = -2 alpha_1" in text
+    assert "2.00 × [1.80, 2.21] (2000.0 / 1000.0 ms, 20 / 10 evaluations)" in text
+    goals = {(g["check"].split(":")[0], g["source"]): g for g in report._pruning_goals([row])}
+    assert "governor/coast (constraint rows) 2.00 ×" in goals[("pruning pays", "pinocchio")]["detail"]
+    assert goals[("pruning pays", "mujoco")]["verdict"] == "not met"   # its rows at 1.0 ×, the effects' at 1.3 ×
+    assert "symbolic" in {s for _, s in goals}   # the effects' measurement alone
+    press = {"system": "toggle_press", "scene": "return", "nothing": "nothing to prune",
+             "constraint_rows": {"inactive": False, "why": "at q = [0.1] the tree's balance asks for 2 N m"}}
+    text = "\n".join(report._pruning([row, press]))
+    assert "Constraint rows needed, kept (a state where the constraints must act): toggle_press/return (at q" in text

@@ -250,3 +250,48 @@ def test_bound_over_bounds_every_signal(kind, a, b, c):
               "bump": Bump(a, b % horizon, c), "rate": Bump(a, b % horizon, c, rate=True)}[kind]
     bound = bound_over(signal, horizon)
     assert max(abs(signal(horizon * k / 2000)) for k in range(2001)) <= bound * (1 + 1e-12) + 1e-15
+
+
+def test_trig_identities_are_decided_exactly():
+    """The proof behind inactive constraint rows: a rational function of sines and cosines is 0 exactly when its
+    numerator reduces to 0 modulo sin² + cos² − 1; what it cannot decide is None, never True."""
+    import sympy as sp
+
+    from harness.scenes.effects import _trig_identity
+
+    a, b, x = sp.symbols("a b x", real=True)
+    assert _trig_identity(sp.sin(2 * a) - 2 * sp.sin(a) * sp.cos(a)) is True
+    assert _trig_identity((sp.sin(3 * a) * sp.cos(b) - 3 * sp.sin(a) * sp.cos(b) + 4 * sp.sin(a) ** 3 * sp.cos(b))
+                          / (2 + sp.cos(a))) is True
+    assert _trig_identity(sp.sin(a) ** 2 - sp.cos(a) ** 2) is False
+    # a term float arithmetic would round away (1 - 1e-30 is 1.0 in floats): made exact, it is not 0
+    assert _trig_identity(sp.Add(x * (sp.sin(a) ** 2 + sp.cos(a) ** 2), -x, sp.Float(1e-30) * x, evaluate=False)) is False
+    assert _trig_identity(sp.asin(sp.sin(a)) - a) is None
+
+
+def test_constraint_rows_are_inactive_only_where_the_open_tree_keeps_them():
+    """The governor's coupling (arm 2 the mirror image of arm 1) needs no force: the tree's balance at the motion's
+    q̈ is proved 0. Every other constrained tree of the catalogue needs its rows (a rope, a gear, a rolling
+    contact, a closed chain): a random state is the counterexample. A governor with arms of unequal length needs
+    its coupling (they swing at different rates): the proof rests on the symmetry, not on the model's name. Unequal
+    masses alone would not: a point mass on a massless arm swings as its pendulum whatever its mass."""
+    import dataclasses
+
+    from harness.scenes.effects import constraint_rows_idle
+
+    for name, system in models.catalogue().items():
+        if len(system.joints) <= len(system.coordinates):
+            continue
+        idle, why = constraint_rows_idle(system, system.default_parameters())
+        if name == "governor":
+            assert idle and "proved" in why
+        else:
+            assert not idle and "asks the constraints for" in why, name
+    governor = models.get("governor")
+    longer = Parameter("l_2", 0.7, "m", "the second arm's length")
+    lopsided = dataclasses.replace(governor, name="governor_lopsided", links=tuple(
+        dataclasses.replace(link, com=(0, 0, -longer)) if link.name == "arm_2" else link for link in governor.links))
+    idle, why = constraint_rows_idle(lopsided, lopsided.default_parameters())
+    assert not idle and "asks the constraints for" in why
+    coast = infer(governor, next(s for s in models.scenes("governor") if s.name == "coast"))
+    assert coast.rows[0] and "constraint rows inferred inactive" in coast.notes()

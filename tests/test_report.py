@@ -292,3 +292,25 @@ def test_a_system_page_says_where_a_target_is_out_of_reach_and_what_pruning_held
     view = pruning_view("cart_pendulum", scene, {"pruning": [{"system": "cart_pendulum", "scene": "released",
                                                               "sources": {"symbolic": fast}}]})
     assert "out of reach" not in next(r["ratio"] for r in view["ratios"] if r["source"] == "symbolic")
+
+
+def test_a_system_page_shows_constraint_rows_proved_inactive_and_their_price():
+    """The pruning block names the constraint rows proved inactive (the proof), those left out, and per engine with
+    the check's open = constrained proof the bench's constrained / open time ratio; a scene whose rows are needed
+    shows the counterexample."""
+    from harness.report.site import pruning_view
+    from harness.scenes.phenomena.closures import ROWS_CHECK
+
+    m = {"ratio": 2.1, "idle_all": [2.0 + 0.01 * k for k in range(21)], "pruned_all": [1.0] * 21,
+         "idle_seconds": 0.04, "pruned_seconds": 0.02}
+    scene = {"scene": "coast", "notes": {"effects declared": "gravity", "pruning": "nothing to prune",
+                                        "constraint rows inferred inactive": "proved 0",
+                                        "pruning: constraint rows left out": "coupling alpha_2 = -2 alpha_1"},
+             "checks": [{"check": ROWS_CHECK, "source": "pinocchio"}]}
+    view = pruning_view("governor", scene, {"pruning": [{"system": "governor", "scene": "coast",
+                                                         "rows": {"sources": {"pinocchio": m}}}]})
+    assert view["rows_idle"] == "proved 0" and view["rows_left_out"] == "coupling alpha_2 = -2 alpha_1"
+    assert [r["source"] for r in view["rows_ratios"]] == ["pinocchio"] and view["rows_ratios"][0]["ratio"].startswith("2.1 ×")
+    needed = pruning_view("toggle_press", {"scene": "return", "notes": {"effects declared": "gravity",
+                                                                         "constraint rows needed": "at q = [0.1] …"}}, None)
+    assert needed["rows_needed"] == "at q = [0.1] …" and not needed["rows_ratios"]

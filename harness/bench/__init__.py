@@ -59,7 +59,7 @@ Schema of ``bench.json`` (``schema: 2``; times in seconds, errors relative to th
                      "figure": path},
       "pruning": [{"system", "scene", "declared", "inferred" (effects that can act, harness.scenes.effects),
                    "inferred_idle" {effect: reason}, "idle_elements" {force element: reason}, "declared_idle",
-                   "undeclared_acting", "repeats",
+                   "undeclared_acting", "repeats", "constraint_rows": {"inactive", "why"} (a constrained tree),
                    "nothing": why (nothing to prune: no ratio) | "left_out": [effect], "left_out_elements":
                    [force element found idle inside an acting effect],
                    "sources": {"symbolic" | "pinocchio" | "mujoco": {"pruned_seconds", "idle_seconds" (the fastest of
@@ -67,7 +67,9 @@ Schema of ``bench.json`` (``schema: 2``; times in seconds, errors relative to th
                                ratios), "ratio_low", "ratio_high" (its ≥ 99.5 % confidence interval), "pruned_all",
                                "idle_all" (every run's seconds), "error" (pruned vs idle trajectory),
                                "evaluations": [pruned, idle], "method", "per_call" (symbolic: one call
-                               of the right-hand side, the same keys per call and "calls")} | {"skipped": why}}}],
+                               of the right-hand side, the same keys per call and "calls")} | {"skipped": why}},
+                   "rows": {"left_out": [constraint row], "proof", "sources": {"pinocchio" | "mujoco": the same keys}}
+                   (where the tree's constraint rows are proved inactive: the open tree against the constrained)}],
                   (before: {"system", "scene", "pruned_seconds", "idle_seconds", "speedup", …} of the symbolic
                   path alone)
       "pruning_contact": {"system", "scene", "source": "mujoco", "method", "collision_geoms", "left_out",

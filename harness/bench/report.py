@@ -345,7 +345,9 @@ def _pruning(rows: list[dict]) -> list[str]:
                      if r.get("undeclared_acting") else []))
                 for r in rows if r.get("declared_idle") or r.get("undeclared_acting")]
     if nothing:
-        lines += ["", f"Nothing to prune (no ratio): {', '.join(nothing)}."]
+        lines += ["", f"No effect to prune (no ratio): {', '.join(nothing)}."]
+    if any(r.get("rows") or r.get("constraint_rows") for r in rows):
+        lines += ["", *_rows(rows)]
     if disagree:
         lines += ["", "Declared and inferred effects disagree (reported, not fixed): " + "; ".join(disagree) + "."]
     return lines
@@ -358,10 +360,11 @@ def _pruning_goals(rows: list[dict]) -> list[dict]:
     noise of a target is listed as undecided (:func:`harness.scenes.phenomena.pruning.against`)."""
     out = []
     for source in PRUNING_SOURCES:
-        got = [(r, r["sources"][source]) for r in rows if "ratio" in r.get("sources", {}).get(source, {})]
+        got = [(r, r["sources"][source]) for r in _measurements(rows) if "ratio" in r["sources"].get(source, {})]
         if not got:
             continue
-        listed = ", ".join(f"{r['system']}/{r['scene']} {m['ratio']:.2f} ×{_noise(m)}" for r, m in got)
+        listed = ", ".join(f"{r['system']}/{r['scene']} {m['ratio']:.{0 if m['ratio'] >= 100 else 2}f} ×{_noise(m)}"
+                           for r, m in got)
         for target, end, what in (
                 (PRUNING_GOAL, 0, f"pruning pays: idle / pruned ≥ {PRUNING_GOAL:g} × ({source}, worst scene, low end "
                                   "of its interval, ≥ 99.5 % and the resolution)"),
@@ -392,6 +395,53 @@ def _pruning_goals(rows: list[dict]) -> list[dict]:
                 record["verdict"] = _overall(verdicts)
             out.append(record)
     return out
+
+
+def _measurements(rows: list[dict]) -> list[dict]:
+    """What the pruning bench measured, one entry per thing left out: a scene's effects (its row) and, where its
+    tree's constraint rows are proved inactive, those rows (``"rows"``: the scene named "… (constraint rows)")."""
+    out = []
+    for r in rows:
+        if "sources" in r:
+            out.append(r)
+        if r.get("rows"):
+            out.append({"system": r["system"], "scene": f"{r['scene']} (constraint rows)", **r["rows"]})
+    return out
+
+
+def _rows(rows: list[dict]) -> list[str]:
+    """The constraint rows proved inactive, left out: the open tree against the constrained tree, per engine."""
+    measured = [r for r in rows if r.get("rows")]
+    needed = [f"{r['system']}/{r['scene']} ({r['constraint_rows']['why']})" for r in rows
+              if r.get("constraint_rows") and not r["constraint_rows"]["inactive"]]
+    if not measured and not needed:
+        return []
+    lines = ["### Constraint rows pruned: the constrained tree / the open tree, per engine", "",
+             "A closed chain or coupling is simulated by the engines as the tree with its constraint rows (Pinocchio's "
+             "KKT forward dynamics with Baumgarte stabilization, MuJoCo's equality constraints). Where the tree's "
+             "balance (3.104) at the motion's q̈ is proved 0 at every state (harness.scenes.effects."
+             "constraint_rows_idle), the open tree keeps the constraints by itself and the rows are left out: "
+             "Pinocchio's `pin.aba` (no step limit for the stabilization), MuJoCo with its equality and constraint "
+             "flags off. Elsewhere a random state where the constraints must act is the counterexample (the system "
+             "pages show it).", "",
+             "| scene | left out | proof | pinocchio constrained / open | mujoco constrained / open | "
+             "open = constrained (worst error) |", "|---|---|---|---|---|---|"]
+    for r in measured:
+        cells, errors = [], []
+        for source in ("pinocchio", "mujoco"):
+            m = r["rows"]["sources"].get(source)
+            if not m:
+                cells.append("—")
+                continue
+            cells.append(f"{m['ratio']:.2f} ×{_noise(m)} ({_ms(m['idle_seconds'])} / {_ms(m['pruned_seconds'])} ms"
+                         + (f", {m['evaluations'][1]} / {m['evaluations'][0]} evaluations" if source == "pinocchio"
+                            else "") + ")" + (f" **{slower_pruned(m)}**" if slower_pruned(m) else ""))
+            errors.append(m["error"])
+        lines.append(f"| {r['system']}/{r['scene']} | {'; '.join(r['rows']['left_out'])} | {r['rows']['proof']} | "
+                     + " | ".join(cells) + f" | {max(errors, default=float('nan')):.1e} |")
+    if needed:
+        lines += ["", f"Constraint rows needed, kept (a state where the constraints must act): {'; '.join(needed)}."]
+    return lines
 
 
 def _verdict(m: dict, target: float) -> str:

@@ -343,7 +343,7 @@ def pruning_task(catalogue, system: str, scene: str, repeats: int = REPEATS) -> 
     the effects inferred beside the declared ones
     (:func:`harness.scenes.effects.infer`)."""
     from harness.scenes.effects import infer
-    from harness.scenes.phenomena.pruning import measure
+    from harness.scenes.phenomena.pruning import measure, measure_rows
 
     s, sc = get_scene(catalogue, system, scene)
     found = infer(s, sc)
@@ -352,7 +352,10 @@ def pruning_task(catalogue, system: str, scene: str, repeats: int = REPEATS) -> 
            "inferred_idle": dict(sorted(found.idle.items())), "idle_elements": dict(sorted(found.idle_elements.items())),
            "declared_idle": sorted(found.declared_idle), "undeclared_acting": sorted(found.undeclared_acting),
            "repeats": repeats}
-    return {**row, **measure(s, sc, motion, event, catalogue, repeats=repeats)}
+    if found.rows is not None:  # a constrained tree: its rows inactive (the proof) or needed (the counterexample)
+        row["constraint_rows"] = {"inactive": found.rows[0], "why": found.rows[1]}
+    rows = measure_rows(s, sc, found, repeats)   # the constraint rows of its tree, where proved inactive
+    return {**row, **measure(s, sc, motion, event, catalogue, repeats=repeats)} | ({"rows": rows} if rows else {})
 
 
 # --------------------------------------------------------------------------- sweep definition and analysis

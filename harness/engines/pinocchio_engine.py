@@ -471,11 +471,14 @@ class Constraints:
         return np.array(c), np.array(J).reshape(len(c), model.nv), np.array(drift)
 
     def forward_dynamics(self, theta, theta_dot, u: dict, loads, omega: float) -> np.ndarray:
-        """``θ̈`` of the constrained tree with Baumgarte stabilization ``γ = J̇ v + 2 ω ċ + ω² c``."""
+        """``θ̈`` of the constrained tree with Baumgarte stabilization ``γ = J̇ v + 2 ω ċ + ω² c``; without rows
+        (the open tree, its constraints proved inactive) ``pin.aba``."""
         pm = self.pm
         q, v = pm.to_pin(theta), pm.to_pin(theta_dot)
         f_spring, f_damper = pm.point_forces(q, v)
         tau = pm.input_forces(q, u, loads) + f_spring + f_damper
+        if not self.rows and not self.closures:  # the open tree: no rows, Pinocchio's ABA
+            return pm.from_pin(pin.aba(pm.model, pm.data, q, v, tau))
         c, J, drift = self.residual(q, v)
         gamma = drift + 2 * omega * (J @ v) + omega * omega * c
         return pm.from_pin(pin.forwardDynamics(pm.model, pm.data, q, v, tau, J, gamma))

@@ -102,7 +102,9 @@ _PRUNING_NOTES = {"effects declared": "declared", "effects inferred to act": "ac
                   "effects inferred idle": "idle", "force elements inferred idle": "idle_elements",
                   "never switches": "never_switches",
                   "pruning": "nothing", "pruning: effects left out": "left_out",
-                  "pruning: force elements left out": "left_out_elements", "pruning: friction held": "held"}
+                  "pruning: force elements left out": "left_out_elements", "pruning: friction held": "held",
+                  "constraint rows inferred inactive": "rows_idle", "constraint rows needed": "rows_needed",
+                  "pruning: constraint rows left out": "rows_left_out"}
 
 
 def pruning_view(system: str, scene: dict, bench: dict | None) -> dict | None:
@@ -122,6 +124,7 @@ def pruning_view(system: str, scene: dict, bench: dict | None) -> dict | None:
     run = _bench_run(bench, "pruning") if bench else {}
     view["ratios"], view["repeats"] = [], (measured or {}).get("repeats")
     view["measured"] = f"{run['command']} ({run.get('generated', '?')})" if run.get("command") else ""
+    view["rows_ratios"] = _rows_ratios(scene, (measured or {}).get("rows")) if view["rows_left_out"] else []
     if view["nothing"]:
         return view
     checked = {c.get("source") for c in scene.get("checks") or [] if c.get("check") == CHECK}
@@ -142,6 +145,27 @@ def pruning_view(system: str, scene: dict, bench: dict | None) -> dict | None:
             shown = notes.get(f"pruning, {source}", "not run")
         view["ratios"].append({"source": source, "ratio": shown})
     return view
+
+
+def _rows_ratios(scene: dict, measured: dict | None) -> list[dict]:
+    """Per engine, the time of the constrained tree / the open tree (its constraint rows proved inactive), where
+    the scene has the check's proof of that engine (:data:`~harness.scenes.phenomena.closures.ROWS_CHECK`)."""
+    from harness.scenes.phenomena.closures import ROWS_CHECK
+    from harness.scenes.phenomena.pruning import interval, slower_pruned
+
+    checked = {c.get("source") for c in scene.get("checks") or [] if c.get("check") == ROWS_CHECK}
+    out = []
+    for source in sorted(checked):
+        m = ((measured or {}).get("sources") or {}).get(source) or {}
+        if "ratio" in m:
+            low, high = interval(m)
+            finding = slower_pruned(m)
+            shown = (f"{m['ratio']:.3g} ×" + (f" [{low:.3g}, {high:.3g}]" if high > low else "")
+                     + (f" ({finding})" if finding else ""))
+        else:
+            shown = "not measured by the bench yet (harness bench --parts pruning)"
+        out.append({"source": source, "ratio": shown})
+    return out
 
 
 def _profile_figure(out: Path) -> None:

@@ -174,6 +174,10 @@ number follows (compared in <a href="#claims">Printed equations</a>).</p>
 <tr><td>effects inferred idle (reason)</td><td>{{ pr.idle or "none" }}</td></tr>
 <tr><td>force elements inferred idle (reason)</td><td>{{ pr.idle_elements or "none" }}</td></tr>
 {% if pr.never_switches %}<tr><td>never switches (proof)</td><td>{{ pr.never_switches }}</td></tr>{% endif %}
+{% if pr.rows_idle %}<tr><td>constraint rows inferred inactive (proof)</td><td>{{ pr.rows_idle }}</td></tr>{% endif %}
+{% if pr.rows_needed %}<tr><td>constraint rows needed (counterexample)</td><td>{{ pr.rows_needed }}</td></tr>{% endif %}
+{% if pr.rows_left_out %}<tr><td>constraint rows left out when pruned</td><td>{{ pr.rows_left_out }}</td></tr>
+{% for r in pr.rows_ratios %}<tr><td>time constrained / open tree, {{ r.source }}</td><td class="num">{{ r.ratio }}</td></tr>{% endfor %}{% endif %}
 {% for k, v in pr.disagreements.items() %}<tr><td>disagreement (a note, not fixed): {{ k }}</td><td>{{ v }}</td></tr>{% endfor %}
 {% if pr.nothing %}<tr><td>idle / pruned</td><td>{{ pr.nothing }}</td></tr>
 {% else %}<tr><td>left out when pruned</td><td>{{ pr.left_out or "no effect" }}{% if pr.left_out_elements %}; force elements {{ pr.left_out_elements }}{% endif %}{% if pr.held %}; the friction on {{ pr.held }} held (it never switches: no breakaway looked for){% endif %}</td></tr>

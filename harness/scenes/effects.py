@@ -29,7 +29,12 @@ What is inferred, each a proof on the model's expressions, not a sample of the m
   sliding friction, dampers) cannot act; the pruned scene holds the friction (:attr:`StickSlip.held`): its run
   looks for no breakaway.
 
-Not inferred here (left as declared): an inactive closure, and contact the geometry cannot reach, which needs the
+* **constraint rows** of a closed chain or coupling (the tree's, :mod:`harness.scenes.phenomena.closures`) that no
+  state needs (:func:`constraint_rows_idle`): the tree's balance (3.104) at the motion's ``q̈`` proved 0 at every
+  state, so the open tree keeps the constraints by itself (the governor's mirrored arms); a random state where it
+  is not is the counterexample that the rows are needed (the toggle press, the trebuchet, every rope and gear).
+
+Not inferred here (left as declared): contact the geometry cannot reach, which needs the
 motion: the lecture's systems carry no collision geometry, and for the robot's real meshes it is proved along the
 pruned run (:func:`harness.bench.contact_pruning.certified_contact_free`, a clearance bound at every step).
 """
@@ -119,14 +124,16 @@ def sticks_throughout(system: System, scene: Scene, event: StickSlip) -> str | N
 class Inferred:
     """The effects of one scene: ``declared`` (by hand), ``acting`` (inferred to be able to act), ``idle`` (an
     effect of the system or the scene that cannot act: its reason), ``idle_elements`` (force elements that
-    cannot act inside an effect that can: their reasons) and ``never_switches`` (an acting friction or contact
-    whose structural change cannot happen over the horizon: the proof)."""
+    cannot act inside an effect that can: their reasons), ``never_switches`` (an acting friction or contact
+    whose structural change cannot happen over the horizon: the proof) and ``rows`` (a constrained tree's
+    constraint rows: ``(inactive, the proof or the counterexample)``, :func:`constraint_rows_idle`; None without)."""
 
     declared: frozenset
     acting: frozenset
     idle: dict = field(default_factory=dict)
     idle_elements: dict = field(default_factory=dict)
     never_switches: dict = field(default_factory=dict)
+    rows: tuple | None = None   # a constrained tree's rows: (inactive, why) (constraint_rows_idle); None: no rows
 
     @property
     def declared_idle(self) -> frozenset:
@@ -170,6 +177,8 @@ class Inferred:
             out["force elements inferred idle"] = "; ".join(f"{k}: {v}" for k, v in sorted(self.idle_elements.items()))
         if self.never_switches:
             out["never switches"] = "; ".join(f"{k}: {v}" for k, v in sorted(self.never_switches.items()))
+        if self.rows is not None:
+            out["constraint rows inferred inactive" if self.rows[0] else "constraint rows needed"] = self.rows[1]
         if self.declared_idle:
             out["effects disagreement: declared but cannot act"] = ", ".join(
                 f"{e} ({self.idle.get(e, 'not in the system')})" for e in sorted(self.declared_idle))
@@ -254,6 +263,93 @@ def gravity_idle(system: System, params: dict, samples: int = 3, seed: int = 0) 
     return None
 
 
+def _trig_identity(expr) -> bool | None:
+    """Whether ``expr``, a rational function of the sines and cosines of symbols (after ``expand_trig``), vanishes
+    identically: its numerator as a polynomial in ``s_x = sin x``, ``c_x = cos x`` and the other symbols reduced
+    modulo ``s_x² + c_x² − 1`` (a Gröbner basis: the leading terms ``c_x²`` are coprime) leaves 0. Exact: what is
+    left is ``A + Σ c_x B`` of degree at most 1 in each ``c_x``, and it vanishes on every circle only if it is 0.
+    None: other functions (an ``arcsin``, a ``sqrt``) or an argument that is not a symbol, which this does not
+    decide. Floats are made exact rationals first (their binary values): float arithmetic in the expansion would
+    round a small term away and prove what is not so."""
+    expr = sp.sympify(expr)
+    expr = sp.together(sp.expand_trig(expr.xreplace({f: sp.Rational(f) for f in expr.atoms(sp.Float)})))
+    numerator = sp.numer(expr)
+    angles = sorted({f.args[0] for f in numerator.atoms(sp.sin, sp.cos)}, key=sp.default_sort_key)
+    if any(not a.is_Symbol for a in angles):
+        return None
+    s = {a: sp.Dummy(f"s_{a}") for a in angles}
+    c = {a: sp.Dummy(f"c_{a}") for a in angles}
+    poly = sp.expand(numerator.xreplace({**{sp.sin(a): s[a] for a in angles}, **{sp.cos(a): c[a] for a in angles}}))
+    if poly.atoms(sp.Function) or poly.has(sp.Pow) and any(not e.exp.is_Integer for e in poly.atoms(sp.Pow)):
+        return None
+    if not angles:
+        return poly == 0
+    others = sorted(poly.free_symbols - set(s.values()) - set(c.values()), key=sp.default_sort_key)
+    _, rest = sp.reduced(poly, [s[a] ** 2 + c[a] ** 2 - 1 for a in angles], *c.values(), *s.values(), *others,
+                         order="lex")
+    return sp.expand(rest) == 0
+
+
+_ROWS: dict = {}
+
+
+def constraint_rows_idle(system: System, params: dict, samples: int = 3, seed: int = 0) -> tuple[bool, str]:
+    """Whether the constraint rows of a constrained tree (more tree joints than lecture coordinates: the map's
+    couplings and closures, :mod:`harness.scenes.phenomena.closures`) can act: ``(False, why they are needed)`` or
+    ``(True, the proof that none can)``. The tree's balance :func:`~harness.derivation.bodies.joint_space_balance`
+    at the motion's ``q̈ = M⁻¹ (f_np − C q̇ − g)`` is what the constraints must supply, ``Φᵀ λ`` (3.104). Where it is
+    0 at every state ``(q, q̇, u)``, the constrained motion solves the open tree's equations with ``λ = 0``: the
+    open tree's vector field is tangent to the constraint manifold ``{c = 0, ċ = 0}``, and by uniqueness the open
+    tree started on it stays on it (the governor's two arms, mirror images, stay mirrored without the coupling).
+    Random states first (a balance far above round-off is a counterexample: the rows are needed), then the proof
+    with the parameters' values as exact rationals (:func:`_trig_identity`); not proved is needed (a bound, not a
+    guess)."""
+    from harness.derivation.bodies import joint_space_balance
+    from harness.derivation.compile import compiled
+    from harness.derivation.derive import derive
+
+    if len(system.joints) <= len(system.coordinates):
+        return False, "the map does not constrain the tree: no constraint rows"
+    key = (system.fingerprint(), tuple(sorted((k, float(v)) for k, v in params.items())))
+    if key in _ROWS:
+        return _ROWS[key]
+    balance = joint_space_balance(system)
+    names = {x.name: x for x in balance.free_symbols}
+    accels = [c.accel for c in system.coordinates]
+    args = [*system.q, *system.qd, *accels, *(names.get(p.name, sp.Dummy()) for p in system.parameters),
+            *(names.get(i.name, sp.Dummy()) for i in system.inputs)]
+    f = sp.lambdify(args, list(balance), modules="numpy")
+    c, p = compiled(system), [float(params[x.name]) for x in system.parameters]
+    rng = np.random.default_rng(seed)
+    for _ in range(samples):
+        q = np.array([rng.uniform(*(float(v) for v in x.range)) if x.range is not None else rng.uniform(-1.0, 1.0)
+                      for x in system.coordinates])
+        qd, u = rng.uniform(-1.0, 1.0, len(q)), rng.uniform(-1.0, 1.0, len(system.inputs))
+        qdd = c.forward_dynamics(q, qd, p, u)
+        M, Cqd, g, f_np = c.terms(q, qd, p, u)
+        needed = np.abs(np.asarray(f(*q, *qd, *qdd, *p, *u), dtype=float))
+        scale = 1.0 + max(np.abs(M @ qdd).max(), np.abs(Cqd).max(), np.abs(g).max(), np.abs(f_np).max())
+        if needed.max() > 1e-6 * scale:
+            k = int(np.argmax(needed))
+            unit = "N m" if system.joints[k].type == "revolute" else "N"
+            _ROWS[key] = out = (False, (
+                f"at q = {np.round(q, 4).tolist()}, q̇ = {np.round(qd, 4).tolist()}"
+                + (f", u = {np.round(u, 4).tolist()}" if len(u) else "")
+                + f" the tree's balance (3.104) asks the constraints for {needed[k]:.4g} {unit} in joint "
+                  f"{system.joints[k].name}"))
+            return out
+    d = derive(system)
+    qdd = d.M.LUsolve(d.f_np - d.C * sp.Matrix(system.qd) - d.g)
+    exact = {x: sp.Rational(repr(float(params[x.name]))) for x in balance.free_symbols | set(qdd.free_symbols)
+             if x.name in params}
+    proved = all(_trig_identity(e.xreplace(dict(zip(accels, qdd))).xreplace(exact)) is True for e in balance)
+    _ROWS[key] = out = (proved, "the tree's balance (3.104) at the motion's q̈ is 0 at every state (proved), so "
+                                "the open tree's motion keeps the constraints without a force" if proved
+                        else "not proved inactive: the tree's balance at the motion's q̈ is small at random states "
+                             "but not proved 0")
+    return out
+
+
 def infer(system: System, scene: Scene) -> Inferred:
     """The effects that can act in ``scene`` (see the module docstring), beside those it declares."""
     params = _values(system, scene)
@@ -285,7 +381,9 @@ def infer(system: System, scene: Scene) -> Inferred:
                            "which the scene does not have"
         elif effect not in idle:
             idle[effect] = "the system has no such effect"
-    return Inferred(frozenset(scene.effects), frozenset(acting), idle, idle_elements, never)
+    model = pruned(system, scene.effects)   # the rows of the tree the scene simulates
+    rows = constraint_rows_idle(model, params) if len(model.joints) > len(model.coordinates) else None
+    return Inferred(frozenset(scene.effects), frozenset(acting), idle, idle_elements, never, rows)
 
 
 def inferred_scene(system: System, scene: Scene) -> Scene:
@@ -293,5 +391,5 @@ def inferred_scene(system: System, scene: Scene) -> Scene:
     return dataclasses.replace(scene, effects=infer(system, scene).acting)
 
 
-__all__ = ["EFFECTS", "Inferred", "bound_over", "gravity_idle", "infer", "inferred_scene", "sticks_throughout",
+__all__ = ["EFFECTS", "Inferred", "bound_over", "constraint_rows_idle", "gravity_idle", "infer", "inferred_scene", "sticks_throughout",
            "zero_over"]

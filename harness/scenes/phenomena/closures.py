@@ -55,9 +55,11 @@ from harness.engines import simulating
 from harness.engines.mujoco_engine import ClosureGuide, JointCoupling, MujocoModel, Options
 from harness.errors import ModelError
 from harness.export.numeric import instantiate, point_name
+from harness.modeling.scenes import Constant
 from harness.modeling.system import value_at
 from harness.scenes import simulate as sim
 from harness.scenes.base import ENGINE, Phenomenon, SceneRun, soft_convergence
+from harness.scenes.effects import infer
 
 BAUMGARTE_OMEGA = 20.0     # rad/s: constraint errors decay over ~0.1 s, far below the integrator's drift
 BAUMGARTE_STEP = 0.5       # steps of at most 0.5/ω: the integrator resolves the stabilization it relies on
@@ -65,6 +67,7 @@ DRIFT = Bound("constraint drift", 1e-8, "max |c| of Pinocchio's constrained tree
               "forming each constraint: 100 × the integrator's rtol 1e-10")
 DRIFT_TOL = DRIFT.value
 GUIDE_MASS_RATIO = 1e-5
+ROWS_CHECK = "pruned = constraint rows present but idle"   # the open tree against the constrained one
 
 
 @dataclass(frozen=True)
@@ -123,6 +126,13 @@ def couplings(system, dyn: sim.Dynamics) -> list[Coupling]:
     return out
 
 
+def rows_of(system, scene) -> list[str]:
+    """The constraint rows the engines impose on the tree of ``system`` in ``scene``: its couplings and closures."""
+    dyn = sim.Dynamics(system, scene, "symbolic")
+    return ([f"coupling {cp.dependent} = " + (f"{cp.offset:g} + " if cp.offset else "") + f"{cp.ratio:g} {cp.independent}"
+             for cp in couplings(dyn.system, dyn)] + [f"closure {cl.name}" for cl in dyn.system.closures])
+
+
 class _Recover:
     """Lecture coordinates from tree coordinates: Gauss-Newton on ``φ(q) = θ`` from the last solution, ``q̇`` the
     least-squares solution of ``J q̇ = θ̇`` (MuJoCo's tree meets its soft constraints only approximately)."""
@@ -179,13 +189,15 @@ class PinocchioConstrained:
     """The tree in Pinocchio with the couplings and closures as rows of the KKT constraint Jacobian
     (:class:`harness.engines.pinocchio_engine.Constraints`)."""
 
-    def __init__(self, system, scene):
+    def __init__(self, system, scene, rows: bool = True):
         self.dyn = sim.Dynamics(system, scene, "pinocchio")
         self.pm = self.dyn.model
         self.couplings = couplings(self.dyn.system, self.dyn)
         self.constraints = self.pm.constraints(
             [(cp.dependent, cp.independent, cp.offset, cp.ratio) for cp in self.couplings],
             [(point_name(cl.point), cl.normal, value_at(cl.value, self.dyn.params)) for cl in self.dyn.system.closures])
+        self.rows = rows   # False: the open tree (rows proved inactive), stepped by pin.aba; its drift still measured
+        self.dynamics = self.constraints if rows else self.pm.constraints([], [])
         self.recover = _Recover(self.dyn, scene.q0)
         self.has_loads = bool(self.dyn.load_functions)
         self.evaluations = 0
@@ -199,19 +211,23 @@ class PinocchioConstrained:
             lq, lqd = self.recover.for_loads(theta, theta_dot)
             loads = self.dyn.loads(lq, lqd, self.dyn.scene.u(t, self.dyn.system))
         inputs = dict(zip((i.name for i in self.dyn.system.inputs), self.dyn.scene.u(t, self.dyn.system)))
-        return np.concatenate([theta_dot, self.constraints.forward_dynamics(theta, theta_dot, inputs, loads,
-                                                                             BAUMGARTE_OMEGA)])
+        return np.concatenate([theta_dot, self.dynamics.forward_dynamics(theta, theta_dot, inputs, loads,
+                                                                          BAUMGARTE_OMEGA)])
 
 
-def pinocchio_constrained(system, scene, rtol=1e-10, atol=1e-10, horizon=None) -> sim.Trajectory:
+def pinocchio_constrained(system, scene, rtol=1e-10, atol=1e-10, horizon=None, rows: bool = True) -> sim.Trajectory:
     """Pinocchio's constrained tree, integrated by DOP853; lecture coordinates recovered; the largest
-    constraint violation, relative to its scale (see :data:`DRIFT`), in ``notes['drift']``."""
-    rhs = PinocchioConstrained(system, scene)
+    constraint violation, relative to its scale (see :data:`DRIFT`), in ``notes['drift']``. ``rows`` False: the
+    open tree, its constraint rows proved inactive (:func:`harness.scenes.effects.constraint_rows_idle`), stepped
+    by ``pin.aba`` with no stabilization to resolve (no step limit); its drift is how far it leaves the constraints
+    by itself."""
+    rhs = PinocchioConstrained(system, scene, rows)
     theta0, theta_dot0 = _start(system, scene, rhs.dyn)
     n = len(theta0)
     start = time.perf_counter()
     t, y, _ = sim.solve_piecewise(rhs, scene, np.concatenate([theta0, theta_dot0]), "DOP853", rtol, atol,
-                                  sim.sample_times(scene), end=horizon, max_step=BAUMGARTE_STEP / BAUMGARTE_OMEGA)
+                                  sim.sample_times(scene), end=horizon,
+                                  max_step=BAUMGARTE_STEP / BAUMGARTE_OMEGA if rows else np.inf)
     seconds = time.perf_counter() - start
     recover = _Recover(rhs.dyn, scene.q0)
     theta_scale = np.maximum(1.0, np.max(np.abs(y[:n]), axis=1))
@@ -223,21 +239,25 @@ def pinocchio_constrained(system, scene, rtol=1e-10, atol=1e-10, horizon=None) -
         residuals.append(rhs.constraints.violation(theta, theta_dot, theta_scale))
     drift = max((float(np.max(c / scale)) for c, scale in residuals if len(c)), default=0.0)
     q, qd = np.array(q), np.array(qd)
-    tr = sim.Trajectory("pinocchio (constrained tree, pin.forwardDynamics KKT, DOP853 1e-10)", t, q, qd, seconds,
+    tr = sim.Trajectory("pinocchio (constrained tree, pin.forwardDynamics KKT, DOP853 1e-10)" if rows else
+                        "pinocchio (open tree, rows proved inactive, pin.aba, DOP853 1e-10)", t, q, qd, seconds,
                         rhs.evaluations, energy_of=rhs.dyn.energy)
     tr.notes["drift"] = drift
     return tr
 
 
 # --------------------------------------------------------------------------------------------- MuJoCo
-def mujoco_transforms(system, scene, dt: float):
+def mujoco_transforms(system, scene, dt: float, rows: bool = True):
     """The spec transforms of the pruned system's MJCF: the couplings as joint equalities and the closures as
     guide bodies joined by connect equalities (equality and constraint flags on, stiff impedance, implicitfast at
-    ``dt``); with the tree and the symbolic dynamics of the pruned system."""
+    ``dt``); with the tree and the symbolic dynamics of the pruned system. ``rows`` False: the open tree (its rows
+    proved inactive), no equality, the equality and constraint flags off."""
     dyn = sim.Dynamics(system, scene, "symbolic")
     s = dyn.system
     tree = instantiate(s, dyn.params)
     solref = (2 * dt, 1.0)
+    if not rows:
+        return [Options(timestep=dt, integrator="implicitfast", disable=("equality", "constraint"))], tree, dyn
     transforms = [Options(timestep=dt, integrator="implicitfast", enable=("equality", "constraint"))]
     transforms += [JointCoupling(cp.dependent, cp.independent, cp.offset, cp.ratio, solref)
                    for cp in couplings(s, dyn)]
@@ -247,10 +267,11 @@ def mujoco_transforms(system, scene, dt: float):
     return transforms, tree, dyn
 
 
-def mujoco_constrained(system, scene, dt: float, horizon=None) -> sim.Trajectory:
+def mujoco_constrained(system, scene, dt: float, horizon=None, rows: bool = True) -> sim.Trajectory:
     """MuJoCo's own stepping of the constrained tree (inputs as ``ctrl``, loads as ``qfrc_applied`` from
-    ``mj_applyFT`` at the step's kinematics, between ``mj_step1`` and ``mj_step2``)."""
-    transforms, tree, dyn = mujoco_transforms(system, scene, dt)
+    ``mj_applyFT`` at the step's kinematics, between ``mj_step1`` and ``mj_step2``); ``rows`` False: the open tree
+    (:func:`mujoco_transforms`)."""
+    transforms, tree, dyn = mujoco_transforms(system, scene, dt, rows)
     mm = MujocoModel(tree, transforms=transforms)
     guides = [t for t in transforms if isinstance(t, ClosureGuide)]
     theta, theta_dot = _start(system, scene, dyn)
@@ -265,9 +286,8 @@ def mujoco_constrained(system, scene, dt: float, horizon=None) -> sim.Trajectory
     steps = int(round(end / dt))
     every = max(1, int(round(scene.horizon / dt / 200)))
 
-    def sample(k):
-        q, qd = recover(mm.theta(), mm.theta_dot())
-        return mm.time, q, qd
+    def sample(k):  # the tree's state; the lecture coordinates recovered after the timed run
+        return mm.time, mm.theta(), mm.theta_dot()
 
     def between(k):
         if has_loads:
@@ -276,12 +296,18 @@ def mujoco_constrained(system, scene, dt: float, horizon=None) -> sim.Trajectory
         for compensate in compensations:  # the guide's inertia cancelled with its last acceleration (lag dt)
             compensate()
 
-    start = time.perf_counter()
-    out = mm.rollout(steps, every, sample, before=lambda k: mm.set_inputs(sim.held_inputs(scene, mm.actuators, k, dt)),
-                     between=between)
+    held = all(isinstance(scene.inputs.get(name), (Constant, type(None))) for name in mm.actuators)
+    if held:  # constant inputs: set once, as every step would set them
+        mm.set_inputs(sim.held_inputs(scene, mm.actuators, 0, dt))
+    start = time.perf_counter()  # no callback where there is nothing to do: MuJoCo's loop in C (rollout)
+    out = mm.rollout(steps, every, sample,
+                     before=None if held else lambda k: mm.set_inputs(sim.held_inputs(scene, mm.actuators, k, dt)),
+                     between=between if has_loads or compensations else None)
     seconds = time.perf_counter() - start
-    q, qd = np.array([x[1] for x in out]), np.array([x[2] for x in out])
-    return sim.Trajectory(f"mujoco (equality constraints, implicitfast, dt={dt:g})", np.array([x[0] for x in out]),
+    recovered = [recover(theta, theta_dot) for _, theta, theta_dot in out]
+    q, qd = np.array([x[0] for x in recovered]), np.array([x[1] for x in recovered])
+    return sim.Trajectory(f"mujoco ({'equality constraints' if rows else 'open tree, rows proved inactive'}, "
+                          f"implicitfast, dt={dt:g})", np.array([x[0] for x in out]),
                           q, qd, seconds, steps, energy_of=dyn.energy)
 
 
@@ -312,8 +338,22 @@ class Closures(Phenomenon):
             def simulate(h):
                 return mapping(mujoco_constrained(system, scene, h, horizon=horizon))
 
-            fine, _ = soft_convergence(result, "MuJoCo equality constraints", simulate, ref, dt)
+            fine, fine_dt = soft_convergence(result, "MuJoCo equality constraints", simulate, ref, dt)
             result.trajectories["mujoco constrained"] = fine
+        rows = infer(system, scene).rows
+        if rows and rows[0]:  # proved inactive: the open tree, pruned, against the constrained one (the proof)
+            result.notes["pruning: constraint rows left out"] = "; ".join(rows_of(system, scene))
+            if "pinocchio constrained" in result.trajectories:
+                open_tree = mapping(pinocchio_constrained(system, scene, horizon=horizon, rows=False))
+                result.add(ENGINE.check(ROWS_CHECK, "pinocchio", sim.max_error(open_tree,
+                                                                             result.trajectories["pinocchio constrained"]),
+                                        detail="the open tree by pin.aba against the constrained tree (KKT), "
+                                               "DOP853 1e-10"))
+            if "mujoco constrained" in result.trajectories:
+                open_tree = mapping(mujoco_constrained(system, scene, fine_dt, horizon=horizon, rows=False))
+                result.add(ENGINE.check(ROWS_CHECK, "mujoco", sim.max_error(open_tree, fine),
+                                        detail=f"the open tree (equality and constraint flags off) against the "
+                                               f"equality-constrained tree, implicitfast dt={fine_dt:g}"))
 
 
 PLUGIN = Closures()

@@ -28,6 +28,12 @@ inference.
   its event's plug-in (dry friction, contact): not measured here, except a friction held, where that run (MuJoCo's
   ``frictionloss``) is the idle one and the pruned one has nothing to step.
 
+Constraint rows: where the tree's couplings and closures are proved inactive
+(:func:`~harness.scenes.effects.constraint_rows_idle`: the governor's mirrored arms), the engines' constrained tree
+(:mod:`harness.scenes.phenomena.closures`) is pruned to the open tree, a measurement of its own
+(:func:`measure_rows`): Pinocchio's ``pin.aba`` against its KKT forward dynamics, MuJoCo without its equality
+constraints; the check's proof is the closures plug-in's (``ROWS_CHECK``).
+
 Each source: the same trajectory (``ENGINE``, :mod:`harness.scenes.base`), checked by ``harness check`` from one
 run of each (the proof), and the time ratio idle / pruned, measured by ``harness bench --parts pruning`` (the price):
 ``repeats`` pairs of runs in one process, each pair in turn pruned first and idle first (:func:`alternating`), one
@@ -180,6 +186,41 @@ def measure(system, scene, motion, event, catalogue=None, sources=SOURCES, repea
         if repeats > 1 and not steps_itself(source) and lean[0].evaluations == full[0].evaluations:  # same steps
             out["sources"][source]["per_call"] = per_call(lean_system, lean_scene, idle_system, idle_scene, repeats,
                                                           source)
+    return out
+
+
+CLOSURE_STEPS = 4000   # MuJoCo's implicitfast steps of the constrained tree (at least; the closures plug-in's first dt)
+
+
+def measure_rows(system, scene, found=None, repeats: int = 1) -> dict | None:
+    """The constraint rows of the scene's tree proved inactive (:func:`harness.scenes.effects.constraint_rows_idle`)
+    left out, by each engine that imposes them (:mod:`harness.scenes.phenomena.closures`): Pinocchio's open tree
+    (``pin.aba``, DOP853 1e-10 without the step limit its Baumgarte stabilization needs) against its constrained
+    tree (KKT ``pin.forwardDynamics``), MuJoCo's open tree (equality and constraint flags off) against its
+    equality-constrained tree (implicitfast, the same ``dt``). ``{"left_out": [row], "proof", "sources": {source:
+    :func:`price` with "error", "evaluations", "method"}}``; None where the scene's tree has no rows or they are
+    needed."""
+    from harness.scenes.phenomena import closures
+
+    found = found or infer(system, scene)
+    if not found.rows or not found.rows[0]:
+        return None
+    if scene.events:
+        raise ValueError("a scene with events: its tree is simulated up to the event by the closures plug-in")
+    dt = scene.horizon / sim.grid_steps(scene, CLOSURE_STEPS)
+    runs = {"pinocchio": (lambda: closures.pinocchio_constrained(system, scene, rows=False),
+                          lambda: closures.pinocchio_constrained(system, scene),
+                          "open tree pin.aba against constrained tree pin.forwardDynamics (KKT, Baumgarte), DOP853 1e-10"),
+            "mujoco": (lambda: closures.mujoco_constrained(system, scene, dt, rows=False),
+                       lambda: closures.mujoco_constrained(system, scene, dt),
+                       f"open tree (equality, constraint flags off) against equality-constrained tree, implicitfast "
+                       f"dt={dt:g}")}
+    out = {"left_out": closures.rows_of(system, scene), "proof": found.rows[1], "sources": {}}
+    for source, (lean_run, full_run, method) in runs.items():
+        lean, full = paired(lean_run, full_run, repeats)
+        out["sources"][source] = {**price([t.seconds for t in lean], [t.seconds for t in full]),
+                                  "error": sim.max_error(full[0], lean[0]),
+                                  "evaluations": [lean[0].evaluations, full[0].evaluations], "method": method}
     return out
 
 
