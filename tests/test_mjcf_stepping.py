@@ -93,3 +93,32 @@ def test_rollout_steps_alike_in_mujocos_loop_and_ours():
         runs.append(np.array(samples))
     assert len(runs[0]) == 103 // 7 + 2 and runs[0][-2][0] == 98
     assert np.array_equal(runs[0], runs[1])
+
+
+def test_constant_inputs_are_set_once_and_step_alike():
+    """``simulate.input_setter``: constant inputs (and inputs not driven: 0) are set once, the rollout runs in
+    MuJoCo's own loop, and the samples equal those of setting them before every step bit for bit; an input that
+    varies is set before every step."""
+    import dataclasses
+
+    from harness.modeling.scenes import Constant, Sine
+    from harness.scenes import simulate as sim
+
+    system = models.CATALOGUE.get("cart_pendulum")
+    (f_e,) = system.inputs
+    runs = []
+    for per_step in (False, True):
+        scene = next(s for s in models.CATALOGUE.scenes("cart_pendulum") if s.name == "shaken")
+        scene = dataclasses.replace(scene, inputs={f_e.name: Constant(2.5)})
+        model = sim.Dynamics(system, scene, "mujoco").model
+        model.set_state(np.array([0.2, 0.3]), np.zeros(2))
+        before = sim.input_setter(scene, model, 0.002)
+        assert before is None and model.data.ctrl[0] == 2.5
+        if per_step:
+            before = lambda k: model.set_inputs(sim.held_inputs(scene, model.actuators, k, 0.002))  # noqa: E731
+        runs.append(np.array(model.rollout(50, 10, lambda k: np.concatenate([model.theta(), model.theta_dot()]),
+                                           before=before)))
+    assert np.array_equal(runs[0], runs[1])
+    shaken = next(s for s in models.CATALOGUE.scenes("cart_pendulum") if s.name == "shaken")
+    assert isinstance(shaken.inputs[f_e.name], Sine)
+    assert sim.input_setter(shaken, sim.Dynamics(system, shaken, "mujoco").model, 0.002) is not None

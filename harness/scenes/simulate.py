@@ -24,7 +24,7 @@ from harness.engines.base import Load, lecture_qdd, load_functions, loads_read_s
 from harness.engines.mujoco_engine import Options
 from harness.export.numeric import instantiate
 from harness.modeling.system import System
-from harness.modeling.scenes import Scene, pruned
+from harness.modeling.scenes import Constant, Scene, pruned
 
 # atol two decades below rtol: with atol = rtol = 1e-12 a component passing through 0 is controlled to 1e-12
 # absolute, and hollow_cylinder's swing amplified that to a global error of 1.2e-9 (1.4e-10 quarter_car's bump);
@@ -287,6 +287,20 @@ def held_inputs(scene: Scene, names, k: int, timestep: float) -> dict:
     return {name: scene.inputs[name](t) if name in scene.inputs else 0.0 for name in names}
 
 
+def input_setter(scene: Scene, model, timestep: float, names=None):
+    """The ``before`` of a MuJoCo rollout (:meth:`~harness.engines.mujoco_engine.MujocoModel.rollout`) that holds
+    the scene's inputs of ``names`` (the model's actuators) over each step (:func:`held_inputs`); None where every
+    one of them is a constant (or not driven: 0), set here once — the values every step would set —, so that MuJoCo
+    steps in its own loop and a run's time is MuJoCo's, not a Python call per step (measured on cart_pendulum: 4.65
+    µs a step with ``mj_step(nstep)``, about 1.5 µs more with a callback)."""
+    names = list(model.actuators if names is None else names)
+    if all(isinstance(scene.inputs.get(name), (Constant, type(None))) for name in names):
+        if names:
+            model.set_inputs(held_inputs(scene, names, 0, timestep))
+        return None
+    return lambda k: model.set_inputs(held_inputs(scene, names, k, timestep))
+
+
 def mujoco_native(system: System, scene: Scene, timestep: float, integrator: str = "RK4") -> Trajectory:
     """MuJoCo's own integrator on the exported MJCF of the pruned system (identity maps only: the tree
     coordinates are the lecture coordinates; inputs on joints only)."""
@@ -302,9 +316,9 @@ def mujoco_native(system: System, scene: Scene, timestep: float, integrator: str
     t_eval = sample_times(scene)
     steps = int(round(scene.horizon / timestep))
     every = max(1, int(round(steps / (len(t_eval) - 1))))
+    before = input_setter(scene, model, timestep)
     start = time.perf_counter()
-    out = model.rollout(steps, every, lambda k: (model.time, model.theta(), model.theta_dot()),
-                        before=lambda k: model.set_inputs(held_inputs(scene, model.actuators, k, timestep)),
+    out = model.rollout(steps, every, lambda k: (model.time, model.theta(), model.theta_dot()), before=before,
                         check=f"{system.name} scene {scene.name}")  # an unstable run is a failure, not a trajectory
     seconds = time.perf_counter() - start
     q, qd = np.array([x[1] for x in out]), np.array([x[2] for x in out])

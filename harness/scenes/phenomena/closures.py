@@ -55,7 +55,6 @@ from harness.engines import simulating
 from harness.engines.mujoco_engine import ClosureGuide, JointCoupling, MujocoModel, Options
 from harness.errors import ModelError
 from harness.export.numeric import instantiate, point_name
-from harness.modeling.scenes import Constant
 from harness.modeling.system import value_at
 from harness.scenes import simulate as sim
 from harness.scenes.base import ENGINE, Phenomenon, SceneRun, soft_convergence
@@ -296,13 +295,9 @@ def mujoco_constrained(system, scene, dt: float, horizon=None, rows: bool = True
         for compensate in compensations:  # the guide's inertia cancelled with its last acceleration (lag dt)
             compensate()
 
-    held = all(isinstance(scene.inputs.get(name), (Constant, type(None))) for name in mm.actuators)
-    if held:  # constant inputs: set once, as every step would set them
-        mm.set_inputs(sim.held_inputs(scene, mm.actuators, 0, dt))
+    before = sim.input_setter(scene, mm, dt)
     start = time.perf_counter()  # no callback where there is nothing to do: MuJoCo's loop in C (rollout)
-    out = mm.rollout(steps, every, sample,
-                     before=None if held else lambda k: mm.set_inputs(sim.held_inputs(scene, mm.actuators, k, dt)),
-                     between=between if has_loads or compensations else None)
+    out = mm.rollout(steps, every, sample, before=before, between=between if has_loads or compensations else None)
     seconds = time.perf_counter() - start
     recovered = [recover(theta, theta_dot) for _, theta, theta_dot in out]
     q, qd = np.array([x[0] for x in recovered]), np.array([x[1] for x in recovered])

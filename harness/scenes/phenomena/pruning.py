@@ -121,9 +121,11 @@ class MujocoStepper:
         loads, inputs, names = self.loads, self.inputs, self.kept_inputs
         p = self.kept_p
 
+        held = sim.input_setter(scene, model, dt, inputs) is None   # constant inputs: set once here
+
         def before(k):
             t = (k + 0.5) * dt
-            if inputs:
+            if inputs and not held:
                 model.set_inputs({name: scene.inputs[name](t) if name in scene.inputs else 0.0 for name in inputs})
             if loads:
                 u = np.array([scene.inputs[name](t) if name in scene.inputs else 0.0 for name in names])
@@ -135,7 +137,7 @@ class MujocoStepper:
 
         start = time.perf_counter()
         out = model.rollout(steps, every, lambda k: (model.time, model.theta(), model.theta_dot()),
-                            before=before if (inputs or loads) else None, check=f"{scene.name} (pruning)")
+                            before=before if (inputs and not held) or loads else None, check=f"{scene.name} (pruning)")
         seconds = time.perf_counter() - start
         return sim.Trajectory(f"mujoco (mj_step RK4, dt={dt:g}{', disabled ' + ', '.join(self.flags) if self.flags else ''})",
                               np.array([x[0] for x in out]), np.array([x[1] for x in out]),
