@@ -7,6 +7,7 @@ breakpoints, a nonlinear closed-chain map, stick-slip events with MuJoCo's frict
 its threshold, the trebuchet's lift-off); ``harness check`` (the README's main command) and ``pytest -m slow``
 run every scene of every system."""
 
+import numpy as np
 import pytest
 
 import models
@@ -61,6 +62,27 @@ def test_stick_slip_switches_at_the_predicted_threshold():
     ref = stick_slip.stick_slip(system, scene, event, "symbolic")
     assert abs(ref.events[0].time - stick_slip.predicted_breakaway(system, scene, event)) < stick_slip.EVENT.value
     assert [e.after for e in ref.events[:4]] == ["slide +", "stick", "slide -", "stick"]
+
+
+def test_a_stuck_mass_needs_no_integration_and_its_breakaway_is_the_guards_root():
+    """At rest the state is held and the guard is a function of time through the inputs alone: with forces affine
+    in the inputs a bound over the segment proves sticking without a scan (stick_slip/holds: two forward-dynamics
+    calls), and otherwise the scan finds the same breakaway as the guard evaluated call by call."""
+    from harness.scenes.phenomena import stick_slip
+
+    system = models.get("stick_slip")
+    scenes = {s.name: s for s in models.scenes("stick_slip")}
+    assert stick_slip.affine_in_inputs(system)
+    holds = stick_slip._StickSlipDynamics(system, scenes["holds"], scenes["holds"].events[0], "symbolic")
+    assert holds.breakaway(0.0, scenes["holds"].horizon, np.array(scenes["holds"].q0)) == (None, 2)
+    scene = scenes["stick_slip"]
+    h = stick_slip._StickSlipDynamics(system, scene, scene.events[0], "symbolic")
+    q = np.array(scene.q0)
+    affine, calls = h.breakaway(0.0, scene.horizon, q)
+    h.affine = False
+    exact, scanned = h.breakaway(0.0, scene.horizon, q)
+    assert calls == 2 and scanned > 40 and abs(affine - exact) < 1e-13   # 40 grid points to 0.31 s, then brentq
+    assert abs(affine - stick_slip.predicted_breakaway(system, scene, scene.events[0])) < 1e-12
 
 
 def test_rolling_sphere_rolls_above_and_slips_below_the_threshold():

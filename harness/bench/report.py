@@ -431,7 +431,7 @@ def _rows(rows: list[dict]) -> list[str]:
         for source in ("pinocchio", "mujoco"):
             m = r["rows"]["sources"].get(source)
             if not m:
-                cells.append("—")
+                cells.append(f"not measured: {r['rows']['skipped']}" if r["rows"].get("skipped") else "—")
                 continue
             cells.append(f"{m['ratio']:.2f} ×{_noise(m)} ({_ms(m['idle_seconds'])} / {_ms(m['pruned_seconds'])} ms"
                          + (f", {m['evaluations'][1]} / {m['evaluations'][0]} evaluations" if source == "pinocchio"

@@ -87,7 +87,10 @@ class Dynamics:
 
     def __call__(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
         self.evaluations += 1
-        u = self.scene.u(t, self.system)
+        return self.at(self.scene.u(t, self.system), q, qd)
+
+    def at(self, u: np.ndarray, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
+        """``q̈`` at the inputs ``u`` (the scene's at some time, or any other values)."""
         if self.model is None:
             return self.c.forward_dynamics(q, qd, self.p, u)
         if self.c.identity_map:  # θ = q, θ̇ = q̇: the engine's forward dynamics is q̈ (no map to evaluate)

@@ -299,7 +299,8 @@ def mujoco_constrained(system, scene, dt: float, horizon=None, rows: bool = True
     start = time.perf_counter()  # no callback where there is nothing to do: MuJoCo's loop in C (rollout)
     out = mm.rollout(steps, every, sample, before=before, between=between if has_loads or compensations else None)
     seconds = time.perf_counter() - start
-    recovered = [recover(theta, theta_dot) for _, theta, theta_dot in out]
+    after = _Recover(dyn, scene.q0)   # its own Gauss-Newton chain, from the start, along the samples
+    recovered = [after(theta, theta_dot) for _, theta, theta_dot in out]
     q, qd = np.array([x[0] for x in recovered]), np.array([x[1] for x in recovered])
     return sim.Trajectory(f"mujoco ({'equality constraints' if rows else 'open tree, rows proved inactive'}, "
                           f"implicitfast, dt={dt:g})", np.array([x[0] for x in out]),

@@ -2,9 +2,10 @@
 
 A mass on a rough surface sticks while the friction force it needs stays within ``mu_H f_N`` and ``ẋ = 0``
 (3.80a), and slides with ``f_C = mu_C f_N sgn(ẋ)`` otherwise (3.80b). Our simulation (any source: symbolic,
-Pinocchio, MuJoCo forward dynamics) locates both events with ``solve_ivp`` events: breakaway where
-``|f_required| = mu_H f_N`` and sticking where ``ẋ = 0``; in the sliding branch the model's own friction force is
-evaluated with the branch's direction. The breakaway is checked against its prediction from the input alone.
+Pinocchio, MuJoCo forward dynamics) integrates the sliding branch, the model's own friction force evaluated with the
+branch's direction, and locates sticking where ``ẋ = 0`` with a ``solve_ivp`` event; stuck, the state is held and
+nothing is integrated: the breakaway, where ``|f_required| = mu_H f_N``, is the first root of that guard in time
+(:meth:`_StickSlipDynamics.breakaway`: a bound over the segment, else a scan and ``brentq``). The breakaway is checked against its prediction from the input alone.
 MuJoCo also simulates it with its own dry friction (joint ``frictionloss``, the flag switched on by the scene), its
 value switched between ``mu_H f_N`` (at rest) and ``mu_C f_N`` (sliding) before every step, as MuJoCo has one
 coefficient: a soft constraint solved once per step and stepped by a first-order method, its error first order in
@@ -19,6 +20,7 @@ import math
 import time
 
 import numpy as np
+import sympy as sp
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
@@ -55,13 +57,57 @@ class _StickSlipDynamics:
             raise ModelError(f"{system.name}: stick-slip switching is implemented for one coordinate")
         self.dyn = sim.Dynamics(system, scene, source)
         self.mu_H, self.mu_C, self.f_N = event.values(self.dyn.params)
+        self.affine = affine_in_inputs(self.dyn.system)
 
     def required_force(self, t, q) -> float:
         """The friction force sticking needs: ``M q̈_free`` with the friction at ``ẋ = 0`` (sgn 0 = 0)."""
+        return self.required_force_at(q, self.dyn.scene.u(t, self.dyn.system))
+
+    def required_force_at(self, q, u) -> float:
+        """:meth:`required_force` at the inputs ``u``."""
         zero = np.zeros(1)
-        u = self.dyn.scene.u(t, self.dyn.system)
-        M = self.dyn.c("M", q, zero, self.dyn.p, u)
-        return float(M[0, 0] * self.dyn(t, q, zero)[0])
+        self.dyn.evaluations += 1
+        return float(self.dyn.c("M", q, zero, self.dyn.p, u)[0, 0] * self.dyn.at(u, q, zero)[0])
+
+    def breakaway(self, t0: float, end: float, q) -> tuple[float | None, int]:
+        """The first time in ``(t0, end]`` the force sticking needs at the held position ``q`` rises through
+        ``mu_H f_N`` (3.80a), or None; with the forward-dynamics calls it took. At rest the state does not change,
+        so the guard is a function of time through the inputs alone. Where the model's generalized forces are
+        affine in the inputs (:func:`affine_in_inputs`), the force is ``a + b u(t)``, ``a`` and ``b`` from
+        ``1 + len(u)`` calls: then a bound over the segment, ``|a| + Σ |b_i| sup |u_i|`` below ``mu_H f_N``
+        (:func:`harness.scenes.effects.bound_over`), proves that it sticks to ``end``, and otherwise the guard is
+        scanned on steps of ``horizon / 500`` (the resolution the event-located stick branch had) and its first
+        upward crossing refined by ``brentq``; elsewhere each point of the scan is a call."""
+        from harness.scenes.effects import bound_over
+
+        dyn, limit = self.dyn, self.mu_H * self.f_N
+        scene, system = dyn.scene, dyn.system
+        calls = 0
+        if self.affine:
+            n = len(system.inputs)
+            a = self.required_force_at(q, np.zeros(n))
+            b = np.array([self.required_force_at(q, np.eye(n)[i]) - a for i in range(n)])
+            calls = 1 + n
+            sups = [bound_over(scene.inputs.get(i.name), scene.horizon) for i in system.inputs]
+            if all(v is not None for v in sups) and abs(a) + float(np.abs(b) @ np.array(sups, dtype=float)) < limit:
+                return None, calls
+
+            def guard(t):
+                return abs(a + float(b @ scene.u(t, system))) - limit
+        else:
+            def guard(t):
+                nonlocal calls
+                calls += 1
+                return abs(self.required_force(t, q)) - limit
+        step = scene.horizon / 500
+        times = np.append(np.arange(t0, end, step), end)
+        before = guard(times[0])
+        for lo, hi in zip(times[:-1], times[1:]):
+            after = guard(hi)
+            if before <= 0 < after:
+                return brentq(guard, lo, hi, xtol=4 * np.finfo(float).eps, rtol=4 * np.finfo(float).eps), calls
+            before = after
+        return None, calls
 
     def sliding(self, s: int):
         def rhs(t, y):
@@ -72,6 +118,22 @@ class _StickSlipDynamics:
     def next_mode(self, t, y) -> int:
         force = self.required_force(t, y[:1])
         return 0 if abs(force) <= self.mu_H * self.f_N else int(np.sign(force))
+
+
+_AFFINE: dict = {}
+
+
+def affine_in_inputs(system) -> bool:
+    """Whether the generalized forces ``f_np`` of ``system`` are affine in its inputs (every second derivative in
+    them 0, on the derived expressions): then so is the force sticking needs, ``M q̈`` at ``q̇ = 0``."""
+    from harness.derivation.derive import derive
+
+    key = system.fingerprint()
+    if key not in _AFFINE:
+        u = [i.symbol for i in system.inputs]
+        f = derive(system).f_np
+        _AFFINE[key] = all(sp.diff(e, x, y) == 0 for e in f for x in u for y in u)
+    return _AFFINE[key]
 
 
 def stick_slip(system, scene, event: StickSlip, source: str, method="DOP853", rtol=1e-12, atol=1e-12,
@@ -95,29 +157,36 @@ def stick_slip(system, scene, event: StickSlip, source: str, method="DOP853", rt
     start = time.perf_counter()
     while t < scene.horizon:
         end = next(e for e in edges if e > t)
-        if mode == 0:
-            rhs = lambda t_, y_: np.zeros(2)  # noqa: E731 - stuck: ẋ = 0, ẍ = 0 (3.80a)
-            ev = lambda t_, y_: abs(h.required_force(t_, y_[:1])) - h.mu_H * h.f_N  # noqa: E731
-            ev.direction = 1.0
-        else:
-            rhs = h.sliding(mode)
-            ev = lambda t_, y_: y_[1]  # noqa: E731 - the mass comes to rest
-            ev.direction = -float(mode)
+        if mode == 0:  # stuck: ẋ = 0, ẍ = 0 (3.80a), nothing to integrate; the state held until the breakaway
+            t_break, calls = h.breakaway(t, end, y[:1])
+            nfev += calls
+            stop = end if t_break is None else t_break
+            inside = t_eval[(t_eval >= t) & (t_eval <= stop) & (t_eval > _last(ts))]
+            ts.append(inside)
+            ys.append(np.repeat(y[:, None], len(inside), axis=1))
+            if t_break is None:
+                t = end
+                continue
+            t, new = t_break, int(np.sign(h.required_force(t_break, y[:1])))
+            events.append(sim.Event(t, _mode_name(mode), _mode_name(new)))
+            mode = new
+            continue
+        rhs = h.sliding(mode)
+        ev = lambda t_, y_: y_[1]  # noqa: E731 - the mass comes to rest
+        ev.direction = -float(mode)
         ev.terminal = True
         inside = t_eval[(t_eval >= t) & (t_eval <= end)]
-        # at rest the state does not change, so the step would not see the force rise: sample it finely
-        steps = {"max_step": scene.horizon / 500} if mode == 0 else {}
         sol = solve_ivp(rhs, (t, end), y, method=method, rtol=rtol, atol=atol, t_eval=inside, events=ev,
-                        dense_output=True, **steps)
+                        dense_output=True)
         if sol.status < 0:
             raise RuntimeError(f"{scene.name}: integration failed at t={t:g}: {sol.message}")
         nfev += sol.nfev
-        keep = sol.t > (ts[-1][-1] if ts and len(ts[-1]) else -1.0)
+        keep = sol.t > _last(ts)
         ts.append(sol.t[keep])
         ys.append(sol.y[:, keep])
         if sol.status == 1:
             t, y = float(sol.t_events[0][0]), sol.y_events[0][0].copy()
-            new = h.next_mode(t, y) if mode != 0 else int(np.sign(h.required_force(t, y[:1])))
+            new = h.next_mode(t, y)
             if new == 0:
                 y[1] = 0.0
             events.append(sim.Event(t, _mode_name(mode), _mode_name(new)))
@@ -128,6 +197,11 @@ def stick_slip(system, scene, event: StickSlip, source: str, method="DOP853", rt
     dyn = h.dyn
     return sim.HybridTrajectory(f"{source} ({method}, rtol={rtol:g}, events)", np.concatenate(ts), y_all[:1].T,
                                 y_all[1:].T, time.perf_counter() - start, nfev, energy_of=dyn.energy, events=events)
+
+
+def _last(ts: list) -> float:
+    """The last sample time kept so far (-1 before the first)."""
+    return max((float(x[-1]) for x in ts if len(x)), default=-1.0)
 
 
 def predicted_breakaway(system, scene, event: StickSlip) -> float:
