@@ -66,23 +66,25 @@ def test_stick_slip_switches_at_the_predicted_threshold():
 
 def test_a_stuck_mass_needs_no_integration_and_its_breakaway_is_the_guards_root():
     """At rest the state is held and the guard is a function of time through the inputs alone: with forces affine
-    in the inputs a bound over the segment proves sticking without a scan (stick_slip/holds: two forward-dynamics
-    calls), and otherwise the scan finds the same breakaway as the guard evaluated call by call."""
+    in the inputs a bound over the segment proves sticking without a scan (stick_slip/holds: three forward-dynamics
+    calls), and otherwise the scan finds the same breakaway as the guard evaluated call by call; a force already
+    beyond the limit where the segment starts breaks away there."""
     from harness.scenes.phenomena import stick_slip
 
     system = models.get("stick_slip")
     scenes = {s.name: s for s in models.scenes("stick_slip")}
     assert stick_slip.affine_in_inputs(system)
     holds = stick_slip._StickSlipDynamics(system, scenes["holds"], scenes["holds"].events[0], "symbolic")
-    assert holds.breakaway(0.0, scenes["holds"].horizon, np.array(scenes["holds"].q0)) == (None, 2)
+    assert holds.breakaway(0.0, scenes["holds"].horizon, np.array(scenes["holds"].q0)) == (None, 3)
     scene = scenes["stick_slip"]
     h = stick_slip._StickSlipDynamics(system, scene, scene.events[0], "symbolic")
     q = np.array(scene.q0)
     affine, calls = h.breakaway(0.0, scene.horizon, q)
     h.affine = False
     exact, scanned = h.breakaway(0.0, scene.horizon, q)
-    assert calls == 2 and scanned > 40 and abs(affine - exact) < 1e-13   # 40 grid points to 0.31 s, then brentq
+    assert calls == 3 and scanned > 40 and abs(affine - exact) < 1e-13   # 40 grid points to 0.31 s, then brentq
     assert abs(affine - stick_slip.predicted_breakaway(system, scene, scene.events[0])) < 1e-12
+    assert h.breakaway(0.5, scene.horizon, q) == (0.5, 1)   # |f_e(0.5)| = 3.53 N > mu_H f_N = 2.94 N
 
 
 def test_rolling_sphere_rolls_above_and_slips_below_the_threshold():

@@ -77,17 +77,20 @@ class _StickSlipDynamics:
         ``1 + len(u)`` calls: then a bound over the segment, ``|a| + Σ |b_i| sup |u_i|`` below ``mu_H f_N``
         (:func:`harness.scenes.effects.bound_over`), proves that it sticks to ``end``, and otherwise the guard is
         scanned on steps of ``horizon / 500`` (the resolution the event-located stick branch had) and its first
-        upward crossing refined by ``brentq``; elsewhere each point of the scan is a call."""
+        upward crossing refined by ``brentq``; elsewhere each point of the scan is a call. A force already beyond
+        ``mu_H f_N`` at ``t0`` (exactly, one call: an input's jump at a breakpoint) breaks away at ``t0``."""
         from harness.scenes.effects import bound_over
 
         dyn, limit = self.dyn, self.mu_H * self.f_N
         scene, system = dyn.scene, dyn.system
-        calls = 0
+        if abs(self.required_force(t0, q)) > limit:  # already beyond (an input's jump at a breakpoint): slides now
+            return t0, 1
+        calls = 1
         if self.affine:
             n = len(system.inputs)
             a = self.required_force_at(q, np.zeros(n))
             b = np.array([self.required_force_at(q, np.eye(n)[i]) - a for i in range(n)])
-            calls = 1 + n
+            calls += 1 + n
             sups = [bound_over(scene.inputs.get(i.name), scene.horizon) for i in system.inputs]
             if all(v is not None for v in sups) and abs(a) + float(np.abs(b) @ np.array(sups, dtype=float)) < limit:
                 return None, calls
