@@ -48,6 +48,16 @@ def test_an_entry_over_the_cap_is_shown_as_derived():
     assert equations.Budget().simplify(sp.sin(x) ** 2 + sp.cos(x) ** 2) == 1
 
 
+def test_multiple_angles_are_expanded_before_trigsimp():
+    """The governor's M₂₂ is derived as a polynomial in sin α and sin 3α; it reads 2 l² m, as (A.66b) prints it."""
+    from harness.derivation.derive import derive
+
+    system = models.get("governor")
+    M = equations.Budget().simplify(derive(system).M)
+    l, m = (sp.Symbol(n, real=True, positive=True) for n in ("l", "m"))
+    assert M[1, 1].equals(2 * l**2 * m) and sp.count_ops(M[1, 1]) <= 3
+
+
 def test_what_a_page_shows_simplified_does_not_depend_on_the_machine_s_speed():
     """A slower machine (here: each entry's simplification made 3x slower by a CPU hog on the same thread) shows
     the same entries simplified: no budget is shared by a system's entries, and the cap of one is far above any.

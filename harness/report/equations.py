@@ -47,8 +47,10 @@ class Budget:
     skipped_large: int = 0
 
     def simplify(self, expr):
-        """``expr`` simplified for reading (expand, trigsimp, common factors), or as it is when large or over the
-        cap."""
+        """``expr`` simplified for reading (multiple angles expanded, expand, trigsimp, common factors), or as it
+        is when large or over the cap. Expanding the multiple angles first (measured over the catalogue's M, C, g:
+        5 entries shorter, none longer, 3.9 against 5.0 CPU s): the governor's ``M₂₂`` reads ``2 l² m``, not a
+        polynomial in ``sin α`` and ``sin 3α``."""
         expr = sp.sympify(expr)
         if isinstance(expr, sp.MatrixBase):
             return expr.applyfunc(self.simplify)
@@ -58,8 +60,8 @@ class Budget:
             self.skipped_large += 1
             return expr
         try:
-            with cpu_budget(self.seconds):
-                out = sp.expand(expr)
+            with cpu_budget(self.seconds):  # multiple angles first: trigsimp does not see sin(3α) in sin(α)
+                out = sp.expand(sp.expand_trig(expr))
                 if out.has(sp.sin, sp.cos) and sp.count_ops(out) <= SIMPLIFY_MAX_OPS:
                     out = sp.trigsimp(out)
                 out = sp.factor_terms(out)
