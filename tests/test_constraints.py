@@ -67,10 +67,12 @@ def test_the_governors_open_tree_moves_as_its_constrained_tree():
     coupling row — Pinocchio's pin.aba, MuJoCo with its equality and constraint flags off — follows the constrained
     tree and stays on the constraint by itself (its drift at round-off)."""
     system, scene = models.get("governor"), next(s for s in models.scenes("governor") if s.name == "spin_up")
-    closed, open_tree = (constraints.pinocchio_constrained(system, scene, horizon=1.0, rows=rows) for rows in (True, False))
+    closed, open_tree = (constraints.pinocchio_constrained(system, scene, horizon=1.0, rows=rows)
+                         for rows in (True, False))
     assert sim.max_error(open_tree, closed) < 1e-7 and open_tree.notes["drift"] < 1e-12
     assert open_tree.evaluations < closed.evaluations   # no step limit for a stabilization it does not have
     dt = scene.horizon / sim.grid_steps(scene, 4000)
-    closed, open_tree = (constraints.mujoco_constrained(system, scene, dt, horizon=1.0, rows=rows) for rows in (True, False))
+    closed, open_tree = (constraints.mujoco_constrained(system, scene, dt, horizon=1.0, rows=rows)
+                         for rows in (True, False))
     assert sim.max_error(open_tree, closed) < 1e-9
     assert constraints.rows_of(system, scene) == ["coupling alpha_2 = -2 alpha_1"]

@@ -310,7 +310,8 @@ def test_a_system_page_shows_constraint_rows_proved_inactive_and_their_price():
     view = pruning_view("governor", scene, {"pruning": [{"system": "governor", "scene": "coast",
                                                          "rows": {"sources": {"pinocchio": m}}}]})
     assert view["rows_idle"] == "proved 0" and view["rows_left_out"] == "coupling alpha_2 = -2 alpha_1"
-    assert [r["source"] for r in view["rows_ratios"]] == ["pinocchio"] and view["rows_ratios"][0]["ratio"].startswith("2.1 ×")
-    needed = pruning_view("toggle_press", {"scene": "return", "notes": {"effects declared": "gravity",
-                                                                         "constraint rows needed": "at q = [0.1] …"}}, None)
+    assert [r["source"] for r in view["rows_ratios"]] == ["pinocchio"]
+    assert view["rows_ratios"][0]["ratio"].startswith("2.1 ×")
+    notes = {"effects declared": "gravity", "constraint rows needed": "at q = [0.1] …"}
+    needed = pruning_view("toggle_press", {"scene": "return", "notes": notes}, None)
     assert needed["rows_needed"] == "at q = [0.1] …" and not needed["rows_ratios"]

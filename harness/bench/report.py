@@ -318,13 +318,7 @@ def _pruning(rows: list[dict]) -> list[str]:
                 if "error" in m:  # the proof was run
                     errors.append(m["error"])
             else:
-                ratio = m["ratio"]
-                finding, mark = slower_pruned(m), ""
-                if finding:  # a finding in bold
-                    mark = f" **{finding}**" if finding.startswith("finding") else f" {finding}"
-                cells.append((f"{ratio:.0f} ×" if ratio >= 100 else f"{ratio:.2f} ×" if ratio >= 1 else
-                               f"{ratio:.3f} ×") + _noise(m) + " ")
-                cells[-1] += f"({_ms(m['idle_seconds'])} / {_ms(m['pruned_seconds'])} ms){mark}"
+                cells.append(_timed(m))
                 if "per_call" in m:  # what pruning saves per evaluation, without the integrator around it
                     c = m["per_call"]
                     cells[-1] += (f"; per call {c['ratio']:.3f} ×{_noise(c)} ({c['idle_seconds'] * 1e6:.2f} / "
@@ -433,9 +427,8 @@ def _rows(rows: list[dict]) -> list[str]:
             if not m:
                 cells.append(f"not measured: {r['rows']['skipped']}" if r["rows"].get("skipped") else "—")
                 continue
-            cells.append(f"{m['ratio']:.2f} ×{_noise(m)} ({_ms(m['idle_seconds'])} / {_ms(m['pruned_seconds'])} ms"
-                         + (f", {m['evaluations'][1]} / {m['evaluations'][0]} evaluations" if source == "pinocchio"
-                            else "") + ")" + (f" **{slower_pruned(m)}**" if slower_pruned(m) else ""))
+            cells.append(_timed(m, f", {m['evaluations'][1]} / {m['evaluations'][0]} evaluations"
+                                if source == "pinocchio" else ""))
             errors.append(m["error"])
         lines.append(f"| {r['system']}/{r['scene']} | {'; '.join(r['rows']['left_out'])} | {r['rows']['proof']} | "
                      + " | ".join(cells) + f" | {max(errors, default=float('nan')):.1e} |")
@@ -457,6 +450,15 @@ def _overall(verdicts: list[str]) -> str:
     """A goal over scenes from its scenes' verdicts (:func:`~harness.scenes.phenomena.pruning.against`): not met
     where one is, else undecided where one is, else met."""
     return next((v for v in ("not met", "undecided") if v in verdicts), "met")
+
+
+def _timed(m: dict, more: str = "") -> str:
+    """A measured ratio idle / pruned as a table cell: the median, its interval, the fastest runs' milliseconds (and
+    ``more``), and a pruned run slower beyond the noise marked as the finding it is."""
+    ratio, finding = m["ratio"], slower_pruned(m)
+    mark = "" if not finding else f" **{finding}**" if finding.startswith("finding") else f" {finding}"
+    shown = f"{ratio:.0f} ×" if ratio >= 100 else f"{ratio:.2f} ×" if ratio >= 1 else f"{ratio:.3f} ×"
+    return f"{shown}{_noise(m)} ({_ms(m['idle_seconds'])} / {_ms(m['pruned_seconds'])} ms{more}){mark}"
 
 
 def _ms(seconds: float) -> str:

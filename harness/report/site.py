@@ -112,7 +112,7 @@ def pruning_view(system: str, scene: dict, bench: dict | None) -> dict | None:
     and the disagreements (its notes), and per source the idle / pruned time ratio that ``harness bench --parts
     pruning`` measured (``bench``: bench.json; only where the scene has the check's pruned = idle proof of that
     source, else why not) or "nothing to prune"."""
-    from harness.scenes.phenomena.pruning import CHECK, PRUNING_GOAL, SOURCES, attainable, interval, slower_pruned
+    from harness.scenes.phenomena.pruning import CHECK, PRUNING_GOAL, SOURCES, attainable, interval
 
     notes = scene.get("notes") or {}
     if "effects declared" not in notes:
@@ -131,9 +131,7 @@ def pruning_view(system: str, scene: dict, bench: dict | None) -> dict | None:
     for source in SOURCES:
         m = ((measured or {}).get("sources") or {}).get(source) or {}
         if source in checked and isinstance(m.get("ratio"), (int, float)):
-            finding, (low, high) = slower_pruned(m), interval(m)
-            shown = (f"{m['ratio']:.3g} ×" + (f" [{low:.3g}, {high:.3g}]" if high > low else "") +
-                     (f" ({finding})" if finding else ""))
+            shown = _ratio_shown(m)
             if m.get("per_call"):  # one evaluation of the right-hand side: the most the run's ratio can be
                 c, (low, high) = m["per_call"], interval(m["per_call"])
                 shown += f"; per call {c['ratio']:.3f} ×" + (f" [{low:.3g}, {high:.3g}]" if high > low else "")
@@ -151,21 +149,24 @@ def _rows_ratios(scene: dict, measured: dict | None) -> list[dict]:
     """Per engine, the time of the constrained tree / the open tree (its constraint rows proved inactive), where
     the scene has the check's proof of that engine (:data:`~harness.scenes.phenomena.closures.ROWS_CHECK`)."""
     from harness.scenes.phenomena.closures import ROWS_CHECK
-    from harness.scenes.phenomena.pruning import interval, slower_pruned
 
     checked = {c.get("source") for c in scene.get("checks") or [] if c.get("check") == ROWS_CHECK}
     out = []
     for source in sorted(checked):
         m = ((measured or {}).get("sources") or {}).get(source) or {}
-        if "ratio" in m:
-            low, high = interval(m)
-            finding = slower_pruned(m)
-            shown = (f"{m['ratio']:.3g} ×" + (f" [{low:.3g}, {high:.3g}]" if high > low else "")
-                     + (f" ({finding})" if finding else ""))
-        else:
-            shown = "not measured by the bench yet (harness bench --parts pruning)"
+        shown = _ratio_shown(m) if "ratio" in m else "not measured by the bench yet (harness bench --parts pruning)"
         out.append({"source": source, "ratio": shown})
     return out
+
+
+def _ratio_shown(m: dict) -> str:
+    """A bench ratio on a system page: the median, its interval (:func:`~harness.scenes.phenomena.pruning.interval`)
+    and, below 1, what that is (:func:`~harness.scenes.phenomena.pruning.slower_pruned`)."""
+    from harness.scenes.phenomena.pruning import interval, slower_pruned
+
+    (low, high), finding = interval(m), slower_pruned(m)
+    return (f"{m['ratio']:.3g} ×" + (f" [{low:.3g}, {high:.3g}]" if high > low else "")
+            + (f" ({finding})" if finding else ""))
 
 
 def _profile_figure(out: Path) -> None:

@@ -89,6 +89,15 @@ def bound_over(signal, horizon: float) -> float | None:
     return None
 
 
+def affine_bound(a: float, b, names, scene: Scene) -> float | None:
+    """A bound of ``sup |a + Σ b_i u_i(t)|`` over the scene's horizon: ``|a| + Σ |b_i| sup |u_i|`` with each
+    input's supremum (:func:`bound_over`, ``names`` the inputs of ``b``); None where a signal has no known bound."""
+    sups = [bound_over(scene.inputs.get(name), scene.horizon) for name in names]
+    if any(v is None for v in sups):
+        return None
+    return abs(float(a)) + sum(abs(float(x)) * v for x, v in zip(b, sups))
+
+
 def sticks_throughout(system: System, scene: Scene, event: StickSlip) -> str | None:
     """Why the friction of ``event`` never switches over the scene's horizon (None: it may): the scene starts at
     rest and the force sticking needs at ``q_0`` (``M q̈`` with ``q̇ = 0``: ``f_np − g`` of the simulated model,
@@ -108,13 +117,9 @@ def sticks_throughout(system: System, scene: Scene, event: StickSlip) -> str | N
     b = {x: sp.diff(force, x) for x in u}
     if any(sp.sympify(c).free_symbols for c in b.values()):
         return None
-    sups = {x: bound_over(scene.inputs.get(name), scene.horizon) for x, name in u.items()}
-    if any(v is None for v in sups.values()):
-        return None
-    a = float(force.xreplace({x: 0 for x in u}))
-    bound = abs(a) + sum(abs(float(b[x])) * sups[x] for x in u)
+    bound = affine_bound(force.xreplace({x: 0 for x in u}), [b[x] for x in u], list(u.values()), scene)
     mu_H, _, f_N = event.values(params)
-    if bound > mu_H * f_N:
+    if bound is None or bound > mu_H * f_N:
         return None
     return (f"sticks over [0, {scene.horizon:g}] s, never switches: from rest the force sticking needs is at most "
             f"{bound:.6g} N ≤ mu_H f_N = {mu_H * f_N:.6g} N (3.80a)")
@@ -381,9 +386,16 @@ def infer(system: System, scene: Scene) -> Inferred:
                            "which the scene does not have"
         elif effect not in idle:
             idle[effect] = "the system has no such effect"
-    model = pruned(system, scene.effects)   # the rows of the tree the scene simulates
-    rows = constraint_rows_idle(model, params) if len(model.joints) > len(model.coordinates) else None
-    return Inferred(frozenset(scene.effects), frozenset(acting), idle, idle_elements, never, rows)
+    return Inferred(frozenset(scene.effects), frozenset(acting), idle, idle_elements, never, scene_rows(system, scene))
+
+
+def scene_rows(system: System, scene: Scene) -> tuple | None:
+    """:func:`constraint_rows_idle` of the tree the scene simulates (its effects only, its parameter values); None
+    where that tree has no constraint rows."""
+    model = pruned(system, scene.effects)
+    if len(model.joints) <= len(model.coordinates):
+        return None
+    return constraint_rows_idle(model, _values(system, scene))
 
 
 def inferred_scene(system: System, scene: Scene) -> Scene:
@@ -391,5 +403,6 @@ def inferred_scene(system: System, scene: Scene) -> Scene:
     return dataclasses.replace(scene, effects=infer(system, scene).acting)
 
 
-__all__ = ["EFFECTS", "Inferred", "bound_over", "constraint_rows_idle", "gravity_idle", "infer", "inferred_scene", "sticks_throughout",
+__all__ = ["EFFECTS", "Inferred", "affine_bound", "bound_over", "constraint_rows_idle", "gravity_idle", "infer",
+           "inferred_scene", "scene_rows", "sticks_throughout",
            "zero_over"]

@@ -58,7 +58,7 @@ from harness.export.numeric import instantiate, point_name
 from harness.modeling.system import value_at
 from harness.scenes import simulate as sim
 from harness.scenes.base import ENGINE, Phenomenon, SceneRun, soft_convergence
-from harness.scenes.effects import infer
+from harness.scenes.effects import scene_rows
 
 BAUMGARTE_OMEGA = 20.0     # rad/s: constraint errors decay over ~0.1 s, far below the integrator's drift
 BAUMGARTE_STEP = 0.5       # steps of at most 0.5/ω: the integrator resolves the stabilization it relies on
@@ -128,8 +128,9 @@ def couplings(system, dyn: sim.Dynamics) -> list[Coupling]:
 def rows_of(system, scene) -> list[str]:
     """The constraint rows the engines impose on the tree of ``system`` in ``scene``: its couplings and closures."""
     dyn = sim.Dynamics(system, scene, "symbolic")
-    return ([f"coupling {cp.dependent} = " + (f"{cp.offset:g} + " if cp.offset else "") + f"{cp.ratio:g} {cp.independent}"
-             for cp in couplings(dyn.system, dyn)] + [f"closure {cl.name}" for cl in dyn.system.closures])
+    return ([f"coupling {cp.dependent} = " + (f"{cp.offset:g} + " if cp.offset else "")
+             + f"{cp.ratio:g} {cp.independent}" for cp in couplings(dyn.system, dyn)]
+            + [f"closure {cl.name}" for cl in dyn.system.closures])
 
 
 class _Recover:
@@ -336,13 +337,13 @@ class Closures(Phenomenon):
 
             fine, fine_dt = soft_convergence(result, "MuJoCo equality constraints", simulate, ref, dt)
             result.trajectories["mujoco constrained"] = fine
-        rows = infer(system, scene).rows
+        rows = scene_rows(system, scene)   # the inference's (harness.scenes.effects), its proof kept per tree
         if rows and rows[0]:  # proved inactive: the open tree, pruned, against the constrained one (the proof)
             result.notes["pruning: constraint rows left out"] = "; ".join(rows_of(system, scene))
             if "pinocchio constrained" in result.trajectories:
                 open_tree = mapping(pinocchio_constrained(system, scene, horizon=horizon, rows=False))
-                result.add(ENGINE.check(ROWS_CHECK, "pinocchio", sim.max_error(open_tree,
-                                                                             result.trajectories["pinocchio constrained"]),
+                error = sim.max_error(open_tree, result.trajectories["pinocchio constrained"])
+                result.add(ENGINE.check(ROWS_CHECK, "pinocchio", error,
                                         detail="the open tree by pin.aba against the constrained tree (KKT), "
                                                "DOP853 1e-10"))
             if "mujoco constrained" in result.trajectories:

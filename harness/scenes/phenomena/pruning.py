@@ -5,7 +5,7 @@ effects found idle and the force elements found idle inside an acting effect (:m
 :meth:`~harness.scenes.effects.Inferred.pruned`: the quarter car's tyre damper at ``d_R = 0`` beside its suspension
 damper), and a dry friction proved to stick throughout (:func:`~harness.scenes.effects.sticks_throughout`) is held:
 the pruned run looks for no breakaway and integrates nothing (``ẋ ≡ 0``), where the idle one bounds the breakaway's
-guard over its stick segment from two forward-dynamics calls (``stick_slip/holds``); the pruned run equal to the idle
+guard over its stick segment from three forward-dynamics calls (``stick_slip/holds``); the pruned run equal to the idle
 one checks that inference.
 
 * **symbolic**: the right-hand side derived and compiled from the pruned model (DOP853 at 1e-10) against the one
@@ -121,12 +121,12 @@ class MujocoStepper:
         loads, inputs, names = self.loads, self.inputs, self.kept_inputs
         p = self.kept_p
 
-        held = sim.input_setter(scene, model, dt, inputs) is None   # constant inputs: set once here
+        set_inputs = sim.input_setter(scene, model, dt, inputs)   # None: constant, set once here
 
         def before(k):
             t = (k + 0.5) * dt
-            if inputs and not held:
-                model.set_inputs({name: scene.inputs[name](t) if name in scene.inputs else 0.0 for name in inputs})
+            if set_inputs is not None:
+                set_inputs(k)
             if loads:
                 u = np.array([scene.inputs[name](t) if name in scene.inputs else 0.0 for name in names])
                 theta, theta_dot = model.theta(), model.theta_dot()
@@ -137,9 +137,11 @@ class MujocoStepper:
 
         start = time.perf_counter()
         out = model.rollout(steps, every, lambda k: (model.time, model.theta(), model.theta_dot()),
-                            before=before if (inputs and not held) or loads else None, check=f"{scene.name} (pruning)")
+                            before=before if set_inputs is not None or loads else None,
+                            check=f"{scene.name} (pruning)")
         seconds = time.perf_counter() - start
-        return sim.Trajectory(f"mujoco (mj_step RK4, dt={dt:g}{', disabled ' + ', '.join(self.flags) if self.flags else ''})",
+        disabled = f", disabled {', '.join(self.flags)}" if self.flags else ""
+        return sim.Trajectory(f"mujoco (mj_step RK4, dt={dt:g}{disabled})",
                               np.array([x[0] for x in out]), np.array([x[1] for x in out]),
                               np.array([x[2] for x in out]), seconds, steps)
 
@@ -177,15 +179,13 @@ def measure(system, scene, motion, event, catalogue=None, sources=SOURCES, repea
         lean_run, full_run, method = runs
         same = source != SYMBOLIC and same_force_elements(pruned(lean_system, lean_scene.effects),
                                                           pruned(idle_system, idle_scene.effects))
-        lean, full = paired(lean_run, full_run, 1 if same else repeats)
         if same:  # the proof, not a price
+            lean, full = paired(lean_run, full_run, 1)
             out["sources"][source] = {"skipped": SAME_CALLS, "error": sim.max_error(full[0], lean[0]),
                                       "method": method}
             continue
-        out["sources"][source] = {**price([t.seconds for t in lean], [t.seconds for t in full]),
-                                  "error": sim.max_error(full[0], lean[0]),
-                                  "evaluations": [lean[0].evaluations, full[0].evaluations], "method": method}
-        if repeats > 1 and not steps_itself(source) and lean[0].evaluations == full[0].evaluations:  # same steps
+        out["sources"][source] = timed(lean_run, full_run, repeats, method)
+        if repeats > 1 and not steps_itself(source) and len(set(out["sources"][source]["evaluations"])) == 1:
             out["sources"][source]["per_call"] = per_call(lean_system, lean_scene, idle_system, idle_scene, repeats,
                                                           source)
     return out
@@ -213,17 +213,23 @@ def measure_rows(system, scene, found=None, repeats: int = 1) -> dict | None:
     dt = scene.horizon / sim.grid_steps(scene, CLOSURE_STEPS)
     runs = {"pinocchio": (lambda: closures.pinocchio_constrained(system, scene, rows=False),
                           lambda: closures.pinocchio_constrained(system, scene),
-                          "open tree pin.aba against constrained tree pin.forwardDynamics (KKT, Baumgarte), DOP853 1e-10"),
+                          "open tree pin.aba against constrained tree pin.forwardDynamics (KKT, Baumgarte), "
+                          "DOP853 1e-10"),
             "mujoco": (lambda: closures.mujoco_constrained(system, scene, dt, rows=False),
                        lambda: closures.mujoco_constrained(system, scene, dt),
                        f"open tree (equality, constraint flags off) against equality-constrained tree, implicitfast "
                        f"dt={dt:g}")}
     for source, (lean_run, full_run, method) in runs.items():
-        lean, full = paired(lean_run, full_run, repeats)
-        out["sources"][source] = {**price([t.seconds for t in lean], [t.seconds for t in full]),
-                                  "error": sim.max_error(full[0], lean[0]),
-                                  "evaluations": [lean[0].evaluations, full[0].evaluations], "method": method}
+        out["sources"][source] = timed(lean_run, full_run, repeats, method)
     return out
+
+
+def timed(pruned, idle, repeats: int, method: str) -> dict:
+    """``repeats`` alternating pairs of the ``pruned`` and the ``idle`` run (:func:`paired`): their :func:`price`,
+    the first pair's trajectories compared (``error``: the proof), both runs' ``evaluations`` and ``method``."""
+    lean, full = paired(pruned, idle, repeats)
+    return {**price([t.seconds for t in lean], [t.seconds for t in full]), "error": sim.max_error(full[0], lean[0]),
+            "evaluations": [lean[0].evaluations, full[0].evaluations], "method": method}
 
 
 CALLS = 500   # right-hand-side calls per timing of :func:`per_call`

@@ -5,7 +5,8 @@ A mass on a rough surface sticks while the friction force it needs stays within 
 Pinocchio, MuJoCo forward dynamics) integrates the sliding branch, the model's own friction force evaluated with the
 branch's direction, and locates sticking where ``ẋ = 0`` with a ``solve_ivp`` event; stuck, the state is held and
 nothing is integrated: the breakaway, where ``|f_required| = mu_H f_N``, is the first root of that guard in time
-(:meth:`_StickSlipDynamics.breakaway`: a bound over the segment, else a scan and ``brentq``). The breakaway is checked against its prediction from the input alone.
+(:meth:`_StickSlipDynamics.breakaway`: a bound over the segment, else a scan and ``brentq``). The breakaway is
+checked against its prediction from the input alone.
 MuJoCo also simulates it with its own dry friction (joint ``frictionloss``, the flag switched on by the scene), its
 value switched between ``mu_H f_N`` (at rest) and ``mu_C f_N`` (sliding) before every step, as MuJoCo has one
 coefficient: a soft constraint solved once per step and stepped by a first-order method, its error first order in
@@ -74,12 +75,12 @@ class _StickSlipDynamics:
         ``mu_H f_N`` (3.80a), or None; with the forward-dynamics calls it took. At rest the state does not change,
         so the guard is a function of time through the inputs alone. Where the model's generalized forces are
         affine in the inputs (:func:`affine_in_inputs`), the force is ``a + b u(t)``, ``a`` and ``b`` from
-        ``1 + len(u)`` calls: then a bound over the segment, ``|a| + Σ |b_i| sup |u_i|`` below ``mu_H f_N``
-        (:func:`harness.scenes.effects.bound_over`), proves that it sticks to ``end``, and otherwise the guard is
-        scanned on steps of ``horizon / 500`` (the resolution the event-located stick branch had) and its first
+        ``1 + len(u)`` calls: then a bound over the segment, ``|a| + Σ |b_i| sup |u_i|`` within ``mu_H f_N``
+        (:func:`harness.scenes.effects.affine_bound`, the inference's), proves that it sticks to ``end``, and
+        otherwise the guard is scanned on steps of ``horizon / 500`` (the resolution the event-located stick branch had) and its first
         upward crossing refined by ``brentq``; elsewhere each point of the scan is a call. A force already beyond
         ``mu_H f_N`` at ``t0`` (exactly, one call: an input's jump at a breakpoint) breaks away at ``t0``."""
-        from harness.scenes.effects import bound_over
+        from harness.scenes.effects import affine_bound
 
         dyn, limit = self.dyn, self.mu_H * self.f_N
         scene, system = dyn.scene, dyn.system
@@ -91,8 +92,8 @@ class _StickSlipDynamics:
             a = self.required_force_at(q, np.zeros(n))
             b = np.array([self.required_force_at(q, np.eye(n)[i]) - a for i in range(n)])
             calls += 1 + n
-            sups = [bound_over(scene.inputs.get(i.name), scene.horizon) for i in system.inputs]
-            if all(v is not None for v in sups) and abs(a) + float(np.abs(b) @ np.array(sups, dtype=float)) < limit:
+            bound = affine_bound(a, b, [i.name for i in system.inputs], scene)
+            if bound is not None and bound <= limit:  # sticks while |f| ≤ mu_H f_N (3.80a)
                 return None, calls
 
             def guard(t):
