@@ -91,6 +91,14 @@ class CompiledModel:
         return list(self.derivation.phi) == list(self.system.q)
 
     @cached_property
+    def constant_map(self) -> bool:
+        """Whether ``J = ∂φ/∂q`` is constant (no coordinate, rate or input in it, none in ``φ``): ``φ`` is affine,
+        ``θ = φ(0) + J q`` and ``J̇ = 0`` at every state (gears, ropes, relative angles)."""
+        s, d = self.system, self.derivation
+        moving = set(s.q) | set(s.qd) | set(s.u)
+        return not (d.J_phi.free_symbols & moving) and not (d.phi.free_symbols & set(s.u))
+
+    @cached_property
     def _native(self):
         """``(terms, qdd, batched, state_derivative)``: :meth:`terms`' function compiled to machine code by numba
         (``njit``, NumPy's error model: ``nan`` / ``inf`` instead of exceptions) returning one array; ``q̈`` of

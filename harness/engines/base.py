@@ -226,12 +226,6 @@ def to_lecture(engine: str, state: State, t: TreeQuantities) -> Evaluation:
                       extra=extra, calls=dict(t.calls))
 
 
-def lecture_qdd(state: State, t: TreeQuantities) -> np.ndarray:
-    """``q̈`` of :func:`to_lecture` alone, bit for bit: what a simulation reads, without the other quantities'
-    scales (a dozen reductions of small arrays a step)."""
-    return _mapped_qdd(state, t, *_mapped_terms(state, t))
-
-
 def _mapped_terms(state: State, t: TreeQuantities) -> tuple:
     """``M_q = Jᵀ M J``, ``(C q̇)_q = Jᵀ (M J̇ q̇ + C θ̇)``, ``g_gravity``, ``g_spring``, ``f_damper`` mapped by ``Jᵀ``."""
     J, Jd, qd = state.J, state.J_dot, state.qd
@@ -296,6 +290,12 @@ class TreeEngine:
     def forward_dynamics(self, theta, theta_dot, u: dict, loads=()) -> np.ndarray:
         """``θ̈`` alone, the call a simulation makes."""
         return self.quantities(theta, theta_dot, u, loads, christoffel=False).qdd
+
+    def mass_and_forces(self, theta, theta_dot, u: dict, loads=()) -> tuple[np.ndarray, np.ndarray]:
+        """``(M, h)`` of ``M θ̈ = h`` in tree coordinates, ``h = τ_input + f_damper − C θ̇ − g_gravity − g_spring``:
+        what a simulation through a map with more tree joints than lecture coordinates projects (5.58–5.60)."""
+        t = self.quantities(theta, theta_dot, u, loads, christoffel=False)
+        return t.M, t.tau_input + t.f_damper - t.Cqd - t.g_gravity - t.g_spring
 
     def evaluate(self, state: State) -> Evaluation:
         """The quantities at ``state`` in lecture coordinates (:func:`to_lecture`)."""

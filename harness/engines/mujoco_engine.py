@@ -206,11 +206,11 @@ class MujocoModel(TreeEngine):
         """External forces/torques as ``qfrc_applied``, by ``mj_applyFT`` at the current kinematics."""
         m, d = self.model, self.data
         qfrc = np.zeros(m.nv)
+        zero = np.zeros(3)
         for load in loads:
-            R = np.eye(3)
+            vector = load.vector
             if load.frame != WORLD:
-                R = d.xmat[self._id(mujoco.mjtObj.mjOBJ_BODY, load.frame)].reshape(3, 3)
-            vector, zero = R @ load.vector, np.zeros(3)
+                vector = d.xmat[self._id(mujoco.mjtObj.mjOBJ_BODY, load.frame)].reshape(3, 3) @ vector
             if load.kind == "force":
                 site = self._id(mujoco.mjtObj.mjOBJ_SITE, load.where)
                 body, point = m.site_bodyid[site], d.site_xpos[site].copy()
@@ -240,6 +240,17 @@ class MujocoModel(TreeEngine):
         self._forward(self.data, theta, theta_dot, u, loads)
         check_state(self.model, self.data, self.tree.system)
         return self._pick(self.data.qacc)
+
+    def mass_and_forces(self, theta, theta_dot, u: dict, loads=()) -> tuple[np.ndarray, np.ndarray]:
+        """``(M, h)`` from one ``mj_forward``: ``mj_fullM`` and ``h = qfrc_actuator + qfrc_applied + qfrc_spring +
+        qfrc_damper − qfrc_bias`` (:meth:`quantities` takes a second forward to split gravity off ``qfrc_bias``)."""
+        m, d = self.model, self.data
+        self._forward(d, theta, theta_dot, u, loads)
+        check_state(m, d, self.tree.system)
+        M = np.zeros((m.nv, m.nv))
+        mujoco.mj_fullM(m, d, M)
+        h = d.qfrc_actuator + d.qfrc_applied + d.qfrc_spring + d.qfrc_damper - d.qfrc_bias
+        return M[np.ix_(self.dof_index, self.dof_index)], self._pick(h)
 
     def quantities(self, theta, theta_dot, u: dict, loads=(), christoffel: bool = True) -> TreeQuantities:
         m, d = self.model, self.data

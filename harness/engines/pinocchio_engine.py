@@ -155,6 +155,8 @@ class PinocchioModel(TreeEngine):
                                   "model")
             self.jids.append(model.getJointId(name))
         self.index = [model.joints[jid].idx_v for jid in self.jids]
+        self._index_grid = np.ix_(self.index, self.index)   # from_pin_matrix's rows and columns
+        self._lower = np.tril_indices(model.nv, -1)         # what _crba mirrors from the upper triangle
         self.v_index = dict(zip(joints, self.index))
         self.continuous = any(model.joints[jid].nq == 2 for jid in self.jids)
 
@@ -181,7 +183,7 @@ class PinocchioModel(TreeEngine):
         return np.asarray(v)[self.index]
 
     def from_pin_matrix(self, A):
-        return np.asarray(A)[np.ix_(self.index, self.index)]
+        return np.asarray(A)[self._index_grid]
 
     def frame_jacobian(self, frame: int) -> np.ndarray:
         """``6 x nv`` frame Jacobian (LOCAL_WORLD_ALIGNED); eigenpy hands a ``6 x 1`` matrix back as a 1-D array."""
@@ -228,10 +230,21 @@ class PinocchioModel(TreeEngine):
         """``θ̈`` alone, the call a simulation makes (:meth:`_aba`)."""
         return self.from_pin(self._aba(self.to_pin(theta), self.to_pin(theta_dot), u, loads)[0])
 
+    def mass_and_forces(self, theta, theta_dot, u: dict, loads=()) -> tuple[np.ndarray, np.ndarray]:
+        """``(M, h)``: ``pin.crba`` and ``h`` = inputs + springs + dampers − ``pin.nonLinearEffects`` (``C θ̇ + g``),
+        the two calls a map with more tree joints than lecture coordinates needs (no ``pin.aba``, no gravity
+        apart)."""
+        q, v = self.to_pin(theta), self.to_pin(theta_dot)
+        M = self._crba(q)
+        f_spring, f_damper = self.point_forces(q, v)
+        h = self.input_forces(q, u, loads) + f_spring + f_damper - pin.nonLinearEffects(self.model, self.data, q, v)
+        return self.from_pin_matrix(M), self.from_pin(h)
+
     def _crba(self, q) -> np.ndarray:
         """``pin.crba`` fills the upper triangle: the symmetric ``M`` in Pinocchio's order."""
-        M = pin.crba(self.model, self.data, q)
-        return np.triu(M) + np.triu(M, 1).T
+        M = np.array(pin.crba(self.model, self.data, q))
+        M[self._lower] = M.T[self._lower]
+        return M
 
     def quantities(self, theta, theta_dot, u: dict, loads=(), christoffel: bool = True) -> TreeQuantities:
         """Everything in tree coordinates; ``christoffel=False`` skips the two Coriolis matrices (for

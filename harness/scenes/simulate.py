@@ -20,7 +20,7 @@ from scipy.integrate import odeint, solve_ivp
 from harness import kept
 from harness.derivation.compile import compiled
 from harness.engines import SYMBOLIC, engine
-from harness.engines.base import Load, lecture_qdd, load_functions, loads_read_state, to_lecture
+from harness.engines.base import Load, load_functions, loads_read_state, to_lecture
 from harness.engines.mujoco_engine import Options
 from harness.export.numeric import instantiate
 from harness.modeling.system import System
@@ -84,6 +84,12 @@ class Dynamics:
         self.loads_read_state = loads_read_state(self.system)
         self.evaluations = 0
         self.model = None if source == SYMBOLIC else engine(source)(instantiate(self.system, self.params))
+        self._affine = None   # (φ(0), J, J⁻¹) of a constant square map, evaluated once (:meth:`at`)
+        if self.model is not None and not self.c.identity_map and self.c.constant_map \
+                and self.c.derivation.J_phi.is_square:
+            n = self.c.dof
+            phi0, J, _ = self.c.map_at(np.zeros(n), np.zeros(n), self.p, np.zeros(len(self.input_names)))
+            self._affine = phi0, J, np.linalg.inv(J)
 
     def __call__(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
         self.evaluations += 1
@@ -93,15 +99,20 @@ class Dynamics:
         """``q̈`` at the inputs ``u`` (the scene's at some time, or any other values)."""
         if self.model is None:
             return self.c.forward_dynamics(q, qd, self.p, u)
+        inputs = dict(zip(self.input_names, u))
         if self.c.identity_map:  # θ = q, θ̇ = q̇: the engine's forward dynamics is q̈ (no map to evaluate)
-            return self.model.forward_dynamics(q, qd, dict(zip(self.input_names, u)), self.loads(q, qd, u))
-        if self.c.derivation.J_phi.is_square:
+            return self.model.forward_dynamics(q, qd, inputs, self.loads(q, qd, u))
+        if self._affine is not None:  # θ = φ(0) + J q, J̇ = 0: q̈ = J⁻¹ θ̈ (5.58), J⁻¹ computed once
+            phi0, J, J_inv = self._affine
+            return J_inv @ self.model.forward_dynamics(phi0 + J @ q, J @ qd, inputs, self.loads(q, qd, u))
+        theta, J, J_dot = self.c.map_at(q, qd, self.p, u)
+        if J.shape[0] == J.shape[1]:
             # only the engine's forward dynamics: θ̈ of the tree, then q̈ = J⁻¹ (θ̈ − J̇ q̇) (5.58)
-            theta, J, J_dot = self.c.map_at(q, qd, self.p, u)
-            inputs = dict(zip(self.input_names, u))
             theta_dd = self.model.forward_dynamics(theta, J @ qd, inputs, self.loads(q, qd, u))
             return np.linalg.solve(J, theta_dd - J_dot @ qd)
-        return lecture_qdd(*self._tree_at(u, q, qd))
+        # more tree joints than lecture coordinates: M_q q̈ = Jᵀ (h − M J̇ q̇) with M_q = Jᵀ M J (5.58–5.60)
+        M, h = self.model.mass_and_forces(theta, J @ qd, inputs, self.loads(q, qd, u))
+        return np.linalg.solve(J.T @ M @ J, J.T @ (h - M @ (J_dot @ qd)))
 
     def loads(self, q, qd, u) -> list[Load]:
         """The external loads (PointForce, BodyTorque) at one state, each engine turns them into forces."""
