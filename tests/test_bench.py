@@ -170,3 +170,38 @@ def test_the_committed_bench_json_stays_below_two_megabytes():
     assert path.stat().st_size < 2_000_000
     doc = json.loads(path.read_text())
     assert not any("seconds_all" in r for sc in doc["workprecision"]["scenes"] for r in sc["runs"])
+
+
+def test_ours_against_the_fastest_engine_is_judged_on_alternating_pairs():
+    """The goal "symbolic path vs the fastest engine" from the sweep's single ratio flipped from one bench run to the
+    next (tower_crane/slew 1.07 ×, 0.67 ×, 1.08 ×): the two configurations are timed again in alternating pairs
+    (:func:`~harness.bench.workprecision.duel_task`), and a scene whose widened interval holds 1 × is undecided,
+    neither met nor missed; the goal is undecided where one scene is and none is missed."""
+    from harness.bench import report
+    from harness.catalogue import repository
+
+    catalogue = repository()
+    reference = wp.reference_task(catalogue, "pendulum", "swing")
+    ours = {"engine": "symbolic", "method": "DOP853", "rtol": 1e-8, "dt": None}
+    engine = {"engine": "mujoco", "method": "RK4", "rtol": None, "dt": 0.02}
+    duel = wp.duel_task(catalogue, "pendulum", "swing", ours, engine, reference, budget=60_000, repeats=3)
+    assert len(duel["ours_all"]) == len(duel["engine_all"]) == 3 and all(x > 0 for x in duel["ours_all"])
+    assert duel["ratio_low"] <= duel["ratio"] <= duel["ratio_high"] and duel["verdict"] == wp.duel_verdict(duel)
+
+    def scene(name, low, high):
+        versus = {"ratio": (low + high) / 2, "ratio_low": low, "ratio_high": high, "repeats": 21,
+                  "fastest_engine_configuration": "mujoco RK4 dt=0.02"}
+        versus["verdict"] = wp.duel_verdict(versus)
+        fast = {"symbolic": {"configuration": "symbolic DOP853 rtol=1e-08", "seconds": 1.0, "evaluations": 10},
+                "mujoco": {"configuration": "mujoco RK4 dt=0.02", "seconds": 1.0, "evaluations": 10}}
+        return {"system": "pendulum", "scene": name,
+                "summary": {"symbolic_vs_fastest_engine": versus, "fastest_at_accuracy": fast}}
+
+    assert [scene("a", *x)["summary"]["symbolic_vs_fastest_engine"]["verdict"]
+            for x in ((0.5, 0.9), (0.97, 1.02), (1.1, 1.2))] == ["met", "undecided", "not met"]
+    goal = lambda *scenes: next(g for g in report.goals({"workprecision": {"scenes": list(scenes)}})
+                                if g["check"].startswith("symbolic path"))
+    assert goal(scene("a", 0.5, 0.9), scene("b", 0.6, 0.8))["verdict"] == "met"
+    undecided = goal(scene("a", 0.5, 0.9), scene("b", 1.0, 1.05))
+    assert undecided["verdict"] == "undecided" and "pendulum/b 1 × [0.95, 1.1] undecided" in undecided["detail"]
+    assert goal(scene("a", 1.1, 1.2), scene("b", 1.0, 1.05))["verdict"] == "not met"

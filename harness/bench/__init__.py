@@ -38,7 +38,11 @@ Schema of ``bench.json`` (``schema: 2``; times in seconds, errors relative to th
                     "skipped": str (instead of error/seconds), "failed": str (optional)}],
           "summary": {"pareto": {engine: [configuration label, fastest first]},
                       "fastest_at_accuracy": {engine: {"configuration", "seconds", "error", "evaluations"} | null},
-                      "symbolic_vs_fastest_engine": {"ratio", "fastest_engine_configuration"} (when both exist)},
+                      "symbolic_vs_fastest_engine": {"ratio" (the median of ours / engine over "repeats"
+                          alternating pairs of the two configurations, harness.bench.workprecision.duel_task),
+                          "ratio_low", "ratio_high" (its interval), "ours_all", "engine_all", "verdict",
+                          "sweep_ratio" (the sweep's medians' ratio), "symbolic_configuration",
+                          "fastest_engine_configuration"} (when both exist)},
           "figure": path relative to DIR}]},
       "evaluation": {"states": int, "systems": [{"system", "dof", "states",
                      "symbolic": {"terms" (M, C·q̇, g, f_np in one call), "qdd", "terms_native", "qdd_native"
@@ -283,6 +287,35 @@ def as_run(result: dict) -> dict:
     return result
 
 
+QUICK_PAIRS = 5   # --quick: alternating pairs of ours against the fastest engine (their [min, max]; the full run 21)
+
+
+def _duels(catalogue, scenes: list[dict], by_task, grid: wp.Grid, scheduler, workers) -> None:
+    """Each scene's ours / the fastest engine at the accuracy, timed again in alternating pairs
+    (:func:`~harness.bench.workprecision.duel_task`): the sweep's single ratio becomes the pairs' median with its
+    interval and verdict, the sweep's own kept as ``sweep_ratio``."""
+    tasks, entries = [], []
+    for entry in scenes:
+        versus = entry.get("summary", {}).get("symbolic_vs_fastest_engine")
+        if not versus:
+            continue
+        ours, engine = versus.pop("runs")
+        reference = {k: by_task[f"reference {entry['system']}/{entry['scene']}"][k] for k in ("t", "q", "qd")}
+        tasks.append(Task("harness.bench.workprecision:duel_task",
+                          {"catalogue": catalogue, "system": entry["system"], "scene": entry["scene"], "ours": ours,
+                           "engine": engine, "reference": reference, "budget": grid.budget,
+                           "repeats": wp.REPEATS if grid.repeats > 1 else QUICK_PAIRS},
+                          f"{entry['system']}/{entry['scene']} ours against the fastest engine"))
+        entries.append(versus)
+    _log(f"bench: ours against the fastest engine, {len(tasks)} scenes, alternating pairs …")
+    for versus, duel in zip(entries, run_tasks(tasks, scheduler=scheduler, workers=workers)):
+        versus["sweep_ratio"] = versus["ratio"]
+        if isinstance(duel.get("error"), str):   # the task raised: the sweep's ratio alone, no verdict
+            versus["duel_error"] = duel["error"]
+            continue
+        versus.update(duel)
+
+
 def _workprecision(catalogue, cases, by_task, grid: wp.Grid, scheduler, workers, out: Path) -> dict:
     configs = wp.configurations(grid)
     tasks, scenes = [], []
@@ -318,6 +351,7 @@ def _workprecision(catalogue, cases, by_task, grid: wp.Grid, scheduler, workers,
         entry["runs"] = runs.get(key, [])
         entry["summary"] = wp.summarize_scene(entry["runs"])
         entry["figure"] = f"bench/{entry['system']}-{entry['scene']}.svg" if entry["runs"] else None
+    _duels(catalogue, scenes, by_task, grid, scheduler, workers)
     return {"accuracy": wp.ACCURACY, "grid": {"rtols": list(grid.rtols), "fixed_k": list(grid.fixed_k),
                                               "mujoco_k": list(grid.mujoco_k), "repeats": grid.repeats,
                                               "budget": grid.budget,
