@@ -306,7 +306,7 @@ def duel_task(catalogue, system: str, scene: str, ours: dict, engine: dict, refe
     to the next (tower_crane/slew 1.07 ×, then 0.67 ×, the same code). A pair's two runs share the machine's state,
     so its ratio cancels what drifts between pairs. ``{"ratio": the median of the pairs' ours / engine, "ratio_low",
     "ratio_high": its ≥ 99.5 % interval (:func:`~harness.scenes.phenomena.pruning.ratio_interval`), "ours_all",
-    "engine_all": every run's seconds, "verdict"}`` (:func:`duel_verdict`)."""
+    "engine_all": every run's seconds, "verdict"}`` (:func:`verdict_at_most` 1 ×)."""
     s, sc = get_scene(catalogue, system, scene)
     t_eval = np.asarray(reference["t"])
 
@@ -321,14 +321,14 @@ def duel_task(catalogue, system: str, scene: str, ours: dict, engine: dict, refe
     ratio, low, high = ratio_interval(ours_all, engine_all)
     out = {"ratio": ratio, "ratio_low": low, "ratio_high": high, "ours_all": ours_all, "engine_all": engine_all,
            "repeats": repeats}
-    return out | {"verdict": duel_verdict(out)}
+    return out | {"verdict": verdict_at_most(out, 1.0)}
 
 
-def duel_verdict(duel: dict, target: float = 1.0) -> str:
-    """Ours / the fastest engine ≤ ``target``: "met" where the whole interval, widened by the bench's resolution
-    (:data:`~harness.scenes.phenomena.pruning.RESOLUTION`), is at or below it, "not met" where it is wholly above,
-    else "undecided" (the repeats cannot tell)."""
-    low, high = duel["ratio_low"] * (1 - RESOLUTION), duel["ratio_high"] * (1 + RESOLUTION)
+def verdict_at_most(m: dict, target: float) -> str:
+    """A measured ratio ``{"ratio_low", "ratio_high"}`` (an interval of alternating pairs) ≤ ``target``: "met" where
+    the whole interval, widened by the bench's resolution (:data:`~harness.scenes.phenomena.pruning.RESOLUTION`), is
+    at or below it, "not met" where it is wholly above, else "undecided" (the repeats cannot tell)."""
+    low, high = m["ratio_low"] * (1 - RESOLUTION), m["ratio_high"] * (1 + RESOLUTION)
     return "met" if high <= target else "not met" if low > target else "undecided"
 
 
