@@ -28,7 +28,12 @@ class Task:
 
 
 def execute(task: Task) -> dict:
-    """Run one task (in a worker); an exception becomes a result with ``error`` instead of losing the sweep."""
+    """Run one task (in a worker); an exception becomes a result with ``error`` instead of losing the sweep. The
+    allocator is held at one state first (:func:`harness.allocator.steady`): a timing must not depend on what the
+    worker ran before."""
+    from harness import allocator
+
+    allocator.steady()
     module, _, name = task.function.partition(":")
     try:
         return getattr(importlib.import_module(module), name)(**task.args)
