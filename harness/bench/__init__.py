@@ -106,6 +106,7 @@ import sys
 import time
 from pathlib import Path
 
+from harness import allocator
 from harness.bench import contact_pruning, derivation, evalcost, workprecision as wp
 from harness.bench.runner import Task, run_tasks
 from harness.checks import json_clean, json_restore
@@ -159,6 +160,7 @@ def run_bench(catalogue, out="reports", quick: bool = False, scheduler: str | No
     from harness.bench import figures, report
 
     catalogue.require(systems)  # unknown names fail before any work
+    allocator.steady()          # the parts run in this process too (harness.allocator: as every task's)
     unknown = set(parts) - {"workprecision", "evaluation", "derivation", "pruning"}
     if unknown:
         raise InputError(f"unknown bench part(s) {sorted(unknown)}")
