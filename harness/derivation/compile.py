@@ -98,6 +98,15 @@ class CompiledModel:
         moving = set(s.q) | set(s.qd) | set(s.u)
         return not (d.J_phi.free_symbols & moving) and not (d.phi.free_symbols & set(s.u))
 
+    def affine_map(self, p, u) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(φ(0), J, J⁻¹)`` of a constant square map (:attr:`constant_map`): ``θ = φ(0) + J q`` at every state,
+        evaluated once."""
+        if not (self.constant_map and self.derivation.J_phi.is_square):
+            raise ValueError(f"{self.system.name}: θ = φ(q) is not an affine map with a square J")
+        n = self.dof
+        phi0, J, _ = self.map_at(np.zeros(n), np.zeros(n), p, u)
+        return phi0, J, np.linalg.inv(J)
+
     @cached_property
     def _native(self):
         """``(terms, qdd, batched, state_derivative)``: :meth:`terms`' function compiled to machine code by numba

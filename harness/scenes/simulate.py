@@ -87,9 +87,7 @@ class Dynamics:
         self._affine = None   # (φ(0), J, J⁻¹) of a constant square map, evaluated once (:meth:`at`)
         if self.model is not None and not self.c.identity_map and self.c.constant_map \
                 and self.c.derivation.J_phi.is_square:
-            n = self.c.dof
-            phi0, J, _ = self.c.map_at(np.zeros(n), np.zeros(n), self.p, np.zeros(len(self.input_names)))
-            self._affine = phi0, J, np.linalg.inv(J)
+            self._affine = self.c.affine_map(self.p, np.zeros(len(self.input_names)))
 
     def __call__(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
         self.evaluations += 1

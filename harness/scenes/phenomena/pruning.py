@@ -107,8 +107,7 @@ class MujocoStepper:
             if not (self.c.constant_map and J.shape == (n, n)):
                 raise ValueError("MuJoCo's own stepping with external loads needs an affine map θ = φ(0) + J q "
                                  "(the loads are evaluated at the lecture state)")
-            self.phi0 = self.c.map_at(np.zeros(n), np.zeros(n), self.p, u0)[0]
-            self.J_inv = np.linalg.inv(J)
+            self.phi0, _, self.J_inv = self.c.affine_map(self.p, u0)
 
     def run(self) -> sim.Trajectory:
         from harness.engines.base import Load
