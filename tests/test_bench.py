@@ -172,13 +172,28 @@ def test_the_committed_bench_json_stays_below_two_megabytes():
     assert not any("seconds_all" in r for sc in doc["workprecision"]["scenes"] for r in sc["runs"])
 
 
+def _paired(low: float, high: float, target: float) -> dict:
+    """A ratio measured in alternating pairs with the interval ``[low, high]`` and its verdict on ``target``."""
+    from harness.scenes.phenomena.pruning import at_most
+
+    m = {"ratio": (low + high) / 2, "ratio_low": low, "ratio_high": high}
+    return m | {"verdict": at_most(m, target)}
+
+
+def _goal(doc: dict, starts: str) -> dict:
+    """The goal of ``doc`` whose check starts with ``starts``."""
+    from harness.bench import report
+
+    return next(g for g in report.goals(doc) if g["check"].startswith(starts))
+
+
 def test_ours_against_the_fastest_engine_is_judged_on_alternating_pairs():
     """The goal "symbolic path vs the fastest engine" from the sweep's single ratio flipped from one bench run to the
     next (tower_crane/slew 1.07 ×, 0.67 ×, 1.08 ×): the two configurations are timed again in alternating pairs
     (:func:`~harness.bench.workprecision.duel_task`), and a scene whose widened interval holds 1 × is undecided,
     neither met nor missed; the goal is undecided where one scene is and none is missed."""
-    from harness.bench import report
     from harness.catalogue import repository
+    from harness.scenes.phenomena.pruning import at_most
 
     catalogue = repository()
     reference = wp.reference_task(catalogue, "pendulum", "swing")
@@ -186,12 +201,10 @@ def test_ours_against_the_fastest_engine_is_judged_on_alternating_pairs():
     engine = {"engine": "mujoco", "method": "RK4", "rtol": None, "dt": 0.02}
     duel = wp.duel_task(catalogue, "pendulum", "swing", ours, engine, reference, budget=60_000, repeats=3)
     assert len(duel["ours_all"]) == len(duel["engine_all"]) == 3 and all(x > 0 for x in duel["ours_all"])
-    assert duel["ratio_low"] <= duel["ratio"] <= duel["ratio_high"] and duel["verdict"] == wp.verdict_at_most(duel, 1.0)
+    assert duel["ratio_low"] <= duel["ratio"] <= duel["ratio_high"] and duel["verdict"] == at_most(duel, 1.0)
 
     def scene(name, low, high):
-        versus = {"ratio": (low + high) / 2, "ratio_low": low, "ratio_high": high, "repeats": 21,
-                  "fastest_engine_configuration": "mujoco RK4 dt=0.02"}
-        versus["verdict"] = wp.verdict_at_most(versus, 1.0)
+        versus = _paired(low, high, 1.0) | {"repeats": 21, "fastest_engine_configuration": "mujoco RK4 dt=0.02"}
         fast = {"symbolic": {"configuration": "symbolic DOP853 rtol=1e-08", "seconds": 1.0, "evaluations": 10},
                 "mujoco": {"configuration": "mujoco RK4 dt=0.02", "seconds": 1.0, "evaluations": 10}}
         return {"system": "pendulum", "scene": name,
@@ -199,8 +212,9 @@ def test_ours_against_the_fastest_engine_is_judged_on_alternating_pairs():
 
     assert [scene("a", *x)["summary"]["symbolic_vs_fastest_engine"]["verdict"]
             for x in ((0.5, 0.9), (0.97, 1.02), (1.1, 1.2))] == ["met", "undecided", "not met"]
-    goal = lambda *scenes: next(g for g in report.goals({"workprecision": {"scenes": list(scenes)}})
-                                if g["check"].startswith("symbolic path"))
+    def goal(*scenes):
+        return _goal({"workprecision": {"scenes": list(scenes)}}, "symbolic path")
+
     assert goal(scene("a", 0.5, 0.9), scene("b", 0.6, 0.8))["verdict"] == "met"
     undecided = goal(scene("a", 0.5, 0.9), scene("b", 1.0, 1.05))
     assert undecided["verdict"] == "undecided" and "pendulum/b 1 × [0.95, 1.1] undecided" in undecided["detail"]
@@ -212,7 +226,7 @@ def test_evaluation_goals_are_judged_on_alternating_pairs():
     (:func:`~harness.bench.evalcost.paired_ratio`); the goal reads the widened interval's high end and is undecided
     where a system's interval holds the target (tower_crane's batched ratio read 0.16-0.35 × from one run to the
     next as a ratio of two medians, 0.31-0.33 × in pairs)."""
-    from harness.bench import evalcost, report
+    from harness.bench import evalcost
 
     work = list(range(2000))
     twice = evalcost.paired_ratio(lambda: sum(work * 2), lambda: sum(work), target=1.0, pairs=5)
@@ -220,8 +234,7 @@ def test_evaluation_goals_are_judged_on_alternating_pairs():
     assert twice["ratio_low"] <= twice["ratio"] <= twice["ratio_high"]
 
     def row(name, low, high):
-        m = {"ratio": (low + high) / 2, "ratio_low": low, "ratio_high": high}
-        m["verdict"] = wp.verdict_at_most(m, evalcost.GOAL_ONE_CALL)
+        m = _paired(low, high, evalcost.GOAL_ONE_CALL)
         keys = ("one_call_vs_pinocchio", "one_call_native_vs_pinocchio", "batched_vs_pinocchio",
                 "batched_native_vs_pinocchio")
         return {"system": name, "dof": 2, "ratios": {k: m["ratio"] for k in keys}, "paired": {k: m for k in keys},
@@ -230,8 +243,9 @@ def test_evaluation_goals_are_judged_on_alternating_pairs():
                                                                             "terms_native": 1}}
 
     def goal(*rows):
-        return next(g for g in report.goals({"evaluation": {"systems": list(rows)}})
-                    if g["check"].startswith("one compiled call of M, C·q̇, g vs Pinocchio per call (Python"))
+        return _goal({"evaluation": {"systems": list(rows)}}, "one compiled call of M, C·q̇, g vs Pinocchio per "
+                                                              "call (Python")
+
     assert goal(row("a", 1.0, 1.5), row("b", 0.5, 1.0))["verdict"] == "met"
     undecided = goal(row("a", 1.0, 1.5), row("b", 1.9, 2.05))
     assert undecided["verdict"] == "undecided" and "undecided on 1" in undecided["detail"]

@@ -301,7 +301,7 @@ def _duels(catalogue, scenes: list[dict], by_task, grid: wp.Grid, scheduler, wor
         versus = entry.get("summary", {}).get("symbolic_vs_fastest_engine")
         if not versus:
             continue
-        ours, engine = versus.pop("runs")
+        ours, engine = wp.contenders(entry["runs"])
         reference = {k: by_task[f"reference {entry['system']}/{entry['scene']}"][k] for k in ("t", "q", "qd")}
         tasks.append(Task("harness.bench.workprecision:duel_task",
                           {"catalogue": catalogue, "system": entry["system"], "scene": entry["scene"], "ours": ours,

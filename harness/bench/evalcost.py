@@ -35,11 +35,10 @@ import timeit
 
 import numpy as np
 
-from harness.bench.workprecision import verdict_at_most
 from harness.derivation.compile import compiled
 from harness.engines import ENGINES
 from harness.export.numeric import instantiate
-from harness.scenes.phenomena.pruning import paired, ratio_interval
+from harness.scenes.phenomena.pruning import at_most, paired, ratio_interval
 
 GOAL_BATCHED = 0.2
 GOAL_ONE_CALL = 2.0
@@ -70,7 +69,7 @@ def paired_ratio(ours, theirs, target: float, per: int = 1, pairs: int = PAIRS) 
     timed in ``pairs`` alternating pairs of loops of ≳ 20 ms each (:func:`~harness.scenes.phenomena.pruning.paired`):
     ``{"ratio": the median of the pairs' ratios, "ratio_low", "ratio_high": its ≥ 99.5 % interval
     (:func:`~harness.scenes.phenomena.pruning.ratio_interval`), "verdict"}`` against ``target`` (≤, widened by the
-    resolution: :func:`~harness.bench.workprecision.verdict_at_most`). The goals' ratios of two medians taken one after
+    resolution: :func:`~harness.scenes.phenomena.pruning.at_most`). The goals' ratios of two medians taken one after
     the other moved a system across its target from one run to the next (tower_crane batched 0.195 ×, 0.22 ×)."""
     def loop(fn, states: int):
         timer = timeit.Timer(fn)
@@ -80,7 +79,7 @@ def paired_ratio(ours, theirs, target: float, per: int = 1, pairs: int = PAIRS) 
     mine, theirs_all = paired(loop(ours, per), loop(theirs, 1), pairs)
     ratio, low, high = ratio_interval(mine, theirs_all)
     out = {"ratio": ratio, "ratio_low": low, "ratio_high": high}
-    return out | {"verdict": verdict_at_most(out, target)}
+    return out | {"verdict": at_most(out, target)}
 
 
 def measure(catalogue, system: str, states: int = 10_000, seed: int = 0) -> dict:
@@ -102,13 +101,26 @@ def measure(catalogue, system: str, states: int = 10_000, seed: int = 0) -> dict
     # the one function returns what the per-quantity NumPy functions return (guards against timing a wrong one)
     for got, want in ((M0, f["M"](q, qd, p, u)), (Cqd0, f["C"](q, qd, p, u) @ qd), (g0, f["g"](q, qd, p, u))):
         assert np.allclose(got, np.reshape(want, np.shape(got)), rtol=1e-12, atol=1e-12)
-    sym["terms"] = per_call(lambda: c.terms_array(q, qd, p, u))
+    # what the goals compare (:func:`_ratios`), each timed by itself and again in pairs with Pinocchio (``paired``)
+    def one_call():
+        return c.terms_array(q, qd, p, u)
+
+    def one_call_native():
+        return c.terms_array(q, qd, p, u, native=True)
+
+    def batched_native():
+        return c.batched_terms(Q, QD, p, U)
+
+    batched = {"M": lambda: c.batched("M", Q, QD, p, U),
+               "Cqd": lambda: np.einsum("nij,nj->ni", c.batched("C", Q, QD, p, U), QD),
+               "g": lambda: c.batched("g", Q, QD, p, U)}
+    sym["terms"] = per_call(one_call)
     sym["qdd"] = per_call(lambda: c.forward_dynamics(q, qd, p, u))
     ql, qdl, pl, ul = q.tolist(), qd.tolist(), p.tolist(), u.tolist()
     start = time.perf_counter()
     c.terms(q, qd, p, u, native=True)  # compiles
     out["native_compile_seconds"] = time.perf_counter() - start
-    sym["terms_native"] = per_call(lambda: c.terms_array(q, qd, p, u, native=True))
+    sym["terms_native"] = per_call(one_call_native)
     sym["qdd_native"] = per_call(lambda: c.forward_dynamics(q, qd, p, u, native=True))
     out["qdd_parts"] = {"terms_arithmetic": per_call(lambda: c._terms_function(ql, qdl, pl, ul)),
                         "terms": sym["terms"], "split": per_call(lambda: c.terms(q, qd, p, u)) - sym["terms"],
@@ -122,14 +134,11 @@ def measure(catalogue, system: str, states: int = 10_000, seed: int = 0) -> dict
     wrap["Cqd"] = per_call(lambda: c("C", q, qd, p, u) @ qd)
     wrap["g"] = per_call(lambda: c("g", q, qd, p, u))
     bat = out["symbolic_batched"]
-    for key, fn in (("M", lambda: c.batched("M", Q, QD, p, U)),
-                    ("Cqd", lambda: np.einsum("nij,nj->ni", c.batched("C", Q, QD, p, U), QD)),
-                    ("g", lambda: c.batched("g", Q, QD, p, U)),
-                    ("qdd", lambda: c.batched_forward_dynamics(Q, QD, p, U))):
+    for key, fn in (*batched.items(), ("qdd", lambda: c.batched_forward_dynamics(Q, QD, p, U))):
         fn()  # compiles the batched function once, untimed
         bat[key] = per_call(fn, repeats=3) / states
     c.batched_terms(Q[:2], QD[:2], p, U[:2])  # compiles
-    bat["terms_native"] = per_call(lambda: c.batched_terms(Q, QD, p, U), repeats=3) / states
+    bat["terms_native"] = per_call(batched_native, repeats=3) / states
     tree = instantiate(s, params)
     theta = np.asarray(c("phi", q, qd, p, u), dtype=float).ravel()
     theta_dot = np.asarray(c("J_phi", q, qd, p, u), dtype=float) @ qd
@@ -142,28 +151,22 @@ def measure(catalogue, system: str, states: int = 10_000, seed: int = 0) -> dict
         out[engine] = {key: per_call(call) for key, call in kernels.items()}
         if engine == "pinocchio":
             three = kernels["M"], kernels["nle"], kernels["g"]
-            out["paired"] = _paired(c, q, qd, p, u, Q, QD, U, lambda: [call() for call in three])
+
+            def pinocchio():
+                return [call() for call in three]
+
+            def broadcast():
+                return [fn() for fn in batched.values()]
+
+            out["paired"] = {  # the goals' four ratios (:func:`_ratios`' keys) from alternating pairs
+                "one_call_vs_pinocchio": paired_ratio(one_call, pinocchio, GOAL_ONE_CALL),
+                "one_call_native_vs_pinocchio": paired_ratio(one_call_native, pinocchio, GOAL_ONE_CALL),
+                "batched_vs_pinocchio": paired_ratio(broadcast, pinocchio, GOAL_BATCHED, per=states),
+                "batched_native_vs_pinocchio": paired_ratio(batched_native, pinocchio, GOAL_BATCHED, per=states)}
     if "nle" in out["pinocchio"]:
         out["pinocchio"]["Cqd"] = out["pinocchio"]["nle"] + out["pinocchio"]["g"]
     _ratios(out)
     return out
-
-
-def _paired(c, q, qd, p, u, Q, QD, U, pinocchio) -> dict:
-    """The goals' four ratios (:func:`_ratios`' keys) from alternating pairs (:func:`paired_ratio`): our M, C·q̇, g
-    of one state (Python floats, numba) and of ``len(Q)`` states (NumPy broadcasting, the numba loop) against
-    Pinocchio's three calls ``pinocchio()`` (crba, nonLinearEffects, computeGeneralizedGravity)."""
-    def broadcast():
-        return (c.batched("M", Q, QD, p, U), np.einsum("nij,nj->ni", c.batched("C", Q, QD, p, U), QD),
-                c.batched("g", Q, QD, p, U))
-
-    states = len(Q)
-    return {"one_call_vs_pinocchio": paired_ratio(lambda: c.terms_array(q, qd, p, u), pinocchio, GOAL_ONE_CALL),
-            "one_call_native_vs_pinocchio": paired_ratio(lambda: c.terms_array(q, qd, p, u, native=True),
-                                                         pinocchio, GOAL_ONE_CALL),
-            "batched_vs_pinocchio": paired_ratio(broadcast, pinocchio, GOAL_BATCHED, per=states),
-            "batched_native_vs_pinocchio": paired_ratio(lambda: c.batched_terms(Q, QD, p, U), pinocchio,
-                                                        GOAL_BATCHED, per=states)}
 
 
 def pinocchio_sum(pin: dict) -> float:

@@ -11,7 +11,7 @@ import math
 
 from harness.bench import derivation, evalcost, workprecision as wp
 from harness.checks import Check
-from harness.scenes.phenomena.pruning import PRUNING_GOAL, RESOLUTION, against, attainable, interval, slower_pruned
+from harness.scenes.phenomena.pruning import PRUNING_GOAL, against, attainable, interval, slower_pruned, widened
 
 GOAL = "bench goal"
 """The basis of every goal: a target ratio of wall times the issue set, not a tolerance."""
@@ -155,23 +155,24 @@ def _judged(row: dict, key: str, target: float) -> tuple[str, str, float]:
     """A system's evaluation-cost ratio ``key`` against ``target`` (≤): ``(verdict, its interval as text, the high
     end widened by the resolution)`` from its alternating pairs (``paired``, :func:`~harness.bench.evalcost.
     paired_ratio`); a bench.json from before the pairs: the single ratio, met at or below the target."""
-    m = row.get("paired", {}).get(key)
-    if m is None:
-        ratio = row["ratios"][key]
-        return ("met" if ratio <= target else "not met"), "", ratio
-    low, high = m["ratio_low"] * (1 - RESOLUTION), m["ratio_high"] * (1 + RESOLUTION)
-    return m["verdict"], f" [{low:.3g}, {high:.3g}]", high
+    return _at_most(row.get("paired", {}).get(key), row["ratios"][key], target)
 
 
 def _versus(r: dict) -> tuple[str, str, float]:
-    """A scene's ours / the fastest engine (``summary.symbolic_vs_fastest_engine``): ``(verdict, its interval as
-    text, the high end of the interval widened by the resolution)``
-    (:func:`~harness.bench.workprecision.verdict_at_most`); a bench.json from before the pairs: the sweep's single
-    ratio, met at or below 1."""
-    if "verdict" not in r:
-        return ("met" if r["ratio"] <= 1 else "not met"), "", r["ratio"]
-    low, high = r["ratio_low"] * (1 - RESOLUTION), r["ratio_high"] * (1 + RESOLUTION)
-    return r["verdict"], f" [{low:.3g}, {high:.3g}]", high
+    """A scene's ours / the fastest engine (``summary.symbolic_vs_fastest_engine``) against 1 × (:func:`_at_most`;
+    a bench.json from before the pairs: the sweep's single ratio)."""
+    return _at_most(r if "verdict" in r else None, r["ratio"], 1.0)
+
+
+def _at_most(m: dict | None, ratio: float, target: float) -> tuple[str, str, float]:
+    """A ratio that should be at most ``target``: ``(verdict, its interval as text, the high end of the interval)``
+    from its alternating pairs ``m`` (its ``verdict``, :func:`~harness.scenes.phenomena.pruning.at_most`, and its
+    interval :func:`~harness.scenes.phenomena.pruning.widened`); without pairs the single ``ratio``, met at or below
+    the target."""
+    if m is None:
+        return ("met" if ratio <= target else "not met"), "", ratio
+    low, high = widened(m["ratio_low"], m["ratio_high"])
+    return m["verdict"], f" [{low:.3g}, {high:.3g}]", high
 
 
 def _seconds(side: dict) -> str:

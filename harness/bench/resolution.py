@@ -15,7 +15,7 @@ from harness.engines import ENGINES
 from harness.modeling.scenes import with_idle_effects
 from harness.scenes.effects import infer
 from harness.scenes.phenomena import motion_of
-from harness.scenes.phenomena.pruning import REPEATS, RESOLUTION, paired, ratio_interval
+from harness.scenes.phenomena.pruning import REPEATS, RESOLUTION, paired, ratio_interval, widened
 
 
 def a_a(rounds: int = 2, sources=("symbolic", "pinocchio")) -> list[dict]:
@@ -48,7 +48,7 @@ def main() -> None:
           f"{max([max(r['low'] - 1, 1 - r['high']) for r in missed], default=0.0) * 100:.1f} %); medians "
           f"{min(r['ratio'] for r in rows):.3f}-{max(r['ratio'] for r in rows):.3f}; with RESOLUTION = "
           f"{RESOLUTION:g} every widened interval holds 1: "
-          f"{all(r['low'] * (1 - RESOLUTION) <= 1 <= r['high'] * (1 + RESOLUTION) for r in rows)}")
+          f"{all(widened(r['low'], r['high'])[0] <= 1 <= widened(r['low'], r['high'])[1] for r in rows)}")
 
 
 if __name__ == "__main__":

@@ -44,7 +44,7 @@ from harness.modeling.events import RollSlip
 from harness.modeling.scenes import Scene
 from harness.scenes.base import REFERENCE_TOL
 from harness.scenes.phenomena import motion_of, mujoco_own
-from harness.scenes.phenomena.pruning import REPEATS, RESOLUTION, paired, ratio_interval
+from harness.scenes.phenomena.pruning import REPEATS, at_most, paired, ratio_interval
 
 SCIPY_METHODS = ("RK45", "DOP853", "Radau", "LSODA")
 ADAPTIVE = (*SCIPY_METHODS, sim.ODEINT)
@@ -306,7 +306,7 @@ def duel_task(catalogue, system: str, scene: str, ours: dict, engine: dict, refe
     to the next (tower_crane/slew 1.07 ×, then 0.67 ×, the same code). A pair's two runs share the machine's state,
     so its ratio cancels what drifts between pairs. ``{"ratio": the median of the pairs' ours / engine, "ratio_low",
     "ratio_high": its ≥ 99.5 % interval (:func:`~harness.scenes.phenomena.pruning.ratio_interval`), "ours_all",
-    "engine_all": every run's seconds, "verdict"}`` (:func:`verdict_at_most` 1 ×)."""
+    "engine_all": every run's seconds, "verdict"}`` (:func:`~harness.scenes.phenomena.pruning.at_most` 1 ×)."""
     s, sc = get_scene(catalogue, system, scene)
     t_eval = np.asarray(reference["t"])
 
@@ -321,15 +321,7 @@ def duel_task(catalogue, system: str, scene: str, ours: dict, engine: dict, refe
     ratio, low, high = ratio_interval(ours_all, engine_all)
     out = {"ratio": ratio, "ratio_low": low, "ratio_high": high, "ours_all": ours_all, "engine_all": engine_all,
            "repeats": repeats}
-    return out | {"verdict": verdict_at_most(out, 1.0)}
-
-
-def verdict_at_most(m: dict, target: float) -> str:
-    """A measured ratio ``{"ratio_low", "ratio_high"}`` (an interval of alternating pairs) ≤ ``target``: "met" where
-    the whole interval, widened by the bench's resolution (:data:`~harness.scenes.phenomena.pruning.RESOLUTION`), is
-    at or below it, "not met" where it is wholly above, else "undecided" (the repeats cannot tell)."""
-    low, high = m["ratio_low"] * (1 - RESOLUTION), m["ratio_high"] * (1 + RESOLUTION)
-    return "met" if high <= target else "not met" if low > target else "undecided"
+    return out | {"verdict": at_most(out, 1.0)}
 
 
 # --------------------------------------------------------------------------- fixed-step integrators
@@ -436,13 +428,19 @@ def summarize_scene(runs: list[dict], accuracy: float = ACCURACY) -> dict:
            "fastest_at_accuracy": {e: (None if b is None else {"configuration": label(b), "seconds": b["seconds"],
                                                                 "error": b["error"], "evaluations": b["evaluations"]})
                                    for e, b in best.items()}}
-    ours = [b for e, b in best.items() if e in OURS and b is not None]
-    others = [b for e, b in best.items() if e not in OURS and b is not None]
-    if ours and others:
-        mine = min(ours, key=lambda r: r["seconds"])
-        fastest = min(others, key=lambda r: r["seconds"])
+    pair = contenders(runs, accuracy)
+    if pair:
+        mine, fastest = pair
         out["symbolic_vs_fastest_engine"] = {"ratio": mine["seconds"] / fastest["seconds"],
                                              "symbolic_configuration": label(mine),
-                                             "fastest_engine_configuration": label(fastest),
-                                             "runs": [mine, fastest]}   # the duel's (duel_task); then dropped
+                                             "fastest_engine_configuration": label(fastest)}
     return out
+
+
+def contenders(runs: list[dict], accuracy: float = ACCURACY) -> tuple[dict, dict] | None:
+    """``(ours, the engines')``: the fastest run of our path (:data:`OURS`) and of the engines reaching
+    ``accuracy`` (:func:`fastest_at`), or None where either has none: the pair the goal compares (the sweep's ratio,
+    then :func:`duel_task`)."""
+    ours = fastest_at([r for r in runs if r["engine"] in OURS], accuracy)
+    others = fastest_at([r for r in runs if r["engine"] not in OURS], accuracy)
+    return (ours, others) if ours and others else None

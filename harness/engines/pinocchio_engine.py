@@ -218,11 +218,16 @@ class PinocchioModel(TreeEngine):
                             lambda p: self.frame_jacobian(self.frames[p])[:3],
                             lambda link: self.frame_jacobian(model.getFrameId(link))[3:])
 
+    def _applied(self, q, v, u: dict, loads=()) -> tuple:
+        """``(f_spring, f_damper, τ_input)`` in Pinocchio's order: the force elements' generalized forces
+        (:meth:`point_forces`, then :meth:`input_forces`, which reuses the frames the first computed)."""
+        f_spring, f_damper = self.point_forces(q, v)
+        return f_spring, f_damper, self.input_forces(q, u, loads)
+
     def _aba(self, q, v, u: dict, loads=()) -> tuple:
         """``(θ̈, f_spring, f_damper, τ_input)`` in Pinocchio's order: ``pin.aba`` with ``τ`` = inputs + springs +
-        dampers."""
-        f_spring, f_damper = self.point_forces(q, v)
-        tau_input = self.input_forces(q, u, loads)
+        dampers (:meth:`_applied`)."""
+        f_spring, f_damper, tau_input = self._applied(q, v, u, loads)
         return pin.aba(self.model, self.data, q, v, tau_input + f_spring + f_damper).copy(), f_spring, f_damper, \
             tau_input
 
@@ -236,8 +241,8 @@ class PinocchioModel(TreeEngine):
         apart)."""
         q, v = self.to_pin(theta), self.to_pin(theta_dot)
         M = self._crba(q)
-        f_spring, f_damper = self.point_forces(q, v)
-        h = self.input_forces(q, u, loads) + f_spring + f_damper - pin.nonLinearEffects(self.model, self.data, q, v)
+        f_spring, f_damper, tau_input = self._applied(q, v, u, loads)
+        h = tau_input + f_spring + f_damper - pin.nonLinearEffects(self.model, self.data, q, v)
         return self.from_pin_matrix(M), self.from_pin(h)
 
     def _crba(self, q) -> np.ndarray:

@@ -376,9 +376,14 @@ def interval(m: dict) -> tuple[float, float]:
     ``per_call``, the contact pruning's): the confidence interval of its pairs (:func:`ratio_interval`) widened by
     :data:`RESOLUTION` on either side; ``(ratio, ratio)`` where it has no pairs (a single timing)."""
     if m.get("idle_all") and m.get("pruned_all"):
-        _, low, high = ratio_interval(m["idle_all"], m["pruned_all"])
-        return low * (1 - RESOLUTION), high * (1 + RESOLUTION)
+        return widened(*ratio_interval(m["idle_all"], m["pruned_all"])[1:])
     return m["ratio"], m["ratio"]
+
+
+def widened(low: float, high: float) -> tuple[float, float]:
+    """A confidence interval of alternating pairs (:func:`ratio_interval`) widened by :data:`RESOLUTION` on either
+    side: what the bench can tell."""
+    return low * (1 - RESOLUTION), high * (1 + RESOLUTION)
 
 
 def slower_pruned(m: dict) -> str:
@@ -394,6 +399,14 @@ def against(m: dict, target: float) -> str:
     whole interval below it), "undecided" (the interval holds the target: the repeats cannot tell)."""
     low, high = interval(m)
     return "met" if low >= target else "not met" if high < target else "undecided"
+
+
+def at_most(m: dict, target: float) -> str:
+    """A measured ratio that should be small (``{"ratio_low", "ratio_high"}``, an interval of alternating pairs, as
+    ours / an engine's time) against a target, the other way round from :func:`against`: "met" where the whole
+    interval, :func:`widened`, is at or below it, "not met" where it is wholly above, else "undecided"."""
+    low, high = widened(m["ratio_low"], m["ratio_high"])
+    return "met" if high <= target else "not met" if low > target else "undecided"
 
 
 def attainable(m: dict, target: float) -> str:
