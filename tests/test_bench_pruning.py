@@ -126,8 +126,38 @@ def test_the_price_of_a_dop853_run_is_also_taken_per_call():
         assert c["calls"] == 500 and 0 < c["pruned_seconds"] < 1e-3 and 0 < c["idle_seconds"] < 1e-3
         assert c["ratio_low"] <= c["ratio"] <= c["ratio_high"]
     assert "per_call" not in row["sources"]["mujoco"]
+    bare = row["sources"]["mujoco"]["bare"]   # MuJoCo's bound: its run of the bare tree against the idle one
+    assert bare["ratio_low"] <= bare["ratio"] <= bare["ratio_high"] and len(bare["idle_all"]) == 3
     line = next(x for x in report._pruning([row]) if x.startswith("| quarter_car/smooth_road"))
-    assert "; per call " in line and " µs)" in line
+    assert "; per call " in line and " µs)" in line and "; bare tree " in line
+
+
+def test_mujoco_pruned_leaves_out_the_elements_of_left_out_effects_and_the_bare_tree_everything():
+    """planar_manipulator/swing leaves out its inputs, springs and dampers: the pruned MJCF has their flags set and
+    neither the actuators nor the tendon of the point spring and damper (MuJoCo computes a transmission and a
+    tendon's length and Jacobian whatever the flags); the bare tree has its bodies and joints alone and every
+    disable flag; the pruned run is the idle one's motion."""
+    import mujoco
+
+    from harness.bench.workprecision import get_scene
+    from harness.catalogue import repository
+    from harness.scenes import simulate as sim
+    from harness.scenes.effects import infer
+    from harness.scenes.phenomena.pruning import MUJOCO_STEPS, MujocoStepper
+
+    system, scene = get_scene(repository(), "planar_manipulator", "swing")
+    found, dt = infer(system, scene), scene.horizon / sim.grid_steps(scene, MUJOCO_STEPS)
+    idle, lean, bare = (MujocoStepper(system, scene, m, dt, found) for m in ("idle", "pruned", "bare"))
+    full, pruned_, tree = idle.model.model, lean.model.model, bare.model.model
+    assert full.nu == 2 and full.ntendon == 1 and pruned_.nu == 0 and pruned_.ntendon == 0
+    assert {"motor_1", "motor_2", "spring_e", "damper_e"} <= set(lean.removed)
+    assert pruned_.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_ACTUATION
+    assert (tree.nbody, tree.njnt) == (full.nbody, full.njnt) and tree.ngeom == tree.nsite == tree.nu == 0
+    every = [int(b) for n, b in mujoco.mjtDisableBit.__members__.items() if n not in ("mjNDISABLE", "mjDSBL_AUTORESET")]
+    assert all(tree.opt.disableflags & b for b in every)
+    assert sim.max_error(idle.run(), lean.run()) < 1e-12
+    with __import__("pytest").raises(ValueError, match="one of idle, pruned, bare"):
+        MujocoStepper(system, scene, "lean", dt, found)
 
 
 def test_a_target_above_what_one_evaluation_saves_is_out_of_reach():
@@ -145,6 +175,11 @@ def test_a_target_above_what_one_evaluation_saves_is_out_of_reach():
     assert attainable(m, 1.2) == ""                       # within the per-call interval: it may be met
     assert attainable({**m, "evaluations": [1172, 1180]}, 1.3) == ""
     assert attainable({k: v for k, v in m.items() if k != "per_call"}, 1.3) == ""
+    # MuJoCo's own stepping: no pruned model steps faster than the bare tree (its run against the idle one)
+    bare = {"ratio": 1.1, "idle_seconds": 11e-3, "pruned_seconds": 10e-3, "idle_all": pairs, "pruned_all": [1.0] * 21}
+    why = attainable({"ratio": 1.05, "evaluations": [2000, 2000], "bare": bare}, 1.3)
+    assert why.startswith("out of reach: the run of the bare tree") and "11.00 / 10.00 ms" in why
+    assert attainable({"ratio": 1.05, "evaluations": [2000, 2000], "bare": {**bare, "idle_all": [1.5] * 21}}, 1.3) == ""
 
 
 def test_an_undecided_scene_out_of_reach_is_not_met():

@@ -179,7 +179,7 @@ def test_an_idle_force_element_is_pruned_in_every_source():
     assert set(out["sources"]) == {"symbolic", "pinocchio", "mujoco"}
     for source, m in out["sources"].items():
         assert m["error"] <= ENGINE.value and m["ratio"] > 0, source
-    assert "not in the MJCF: tyre_damper" in out["sources"]["mujoco"]["method"]
+    assert "not in the MJCF: road, tyre_damper" in out["sources"]["mujoco"]["method"]   # the load left out too
 
 
 def test_a_declared_effect_found_idle_is_pruned_and_nothing_idle_is_nothing_to_prune():

@@ -70,8 +70,10 @@ Schema of ``bench.json`` (``schema: 2``; times in seconds, errors relative to th
                                the repeats each), "ratio" (idle / pruned: the median of the alternating pairs'
                                ratios), "ratio_low", "ratio_high" (its ≥ 99.5 % confidence interval), "pruned_all",
                                "idle_all" (every run's seconds), "error" (pruned vs idle trajectory),
-                               "evaluations": [pruned, idle], "method", "per_call" (symbolic: one call
-                               of the right-hand side, the same keys per call and "calls")} | {"skipped": why}},
+                               "evaluations": [pruned, idle], "method", "per_call" (symbolic, Pinocchio:
+                               one call of the right-hand side, the same keys per call and "calls"), "bare" (MuJoCo:
+                               the bare tree's runs against the idle ones, the same keys: pruning.bare_tree)} |
+                               {"skipped": why}},
                    "rows": {"left_out": [constraint row], "proof", "sources": {"pinocchio" | "mujoco": the same keys}}
                    (where the tree's constraint rows are proved inactive: the open tree against the constrained)}],
                   (before: {"system", "scene", "pruned_seconds", "idle_seconds", "speedup", …} of the symbolic

@@ -744,6 +744,26 @@ class VisualGeomsDropped:
 
 
 @dataclass(frozen=True)
+class BareTree:
+    """The tree alone: every element of the model but its bodies, joints and inertias deleted (actuators, sensors,
+    tendons, equalities, contact pairs and exclusions, geoms, sites) and every disable flag MuJoCo has set (what it
+    would compute for them with no element left: gravity, passive forces, constraints, …; ``autoreset`` excepted:
+    a run that went unstable is a failure, :func:`check_warnings`). What a step of this tree costs at the least: a
+    model with more elements or fewer flags computes the same stages and more, so no pruning of it steps faster
+    (:func:`harness.scenes.phenomena.pruning.attainable`). Its motion is not the scene's and is not read."""
+
+    def __call__(self, spec) -> None:
+        for kind in ("actuators", "sensors", "equalities", "tendons", "pairs", "excludes", "geoms", "sites"):
+            for element in list(getattr(spec, kind)):
+                spec.delete(element)
+        bits = 0
+        for name, bit in mujoco.mjtDisableBit.__members__.items():
+            if name not in ("mjNDISABLE", "mjDSBL_AUTORESET"):
+                bits |= int(bit)
+        spec.option.disableflags |= bits
+
+
+@dataclass(frozen=True)
 class JointCoupling:
     """``θ_dependent = offset + ratio θ_independent``: ``<equality><joint polycoef="offset ratio 0 0 0">``."""
 

@@ -112,7 +112,7 @@ def pruning_view(system: str, scene: dict, bench: dict | None) -> dict | None:
     and the disagreements (its notes), and per source the idle / pruned time ratio that ``harness bench --parts
     pruning`` measured (``bench``: bench.json; only where the scene has the check's pruned = idle proof of that
     source, else why not) or "nothing to prune"."""
-    from harness.scenes.phenomena.pruning import CHECK, PRUNING_GOAL, SOURCES, attainable, interval
+    from harness.scenes.phenomena.pruning import CHECK, PRUNING_GOAL, SOURCES, attainable, bound, interval
 
     notes = scene.get("notes") or {}
     if "effects declared" not in notes:
@@ -132,9 +132,10 @@ def pruning_view(system: str, scene: dict, bench: dict | None) -> dict | None:
         m = ((measured or {}).get("sources") or {}).get(source) or {}
         if source in checked and isinstance(m.get("ratio"), (int, float)):
             shown = _ratio_shown(m)
-            if m.get("per_call"):  # one evaluation of the right-hand side: the most the run's ratio can be
-                c, (low, high) = m["per_call"], interval(m["per_call"])
-                shown += f"; per call {c['ratio']:.3f} ×" + (f" [{low:.3g}, {high:.3g}]" if high > low else "")
+            if bound(m):  # one evaluation of the right-hand side, MuJoCo's bare tree: the most the ratio can be
+                label, c = bound(m)
+                low, high = interval(c)
+                shown += f"; {label} {c['ratio']:.3f} ×" + (f" [{low:.3g}, {high:.3g}]" if high > low else "")
                 if attainable(m, PRUNING_GOAL):
                     shown += f": {PRUNING_GOAL:g} × out of reach of this source"
         elif source in checked:

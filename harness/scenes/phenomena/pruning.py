@@ -17,17 +17,20 @@ one checks that inference.
   nothing is pruned in this source and no ratio is measured;
 * **mujoco**: its own RK4 (``mj_step``), every effect present (its flags cleared) against the left-out effects'
   disable flags set (:class:`~harness.engines.mujoco_engine.Options` ``disable``,
-  :func:`~harness.engines.mujoco_engine.effect_flags`). The flags are per effect type, so an idle element of an
-  acting effect is removed from the pruned MJCF. What that saves: an input is an actuator less; a point spring or
-  damper is a spatial tendon (one per pair of points, shared by a spring and a damper between them) whose length,
-  Jacobian and force MuJoCo no longer computes once every element on it is removed; a joint spring or damper, or
-  one of a tendon's two elements, is only a coefficient, 0 in the idle model already: the same compiled model,
-  nothing saved (the quarter car's tyre damper). The idle model's loads and inputs are evaluated and applied at
-  every step (held over the step from its start), the pruned one's only where called for and not idle. The pruned
-  MJCF also leaves out the visual geoms (:class:`~harness.engines.mujoco_engine.VisualGeomsDropped`), which a run
-  does not read and MuJoCo poses at every stage. A scene whose motion switches at events has MuJoCo's own run in
-  its event's plug-in (dry friction, contact): not measured here, except a friction held, where that run (MuJoCo's
-  ``frictionloss``) is the idle one and the pruned one has nothing to step.
+  :func:`~harness.engines.mujoco_engine.effect_flags`) and their force elements not in the pruned MJCF: MuJoCo
+  computes an actuator's transmission and a tendon's length and Jacobian at every step whatever the flags. The flags
+  are per effect type, so an idle element of an acting effect is removed from the pruned MJCF too. What that saves:
+  an input is an actuator less; a point spring or damper is a spatial tendon (one per pair of points, shared by a
+  spring and a damper between them) whose length, Jacobian and force MuJoCo no longer computes once every element on
+  it is removed; a joint spring or damper of an acting effect, or one of a tendon's two elements, is only a
+  coefficient, 0 in the idle model already: the same compiled model, nothing saved (the quarter car's tyre damper).
+  The idle model's loads and inputs are evaluated and applied at every step (held over the step from its start), the
+  pruned one's only where called for and not idle. The pruned MJCF also leaves out the visual geoms
+  (:class:`~harness.engines.mujoco_engine.VisualGeomsDropped`), which a run does not read and MuJoCo poses at every
+  stage. With repeats, the idle run is also timed against the bare tree's (:func:`bare_tree`), which no pruned model
+  steps faster than: the bound of the ratio (:func:`attainable`). A scene whose motion switches at events has
+  MuJoCo's own run in its event's plug-in (dry friction, contact): not measured here, except a friction held, where
+  that run (MuJoCo's ``frictionloss``) is the idle one and the pruned one has nothing to step.
 
 Constraint rows: where the tree's couplings and closures are proved inactive
 (:func:`~harness.scenes.effects.constraint_rows_idle`: the governor's mirrored arms), the engines' constrained tree
@@ -68,35 +71,45 @@ PRUNING_GOAL = 1.3         # idle / pruned, every source on every scene where so
 
 # --------------------------------------------------------------------------- MuJoCo's own stepping, idle or pruned
 class MujocoStepper:
-    """MuJoCo's RK4 on the MJCF of the idle system (every effect present, its flags cleared); ``prune``: the
-    left-out effects switched off by their disable flags, the idle force elements (``found.idle_elements``) not in
-    the MJCF (its flags are per effect type only), and only the called-for loads and inputs evaluated. Loads need
-    the lecture state: identity or affine maps ``θ = φ(0) + J q``."""
+    """MuJoCo's RK4 on the MJCF of the idle system (``model="idle"``: every effect present, its flags cleared);
+    ``"pruned"``: the left-out effects switched off by their disable flags and their force elements not in the
+    MJCF (MuJoCo computes an actuator's transmission and a tendon's length and Jacobian at every step whatever the
+    flags), nor the idle force elements (``found.idle_elements``: the flags are per effect type), and only the
+    called-for loads and inputs evaluated; ``"bare"``: the tree alone
+    (:class:`~harness.engines.mujoco_engine.BareTree`), what no pruning of it can step faster than
+    (:func:`attainable`). Loads need the lecture state: identity or affine maps ``θ = φ(0) + J q``."""
 
-    def __init__(self, system, scene, prune: bool, dt: float, found=None):
+    MODELS = ("idle", "pruned", "bare")
+
+    def __init__(self, system, scene, model: str, dt: float, found=None):
         from harness.derivation.compile import compiled
-        from harness.engines.mujoco_engine import MujocoModel, Options, VisualGeomsDropped, effect_flags
+        from harness.engines.mujoco_engine import BareTree, MujocoModel, Options, VisualGeomsDropped, effect_flags
         from harness.export.numeric import instantiate
 
+        if model not in self.MODELS:
+            raise ValueError(f"model {model!r}: one of {', '.join(self.MODELS)}")
         found = found or infer(system, scene)
         idle_system, idle_scene = with_idle_effects(system, scene)
         every = effects_of(idle_system) | set(idle_scene.effects)
         left_out = every - found.simulated
         params = {**idle_system.default_parameters(), **idle_scene.params}
         transforms = [Options(timestep=dt, integrator="RK4", enable=effect_flags(every - {"friction", "contact"}))]
+        prune = model != "idle"
         if prune:  # and the visual geoms, which no one reads in a run (VisualGeomsDropped)
             transforms += [Options(disable=effect_flags(left_out)), VisualGeomsDropped()]
+        if model == "bare":
+            transforms.append(BareTree())
         without = found.idle_elements if prune else ()
-        self.model = MujocoModel(instantiate(pruned(idle_system, every, without), params), transforms=transforms,
-                                 where="MjSpec.compile (pruning)")
-        self.flags = effect_flags(left_out) if prune else ()
-        self.removed = sorted(without)
         kept = pruned(idle_system, found.simulated, without) if prune else idle_system
+        self.model = MujocoModel(instantiate(kept, params), transforms=transforms,
+                                 where="MjSpec.compile (pruning" + (", bare tree)" if model == "bare" else ")"))
+        self.flags = effect_flags(left_out) if prune else ()
+        self.removed = sorted({f.name for f in idle_system.forces} - {f.name for f in kept.forces})
         self.c = compiled(idle_system)
         self.p = np.array([params[p.name] for p in idle_system.parameters])
         self.kept_p = np.array([params[p.name] for p in kept.parameters])
-        self.loads = load_functions(kept)
-        self.inputs = [f.input for f in kept.forces if isinstance(f, JointInput)]   # driven actuators only
+        self.loads = load_functions(kept) if model != "bare" else []
+        self.inputs = [f.input for f in kept.forces if isinstance(f, JointInput)] if model != "bare" else []
         self.kept_inputs = [i.name for i in kept.inputs]                             # the loads' arguments
         self.scene, self.dt = idle_scene, dt
         n = len(idle_system.coordinates)
@@ -175,7 +188,7 @@ def measure(system, scene, motion, event, catalogue=None, sources=SOURCES, repea
             continue
         if runs is None:
             continue
-        lean_run, full_run, method = runs
+        lean_run, full_run, method, bare_run = runs
         same = source != SYMBOLIC and same_force_elements(pruned(lean_system, lean_scene.effects),
                                                           pruned(idle_system, idle_scene.effects))
         if same:  # the proof, not a price
@@ -184,6 +197,8 @@ def measure(system, scene, motion, event, catalogue=None, sources=SOURCES, repea
                                       "method": method}
             continue
         out["sources"][source] = timed(lean_run, full_run, repeats, method)
+        if repeats > 1 and bare_run is not None:
+            out["sources"][source]["bare"] = bare_tree(bare_run(), full_run, repeats)
         if repeats > 1 and not steps_itself(source) and len(set(out["sources"][source]["evaluations"])) == 1:
             out["sources"][source]["per_call"] = per_call(lean_system, lean_scene, idle_system, idle_scene, repeats,
                                                           source)
@@ -234,6 +249,15 @@ def timed(pruned, idle, repeats: int, method: str) -> dict:
 CALLS = 500   # right-hand-side calls per timing of :func:`per_call`
 
 
+def bare_tree(bare, idle, repeats: int) -> dict:
+    """Where MuJoCo's own run's time goes: its run of the bare tree (:class:`MujocoStepper` ``"bare"``: bodies,
+    joints and inertias alone, every disable flag set) against the idle one, ``repeats`` alternating pairs: their
+    :func:`price`. What no pruning of the tree can step faster than: the bound of the run's ratio
+    (:func:`attainable`)."""
+    lean, full = paired(bare, idle, repeats)
+    return price([t.seconds for t in lean], [t.seconds for t in full])
+
+
 def per_call(system, scene, idle_system, idle_scene, repeats: int, source: str = SYMBOLIC) -> dict:
     """Where a DOP853 run's time goes: one call of the right-hand side ``q̈(t, q, q̇)`` of ``source``
     (:class:`~harness.scenes.simulate.Dynamics`: our compiled model, or the engine's forward dynamics with the force
@@ -257,9 +281,10 @@ def per_call(system, scene, idle_system, idle_scene, repeats: int, source: str =
 
 
 def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalogue, given, made):
-    """``(pruned run, idle run, method)`` of ``source``, each a call returning a trajectory: ``system``,
-    ``scene`` the pruned ones, ``given`` the scene's own ``(system, scene, found)``, ``made`` the runs of the
-    scene its motion made (:func:`measure`)."""
+    """``(pruned run, idle run, method, bare)`` of ``source``, each run a call returning a trajectory, ``bare`` a call
+    returning the run of the bare tree (MuJoCo's own stepping, :func:`bare_tree`; compiled only where timed) or
+    None: ``system``, ``scene`` the pruned ones, ``given`` the scene's own ``(system, scene, found)``, ``made`` the
+    runs of the scene its motion made (:func:`measure`)."""
     if steps_itself(source):  # an engine that steps the scene itself: its flags
         held = next((e for e in scene.events if getattr(e, "held", False)), None)
         if held is not None and motion.mujoco_run is not None:  # its plug-in's own run against nothing to step
@@ -268,19 +293,20 @@ def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalog
             return (lambda: motion.simulate(system, scene, held, source, catalogue=catalogue),
                     lambda: motion.mujoco_run(idle_system, idle_scene, idle_event, dt),
                     f"its own run of the event's plug-in, dt={dt:g}, against the friction held: the joint stays at "
-                    "rest, nothing to step")
+                    "rest, nothing to step", None)
         if event is not None or scene.events:
             raise ValueError("its motion switches at events: MuJoCo's own run of it is the event's plug-in's")
         own_system, own_scene, found = given
         dt = scene.horizon / sim.grid_steps(scene, MUJOCO_STEPS)
-        lean = MujocoStepper(own_system, own_scene, True, dt, found)
-        full = MujocoStepper(own_system, own_scene, False, dt, found)
+        lean = MujocoStepper(own_system, own_scene, "pruned", dt, found)
+        full = MujocoStepper(own_system, own_scene, "idle", dt, found)
         how = ([f"disable flags {', '.join(lean.flags)}"] if lean.flags else []) + ["visual geoms dropped"]
         if lean.removed:
             how.append(f"not in the MJCF: {', '.join(lean.removed)}")
         if len(full.loads) > len(lean.loads):
             how.append("idle external loads not evaluated")
-        return lean.run, full.run, f"mj_step RK4, dt={dt:g}, pruned: {'; '.join(how) or 'nothing'}"
+        return (lean.run, full.run, f"mj_step RK4, dt={dt:g}, pruned: {'; '.join(how) or 'nothing'}",
+                lambda: MujocoStepper(own_system, own_scene, "bare", dt, found).run)
     if source != SYMBOLIC and ENGINES[source].applies(system):
         raise ValueError(ENGINES[source].applies(system))
 
@@ -298,7 +324,7 @@ def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalog
     if any(getattr(e, "held", False) for e in scene.events):
         method += ("; pruned: the friction held, proved to stick throughout (no breakaway guard to bound, "
                    "ẋ ≡ 0: the state stays the initial one)")
-    return one(system, scene), one(idle_system, idle_scene), f"{method}, DOP853 1e-10"
+    return one(system, scene), one(idle_system, idle_scene), f"{method}, DOP853 1e-10", None
 
 
 CONFIDENCE = 0.995  # of the interval of one time ratio (ratio_interval): a goal's verdict over up to 10 scenes
@@ -410,23 +436,45 @@ def at_most(m: dict, target: float) -> str:
 
 
 def attainable(m: dict, target: float) -> str:
-    """Whether a target can be met at all by a run integrated by DOP853 (``m``: :func:`measure`'s per-source entry
-    with its ``per_call``): "" where it can, else why not. The pruned and the idle run take the same steps (the same
-    ``evaluations``: the idle terms are multiplied by 0, the error control sees the same state), so each run is
-    ``N (c + o)``: ``N`` evaluations of the right-hand side at ``c`` seconds each and the integrator's own work ``o``
-    per evaluation, the same in both. Then ``idle / pruned = (c_idle + o) / (c_pruned + o) ≤ c_idle / c_pruned``
-    (for ``c_idle ≥ c_pruned``, ``o ≥ 0``): no run can be faster pruned than its right-hand side is. Where the
-    high end of the per-call ratio's interval (:func:`interval`) is below ``target``, the target is out of reach of
-    this source on this scene: what is pruned is too small a part of one evaluation."""
-    c = m.get("per_call")
-    if not c or len(set(m.get("evaluations", ()))) != 1:
+    """Whether a target can be met at all (``m``: :func:`measure`'s per-source entry): "" where it can or nothing
+    bounds it, else why not.
+
+    * A run integrated by DOP853, with its ``per_call``: the pruned and the idle run take the same steps (the same
+      ``evaluations``: the idle terms are multiplied by 0, the error control sees the same state), so each run is
+      ``N (c + o)``: ``N`` evaluations of the right-hand side at ``c`` seconds each and the integrator's own work
+      ``o`` per evaluation, the same in both. Then ``idle / pruned = (c_idle + o) / (c_pruned + o) ≤ c_idle /
+      c_pruned`` (for ``c_idle ≥ c_pruned``, ``o ≥ 0``): no run can be faster pruned than its right-hand side is.
+    * MuJoCo's own run, with its ``bare`` (:func:`bare_tree`): the same steps of the same tree, and the pruned
+      model has every element of the bare tree and no more flags set, so each of its steps computes the bare
+      tree's stages and more: ``idle / pruned ≤ idle / bare``.
+
+    Where the high end of the bound's interval (:func:`interval`) is below ``target``, the target is out of reach of
+    this source on this scene: what is pruned is too small a part of the run."""
+    label, c = bound(m) or ("", None)
+    if c is None or len(set(m.get("evaluations", ()))) != 1:
         return ""
     high = interval(c)[1]
     if high >= target:
         return ""
-    return (f"out of reach: one evaluation of the right-hand side is at most {high:.2f} × cheaper pruned "
-            f"({c['idle_seconds'] * 1e6:.2f} / {c['pruned_seconds'] * 1e6:.2f} µs), and with the same "
-            f"{m['evaluations'][0]} evaluations the run's ratio cannot exceed it")
+    if label == "per call":
+        return (f"out of reach: one evaluation of the right-hand side is at most {high:.2f} × cheaper pruned "
+                f"({c['idle_seconds'] * 1e6:.2f} / {c['pruned_seconds'] * 1e6:.2f} µs), and with the same "
+                f"{m['evaluations'][0]} evaluations the run's ratio cannot exceed it")
+    return (f"out of reach: the run of the bare tree (bodies, joints and inertias alone, every disable flag set) is "
+            f"at most {high:.2f} × faster than the idle run ({c['idle_seconds'] * 1e3:.2f} / "
+            f"{c['pruned_seconds'] * 1e3:.2f} ms over the same {m['evaluations'][0]} steps), and no pruned "
+            "model steps faster than the bare tree")
+
+
+def bound(m: dict) -> tuple[str, dict] | None:
+    """What bounds a measured ratio (:func:`measure`'s per-source entry) from above, as ``(label, its price)``:
+    ``("per call", …)`` for a DOP853 run (:func:`per_call`), ``("bare tree", …)`` for MuJoCo's own
+    (:func:`bare_tree`); None without (a single timing, an event's plug-in)."""
+    if m.get("per_call"):
+        return "per call", m["per_call"]
+    if m.get("bare"):
+        return "bare tree", m["bare"]
+    return None
 
 
 def same_right_hand_side(pruned_system, idle_system) -> bool:
