@@ -112,8 +112,8 @@ def test_constant_inputs_are_set_once_and_step_alike():
         scene = dataclasses.replace(scene, inputs={f_e.name: Constant(2.5)})
         model = sim.Dynamics(system, scene, "mujoco").model
         model.set_state(np.array([0.2, 0.3]), np.zeros(2))
-        before = sim.input_setter(scene, model, 0.002)
-        assert before is None and model.data.ctrl[0] == 2.5
+        before, changes = sim.input_setter(scene, model, 0.002, steps=50)
+        assert before is None and changes is None and model.data.ctrl[0] == 2.5
         if per_step:
             before = lambda k: model.set_inputs(sim.held_inputs(scene, model.actuators, k, 0.002))  # noqa: E731
         runs.append(np.array(model.rollout(50, 10, lambda k: np.concatenate([model.theta(), model.theta_dot()]),
@@ -121,4 +121,34 @@ def test_constant_inputs_are_set_once_and_step_alike():
     assert np.array_equal(runs[0], runs[1])
     shaken = next(s for s in models.CATALOGUE.scenes("cart_pendulum") if s.name == "shaken")
     assert isinstance(shaken.inputs[f_e.name], Sine)
-    assert sim.input_setter(shaken, sim.Dynamics(system, shaken, "mujoco").model, 0.002) is not None
+    before, changes = sim.input_setter(shaken, sim.Dynamics(system, shaken, "mujoco").model, 0.002, steps=50)
+    assert before is not None and changes is None   # a sine: set before every step
+
+
+def test_piecewise_constant_inputs_are_set_where_they_change_and_step_alike():
+    """A step input (planar_manipulator/detached: tau_1 steps to 5 N m at 0.6 s, tau_2 constant) is set at step 0 and
+    at the first step whose midpoint is at or past 0.6 s only, MuJoCo stepping in its own loop in between; the samples
+    equal those of setting the inputs before every step bit for bit, also where the step falls on the step grid, and
+    a sample interval that does not divide the steps."""
+    import dataclasses
+
+    from harness.modeling.scenes import Step
+    from harness.scenes import simulate as sim
+
+    system = models.CATALOGUE.get("planar_manipulator")
+    detached = next(s for s in models.CATALOGUE.scenes("planar_manipulator") if s.name == "detached")
+    for jump, dt, steps in ((0.6, 0.0015, 2000), (0.3, 0.0015, 2000), (0.0105, 0.0015, 40), (1.0, 0.1, 30)):
+        scene = dataclasses.replace(detached, inputs={**detached.inputs, "tau_1": Step(jump, 5.0)})
+        runs = []
+        for segments in (True, False):
+            model = sim.Dynamics(system, scene, "mujoco").model
+            model.set_state(np.array([0.3, -0.7]), np.zeros(2))
+            before, changes = sim.input_setter(scene, model, dt, steps=steps)
+            k_jump = changes[1]
+            assert changes == [0, k_jump] and (k_jump + 0.5) * dt >= jump > (k_jump - 0.5) * dt
+            seen = []
+            runs.append(np.array(model.rollout(steps, 7, lambda k: np.concatenate([model.theta(), model.theta_dot()]),
+                                               before=lambda k: (seen.append(k), before(k)),
+                                               changes=changes if segments else None)))
+            assert seen == (changes if segments else list(range(steps)))
+        assert np.array_equal(runs[0], runs[1]), (jump, dt)

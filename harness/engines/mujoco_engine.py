@@ -333,23 +333,32 @@ class MujocoModel(TreeEngine):
         mujoco.mj_tendon(self.model, self.data)
 
     def rollout(self, steps: int, every: int = 1, sample=None, before=None, between=None,
-                check: str | None = None) -> list:
+                check: str | None = None, changes=None) -> list:
         """MuJoCo's own stepping from the current state, the one loop: ``steps`` calls of ``mj_step`` (split into
         ``mj_step1``, ``between(k)``, ``mj_step2`` when ``between`` is given: forces that depend on the step's
         kinematics), ``before(k)`` ahead of step ``k`` (inputs, mode switches), ``sample(k)`` at ``k = 0, every,
         …`` up to ``steps`` (the samples returned); without ``before`` and ``between`` the steps between two
         samples are one ``mj_step(m, d, nstep)`` (MuJoCo's loop in C: the same steps, no Python call per step).
+        ``changes``: the steps (sorted, from 0) at which ``before`` has something new to set, what it set held in
+        between (piecewise-constant inputs, :func:`harness.scenes.simulate.input_setter`): ``before`` runs there
+        only and MuJoCo steps in its own loop to the next change or sample; None: ``before`` runs at every step.
         With ``check`` (a description), MuJoCo's warning counters are checked at the end
         (:func:`check_warnings`): an unstable run is a failure, not a trajectory."""
         m, d = self.model, self.data
         out, k = [], 0
+        segments = between is None and (before is None or changes is not None)   # MuJoCo's loop in C between
+        pending = list(changes or ())[::-1]   # the next change last
         while True:
             if sample is not None and k % every == 0:
                 out.append(sample(k))
             if k == steps:
                 break
-            if before is None and between is None:  # MuJoCo's loop in C to the next sample (or the end)
-                n = min(every - k % every if sample is not None else steps, steps - k)
+            if segments:  # to the next sample, change or the end
+                while pending and pending[-1] <= k:
+                    if pending.pop() == k:
+                        before(k)
+                n = min(every - k % every if sample is not None else steps, steps - k,
+                        pending[-1] - k if pending else steps)
                 mujoco.mj_step(m, d, nstep=n)
                 k += n
                 continue

@@ -9,6 +9,7 @@ the scene's sample times.
 
 from __future__ import annotations
 
+import math
 import time
 import warnings
 from collections.abc import Callable
@@ -299,18 +300,42 @@ def held_inputs(scene: Scene, names, k: int, timestep: float) -> dict:
     return {name: scene.inputs[name](t) if name in scene.inputs else 0.0 for name in names}
 
 
-def input_setter(scene: Scene, model, timestep: float, names=None):
-    """The ``before`` of a MuJoCo rollout (:meth:`~harness.engines.mujoco_engine.MujocoModel.rollout`) that holds
-    the scene's inputs of ``names`` (the model's actuators) over each step (:func:`held_inputs`); None where every
-    one of them is a constant (or not driven: 0), set here once — the values every step would set —, so that MuJoCo
-    steps in its own loop and a run's time is MuJoCo's, not a Python call per step (measured on cart_pendulum: 4.65
-    µs a step with ``mj_step(nstep)``, about 1.5 µs more with a callback)."""
+def input_setter(scene: Scene, model, timestep: float, names=None, steps: int | None = None):
+    """``(before, changes)`` of a MuJoCo rollout (:meth:`~harness.engines.mujoco_engine.MujocoModel.rollout`):
+    ``before(k)`` holds the scene's inputs of ``names`` (the model's actuators) over step ``k``
+    (:func:`held_inputs`), ``changes`` the steps at which their held values change (:func:`input_changes`: where
+    every one is piecewise constant, MuJoCo steps in its own loop between them; None: every step). ``(None,
+    None)`` where every one of them is a constant (or not driven: 0), set here once — the values every step would
+    set —, so that MuJoCo steps in its own loop and a run's time is MuJoCo's, not a Python call per step (measured
+    on cart_pendulum: 4.65 µs a step with ``mj_step(nstep)``, about 1.5 µs more with a callback)."""
     names = list(model.actuators if names is None else names)
     if all(isinstance(scene.inputs.get(name), (Constant, type(None))) for name in names):
         if names:
             model.set_inputs(held_inputs(scene, names, 0, timestep))
+        return None, None
+    changes = None if steps is None else input_changes(scene, names, steps, timestep)
+    return (lambda k: model.set_inputs(held_inputs(scene, names, k, timestep))), changes
+
+
+def input_changes(scene: Scene, names, steps: int, timestep: float) -> list[int] | None:
+    """The steps ``k < steps`` at which the inputs of ``names`` held over a step (:func:`held_inputs`, at the
+    midpoint ``(k + ½) dt``) change, 0 first: where each is piecewise constant (a step, a constant), the first step
+    whose midpoint is at or past each of its breakpoints, tested as the signal tests it; None where one varies
+    between its breakpoints (a sine, a bump: every step)."""
+    signals = [scene.inputs[name] for name in names if name in scene.inputs]
+    if not all(getattr(signal, "piecewise_constant", False) for signal in signals):
         return None
-    return lambda k: model.set_inputs(held_inputs(scene, names, k, timestep))
+    out = {0}
+    for signal in signals:
+        for b in getattr(signal, "breakpoints", ()):
+            k = max(0, math.ceil(b / timestep - 0.5))
+            while k > 0 and (k - 1 + 0.5) * timestep >= b:
+                k -= 1
+            while (k + 0.5) * timestep < b:
+                k += 1
+            if k < steps:
+                out.add(k)
+    return sorted(out)
 
 
 def mujoco_native(system: System, scene: Scene, timestep: float, integrator: str = "RK4") -> Trajectory:
@@ -328,10 +353,10 @@ def mujoco_native(system: System, scene: Scene, timestep: float, integrator: str
     t_eval = sample_times(scene)
     steps = int(round(scene.horizon / timestep))
     every = max(1, int(round(steps / (len(t_eval) - 1))))
-    before = input_setter(scene, model, timestep)
+    before, changes = input_setter(scene, model, timestep, steps=steps)
     start = time.perf_counter()
     out = model.rollout(steps, every, lambda k: (model.time, model.theta(), model.theta_dot()), before=before,
-                        check=f"{system.name} scene {scene.name}")  # an unstable run is a failure, not a trajectory
+                        changes=changes, check=f"{system.name} scene {scene.name}")  # unstable: a failure
     seconds = time.perf_counter() - start
     q, qd = np.array([x[1] for x in out]), np.array([x[2] for x in out])
     return Trajectory(f"mujoco (mj_step {integrator}, dt={timestep:g})", np.array([x[0] for x in out]), q, qd,

@@ -296,9 +296,10 @@ def mujoco_constrained(system, scene, dt: float, horizon=None, rows: bool = True
         for compensate in compensations:  # the guide's inertia cancelled with its last acceleration (lag dt)
             compensate()
 
-    before = sim.input_setter(scene, mm, dt)
+    before, changes = sim.input_setter(scene, mm, dt, steps=steps)
     start = time.perf_counter()  # no callback where there is nothing to do: MuJoCo's loop in C (rollout)
-    out = mm.rollout(steps, every, sample, before=before, between=between if has_loads or compensations else None)
+    out = mm.rollout(steps, every, sample, before=before, between=between if has_loads or compensations else None,
+                     changes=changes)
     seconds = time.perf_counter() - start
     after = _Recover(dyn, scene.q0)   # its own Gauss-Newton chain, from the start, along the samples
     recovered = [after(theta, theta_dot) for _, theta, theta_dot in out]

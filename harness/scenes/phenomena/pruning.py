@@ -133,7 +133,7 @@ class MujocoStepper:
         loads, inputs, p = self.loads, self.inputs, self.kept_p
         signals = [scene.inputs.get(name) for name in self.kept_inputs]   # the loads' arguments; None: 0
 
-        set_inputs = sim.input_setter(scene, model, dt, inputs)   # None: constant, set once here
+        set_inputs, changes = sim.input_setter(scene, model, dt, inputs, steps=steps)   # None: constant, set here
 
         def before(k):
             t = (k + 0.5) * dt
@@ -150,7 +150,7 @@ class MujocoStepper:
         start = time.perf_counter()
         out = model.rollout(steps, every, lambda k: (model.time, model.theta(), model.theta_dot()),
                             before=before if set_inputs is not None or loads else None,
-                            check=f"{scene.name} (pruning)")
+                            changes=None if loads else changes, check=f"{scene.name} (pruning)")
         seconds = time.perf_counter() - start
         disabled = f", disabled {', '.join(self.flags)}" if self.flags else ""
         return sim.Trajectory(f"mujoco (mj_step RK4, dt={dt:g}{disabled})",
