@@ -174,3 +174,39 @@ def test_our_models_reference_is_kept_bit_for_bit_and_integrated_again_when_it_c
     own = dataclasses.replace(scene, inputs={name: (lambda t, f=f: f(t)) for name, f in scene.inputs.items()})
     assert sim.scene_identity(own) is None
     assert reference(own) == reference(own) and len(solved) == 8
+
+
+def test_an_input_step_does_not_leak_into_the_piece_before_it():
+    """series_rlc/step: u steps to 10 V at 0.1 s. Restarted at the breakpoint, DOP853 and LSODA (odeint) evaluate
+    the right-hand side at the piece's end t = 0.1 s or within round-off of it (a last stage, LSODA up to its critical
+    time), where the step already says 10 V: with the inputs held over each piece (``Dynamics.hold``) every evaluation of the first piece
+    sees 0 V, every one of the second 10 V, and after the run the inputs are u(t) again."""
+    import numpy as np
+
+    from harness.scenes import simulate as sim
+
+    system = models.CATALOGUE.get("series_rlc")
+    scene = next(s for s in models.CATALOGUE.scenes("series_rlc") if s.name == "step")
+    (jump,) = scene.breakpoints
+    for integrate in (lambda rhs, y0, hold: sim.solve_piecewise(rhs, scene, y0, "DOP853", 1e-10, 1e-10,
+                                                                sim.sample_times(scene), on_piece=hold),
+                      lambda rhs, y0, hold: sim.odeint_piecewise(rhs, scene, y0, 1e-10, 1e-10,
+                                                                 sim.sample_times(scene), on_piece=hold)):
+        dyn = sim.Dynamics(system, scene, "symbolic")
+        n = len(system.coordinates)
+        pieces = []
+
+        def hold(a, b=None):   # the pieces in order, each with the evaluations made in it
+            if a is not None:
+                pieces.append([])
+            dyn.hold(a, b)
+
+        def rhs(t, y):
+            pieces[-1].append((t, float(dyn.inputs(t)[0])))
+            return np.concatenate([y[n:], dyn(t, y[:n], y[n:])])
+
+        integrate(rhs, np.concatenate([scene.q0, scene.qd0]), hold)
+        first, second = pieces
+        assert all(u == 0.0 for _, u in first) and all(u == 10.0 for _, u in second)
+        assert max(t for t, _ in first) >= jump - 1e-12 and max(t for t, _ in first) <= jump   # up to its end
+        assert dyn.held is None and dyn.inputs(0.2)[0] == 10.0 and scene.inputs["u"](jump) == 10.0

@@ -274,7 +274,7 @@ def _one_run(s, sc: Scene, engine, method, setting, dt, budget, t_eval, catalogu
             dyn.evaluations += 1
             if dyn.evaluations > budget:
                 raise _Budget
-            return f(t, y, p, sc.u(t, dyn.system) if inputs else u0)
+            return f(t, y, p, dyn.inputs(t) if inputs else u0)
     else:
         def rhs(t, y):
             if dyn.evaluations >= budget:
@@ -287,11 +287,11 @@ def _one_run(s, sc: Scene, engine, method, setting, dt, budget, t_eval, catalogu
     start = time.perf_counter()
     with np.errstate(all="ignore"):
         if method == sim.ODEINT:
-            t, y, _ = sim.odeint_piecewise(rhs, sc, y0, setting, setting, t_eval)
+            t, y, _ = sim.odeint_piecewise(rhs, sc, y0, setting, setting, t_eval, on_piece=dyn.hold)
         elif method in SCIPY_METHODS:
-            t, y, _ = sim.solve_piecewise(rhs, sc, y0, method, setting, setting, t_eval)
+            t, y, _ = sim.solve_piecewise(rhs, sc, y0, method, setting, setting, t_eval, on_piece=dyn.hold)
         else:
-            t, y = fixed_step(rhs, sc, y0, method, int(setting), t_eval)
+            t, y = fixed_step(rhs, sc, y0, method, int(setting), t_eval, on_piece=dyn.hold)
     seconds = time.perf_counter() - start
     return _trajectory(f"{engine} {method}", t, y[:n].T, y[n:].T, seconds, dyn.evaluations)
 
@@ -345,14 +345,18 @@ def semi_implicit_euler_step(rhs, t, y, h):
 _STEPPERS = {"RK4": rk4_step, "semi-implicit Euler": semi_implicit_euler_step}
 
 
-def fixed_step(rhs, scene: Scene, y0, method: str, k: int, t_eval):
-    """``k`` equal steps per sample interval; an interval holding an input breakpoint is split there."""
+def fixed_step(rhs, scene: Scene, y0, method: str, k: int, t_eval, on_piece=None):
+    """``k`` equal steps per sample interval; an interval holding an input breakpoint is split there; ``on_piece(lo,
+    hi)`` before the steps of each part (``on_piece(None)`` at the end: :meth:`~harness.scenes.simulate.Dynamics.hold`:
+    a step ending on a breakpoint holds its own piece's inputs)."""
     step = _STEPPERS[method]
     y = np.asarray(y0, dtype=float)
     ys = [y]
     for a, b in zip(t_eval[:-1], t_eval[1:]):
         edges = [a, *[t for t in scene.breakpoints if a < t < b], b]
         for lo, hi in zip(edges[:-1], edges[1:]):
+            if on_piece is not None:
+                on_piece(lo, hi)
             m = max(1, math.ceil(k * (hi - lo) / (b - a) - 1e-9))
             h = (hi - lo) / m
             for j in range(m):

@@ -51,7 +51,7 @@ def stiff_tyre_run(system, scene: Scene, source: str, method: str, tol: float):
     jac = fd_jacobian(rhs) if method in ("Radau", "BDF") else None
     start = time.process_time()
     _, out, _ = solve_piecewise(rhs, scene, np.concatenate([scene.q0, scene.qd0]), method, tol, tol,
-                                sample_times(scene), jac=jac)
+                                sample_times(scene), jac=jac, on_piece=d.hold)
     return out, time.process_time() - start, d.evaluations
 
 

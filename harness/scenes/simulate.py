@@ -84,6 +84,7 @@ class Dynamics:
         self.load_functions = load_functions(self.system)  # looked up once: hashing a System walks its expressions
         self.loads_read_state = loads_read_state(self.system)
         self.evaluations = 0
+        self.held = None      # the inputs held over the piece being integrated (:meth:`hold`); None: u(t)
         self.model = None if source == SYMBOLIC else engine(source)(instantiate(self.system, self.params))
         self._affine = None   # (φ(0), J, J⁻¹) of a constant square map, evaluated once (:meth:`at`)
         if self.model is not None and not self.c.identity_map and self.c.constant_map \
@@ -92,7 +93,21 @@ class Dynamics:
 
     def __call__(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
         self.evaluations += 1
-        return self.at(self.scene.u(t, self.system), q, qd)
+        return self.at(self.inputs(t), q, qd)
+
+    def inputs(self, t: float) -> np.ndarray:
+        """``u(t)``: the scene's inputs, or those held over the piece being integrated (:meth:`hold`)."""
+        return self.held if self.held is not None else self.scene.u(t, self.system)
+
+    def hold(self, a: float | None, b: float | None = None) -> None:
+        """The ``on_piece`` of :func:`solve_piecewise` and :func:`odeint_piecewise`: over the piece ``[a, b]``
+        between two of the scene's breakpoints, inputs that are all piecewise constant (steps, constants) are held
+        at their value inside the piece (at its midpoint), evaluated once. At ``t = b`` a step already gives the
+        next piece's value, and an integrator evaluates there within this piece (a last stage at the step's end,
+        LSODA past it): the next piece's input would leak into this one's last step. ``a`` None: ``u(t)`` again."""
+        self.held = None
+        if a is not None and not self.scene.inputs_vary_within_steps:
+            self.held = self.scene.u(0.5 * (a + b), self.system)
 
     def at(self, u: np.ndarray, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
         """``q̈`` at the inputs ``u`` (the scene's at some time, or any other values)."""
@@ -174,17 +189,18 @@ def grid_steps(scene: Scene, at_least: int) -> int:
 
 
 def solve_piecewise(rhs, scene: Scene, y0, method: str, rtol: float, atol: float, t_eval, end: float | None = None,
-                    max_step: float = np.inf, jac=None):
+                    max_step: float = np.inf, jac=None, on_piece=None):
     """``solve_ivp`` restarted at the scene's input breakpoints, from 0 to ``end`` (the horizon by default), steps
     of at most ``max_step``; returns ``(t, y, nfev)`` at ``t_eval``. A piece's end state, where the next piece
     starts, is one more sample time of the piece: read from its last step's interpolant, bit for bit what the
     piece's dense output gives at ``b``, without the dense output of every step (DOP853: 3 more evaluations of
-    ``rhs`` a step). ``jac``: the Jacobian an implicit method takes (``solve_ivp``'s)."""
+    ``rhs`` a step). ``jac``: the Jacobian an implicit method takes (``solve_ivp``'s). ``on_piece(a, b)``
+    before each piece (``on_piece(None)`` at the end): :meth:`Dynamics.hold`."""
     end = scene.horizon if end is None else end
     t_eval = t_eval[t_eval <= end]
     edges = [0.0, *[b for b in scene.breakpoints if b < end], end]
     ts, ys, nfev, y = [], [], 0, np.asarray(y0, dtype=float)
-    for k, (a, b) in enumerate(zip(edges[:-1], edges[1:])):
+    for k, (a, b) in _pieces(edges, on_piece):
         last = k == len(edges) - 2
         inside = t_eval[(t_eval >= a) & ((t_eval <= b) if last else (t_eval < b))]
         sol = solve_ivp(rhs, (a, b), y, method=method, rtol=rtol, atol=atol,
@@ -199,22 +215,38 @@ def solve_piecewise(rhs, scene: Scene, y0, method: str, rtol: float, atol: float
     return np.concatenate(ts), np.concatenate(ys, axis=1), nfev
 
 
+def _pieces(edges, on_piece):
+    """``(k, (a, b))`` of the pieces between ``edges``, with ``on_piece(a, b)`` before each and ``on_piece(None)``
+    after the last (also where the integration of a piece failed)."""
+    try:
+        for k, (a, b) in enumerate(zip(edges[:-1], edges[1:])):
+            if on_piece is not None:
+                on_piece(a, b)
+            yield k, (a, b)
+    finally:
+        if on_piece is not None:
+            on_piece(None)
+
+
 ODEINT = "LSODA (odeint)"  # scipy's odeint: the same LSODA, its stepping loop in Fortran instead of Python
 
 
-def odeint_piecewise(rhs, scene: Scene, y0, rtol: float, atol: float, t_eval, max_steps: int = 100_000):
+def odeint_piecewise(rhs, scene: Scene, y0, rtol: float, atol: float, t_eval, max_steps: int = 100_000,
+                     on_piece=None):
     """``scipy.integrate.odeint`` (ODEPACK's LSODA, stepping in Fortran; ``solve_ivp``'s LSODA steps in Python)
-    restarted at the scene's input breakpoints; returns ``(t, y, nfev)`` at ``t_eval`` like :func:`solve_piecewise`."""
+    restarted at the scene's input breakpoints, each piece's end its critical time (``tcrit``: LSODA steps past the
+    last output time and interpolates back, and would integrate the next piece's input); returns ``(t, y, nfev)`` at
+    ``t_eval`` like :func:`solve_piecewise`, ``on_piece`` as there."""
     edges = [0.0, *scene.breakpoints, scene.horizon]
     ys, nfev, y = [], 0, np.asarray(y0, dtype=float)
-    for k, (a, b) in enumerate(zip(edges[:-1], edges[1:])):
+    for k, (a, b) in _pieces(edges, on_piece):
         last = k == len(edges) - 2
         inside = t_eval[(t_eval >= a) & ((t_eval <= b) if last else (t_eval < b))]
         times = np.unique(np.concatenate([[a], inside, [b]]))  # sorted: a first, b last
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # a failure is read from its message below
             out, info = odeint(rhs, y, times, rtol=rtol, atol=atol, tfirst=True, full_output=True,
-                               mxstep=max_steps)
+                               mxstep=max_steps, tcrit=[b])
         if info["message"] != "Integration successful.":
             raise RuntimeError(f"{scene.name}: odeint failed on [{a}, {b}]: {info['message']}")
         ys.append(out[np.searchsorted(times, inside)])
@@ -242,9 +274,9 @@ def integrate(system: System, scene: Scene, source: str, method: str = "DOP853",
         start = time.perf_counter()
         y0 = np.concatenate([scene.q0, scene.qd0])
         if method == ODEINT:
-            t, y, _ = odeint_piecewise(rhs, scene, y0, rtol, atol, t_eval)
+            t, y, _ = odeint_piecewise(rhs, scene, y0, rtol, atol, t_eval, on_piece=dyn.hold)
         else:
-            t, y, _ = solve_piecewise(rhs, scene, y0, method, rtol, atol, t_eval)
+            t, y, _ = solve_piecewise(rhs, scene, y0, method, rtol, atol, t_eval, on_piece=dyn.hold)
         return {"t": t, "y": y, "seconds": time.perf_counter() - start, "evaluations": dyn.evaluations}
 
     how = f"{method}, rtol={rtol!r}, atol={atol!r}"
