@@ -352,18 +352,22 @@ def fixed_step(rhs, scene: Scene, y0, method: str, k: int, t_eval, on_piece=None
     step = _STEPPERS[method]
     y = np.asarray(y0, dtype=float)
     ys = [y]
-    for a, b in zip(t_eval[:-1], t_eval[1:]):
-        edges = [a, *[t for t in scene.breakpoints if a < t < b], b]
-        for lo, hi in zip(edges[:-1], edges[1:]):
-            if on_piece is not None:
-                on_piece(lo, hi)
-            m = max(1, math.ceil(k * (hi - lo) / (b - a) - 1e-9))
-            h = (hi - lo) / m
-            for j in range(m):
-                y = step(rhs, lo + j * h, y, h)
-        if not np.all(np.isfinite(y)):
-            raise FloatingPointError("diverged")
-        ys.append(y)
+    try:
+        for a, b in zip(t_eval[:-1], t_eval[1:]):
+            edges = [a, *[t for t in scene.breakpoints if a < t < b], b]
+            for lo, hi in zip(edges[:-1], edges[1:]):
+                if on_piece is not None:
+                    on_piece(lo, hi)
+                m = max(1, math.ceil(k * (hi - lo) / (b - a) - 1e-9))
+                h = (hi - lo) / m
+                for j in range(m):
+                    y = step(rhs, lo + j * h, y, h)
+            if not np.all(np.isfinite(y)):
+                raise FloatingPointError("diverged")
+            ys.append(y)
+    finally:
+        if on_piece is not None:
+            on_piece(None)
     return np.asarray(t_eval), np.array(ys).T
 
 

@@ -209,8 +209,8 @@ class PinocchioConstrained:
         loads = ()
         if self.has_loads:
             lq, lqd = self.recover.for_loads(theta, theta_dot)
-            loads = self.dyn.loads(lq, lqd, self.dyn.scene.u(t, self.dyn.system))
-        inputs = dict(zip((i.name for i in self.dyn.system.inputs), self.dyn.scene.u(t, self.dyn.system)))
+            loads = self.dyn.loads(lq, lqd, self.dyn.inputs(t))
+        inputs = dict(zip((i.name for i in self.dyn.system.inputs), self.dyn.inputs(t)))
         return np.concatenate([theta_dot, self.dynamics.forward_dynamics(theta, theta_dot, inputs, loads,
                                                                           BAUMGARTE_OMEGA)])
 
@@ -227,7 +227,7 @@ def pinocchio_constrained(system, scene, rtol=1e-10, atol=1e-10, horizon=None, r
     start = time.perf_counter()
     t, y, _ = sim.solve_piecewise(rhs, scene, np.concatenate([theta0, theta_dot0]), "DOP853", rtol, atol,
                                   sim.sample_times(scene), end=horizon,
-                                  max_step=BAUMGARTE_STEP / BAUMGARTE_OMEGA if rows else np.inf)
+                                  max_step=BAUMGARTE_STEP / BAUMGARTE_OMEGA if rows else np.inf, on_piece=rhs.dyn.hold)
     seconds = time.perf_counter() - start
     recover = _Recover(rhs.dyn, scene.q0)
     theta_scale = np.maximum(1.0, np.max(np.abs(y[:n]), axis=1))
