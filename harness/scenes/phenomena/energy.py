@@ -12,8 +12,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from harness.derivation.compile import compiled
-from harness.modeling.scenes import Scene, pruned
+from harness.engines import SYMBOLIC
+from harness.modeling.scenes import Scene
 from harness.modeling.system import System
 from harness.scenes import simulate as sim
 from harness.scenes.base import INVARIANT, Phenomenon, SceneRun
@@ -24,23 +24,22 @@ def _energy_balance(system: System, scene: Scene, reference: sim.Trajectory) -> 
     friction or contact: ``f_np ≡ 0``, ``W ≡ 0``) is checked along ``reference`` itself, the trajectory every source is
     compared with (DOP853 at rtol 1e-12, atol 1e-14); otherwise ``Ẇ = q̇ᵀ f_np`` is integrated alongside the motion
     (DOP853, 1e-12; kept for the next run, :func:`~harness.scenes.simulate.kept_solution`)."""
-    s = pruned(system, scene.effects)
-    c = compiled(s)
-    params = {**system.default_parameters(), **scene.params}
-    p = np.array([params[x.name] for x in s.parameters])
+    dyn = sim.Dynamics(system, scene, SYMBOLIC)   # the pruned system, compiled, its parameter values
+    s, c, p = dyn.system, dyn.c, dyn.p
     n = len(s.q)
     if scene.conservative:
         qs, qds, work = reference.q, reference.qd, np.zeros(len(reference.t))
     else:
         def rhs(t, y):
             q, qd = y[:n], y[n:2 * n]
-            u = scene.u(t, s)
+            u = dyn.inputs(t)   # held over each piece (Dynamics.hold)
             power = float(qd @ c.generalized_forces(q, qd, p, u))
             return np.concatenate([qd, c.forward_dynamics(q, qd, p, u), [power]])
 
         def solve() -> dict:
             y0 = np.concatenate([scene.q0, scene.qd0, [0.0]])
-            return {"y": sim.solve_piecewise(rhs, scene, y0, "DOP853", 1e-12, 1e-12, sim.sample_times(scene))[1]}
+            return {"y": sim.solve_piecewise(rhs, scene, y0, "DOP853", 1e-12, 1e-12, sim.sample_times(scene),
+                                             on_piece=dyn.hold)[1]}
 
         ys = sim.kept_solution(system, scene, "power balance (3.101), DOP853, rtol=1e-12, atol=1e-12",
                                sim.sample_times(scene), solve)["y"]
