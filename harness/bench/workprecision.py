@@ -44,7 +44,7 @@ from harness.modeling.events import RollSlip
 from harness.modeling.scenes import Scene
 from harness.scenes.base import REFERENCE_TOL
 from harness.scenes.phenomena import motion_of, mujoco_own
-from harness.scenes.phenomena.pruning import REPEATS, at_most, paired, ratio_interval
+from harness.scenes.phenomena.pruning import REPEATS, judged_at_most, paired
 
 SCIPY_METHODS = ("RK45", "DOP853", "Radau", "LSODA")
 ADAPTIVE = (*SCIPY_METHODS, sim.ODEINT)
@@ -318,10 +318,8 @@ def duel_task(catalogue, system: str, scene: str, ours: dict, engine: dict, refe
     mine, theirs = timing(ours), timing(engine)
     mine(), theirs()   # warm-up: the compiled functions and models are built lazily, not timed
     ours_all, engine_all = paired(mine, theirs, repeats)
-    ratio, low, high = ratio_interval(ours_all, engine_all)
-    out = {"ratio": ratio, "ratio_low": low, "ratio_high": high, "ours_all": ours_all, "engine_all": engine_all,
-           "repeats": repeats}
-    return out | {"verdict": at_most(out, 1.0)}
+    return judged_at_most(ours_all, engine_all, 1.0) | {"ours_all": ours_all, "engine_all": engine_all,
+                                                         "repeats": repeats}
 
 
 # --------------------------------------------------------------------------- fixed-step integrators

@@ -98,10 +98,16 @@ class CompiledModel:
         moving = set(s.q) | set(s.qd) | set(s.u)
         return not (d.J_phi.free_symbols & moving) and not (d.phi.free_symbols & set(s.u))
 
+    @property
+    def affine(self) -> bool:
+        """Whether ``θ = φ(0) + J q`` with a constant square ``J`` (:attr:`constant_map`, as many tree joints as
+        coordinates): :meth:`affine_map` is defined."""
+        return self.constant_map and self.derivation.J_phi.is_square
+
     def affine_map(self, p, u) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """``(φ(0), J, J⁻¹)`` of a constant square map (:attr:`constant_map`): ``θ = φ(0) + J q`` at every state,
+        """``(φ(0), J, J⁻¹)`` of a constant square map (:attr:`affine`): ``θ = φ(0) + J q`` at every state,
         evaluated once."""
-        if not (self.constant_map and self.derivation.J_phi.is_square):
+        if not self.affine:
             raise ValueError(f"{self.system.name}: θ = φ(q) is not an affine map with a square J")
         n = self.dof
         phi0, J, _ = self.map_at(np.zeros(n), np.zeros(n), p, u)

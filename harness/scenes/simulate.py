@@ -87,8 +87,7 @@ class Dynamics:
         self.held = None      # the inputs held over the piece being integrated (:meth:`hold`); None: u(t)
         self.model = None if source == SYMBOLIC else engine(source)(instantiate(self.system, self.params))
         self._affine = None   # (φ(0), J, J⁻¹) of a constant square map, evaluated once (:meth:`at`)
-        if self.model is not None and not self.c.identity_map and self.c.constant_map \
-                and self.c.derivation.J_phi.is_square:
+        if self.model is not None and not self.c.identity_map and self.c.affine:
             self._affine = self.c.affine_map(self.p, np.zeros(len(self.input_names)))
 
     def __call__(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:

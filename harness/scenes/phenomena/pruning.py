@@ -112,12 +112,11 @@ class MujocoStepper:
         self.inputs = [f.input for f in kept.forces if isinstance(f, JointInput)] if model != "bare" else []
         self.kept_inputs = [i.name for i in kept.inputs]                             # the loads' arguments
         self.scene, self.dt = idle_scene, dt
-        n = len(idle_system.coordinates)
         u0 = idle_scene.u(0.0, idle_system)
         theta0, J, _ = self.c.map_at(np.asarray(scene.q0, float), np.asarray(scene.qd0, float), self.p, u0)
         self.theta0, self.theta_dot0 = theta0, J @ np.asarray(scene.qd0, float)
         if self.loads:
-            if not (self.c.constant_map and J.shape == (n, n)):
+            if not self.c.affine:
                 raise ValueError("MuJoCo's own stepping with external loads needs an affine map θ = φ(0) + J q "
                                  "(the loads are evaluated at the lecture state)")
             self.phi0, _, self.J_inv = self.c.affine_map(self.p, u0)
@@ -131,16 +130,14 @@ class MujocoStepper:
         steps = int(round(scene.horizon / dt))
         every = max(1, int(round(steps / (sim.SAMPLES - 1))))
         loads, inputs, p = self.loads, self.inputs, self.kept_p
-        signals = [scene.inputs.get(name) for name in self.kept_inputs]   # the loads' arguments; None: 0
 
         set_inputs, changes = sim.input_setter(scene, model, dt, inputs, steps=steps)   # None: constant, set here
 
         def before(k):
-            t = (k + 0.5) * dt
             if set_inputs is not None:
                 set_inputs(k)
-            if loads:
-                u = np.array([0.0 if signal is None else signal(t) for signal in signals])
+            if loads:   # the loads' arguments: every input of the kept system, held over the step as the actuators'
+                u = np.fromiter(sim.held_inputs(scene, self.kept_inputs, k, dt).values(), float)
                 theta, theta_dot = model.theta(), model.theta_dot()
                 q, qd = self.J_inv @ (theta - self.phi0), self.J_inv @ theta_dot
                 model.pose(theta)   # the kinematics the loads are applied at (mj_kinematics, mj_comPos)
@@ -242,8 +239,13 @@ def timed(pruned, idle, repeats: int, method: str) -> dict:
     """``repeats`` alternating pairs of the ``pruned`` and the ``idle`` run (:func:`paired`): their :func:`price`,
     the first pair's trajectories compared (``error``: the proof), both runs' ``evaluations`` and ``method``."""
     lean, full = paired(pruned, idle, repeats)
-    return {**price([t.seconds for t in lean], [t.seconds for t in full]), "error": sim.max_error(full[0], lean[0]),
+    return {**_price_of(lean, full), "error": sim.max_error(full[0], lean[0]),
             "evaluations": [lean[0].evaluations, full[0].evaluations], "method": method}
+
+
+def _price_of(pruned_runs, idle_runs) -> dict:
+    """The :func:`price` of paired runs' trajectories (their ``seconds``)."""
+    return price([t.seconds for t in pruned_runs], [t.seconds for t in idle_runs])
 
 
 CALLS = 500   # right-hand-side calls per timing of :func:`per_call`
@@ -254,8 +256,7 @@ def bare_tree(bare, idle, repeats: int) -> dict:
     joints and inertias alone, every disable flag set) against the idle one, ``repeats`` alternating pairs: their
     :func:`price`. What no pruning of the tree can step faster than: the bound of the run's ratio
     (:func:`attainable`)."""
-    lean, full = paired(bare, idle, repeats)
-    return price([t.seconds for t in lean], [t.seconds for t in full])
+    return _price_of(*paired(bare, idle, repeats))
 
 
 def per_call(system, scene, idle_system, idle_scene, repeats: int, source: str = SYMBOLIC) -> dict:
@@ -425,6 +426,15 @@ def against(m: dict, target: float) -> str:
     whole interval below it), "undecided" (the interval holds the target: the repeats cannot tell)."""
     low, high = interval(m)
     return "met" if low >= target else "not met" if high < target else "undecided"
+
+
+def judged_at_most(ours_all, theirs_all, target: float) -> dict:
+    """Alternating pairs' seconds of ours and theirs (:func:`paired`) as a ratio that should be small: ``{"ratio":
+    the median of ours / theirs, "ratio_low", "ratio_high": its interval (:func:`ratio_interval`), "verdict"}``
+    against ``target`` (:func:`at_most`)."""
+    ratio, low, high = ratio_interval(ours_all, theirs_all)
+    out = {"ratio": ratio, "ratio_low": low, "ratio_high": high}
+    return out | {"verdict": at_most(out, target)}
 
 
 def at_most(m: dict, target: float) -> str:
