@@ -1,6 +1,9 @@
 """``harness bench --parts pruning``: per-source ratios, findings and goals in bench.md (from a made-up document;
 the measurement itself: tests/test_effects.py)."""
 
+import numpy as np
+import pytest
+
 from harness.bench import report
 
 
@@ -156,8 +159,47 @@ def test_mujoco_pruned_leaves_out_the_elements_of_left_out_effects_and_the_bare_
     every = [int(b) for n, b in mujoco.mjtDisableBit.__members__.items() if n not in ("mjNDISABLE", "mjDSBL_AUTORESET")]
     assert all(tree.opt.disableflags & b for b in every)
     assert sim.max_error(idle.run(), lean.run()) < 1e-12
-    with __import__("pytest").raises(ValueError, match="one of idle, pruned, bare"):
+    with pytest.raises(ValueError, match="one of idle, pruned, bare"):
         MujocoStepper(system, scene, "lean", dt, found)
+
+
+def test_loads_of_inputs_alone_are_held_where_mujoco_applies_them():
+    """A load that reads no state, of inputs that are piecewise constant, is MuJoCo's ``xfrc_applied`` held between
+    input changes (no Python call per step) where that is exact: a torque in world axes (two_mass_oscillator), a
+    force in world axes at its body's centre of mass (the quarter car's road force, the spherical pendulum's f_e);
+    not a follower force (cantilever_beam) nor one off the centre of mass (planar_robot). The held run is the motion
+    of the loads evaluated at every step, and ``xfrc_applied`` gives MuJoCo's q̈ of ``qfrc_applied`` at a state."""
+    from harness.bench.workprecision import get_scene
+    from harness.catalogue import repository
+    from harness.engines.base import Load
+    from harness.scenes import simulate as sim
+    from harness.scenes.phenomena.pruning import MUJOCO_STEPS, MujocoStepper
+
+    catalogue = repository()
+    for name, label in (("two_mass_oscillator", "twisted"), ("quarter_car", "smooth_road"),
+                        ("spherical_pendulum", "conical")):
+        system, scene = get_scene(catalogue, name, label)
+        dt = scene.horizon / sim.grid_steps(scene, MUJOCO_STEPS)
+        idle = MujocoStepper(system, scene, "idle", dt)
+        assert idle.held and idle.loads
+        held = idle.run()
+        idle.held = False      # the loads evaluated and applied at every step instead
+        assert sim.max_error(held, idle.run()) < 1e-12, name
+    model, ((kind, where, frame, _),) = idle.model, idle.loads     # the spherical pendulum's f_e at the bob
+    theta, theta_dot = np.array([0.7, -1.2]), np.array([0.4, 2.0])
+    force = Load(kind, where, frame, np.array([1.5, -0.5, 2.0]))
+    qdd_applied = model.forward_dynamics(theta, theta_dot, {}, [force])
+    model.reset()
+    model.set_state(theta, theta_dot)
+    model.hold_loads([force])
+    __import__("mujoco").mj_forward(model.model, model.data)
+    assert np.allclose(model.data.qacc[model.dof_index], qdd_applied, rtol=1e-12, atol=1e-12)
+    for name, load in (("cantilever_beam", "follower_force"), ("planar_robot", "f_e")):
+        dyn = sim.Dynamics(catalogue.get(name), catalogue.scenes(name)[0], "mujoco")
+        kind, where, frame, _ = dyn.load_functions[0]
+        assert not dyn.model.holds(kind, where, frame), name
+        with pytest.raises(ValueError, match="not a constant xfrc_applied"):
+            dyn.model.hold_loads([Load(kind, where, frame, np.ones(3))])
 
 
 def test_a_target_above_what_one_evaluation_saves_is_out_of_reach():

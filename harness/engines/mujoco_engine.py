@@ -227,6 +227,7 @@ class MujocoModel(TreeEngine):
         data.qvel[self.dof_index] = theta_dot
         data.ctrl[:] = 0.0
         data.qfrc_applied[:] = 0.0
+        data.xfrc_applied[:] = 0.0   # what a rollout held (hold_loads)
         for name, aid in self.actuators.items():
             data.ctrl[aid] = u[name]
         mujoco.mj_kinematics(m, data)
@@ -318,6 +319,35 @@ class MujocoModel(TreeEngine):
     def apply_loads(self, loads) -> None:
         """``qfrc_applied`` of the external loads at the current kinematics (between ``mj_step1`` and ``mj_step2``)."""
         self.data.qfrc_applied[:] = self.applied(loads)
+
+    def holds(self, kind: str, where: str, frame: str) -> bool:
+        """Whether a load (:class:`~harness.engines.base.Load`'s ``kind``, ``where``, ``frame``) of constant
+        components is a constant ``xfrc_applied`` (:meth:`hold_loads`): a torque in world axes, or a force in world
+        axes at its body's centre of mass, where MuJoCo applies ``xfrc_applied`` (elsewhere its moment about the
+        centre of mass turns with the body; in a link's axes the vector does)."""
+        if frame != WORLD:
+            return False
+        if kind == "torque":
+            return True
+        site = self._id(mujoco.mjtObj.mjOBJ_SITE, where)
+        centre = self.model.body_ipos[self.model.site_bodyid[site]]
+        return bool(np.array_equal(self.model.site_pos[site], centre))
+
+    def hold_loads(self, loads) -> None:
+        """The external loads as ``xfrc_applied`` (forces and torques in world axes at the bodies' centres of mass),
+        which MuJoCo applies through each stage's Jacobian of every step until they are set again: loads of constant
+        components held over steps without a Python call per step (each must be one :meth:`holds`)."""
+        m = self.model
+        xfrc = np.zeros((m.nbody, 6))
+        for load in loads:
+            if not self.holds(load.kind, load.where, load.frame):
+                raise ValueError(f"the load at {load.where} ({load.kind} in {load.frame} axes) is not a constant "
+                                 "xfrc_applied: it needs a Python call per step (apply_loads)")
+            if load.kind == "force":
+                xfrc[m.site_bodyid[self._id(mujoco.mjtObj.mjOBJ_SITE, load.where)], :3] += load.vector
+            else:
+                xfrc[self._id(mujoco.mjtObj.mjOBJ_BODY, load.where), 3:] += load.vector
+        self.data.xfrc_applied[:] = xfrc
 
     def set_frictionloss(self, address: tuple[int, int], value: float) -> None:
         self.model.dof_frictionloss[address[1]] = value

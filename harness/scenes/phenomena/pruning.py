@@ -25,7 +25,11 @@ one checks that inference.
   it is removed; a joint spring or damper of an acting effect, or one of a tendon's two elements, is only a
   coefficient, 0 in the idle model already: the same compiled model, nothing saved (the quarter car's tyre damper).
   The idle model's loads and inputs are evaluated and applied at every step (held over the step from its start), the
-  pruned one's only where called for and not idle. The pruned MJCF also leaves out the visual geoms
+  pruned one's only where called for and not idle; loads of inputs and parameters alone (no state), where every
+  input is piecewise constant and each load is a torque, or a force at its body's centre of mass, in world axes,
+  are set as MuJoCo's ``xfrc_applied`` at each input change and held (:meth:`~harness.engines.mujoco_engine.MujocoModel.hold_loads`), as the
+  actuators' inputs are: MuJoCo steps in its own loop, and an idle load of that kind costs what MuJoCo pays for it,
+  not a Python call per step (measured: the quarter car's road force at 0 had made the idle run 5 × the pruned one). The pruned MJCF also leaves out the visual geoms
   (:class:`~harness.engines.mujoco_engine.VisualGeomsDropped`), which a run does not read and MuJoCo poses at every
   stage. With repeats, the idle run is also timed against the bare tree's (:func:`bare_tree`), which no pruned model
   steps faster than: the bound of the ratio (:func:`attainable`). A scene whose motion switches at events has
@@ -56,7 +60,7 @@ import time
 import numpy as np
 
 from harness.engines import ENGINES, SYMBOLIC, steps_itself
-from harness.engines.base import load_functions
+from harness.engines.base import load_functions, loads_read_state
 from harness.modeling.scenes import effects_of, pruned, with_idle_effects
 from harness.modeling.system import JointInput
 from harness.scenes import simulate as sim
@@ -77,7 +81,9 @@ class MujocoStepper:
     flags), nor the idle force elements (``found.idle_elements``: the flags are per effect type), and only the
     called-for loads and inputs evaluated; ``"bare"``: the tree alone
     (:class:`~harness.engines.mujoco_engine.BareTree`), what no pruning of it can step faster than
-    (:func:`attainable`). Loads need the lecture state: identity or affine maps ``θ = φ(0) + J q``."""
+    (:func:`attainable`). Loads that read no state and are constant ``xfrc_applied`` (:meth:`~harness.engines.mujoco_engine.MujocoModel.holds`)
+    are held between input changes; others are evaluated at every step at the lecture state: identity or affine maps
+    ``θ = φ(0) + J q``."""
 
     MODELS = ("idle", "pruned", "bare")
 
@@ -115,10 +121,13 @@ class MujocoStepper:
         u0 = idle_scene.u(0.0, idle_system)
         theta0, J, _ = self.c.map_at(np.asarray(scene.q0, float), np.asarray(scene.qd0, float), self.p, u0)
         self.theta0, self.theta_dot0 = theta0, J @ np.asarray(scene.qd0, float)
-        if self.loads:
-            if not self.c.affine:
-                raise ValueError("MuJoCo's own stepping with external loads needs an affine map θ = φ(0) + J q "
-                                 "(the loads are evaluated at the lecture state)")
+        # loads of inputs and parameters alone, each a constant xfrc_applied between input changes (run)
+        self.held = bool(self.loads) and not loads_read_state(kept) and all(
+            self.model.holds(kind, where, frame) for kind, where, frame, _ in self.loads)
+        if self.loads and not self.c.affine and not self.held:
+            raise ValueError("MuJoCo's own stepping with external loads needs an affine map θ = φ(0) + J q "
+                             "(the loads are evaluated at the lecture state)")
+        if self.loads and self.c.affine:
             self.phi0, _, self.J_inv = self.c.affine_map(self.p, u0)
 
     def run(self) -> sim.Trajectory:
@@ -132,22 +141,28 @@ class MujocoStepper:
         loads, inputs, p = self.loads, self.inputs, self.kept_p
 
         set_inputs, changes = sim.input_setter(scene, model, dt, inputs, steps=steps)   # None: constant, set here
+        held = self.held and (changes := sim.input_changes(scene, self.kept_inputs, steps, dt)) is not None
+        at_rest = np.zeros(len(scene.q0))   # what a held load is evaluated at: it reads no state
+
+        def load_values(k, q, qd):   # the loads' arguments: every input of the kept system, held over the step
+            u = np.fromiter(sim.held_inputs(scene, self.kept_inputs, k, dt).values(), float)
+            return [Load(kind, where, frame, np.asarray(fn(q, qd, p, u), dtype=float).ravel())
+                    for kind, where, frame, fn in loads]
 
         def before(k):
             if set_inputs is not None:
                 set_inputs(k)
-            if loads:   # the loads' arguments: every input of the kept system, held over the step as the actuators'
-                u = np.fromiter(sim.held_inputs(scene, self.kept_inputs, k, dt).values(), float)
+            if held:   # constant until the next input change: MuJoCo applies them at every stage (xfrc_applied)
+                model.hold_loads(load_values(k, at_rest, at_rest))
+            elif loads:  # at the lecture state of the step's start, held over the step as the actuators' inputs
                 theta, theta_dot = model.theta(), model.theta_dot()
-                q, qd = self.J_inv @ (theta - self.phi0), self.J_inv @ theta_dot
                 model.pose(theta)   # the kinematics the loads are applied at (mj_kinematics, mj_comPos)
-                model.apply_loads([Load(kind, where, frame, np.asarray(fn(q, qd, p, u), dtype=float).ravel())
-                                   for kind, where, frame, fn in loads])
+                model.apply_loads(load_values(k, self.J_inv @ (theta - self.phi0), self.J_inv @ theta_dot))
 
         start = time.perf_counter()
         out = model.rollout(steps, every, lambda k: (model.time, model.theta(), model.theta_dot()),
                             before=before if set_inputs is not None or loads else None,
-                            changes=None if loads else changes, check=f"{scene.name} (pruning)")
+                            changes=None if loads and not held else changes, check=f"{scene.name} (pruning)")
         seconds = time.perf_counter() - start
         disabled = f", disabled {', '.join(self.flags)}" if self.flags else ""
         return sim.Trajectory(f"mujoco (mj_step RK4, dt={dt:g}{disabled})",
@@ -306,6 +321,9 @@ def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalog
             how.append(f"not in the MJCF: {', '.join(lean.removed)}")
         if len(full.loads) > len(lean.loads):
             how.append("idle external loads not evaluated")
+        held = [f"{m}'s" for m, stepper in (("idle", full), ("pruned", lean)) if stepper.held]
+        if held:
+            how.append(f"{' and '.join(held)} loads held as xfrc_applied between input changes")
         return (lean.run, full.run, f"mj_step RK4, dt={dt:g}, pruned: {'; '.join(how) or 'nothing'}",
                 lambda: MujocoStepper(own_system, own_scene, "bare", dt, found).run)
     if source != SYMBOLIC and ENGINES[source].applies(system):
