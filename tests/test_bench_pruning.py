@@ -169,6 +169,8 @@ def test_loads_of_inputs_alone_are_held_where_mujoco_applies_them():
     force in world axes at its body's centre of mass (the quarter car's road force, the spherical pendulum's f_e);
     not a follower force (cantilever_beam) nor one off the centre of mass (planar_robot). The held run is the motion
     of the loads evaluated at every step, and ``xfrc_applied`` gives MuJoCo's q̈ of ``qfrc_applied`` at a state."""
+    import mujoco
+
     from harness.bench.workprecision import get_scene
     from harness.catalogue import repository
     from harness.engines.base import Load
@@ -192,7 +194,7 @@ def test_loads_of_inputs_alone_are_held_where_mujoco_applies_them():
     model.reset()
     model.set_state(theta, theta_dot)
     model.hold_loads([force])
-    __import__("mujoco").mj_forward(model.model, model.data)
+    mujoco.mj_forward(model.model, model.data)
     assert np.allclose(model.data.qacc[model.dof_index], qdd_applied, rtol=1e-12, atol=1e-12)
     for name, load in (("cantilever_beam", "follower_force"), ("planar_robot", "f_e")):
         dyn = sim.Dynamics(catalogue.get(name), catalogue.scenes(name)[0], "mujoco")

@@ -307,7 +307,8 @@ class CompiledModel:
 def eigenvalues_2(a: float, b: float, d: float) -> tuple[float, float]:
     """Ascending eigenvalues of the symmetric ``[[a, b], [b, d]]`` in floats: ``w₁ = (a + d)/2 + hypot((a − d)/2,
     b)``, ``w₀ = (a d − b²) / w₁`` (exact for a diagonal matrix, else off by about ``ε w₁`` as LAPACK's);
-    ``(-inf, w₁)`` where ``w₁ ≤ 0`` or not finite (no regular mass matrix: :func:`regular_spectrum` rejects it)."""
+    ``(-inf, w₁)`` where ``w₁ ≤ 0`` or not finite (no regular mass matrix: :func:`regular_spectrum` rejects
+    it)."""
     w1 = 0.5 * (a + d) + math.hypot(0.5 * (a - d), b)
     return (a * d - b * b) / w1 if w1 > 0.0 else -math.inf, w1
 

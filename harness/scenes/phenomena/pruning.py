@@ -27,12 +27,14 @@ one checks that inference.
   The idle model's loads and inputs are evaluated and applied at every step (held over the step from its start), the
   pruned one's only where called for and not idle; loads of inputs and parameters alone (no state), where every
   input is piecewise constant and each load is a torque, or a force at its body's centre of mass, in world axes,
-  are set as MuJoCo's ``xfrc_applied`` at each input change and held (:meth:`~harness.engines.mujoco_engine.MujocoModel.hold_loads`), as the
-  actuators' inputs are: MuJoCo steps in its own loop, and an idle load of that kind costs what MuJoCo pays for it,
-  not a Python call per step (measured: the quarter car's road force at 0 had made the idle run 5 × the pruned one). The pruned MJCF also leaves out the visual geoms
-  (:class:`~harness.engines.mujoco_engine.VisualGeomsDropped`), which a run does not read and MuJoCo poses at every
-  stage. With repeats, the idle run is also timed against the bare tree's (:func:`bare_tree`), which no pruned model
-  steps faster than: the bound of the ratio (:func:`attainable`). A scene whose motion switches at events has
+  are set as MuJoCo's ``xfrc_applied`` at each input change and held
+  (:meth:`~harness.engines.mujoco_engine.MujocoModel.hold_loads`), as the actuators' inputs are: MuJoCo steps in its
+  own loop, and an idle load of that kind costs what MuJoCo pays for it, not a Python call per step (measured: the
+  quarter car's road force at 0 had made the idle run 5 × the pruned one). The pruned MJCF also leaves out the
+  visual geoms (:class:`~harness.engines.mujoco_engine.VisualGeomsDropped`), which a run does not read and MuJoCo
+  poses at every stage. With repeats, the idle run is also timed against the bare tree's (:func:`bare_tree`), which
+  no pruned model steps faster than: the bound of the ratio (:func:`attainable`). A scene whose motion switches at
+  events has
   MuJoCo's own run in its event's plug-in (dry friction, contact): not measured here, except a friction held, where
   that run (MuJoCo's ``frictionloss``) is the idle one and the pruned one has nothing to step.
 
@@ -81,9 +83,9 @@ class MujocoStepper:
     flags), nor the idle force elements (``found.idle_elements``: the flags are per effect type), and only the
     called-for loads and inputs evaluated; ``"bare"``: the tree alone
     (:class:`~harness.engines.mujoco_engine.BareTree`), what no pruning of it can step faster than
-    (:func:`attainable`). Loads that read no state and are constant ``xfrc_applied`` (:meth:`~harness.engines.mujoco_engine.MujocoModel.holds`)
-    are held between input changes; others are evaluated at every step at the lecture state: identity or affine maps
-    ``θ = φ(0) + J q``."""
+    (:func:`attainable`). Loads that read no state and are constant ``xfrc_applied``
+    (:meth:`~harness.engines.mujoco_engine.MujocoModel.holds`) are held between input changes; others are evaluated
+    at every step at the lecture state: identity or affine maps ``θ = φ(0) + J q``."""
 
     MODELS = ("idle", "pruned", "bare")
 
