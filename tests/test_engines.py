@@ -305,8 +305,8 @@ def test_two_coordinates_solve_in_closed_form_as_lapack_does():
     """``q̈`` of two coordinates (:meth:`~harness.derivation.compile.CompiledModel._forward_dynamics_2`: the
     eigenvalues in closed form, Cramer's rule) is the eigendecomposition's to rounding, ``45 cond(M) ε ‖q̈‖``:
     every two-coordinate system of the catalogue at 20 states. The closed-form eigenvalues are LAPACK's to
-    ``4 ε ‖M‖`` on random symmetric matrices (positive definite of every conditioning up to ``1e19``, indefinite, negative) and
-    give its regularity verdict, except within a factor 1.5 of the test's threshold."""
+    ``4 ε ‖M‖`` on random symmetric matrices (positive definite of every conditioning up to ``1e19``, indefinite,
+    negative) and give its regularity verdict, except within a factor 1.5 of the test's threshold."""
     from harness.derivation.compile import eigenvalues_2, regular_spectrum, symmetric_eigen, SINGULAR_M
 
     two = [s for s in SYSTEMS if len(models.catalogue().get(s).coordinates) == 2]
