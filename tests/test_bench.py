@@ -219,6 +219,12 @@ def test_ours_against_the_fastest_engine_is_judged_on_alternating_pairs():
     undecided = goal(scene("a", 0.5, 0.9), scene("b", 1.0, 1.05))
     assert undecided["verdict"] == "undecided" and "pendulum/b 1 × [0.95, 1.1] undecided" in undecided["detail"]
     assert goal(scene("a", 1.1, 1.2), scene("b", 1.0, 1.05))["verdict"] == "not met"
+    # which engines were in the race: a scene MuJoCo's own stepping cannot run has Pinocchio as its fastest engine
+    mapped = scene("c", 0.5, 0.9)
+    mapped["summary"]["fastest_at_accuracy"]["mujoco"] = None
+    mapped["runs"] = [{"engine": "mujoco", "skipped": "pendulum: MuJoCo's own integrator needs an identity map"}] * 2
+    assert ("the engines in the race: mujoco reached 1e-06 on 1 of 2 scenes, not run on 1 (1: MuJoCo's own "
+            "integrator needs an identity map)") in goal(scene("a", 0.5, 0.9), mapped)["detail"]
 
 
 def test_evaluation_goals_are_judged_on_alternating_pairs():
