@@ -369,27 +369,74 @@ def input_changes(scene: Scene, names, steps: int, timestep: float) -> list[int]
     return sorted(out)
 
 
+def loads_held(model, loads, reads_state: bool) -> bool:
+    """Whether MuJoCo's ``model`` holds the external ``loads`` (:func:`~harness.engines.base.load_functions`' entries)
+    between input changes (:func:`held_loads`): there are loads, none reads the state (``reads_state``:
+    :func:`~harness.engines.base.loads_read_state` of their system) and each is a constant ``xfrc_applied``
+    (:meth:`~harness.engines.mujoco_engine.MujocoModel.holds`: a torque, or a force at its body's centre of mass, in
+    world axes), which MuJoCo applies through each stage's Jacobian."""
+    return bool(loads) and not reads_state and all(model.holds(kind, where, frame) for kind, where, frame, _ in loads)
+
+
+def held_loads(scene: Scene, model, loads, p, names, timestep: float, steps: int):
+    """``(hold, changes)`` of a MuJoCo rollout whose ``loads`` it holds (:func:`loads_held`; ``names``: the inputs
+    of their system, their arguments, ``p`` its parameter values): ``hold(k)`` evaluates them at the inputs held over
+    step ``k`` (:func:`held_inputs`) and sets them as ``xfrc_applied``, ``changes`` the steps at which those inputs
+    change (:func:`input_changes`): MuJoCo steps in its own loop in between, no Python call per step. None where an
+    input varies within steps (every step would set them)."""
+    changes = input_changes(scene, names, steps, timestep)
+    if changes is None:
+        return None
+    at_rest = np.zeros(len(scene.q0))   # what the loads are evaluated at: they read no state
+
+    def hold(k: int) -> None:
+        u = np.fromiter(held_inputs(scene, names, k, timestep).values(), float)
+        model.hold_loads([Load(kind, where, frame, np.asarray(fn(at_rest, at_rest, p, u), dtype=float).ravel())
+                          for kind, where, frame, fn in loads])
+    return hold, changes
+
+
 def mujoco_native(system: System, scene: Scene, timestep: float, integrator: str = "RK4") -> Trajectory:
-    """MuJoCo's own integrator on the exported MJCF of the pruned system (identity maps only: the tree
-    coordinates are the lecture coordinates; inputs on joints only)."""
+    """MuJoCo's own integrator on the exported MJCF of the pruned system, in lecture coordinates: its tree
+    coordinates an affine image of them (``θ = φ(0) + J q``, a constant square ``J``: the identity, a relative
+    angle), inputs on joints held at each step's midpoint and external loads of inputs alone that MuJoCo holds
+    (:func:`loads_held`, :func:`held_loads`), set where the inputs change; elsewhere a ``ValueError`` (a load
+    evaluated at every step's start and held over the step would make every integrator first order)."""
     dyn = Dynamics(system, scene, "mujoco")
-    s = dyn.system
-    J = dyn.c("J_phi", np.zeros(len(s.q)), np.zeros(len(s.q)), dyn.p, np.zeros(len(s.u)))
-    if J.shape != (len(s.q), len(s.q)) or not np.allclose(J, np.eye(len(s.q))) or load_functions(s):
-        raise ValueError(f"{system.name}: MuJoCo's own integrator needs an identity map and no external loads")
-    model = dyn.model
+    s, model = dyn.system, dyn.model
+    if not dyn.c.affine:
+        raise ValueError(f"{system.name}: MuJoCo's own integrator here needs tree coordinates that are an affine "
+                         "image of the lecture's (θ = φ(0) + J q with a constant square J)")
+    if dyn.load_functions and not loads_held(model, dyn.load_functions, dyn.loads_read_state):
+        raise ValueError(f"{system.name}: MuJoCo's own integrator here needs external loads of inputs alone that "
+                         "it holds as xfrc_applied (a torque, or a force at a centre of mass, in world axes)")
+    phi0, J, J_inv = dyn.c.affine_map(dyn.p, scene.u(0.0, s))
     model.configure(Options(timestep=timestep, integrator=integrator))
     model.reset()
-    model.set_state(scene.q0, scene.qd0)
+    model.set_state(phi0 + J @ np.asarray(scene.q0, float), J @ np.asarray(scene.qd0, float))
     t_eval = sample_times(scene)
     steps = int(round(scene.horizon / timestep))
     every = max(1, int(round(steps / (len(t_eval) - 1))))
-    before, changes = input_setter(scene, model, timestep, steps=steps)
+    set_inputs, changes = input_setter(scene, model, timestep, steps=steps)
+    before = set_inputs
+    if dyn.load_functions:
+        holder = held_loads(scene, model, dyn.load_functions, dyn.p, dyn.input_names, timestep, steps)
+        if holder is None:
+            raise ValueError(f"{system.name}: MuJoCo's own integrator here holds the loads between input changes, "
+                             "and an input of them varies within steps")
+        hold, changes = holder
+
+        def before(k: int) -> None:
+            if set_inputs is not None:
+                set_inputs(k)
+            hold(k)
     start = time.perf_counter()
     out = model.rollout(steps, every, lambda k: (model.time, model.theta(), model.theta_dot()), before=before,
                         changes=changes, check=f"{system.name} scene {scene.name}")  # unstable: a failure
     seconds = time.perf_counter() - start
     q, qd = np.array([x[1] for x in out]), np.array([x[2] for x in out])
+    if not dyn.c.identity_map:
+        q, qd = (q - phi0) @ J_inv.T, qd @ J_inv.T
     return Trajectory(f"mujoco (mj_step {integrator}, dt={timestep:g})", np.array([x[0] for x in out]), q, qd,
                       seconds, steps, energy_of=dyn.energy)
 

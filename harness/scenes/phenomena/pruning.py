@@ -123,9 +123,7 @@ class MujocoStepper:
         u0 = idle_scene.u(0.0, idle_system)
         theta0, J, _ = self.c.map_at(np.asarray(scene.q0, float), np.asarray(scene.qd0, float), self.p, u0)
         self.theta0, self.theta_dot0 = theta0, J @ np.asarray(scene.qd0, float)
-        # loads of inputs and parameters alone, each a constant xfrc_applied between input changes (run)
-        self.held = bool(self.loads) and not loads_read_state(kept) and all(
-            self.model.holds(kind, where, frame) for kind, where, frame, _ in self.loads)
+        self.held = sim.loads_held(self.model, self.loads, loads_read_state(kept))   # between input changes (run)
         if self.loads and not self.c.affine and not self.held:
             raise ValueError("MuJoCo's own stepping with external loads needs an affine map θ = φ(0) + J q "
                              "(the loads are evaluated at the lecture state)")
@@ -143,23 +141,23 @@ class MujocoStepper:
         loads, inputs, p = self.loads, self.inputs, self.kept_p
 
         set_inputs, changes = sim.input_setter(scene, model, dt, inputs, steps=steps)   # None: constant, set here
-        held = self.held and (changes := sim.input_changes(scene, self.kept_inputs, steps, dt)) is not None
-        at_rest = np.zeros(len(scene.q0))   # what a held load is evaluated at: it reads no state
-
-        def load_values(k, q, qd):   # the loads' arguments: every input of the kept system, held over the step
-            u = np.fromiter(sim.held_inputs(scene, self.kept_inputs, k, dt).values(), float)
-            return [Load(kind, where, frame, np.asarray(fn(q, qd, p, u), dtype=float).ravel())
-                    for kind, where, frame, fn in loads]
+        holder = sim.held_loads(scene, model, loads, p, self.kept_inputs, dt, steps) if self.held else None
+        held = holder is not None
+        if held:
+            hold, changes = holder
 
         def before(k):
             if set_inputs is not None:
                 set_inputs(k)
             if held:   # constant until the next input change: MuJoCo applies them at every stage (xfrc_applied)
-                model.hold_loads(load_values(k, at_rest, at_rest))
+                hold(k)
             elif loads:  # at the lecture state of the step's start, held over the step as the actuators' inputs
+                u = np.fromiter(sim.held_inputs(scene, self.kept_inputs, k, dt).values(), float)
                 theta, theta_dot = model.theta(), model.theta_dot()
+                q, qd = self.J_inv @ (theta - self.phi0), self.J_inv @ theta_dot
                 model.pose(theta)   # the kinematics the loads are applied at (mj_kinematics, mj_comPos)
-                model.apply_loads(load_values(k, self.J_inv @ (theta - self.phi0), self.J_inv @ theta_dot))
+                model.apply_loads([Load(kind, where, frame, np.asarray(fn(q, qd, p, u), dtype=float).ravel())
+                                   for kind, where, frame, fn in loads])
 
         start = time.perf_counter()
         out = model.rollout(steps, every, lambda k: (model.time, model.theta(), model.theta_dot()),
