@@ -15,6 +15,7 @@ from step to step (inputs, loads, mode switches) and for sampling."""
 
 from __future__ import annotations
 
+import contextlib
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
@@ -348,6 +349,27 @@ class MujocoModel(TreeEngine):
             else:
                 xfrc[self._id(mujoco.mjtObj.mjOBJ_BODY, load.where), 3:] += load.vector
         self.data.xfrc_applied[:] = xfrc
+
+    @contextlib.contextmanager
+    def loads_at_each_stage(self, loads_at, integrator: str):
+        """Within it, MuJoCo's control callback (``mjcb_control``: called in every ``mj_forward`` of a step, after
+        the stage's kinematics and before its actuation; ``actuation`` must not be disabled) sets ``qfrc_applied``
+        to :meth:`applied` of ``loads_at(k, θ, θ̇)`` at the stage's state, ``k`` the step (the callback's calls
+        counted, :data:`STAGES` of ``integrator`` per step): loads that read the state, exact at every stage of
+        RK4 (evaluated at a step's start and held they would make it first order). The callback is MuJoCo's, one
+        per process: the one before is put back."""
+        stages, calls = STAGES[integrator], [0]
+
+        def control(m, d) -> None:
+            k = calls[0] // stages
+            calls[0] += 1
+            d.qfrc_applied[:] = self.applied(loads_at(k, d.qpos[self.qpos_index], d.qvel[self.dof_index]))
+        before = mujoco.get_mjcb_control()
+        mujoco.set_mjcb_control(control)
+        try:
+            yield
+        finally:
+            mujoco.set_mjcb_control(before)
 
     def set_frictionloss(self, address: tuple[int, int], value: float) -> None:
         self.model.dof_frictionloss[address[1]] = value
@@ -725,6 +747,8 @@ def effect_flags(effects) -> tuple:
 
 
 STIFF_SOLIMP = [0.9999, 0.9999, 0.001, 0.5, 2.0]   # MuJoCo's impedance at its hardest
+
+STAGES = {"Euler": 1, "implicitfast": 1, "implicit": 1, "RK4": 4}   # mj_forward calls of one mj_step
 
 
 @dataclass(frozen=True)

@@ -9,6 +9,7 @@ the scene's sample times.
 
 from __future__ import annotations
 
+import contextlib
 import math
 import time
 import warnings
@@ -399,40 +400,44 @@ def held_loads(scene: Scene, model, loads, p, names, timestep: float, steps: int
 def mujoco_native(system: System, scene: Scene, timestep: float, integrator: str = "RK4") -> Trajectory:
     """MuJoCo's own integrator on the exported MJCF of the pruned system, in lecture coordinates: its tree
     coordinates an affine image of them (``θ = φ(0) + J q``, a constant square ``J``: the identity, a relative
-    angle), inputs on joints held at each step's midpoint and external loads of inputs alone that MuJoCo holds
-    (:func:`loads_held`, :func:`held_loads`), set where the inputs change; elsewhere a ``ValueError`` (a load
-    evaluated at every step's start and held over the step would make every integrator first order)."""
+    angle), inputs on joints held at each step's midpoint (``ctrl``), external loads of inputs alone that MuJoCo
+    holds set where the inputs change (:func:`loads_held`, :func:`held_loads`), other loads evaluated at every stage
+    of a step from its state, their inputs held as the actuators' are
+    (:meth:`~harness.engines.mujoco_engine.MujocoModel.loads_at_each_stage`); a map that is not affine is a
+    ``ValueError``."""
     dyn = Dynamics(system, scene, "mujoco")
-    s, model = dyn.system, dyn.model
+    s, model, loads = dyn.system, dyn.model, dyn.load_functions
     if not dyn.c.affine:
         raise ValueError(f"{system.name}: MuJoCo's own integrator here needs tree coordinates that are an affine "
                          "image of the lecture's (θ = φ(0) + J q with a constant square J)")
-    if dyn.load_functions and not loads_held(model, dyn.load_functions, dyn.loads_read_state):
-        raise ValueError(f"{system.name}: MuJoCo's own integrator here needs external loads of inputs alone that "
-                         "it holds as xfrc_applied (a torque, or a force at a centre of mass, in world axes)")
     phi0, J, J_inv = dyn.c.affine_map(dyn.p, scene.u(0.0, s))
-    model.configure(Options(timestep=timestep, integrator=integrator))
-    model.reset()
-    model.set_state(phi0 + J @ np.asarray(scene.q0, float), J @ np.asarray(scene.qd0, float))
     t_eval = sample_times(scene)
     steps = int(round(scene.horizon / timestep))
     every = max(1, int(round(steps / (len(t_eval) - 1))))
+    holder = held_loads(scene, model, loads, dyn.p, dyn.input_names, timestep, steps) \
+        if loads_held(model, loads, dyn.loads_read_state) else None
+    staged = bool(loads) and holder is None
+    model.configure(Options(timestep=timestep, integrator=integrator, enable=("actuation",) if staged else ()))
+    model.reset()
+    model.set_state(phi0 + J @ np.asarray(scene.q0, float), J @ np.asarray(scene.qd0, float))
     set_inputs, changes = input_setter(scene, model, timestep, steps=steps)
     before = set_inputs
-    if dyn.load_functions:
-        holder = held_loads(scene, model, dyn.load_functions, dyn.p, dyn.input_names, timestep, steps)
-        if holder is None:
-            raise ValueError(f"{system.name}: MuJoCo's own integrator here holds the loads between input changes, "
-                             "and an input of them varies within steps")
+    if holder is not None:
         hold, changes = holder
 
         def before(k: int) -> None:
             if set_inputs is not None:
                 set_inputs(k)
             hold(k)
+
+    def loads_at(k: int, theta, theta_dot) -> list:   # at a stage's state, the inputs held over step k
+        u = np.fromiter(held_inputs(scene, dyn.input_names, k, timestep).values(), float)
+        return dyn.loads(J_inv @ (theta - phi0), J_inv @ theta_dot, u)
+    stage = model.loads_at_each_stage(loads_at, integrator) if staged else contextlib.nullcontext()
     start = time.perf_counter()
-    out = model.rollout(steps, every, lambda k: (model.time, model.theta(), model.theta_dot()), before=before,
-                        changes=changes, check=f"{system.name} scene {scene.name}")  # unstable: a failure
+    with stage:
+        out = model.rollout(steps, every, lambda k: (model.time, model.theta(), model.theta_dot()), before=before,
+                            changes=changes, check=f"{system.name} scene {scene.name}")  # unstable: a failure
     seconds = time.perf_counter() - start
     q, qd = np.array([x[1] for x in out]), np.array([x[2] for x in out])
     if not dyn.c.identity_map:
