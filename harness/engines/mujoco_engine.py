@@ -356,8 +356,9 @@ class MujocoModel(TreeEngine):
         the stage's kinematics and before its actuation; ``actuation`` must not be disabled) sets ``qfrc_applied``
         to :meth:`applied` of ``loads_at(k, θ, θ̇)`` at the stage's state, ``k`` the step (the callback's calls
         counted, :data:`STAGES` of ``integrator`` per step): loads that read the state, exact at every stage of
-        RK4 (evaluated at a step's start and held they would make it first order). The callback is MuJoCo's, one
-        per process: the one before is put back."""
+        RK4 (evaluated at a step's start and held they would make it first order). Yields the list holding the
+        count of calls, which the caller checks against its steps (a count off would hold a wrong step's inputs).
+        The callback is MuJoCo's, one per process: the one before is put back."""
         stages, calls = STAGES[integrator], [0]
 
         def control(m, d) -> None:
@@ -367,7 +368,7 @@ class MujocoModel(TreeEngine):
         before = mujoco.get_mjcb_control()
         mujoco.set_mjcb_control(control)
         try:
-            yield
+            yield calls
         finally:
             mujoco.set_mjcb_control(before)
 

@@ -23,7 +23,8 @@ from harness import kept
 from harness.derivation.compile import compiled
 from harness.engines import SYMBOLIC, engine
 from harness.engines.base import Load, load_functions, loads_read_state, to_lecture
-from harness.engines.mujoco_engine import Options
+from harness.engines.mujoco_engine import STAGES, Options
+from harness.errors import EngineError
 from harness.export.numeric import instantiate
 from harness.modeling.system import System
 from harness.modeling.scenes import Constant, Scene, pruned
@@ -433,12 +434,16 @@ def mujoco_native(system: System, scene: Scene, timestep: float, integrator: str
     def loads_at(k: int, theta, theta_dot) -> list:   # at a stage's state, the inputs held over step k
         u = np.fromiter(held_inputs(scene, dyn.input_names, k, timestep).values(), float)
         return dyn.loads(J_inv @ (theta - phi0), J_inv @ theta_dot, u)
-    stage = model.loads_at_each_stage(loads_at, integrator) if staged else contextlib.nullcontext()
+    stage = (model.loads_at_each_stage(loads_at, integrator) if staged      # else: the count it would check
+             else contextlib.nullcontext([steps * STAGES[integrator]]))
     start = time.perf_counter()
-    with stage:
+    with stage as calls:
         out = model.rollout(steps, every, lambda k: (model.time, model.theta(), model.theta_dot()), before=before,
                             changes=changes, check=f"{system.name} scene {scene.name}")  # unstable: a failure
     seconds = time.perf_counter() - start
+    if calls[0] != steps * STAGES[integrator]:
+        raise EngineError(f"{system.name} scene {scene.name}: MuJoCo's {integrator} called the loads' callback "
+                          f"{calls[0]} times in {steps} steps, not {STAGES[integrator]} a step")
     q, qd = np.array([x[1] for x in out]), np.array([x[2] for x in out])
     if not dyn.c.identity_map:
         q, qd = (q - phi0) @ J_inv.T, qd @ J_inv.T
