@@ -361,7 +361,7 @@ def test_simulation_through_a_map_gives_the_evaluations_qdd(name):
             continue
         dynamics = Dynamics(system, scene, engine_name)
         c = dynamics.c
-        assert (dynamics._affine is not None) == (c.constant_map and c.derivation.J_phi.is_square)
+        assert (dynamics.affine is not None) == (c.constant_map and c.derivation.J_phi.is_square)
         params, errors = {**system.default_parameters(), **scene.params}, []
         for state in lecture_states(dynamics.system):
             state = State.make(dynamics.system, state.q, state.qd, params, state.u)

@@ -179,8 +179,9 @@ def test_our_models_reference_is_kept_bit_for_bit_and_integrated_again_when_it_c
 def test_an_input_step_does_not_leak_into_the_piece_before_it():
     """series_rlc/step: u steps to 10 V at 0.1 s. Restarted at the breakpoint, DOP853 and LSODA (odeint) evaluate
     the right-hand side at the piece's end t = 0.1 s or within round-off of it (a last stage, LSODA up to its critical
-    time), where the step already says 10 V: with the inputs held over each piece (``Dynamics.hold``) every evaluation of the first piece
-    sees 0 V, every one of the second 10 V, and after the run the inputs are u(t) again."""
+    time), where the step already says 10 V: with the inputs held over each piece (``Dynamics.hold``) every
+    evaluation of the first piece sees 0 V, every one of the second 10 V, and after the run the inputs are u(t)
+    again."""
     import numpy as np
 
     from harness.scenes import simulate as sim

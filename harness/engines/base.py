@@ -119,9 +119,7 @@ class State:
     def loads(self) -> list["Load"]:
         """External forces and torques of the model (PointForce, BodyTorque) with their components
         evaluated at this state; each engine turns them into generalized forces with its own Jacobians."""
-        args = (self.q, self.qd, self.p, self.u_vec)
-        return [Load(kind, where, frame, np.asarray(fn(*args), dtype=float).ravel())
-                for kind, where, frame, fn in load_functions(self.system)]
+        return evaluated_loads(load_functions(self.system), self.q, self.qd, self.p, self.u_vec)
 
 
 @cache
@@ -138,6 +136,12 @@ def load_functions(system: System) -> list:
         elif isinstance(f, BodyTorque):
             out.append(("torque", f.link, f.frame, lambdify(args, sp.Matrix(f.torque), "numpy")))
     return out
+
+
+def evaluated_loads(functions, q, qd, p, u) -> list["Load"]:
+    """The external loads of :func:`load_functions`' ``functions`` with their components at ``(q, q̇, p, u)``."""
+    return [Load(kind, where, frame, np.asarray(fn(q, qd, p, u), dtype=float).ravel())
+            for kind, where, frame, fn in functions]
 
 
 def loads_read_state(system: System) -> bool:

@@ -11,7 +11,7 @@ from scipy.integrate import solve_ivp
 
 from harness.checks import Check, relative_error
 from harness.derivation.compile import compiled
-from harness.engines.base import Load, load_functions, to_lecture
+from harness.engines.base import to_lecture
 from harness.modeling.system import System
 from harness.modeling.scenes import Scene, pruned
 from harness.scenes.simulate import Dynamics
@@ -79,8 +79,7 @@ class Terms(Dynamics):
                 c.generalized_forces(q, qd, self.p, u)
         theta = self.c("phi", *args).ravel()
         J, J_dot = self.c("J_phi", *args), self.c("J_phi_dot", *args)
-        loads = [Load(kind, where, frame, np.asarray(fn(*args), dtype=float).ravel())
-                 for kind, where, frame, fn in load_functions(self.system)]
+        loads = self.loads(q, qd, u)
         inputs = dict(zip((i.name for i in self.system.inputs), u))
         tree = self.model.quantities(theta, J @ qd, inputs, loads, christoffel=False)
         from harness.scenes.simulate import _MapAt

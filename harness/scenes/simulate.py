@@ -22,7 +22,7 @@ from scipy.integrate import odeint, solve_ivp
 from harness import kept
 from harness.derivation.compile import compiled
 from harness.engines import SYMBOLIC, engine
-from harness.engines.base import Load, load_functions, loads_read_state, to_lecture
+from harness.engines.base import Load, evaluated_loads, load_functions, loads_read_state, to_lecture
 from harness.engines.mujoco_engine import STAGES, Options
 from harness.errors import EngineError
 from harness.export.numeric import instantiate
@@ -88,9 +88,9 @@ class Dynamics:
         self.evaluations = 0
         self.held = None      # the inputs held over the piece being integrated (:meth:`hold`); None: u(t)
         self.model = None if source == SYMBOLIC else engine(source)(instantiate(self.system, self.params))
-        self._affine = None   # (φ(0), J, J⁻¹) of a constant square map, evaluated once (:meth:`at`)
-        if self.model is not None and not self.c.identity_map and self.c.affine:
-            self._affine = self.c.affine_map(self.p, np.zeros(len(self.input_names)))
+        # (φ(0), J, J⁻¹) of a constant square map (the identity too), evaluated once: :meth:`at`, mujoco_native
+        self.affine = self.c.affine_map(self.p, np.zeros(len(self.input_names))) \
+            if self.model is not None and self.c.affine else None
 
     def __call__(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
         self.evaluations += 1
@@ -117,8 +117,8 @@ class Dynamics:
         inputs = dict(zip(self.input_names, u))
         if self.c.identity_map:  # θ = q, θ̇ = q̇: the engine's forward dynamics is q̈ (no map to evaluate)
             return self.model.forward_dynamics(q, qd, inputs, self.loads(q, qd, u))
-        if self._affine is not None:  # θ = φ(0) + J q, J̇ = 0: q̈ = J⁻¹ θ̈ (5.58), J⁻¹ computed once
-            phi0, J, J_inv = self._affine
+        if self.affine is not None:  # θ = φ(0) + J q, J̇ = 0: q̈ = J⁻¹ θ̈ (5.58), J⁻¹ computed once
+            phi0, J, J_inv = self.affine
             return J_inv @ self.model.forward_dynamics(phi0 + J @ q, J @ qd, inputs, self.loads(q, qd, u))
         theta, J, J_dot = self.c.map_at(q, qd, self.p, u)
         if J.shape[0] == J.shape[1]:
@@ -131,9 +131,7 @@ class Dynamics:
 
     def loads(self, q, qd, u) -> list[Load]:
         """The external loads (PointForce, BodyTorque) at one state, each engine turns them into forces."""
-        args = (q, qd, self.p, u)
-        return [Load(kind, where, frame, np.asarray(fn(*args), dtype=float).ravel())
-                for kind, where, frame, fn in self.load_functions]
+        return evaluated_loads(self.load_functions, q, qd, self.p, u)
 
     def mass_matrix(self, t: float, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
         """``M(q)`` in lecture coordinates from this source (the symbolic one or the engine's, mapped)."""
@@ -393,8 +391,7 @@ def held_loads(scene: Scene, model, loads, p, names, timestep: float, steps: int
 
     def hold(k: int) -> None:
         u = np.fromiter(held_inputs(scene, names, k, timestep).values(), float)
-        model.hold_loads([Load(kind, where, frame, np.asarray(fn(at_rest, at_rest, p, u), dtype=float).ravel())
-                          for kind, where, frame, fn in loads])
+        model.hold_loads(evaluated_loads(loads, at_rest, at_rest, p, u))
     return hold, changes
 
 
@@ -407,11 +404,11 @@ def mujoco_native(system: System, scene: Scene, timestep: float, integrator: str
     (:meth:`~harness.engines.mujoco_engine.MujocoModel.loads_at_each_stage`); a map that is not affine is a
     ``ValueError``."""
     dyn = Dynamics(system, scene, "mujoco")
-    s, model, loads = dyn.system, dyn.model, dyn.load_functions
+    model, loads = dyn.model, dyn.load_functions
     if not dyn.c.affine:
         raise ValueError(f"{system.name}: MuJoCo's own integrator here needs tree coordinates that are an affine "
                          "image of the lecture's (θ = φ(0) + J q with a constant square J)")
-    phi0, J, J_inv = dyn.c.affine_map(dyn.p, scene.u(0.0, s))
+    phi0, J, J_inv = dyn.affine
     t_eval = sample_times(scene)
     steps = int(round(scene.horizon / timestep))
     every = max(1, int(round(steps / (len(t_eval) - 1))))
@@ -434,14 +431,12 @@ def mujoco_native(system: System, scene: Scene, timestep: float, integrator: str
     def loads_at(k: int, theta, theta_dot) -> list:   # at a stage's state, the inputs held over step k
         u = np.fromiter(held_inputs(scene, dyn.input_names, k, timestep).values(), float)
         return dyn.loads(J_inv @ (theta - phi0), J_inv @ theta_dot, u)
-    stage = (model.loads_at_each_stage(loads_at, integrator) if staged      # else: the count it would check
-             else contextlib.nullcontext([steps * STAGES[integrator]]))
     start = time.perf_counter()
-    with stage as calls:
+    with model.loads_at_each_stage(loads_at, integrator) if staged else contextlib.nullcontext() as calls:
         out = model.rollout(steps, every, lambda k: (model.time, model.theta(), model.theta_dot()), before=before,
                             changes=changes, check=f"{system.name} scene {scene.name}")  # unstable: a failure
     seconds = time.perf_counter() - start
-    if calls[0] != steps * STAGES[integrator]:
+    if staged and calls[0] != steps * STAGES[integrator]:
         raise EngineError(f"{system.name} scene {scene.name}: MuJoCo's {integrator} called the loads' callback "
                           f"{calls[0]} times in {steps} steps, not {STAGES[integrator]} a step")
     q, qd = np.array([x[1] for x in out]), np.array([x[2] for x in out])

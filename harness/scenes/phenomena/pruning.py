@@ -62,7 +62,7 @@ import time
 import numpy as np
 
 from harness.engines import ENGINES, SYMBOLIC, steps_itself
-from harness.engines.base import load_functions, loads_read_state
+from harness.engines.base import evaluated_loads, load_functions, loads_read_state
 from harness.modeling.scenes import effects_of, pruned, with_idle_effects
 from harness.modeling.system import JointInput
 from harness.scenes import simulate as sim
@@ -131,8 +131,6 @@ class MujocoStepper:
             self.phi0, _, self.J_inv = self.c.affine_map(self.p, u0)
 
     def run(self) -> sim.Trajectory:
-        from harness.engines.base import Load
-
         model, scene, dt = self.model, self.scene, self.dt
         model.reset()
         model.set_state(self.theta0, self.theta_dot0)
@@ -156,8 +154,7 @@ class MujocoStepper:
                 theta, theta_dot = model.theta(), model.theta_dot()
                 q, qd = self.J_inv @ (theta - self.phi0), self.J_inv @ theta_dot
                 model.pose(theta)   # the kinematics the loads are applied at (mj_kinematics, mj_comPos)
-                model.apply_loads([Load(kind, where, frame, np.asarray(fn(q, qd, p, u), dtype=float).ravel())
-                                   for kind, where, frame, fn in loads])
+                model.apply_loads(evaluated_loads(loads, q, qd, p, u))
 
         start = time.perf_counter()
         out = model.rollout(steps, every, lambda k: (model.time, model.theta(), model.theta_dot()),

@@ -78,8 +78,9 @@ class _StickSlipDynamics:
         ``1 + len(u)`` calls: then a bound over the segment, ``|a| + Σ |b_i| sup |u_i|`` within ``mu_H f_N``
         (:func:`harness.scenes.effects.affine_bound`, the inference's), proves that it sticks to ``end``, and
         otherwise the guard is scanned on steps of ``horizon / 500`` (the resolution the event-located stick branch
-        had) and its first upward crossing refined by ``brentq``; elsewhere each point of the scan is a call. A force already beyond
-        ``mu_H f_N`` at ``t0`` (exactly, one call: an input's jump at a breakpoint) breaks away at ``t0``."""
+        had) and its first upward crossing refined by ``brentq``; elsewhere each point of the scan is a call. A force
+        already beyond ``mu_H f_N`` at ``t0`` (exactly, one call: an input's jump at a breakpoint) breaks away at
+        ``t0``."""
         from harness.scenes.effects import affine_bound
 
         dyn, limit = self.dyn, self.mu_H * self.f_N
