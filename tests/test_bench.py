@@ -94,6 +94,22 @@ def test_fixed_step_integrators_converge_with_their_order(method, order):
     assert errors[0] / errors[1] > 2 ** order * 0.8  # the order, with 20 % for the pre-asymptotic range
 
 
+def test_mujoco_steps_of_the_sweep_hold_the_input_jump_and_converge_with_rk4s_order():
+    """spring_mass_damper's load steps at 1 s, between two samples (Δ = 15 ms): MuJoCo's steps ``Δ / k`` saw the
+    jump within a step and converged with order 1; its steps in the sweep put it on their grid."""
+    system, scene = wp.get_scene(models.CATALOGUE, "spring_mass_damper", "released")
+    samples = len(sim.sample_times(scene))
+    assert 1.0 / (scene.horizon / (samples - 1)) % 1 > 0.1   # the jump is not on the samples' grid
+    ref = sim.integrate(system, scene, "symbolic", rtol=1e-12, atol=1e-12)
+    errors = []
+    for k in (1, 2):
+        dt = wp.fixed_dt(scene, "mujoco", samples, k)
+        assert abs(1.0 / dt - round(1.0 / dt)) < 1e-9 and dt <= scene.horizon / (samples - 1)
+        errors.append(sim.max_error(sim.mujoco_native(system, scene, dt), ref))
+    assert errors[0] / errors[1] > 2 ** 4 * 0.8  # RK4's order, with 20 % for the pre-asymptotic range
+    assert wp.fixed_dt(scene, "pinocchio", samples, 2) == scene.horizon / (samples - 1) / 2  # fixed_step splits
+
+
 @pytest.mark.parametrize("args, message", [
     (["bench", "--systems", "no_such_system"], "unknown system"),
     (["bench", "--scenes", "no_such_scene", "--parts", "pruning"], "unknown scene"),
