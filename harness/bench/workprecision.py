@@ -11,10 +11,11 @@
   Fortran (``odeint``, :data:`harness.scenes.simulate.ODEINT`); ``symbolic-numba``: our ẏ in machine code (numba, opt-in,
   :attr:`harness.derivation.compile.CompiledModel.native_state_derivative`) with DOP853 and ``odeint``; ``pinocchio`` also
   with fixed-step classical RK4 and semi-implicit (symplectic) Euler; ``mujoco`` with its own integrators
-  (``mj_step``: Euler, implicitfast, implicit, RK4) over time steps. Our path is the fastest of ``symbolic`` and
+  (``mj_step``: Euler, implicitfast, implicit, RK4) over time steps; a closed chain's tree under MuJoCo's soft
+  equality constraints with implicitfast (:func:`harness.scenes.phenomena.closures.mujoco_constrained`). Our path is the fastest of ``symbolic`` and
   ``symbolic-numba`` (:data:`OURS`); the engines' is the fastest of ``pinocchio`` and ``mujoco``. Fixed steps are
   ``Δ/k`` with ``Δ`` the sample spacing of the scene (:func:`harness.scenes.simulate.sample_times`), so that every run is
-  sampled at the same times.
+  sampled at the same times; MuJoCo's ``Δ`` is shorter where an input jumps between samples (:func:`fixed_dt`).
 * **error**: :func:`harness.scenes.simulate.max_error` (largest state difference at the 201 sample times, relative to
   the state's scale, at least 1); a run that diverges or fails has error ``inf`` and a note.
 * **cost**: the median wall time of repeated runs (the model is built before the clock starts) and the number of
@@ -45,6 +46,7 @@ from harness.modeling.events import RollSlip
 from harness.modeling.scenes import Scene
 from harness.scenes.base import REFERENCE_TOL
 from harness.scenes.phenomena import motion_of, mujoco_own
+from harness.scenes.phenomena.closures import constrained, mujoco_constrained
 from harness.scenes.phenomena.pruning import REPEATS, judged_at_most, paired
 
 SCIPY_METHODS = ("RK45", "DOP853", "Radau", "LSODA")
@@ -213,6 +215,14 @@ def event_note(sc: Scene, engine: str, method: str) -> str | None:
         return f"{method} does not locate events"
     return None
 
+def _constrained_note(s, sc: Scene, engine: str, method: str) -> str | None:
+    """Why MuJoCo's ``method`` does not step a closed chain (None: it does, or it is no closed chain)."""
+    if steps_itself(engine) and constrained(s) and mujoco_own(sc) is None and method != "implicitfast":
+        return ("MuJoCo steps a closed chain's tree under its soft equality constraints with implicitfast "
+                "(harness.scenes.phenomena.closures)")
+    return None
+
+
 def run_task(catalogue, system: str, scene: str, engine: str, method: str, setting: float, repeats: int,
              budget: int, reference: dict) -> dict:
     """One configuration: ``setting`` is ``rtol`` (adaptive) or ``k`` (fixed step ``dt = Δ/k``)."""
@@ -221,7 +231,7 @@ def run_task(catalogue, system: str, scene: str, engine: str, method: str, setti
     out = {"system": system, "scene": scene, "engine": engine, "method": method,
            "rtol": setting if adaptive else None,
            "dt": None if adaptive else fixed_dt(sc, engine, len(reference["t"]), int(setting))}
-    note = _not_applicable(s, engine) or event_note(sc, engine, method)
+    note = _not_applicable(s, engine) or event_note(sc, engine, method) or _constrained_note(s, sc, engine, method)
     if note:
         return {**out, "skipped": note}
     ref = _trajectory("reference", reference["t"], reference["q"], reference["qd"])
@@ -272,6 +282,9 @@ def _one_run(s, sc: Scene, engine, method, setting, dt, budget, t_eval, catalogu
             return own[0].mujoco_run(s, sc, own[1], dt)
     if motion.switches:  # solve_ivp with the events located (event_note)
         return _simulate(s, sc, engine, method, setting, catalogue)
+    if steps_itself(engine) and constrained(s):  # the tree under soft equality constraints (_constrained_note)
+        with np.errstate(all="ignore"):
+            return mujoco_constrained(s, sc, dt)
     if steps_itself(engine):
         with np.errstate(all="ignore"):
             tr = sim.mujoco_native(s, sc, dt, method)
