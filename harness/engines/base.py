@@ -353,8 +353,7 @@ def input_forces(tree: NumericTree, nv: int, u: dict, loads, v_index: dict, rota
     for input_name, joint in tree.actuators:
         tau[v_index[joint]] += u[input_name]
     for load in loads:
-        R = np.eye(3) if load.frame == WORLD else rotation(load.frame)
-        vector = R @ load.vector
+        vector = load.vector if load.frame == WORLD else rotation(load.frame) @ load.vector
         J = point_jacobian(load.where) if load.kind == "force" else angular_jacobian(load.where)
         tau += J.T @ vector
     return tau

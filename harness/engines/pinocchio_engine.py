@@ -144,6 +144,7 @@ class PinocchioModel(TreeEngine):
     def _attach(self, model: pin.Model, joints: list[str]) -> None:
         self.model, self.joints = model, joints
         self._subtrees_of: dict | None = None   # :meth:`_subtrees`
+        self._link_frames: dict = {}            # :meth:`_frame_of`
         self.data = model.createData()
         self.model_no_gravity = model.copy()
         self.model_no_gravity.gravity.linear = np.zeros(3)
@@ -159,6 +160,8 @@ class PinocchioModel(TreeEngine):
         self._lower = np.tril_indices(model.nv, -1)         # what _crba mirrors from the upper triangle
         self.v_index = dict(zip(joints, self.index))
         self.continuous = any(model.joints[jid].nq == 2 for jid in self.jids)
+        # Pinocchio's configuration and velocity are our θ, θ̇ as they are: to_pin and from_pin would copy them
+        self._in_order = self.index == list(range(model.nv)) and model.nq == model.nv
 
     # ----- coordinates
     def to_pin(self, theta):
@@ -214,9 +217,15 @@ class PinocchioModel(TreeEngine):
         if loads and not self.tree.tendons:
             self._frames(q)
         return input_forces(self.tree, model.nv, u, loads, self.v_index,
-                            lambda link: data.oMf[model.getFrameId(link)].rotation,
+                            lambda link: data.oMf[self._frame_of(link)].rotation,
                             lambda p: self.frame_jacobian(self.frames[p])[:3],
-                            lambda link: self.frame_jacobian(model.getFrameId(link))[3:])
+                            lambda link: self.frame_jacobian(self._frame_of(link))[3:])
+
+    def _frame_of(self, link: str) -> int:
+        """The id of a link's body frame, looked up once (``model.getFrameId`` searches the names)."""
+        if link not in self._link_frames:
+            self._link_frames[link] = self.model.getFrameId(link)
+        return self._link_frames[link]
 
     def _applied(self, q, v, u: dict, loads=()) -> tuple:
         """``(f_spring, f_damper, τ_input)`` in Pinocchio's order: the force elements' generalized forces
@@ -232,7 +241,10 @@ class PinocchioModel(TreeEngine):
             tau_input
 
     def forward_dynamics(self, theta, theta_dot, u: dict, loads=()) -> np.ndarray:
-        """``θ̈`` alone, the call a simulation makes (:meth:`_aba`)."""
+        """``θ̈`` alone, the call a simulation makes (:meth:`_aba`); ``θ``, ``θ̇`` handed to ``pin.aba`` as they are
+        where Pinocchio's order is ours (cart_pendulum: 7.0 → 4.1 µs a call, ``pin.aba`` alone 1.1 µs)."""
+        if self._in_order:
+            return self._aba(np.asarray(theta, dtype=float), np.asarray(theta_dot, dtype=float), u, loads)[0]
         return self.from_pin(self._aba(self.to_pin(theta), self.to_pin(theta_dot), u, loads)[0])
 
     def mass_and_forces(self, theta, theta_dot, u: dict, loads=()) -> tuple[np.ndarray, np.ndarray]:
