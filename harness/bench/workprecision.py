@@ -12,10 +12,11 @@
   :attr:`harness.derivation.compile.CompiledModel.native_state_derivative`) with DOP853 and ``odeint``; ``pinocchio`` also
   with fixed-step classical RK4 and semi-implicit (symplectic) Euler; ``mujoco`` with its own integrators
   (``mj_step``: Euler, implicitfast, implicit, RK4) over time steps; a closed chain's tree under MuJoCo's soft
-  equality constraints with implicitfast (:func:`harness.scenes.phenomena.closures.mujoco_constrained`). Our path is the fastest of ``symbolic`` and
-  ``symbolic-numba`` (:data:`OURS`); the engines' is the fastest of ``pinocchio`` and ``mujoco``. Fixed steps are
-  ``Δ/k`` with ``Δ`` the sample spacing of the scene (:func:`harness.scenes.simulate.sample_times`), so that every run is
-  sampled at the same times; MuJoCo's ``Δ`` is shorter where an input jumps between samples (:func:`fixed_dt`).
+  equality constraints with implicitfast (:func:`harness.scenes.phenomena.closures.mujoco_constrained`). Our path is
+  the fastest of ``symbolic`` and ``symbolic-numba`` (:data:`OURS`); the engines' is the fastest of ``pinocchio`` and
+  ``mujoco``. Fixed steps are ``Δ/k`` with ``Δ`` the sample spacing of the scene
+  (:func:`harness.scenes.simulate.sample_times`), so that every run is sampled at the same times; MuJoCo's ``Δ`` is
+  shorter where an input jumps between samples (:func:`fixed_dt`).
 * **error**: :func:`harness.scenes.simulate.max_error` (largest state difference at the 201 sample times, relative to
   the state's scale, at least 1); a run that diverges or fails has error ``inf`` and a note.
 * **cost**: the median wall time of repeated runs (the model is built before the clock starts) and the number of
@@ -214,6 +215,7 @@ def event_note(sc: Scene, engine: str, method: str) -> str | None:
     if method not in SCIPY_METHODS:
         return f"{method} does not locate events"
     return None
+
 
 def _constrained_note(s, sc: Scene, engine: str, method: str) -> str | None:
     """Why MuJoCo's ``method`` does not step a closed chain (None: it does, or it is no closed chain)."""
