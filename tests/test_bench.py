@@ -121,6 +121,7 @@ def test_mujoco_steps_a_closed_chain_of_the_sweep_under_its_equality_constraints
     assert runs[1]["evaluations"] == 2 * runs[0]["evaluations"]
     rk4 = wp.run_task(models.CATALOGUE, "toggle_press", "return", "mujoco", "RK4", 4, 1, 10_000, reference)
     assert "implicitfast" in rk4["skipped"]
+    assert wp.soft_equalities({"runs": [*runs, rk4]}) and not wp.soft_equalities({"runs": runs})  # legend, bench.md
 
 
 @pytest.mark.parametrize("args, message", [

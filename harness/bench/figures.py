@@ -35,8 +35,11 @@ def _finite(x) -> bool:
 
 
 def workprecision(scene: dict, accuracy: float, path: Path) -> None:
+    from harness.bench.workprecision import soft_equalities
+
     # an error above the state's own scale is a diverged run (an explicit method beyond its stability limit)
     runs = [r for r in scene["runs"] if _finite(r.get("error")) and r["error"] <= 1.0 and _finite(r.get("seconds"))]
+    soft = " (the tree, soft equality constraints)" if soft_equalities(scene) else ""
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.8), sharex=True)
     lines = {}
     for r in runs:
@@ -48,7 +51,7 @@ def workprecision(scene: dict, accuracy: float, path: Path) -> None:
         rs = sorted(rs, key=lambda r: r["rtol"] if r.get("rtol") is not None else -r["dt"], reverse=True)
         for ax, key in zip(axes, ("seconds", "evaluations")):
             ax.plot([r["error"] for r in rs], [r[key] for r in rs], marker=_MARKERS[k % len(_MARKERS)],
-                    color=colour, label=f"{engine} {method}", lw=1.5, ms=4)
+                    color=colour, label=f"{engine} {method}" + (soft if engine == "mujoco" else ""), lw=1.5, ms=4)
     agreement = scene["reference"].get("agreement")
     for ax, ylabel in zip(axes, ("wall time (s, median)", "right-hand-side evaluations")):
         ax.set_xscale("log")

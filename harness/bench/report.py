@@ -276,6 +276,8 @@ def markdown(doc: dict) -> str:
                                  f"{f['evaluations']} evals")
                 else:
                     cells.append(f"not reached (best {min(ran):.1e})" if ran else "n/a")
+                if engine == "mujoco" and wp.soft_equalities(s):
+                    cells[-1] += " — the tree under soft equality constraints, implicitfast"
             ratio = s.get("summary", {}).get("symbolic_vs_fastest_engine")
             shown = "—"
             if ratio:

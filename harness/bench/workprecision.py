@@ -217,12 +217,22 @@ def event_note(sc: Scene, engine: str, method: str) -> str | None:
     return None
 
 
+SOFT_EQUALITIES = ("MuJoCo steps a closed chain's tree under its soft equality constraints with implicitfast "
+                   "(harness.scenes.phenomena.closures)")
+
+
 def _constrained_note(s, sc: Scene, engine: str, method: str) -> str | None:
-    """Why MuJoCo's ``method`` does not step a closed chain (None: it does, or it is no closed chain)."""
+    """Why MuJoCo's ``method`` does not step a closed chain (:data:`SOFT_EQUALITIES`; None: it does, or it is no
+    closed chain)."""
     if steps_itself(engine) and constrained(s) and mujoco_own(sc) is None and method != "implicitfast":
-        return ("MuJoCo steps a closed chain's tree under its soft equality constraints with implicitfast "
-                "(harness.scenes.phenomena.closures)")
+        return SOFT_EQUALITIES
     return None
+
+
+def soft_equalities(scene: dict) -> bool:
+    """Whether a scene of the sweep (its record) had MuJoCo step the tree under soft equality constraints: its
+    other integrators skipped for it (:func:`_constrained_note`)."""
+    return any(r.get("skipped") == SOFT_EQUALITIES for r in scene.get("runs", ()))
 
 
 def run_task(catalogue, system: str, scene: str, engine: str, method: str, setting: float, repeats: int,
