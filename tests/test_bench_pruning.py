@@ -168,7 +168,7 @@ def test_loads_of_inputs_alone_are_held_where_mujoco_applies_them():
     input changes (no Python call per step) where that is exact: a torque in world axes (two_mass_oscillator), a
     force in world axes at its body's centre of mass (the quarter car's road force, the spherical pendulum's f_e);
     not a follower force (cantilever_beam) nor one off the centre of mass (planar_robot). The held run is the motion
-    of the loads evaluated at every step, and ``xfrc_applied`` gives MuJoCo's q̈ of ``qfrc_applied`` at a state."""
+    of the loads evaluated at every stage, and ``xfrc_applied`` gives MuJoCo's q̈ of ``qfrc_applied`` at a state."""
     import mujoco
 
     from harness.bench.workprecision import get_scene
@@ -185,7 +185,7 @@ def test_loads_of_inputs_alone_are_held_where_mujoco_applies_them():
         idle = MujocoStepper(system, scene, "idle", dt)
         assert idle.held and idle.loads
         held = idle.run()
-        idle.held = False      # the loads evaluated and applied at every step instead
+        idle.held = False      # the loads evaluated and applied at every stage instead (MuJoCo's control callback)
         assert sim.max_error(held, idle.run()) < 1e-12, name
     model, ((kind, where, frame, _),) = idle.model, idle.loads     # the spherical pendulum's f_e at the bob
     theta, theta_dot = np.array([0.7, -1.2]), np.array([0.4, 2.0])

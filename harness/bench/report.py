@@ -180,7 +180,6 @@ def _in_the_race(scenes: list) -> str:
     return "the engines in the race: " + "; ".join(parts)
 
 
-
 def _judged(row: dict, key: str, target: float) -> tuple[str, str, float]:
     """A system's evaluation-cost ratio ``key`` against ``target`` (≤): ``(verdict, its interval as text, the high
     end widened by the resolution)`` from its alternating pairs (``paired``, :func:`~harness.bench.evalcost.
@@ -367,7 +366,7 @@ def _pruning(rows: list[dict]) -> list[str]:
              "or damper is only a coefficient, 0 in the idle model too: nothing saved), the idle loads and inputs "
              "evaluated and applied as in any run (piecewise-constant inputs, and loads of inputs alone that are a "
              "torque or a force at a centre of mass in world axes, set at each input change as `ctrl` and "
-             "`xfrc_applied` and held, MuJoCo stepping in its own loop; other loads at every step); also the bare "
+             "`xfrc_applied` and held, MuJoCo stepping in its own loop; other loads at every stage); also the bare "
              "tree (bodies, joints and inertias alone, every disable flag set) against the idle run, the same "
              "pairs: no pruned model steps faster than the bare tree, so a target above its interval is **out of "
              "reach** of MuJoCo on that scene. Ratio = idle / pruned: "

@@ -160,11 +160,15 @@ class PinocchioModel(TreeEngine):
         self._lower = np.tril_indices(model.nv, -1)         # what _crba mirrors from the upper triangle
         self.v_index = dict(zip(joints, self.index))
         self.continuous = any(model.joints[jid].nq == 2 for jid in self.jids)
-        # Pinocchio's configuration and velocity are our θ, θ̇ as they are: to_pin and from_pin would copy them
+        # Pinocchio's configuration and velocity hold our θ, θ̇ in their order: to_pin and from_pin copy, no scatter
         self._in_order = self.index == list(range(model.nv)) and model.nq == model.nv
 
     # ----- coordinates
     def to_pin(self, theta):
+        """Pinocchio's vector (``q`` without continuous joints, ``v``, ``τ``) of ours, for Pinocchio to read: ours
+        as it is where the order is the same (``_in_order``), else scattered into zeros (0.9 µs a call)."""
+        if self._in_order:
+            return np.asarray(theta, dtype=float)
         v = np.zeros(self.model.nv)
         v[self.index] = theta
         return v
@@ -183,7 +187,8 @@ class PinocchioModel(TreeEngine):
         return q
 
     def from_pin(self, v):
-        return np.asarray(v)[self.index]
+        """Ours of Pinocchio's vector: always a copy (``pin.aba`` returns a view of its ``data.ddq``)."""
+        return np.array(v, dtype=float) if self._in_order else np.asarray(v)[self.index]
 
     def from_pin_matrix(self, A):
         return np.asarray(A)[self._index_grid]
@@ -241,10 +246,7 @@ class PinocchioModel(TreeEngine):
             tau_input
 
     def forward_dynamics(self, theta, theta_dot, u: dict, loads=()) -> np.ndarray:
-        """``θ̈`` alone, the call a simulation makes (:meth:`_aba`); ``θ``, ``θ̇`` handed to ``pin.aba`` as they are
-        where Pinocchio's order is ours (cart_pendulum: 7.0 → 4.6 µs a call, ``pin.aba`` alone 1.1 µs)."""
-        if self._in_order:
-            return self._aba(np.asarray(theta, dtype=float), np.asarray(theta_dot, dtype=float), u, loads)[0]
+        """``θ̈`` alone, the call a simulation makes (:meth:`_aba`)."""
         return self.from_pin(self._aba(self.to_pin(theta), self.to_pin(theta_dot), u, loads)[0])
 
     def mass_and_forces(self, theta, theta_dot, u: dict, loads=()) -> tuple[np.ndarray, np.ndarray]:

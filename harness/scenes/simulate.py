@@ -395,6 +395,48 @@ def held_loads(scene: Scene, model, loads, p, names, timestep: float, steps: int
     return hold, changes
 
 
+def own_rollout(model, scene: Scene, timestep: float, integrator: str, steps: int, actuated, loads, p, names,
+                holding: bool, at_lecture, check: str) -> tuple[list, float]:
+    """MuJoCo's own stepping of ``model`` (configured, at its start state) over ``steps`` steps with the scene's
+    inputs and external loads, sampled at :func:`sample_times`: ``(samples (time, θ, θ̇), seconds)``. Inputs of the
+    ``actuated`` joints held at each step's midpoint (:func:`input_setter`); ``loads``
+    (:func:`~harness.engines.base.load_functions`' entries, ``p`` their system's parameter values, ``names`` its
+    inputs) set where the inputs change and held with ``holding`` (:func:`loads_held`; :func:`held_loads`), else
+    evaluated at every stage of a step at the lecture state ``at_lecture(θ, θ̇) -> (q, q̇)``, their inputs held as the
+    actuators' are (:meth:`~harness.engines.mujoco_engine.MujocoModel.loads_at_each_stage`: the model's
+    ``actuation`` flag is cleared for it, MuJoCo's control callback runs only with it)."""
+    every = max(1, int(round(steps / (SAMPLES - 1))))
+    holder = held_loads(scene, model, loads, p, names, timestep, steps) if holding else None
+    staged = bool(loads) and holder is None
+    if staged:
+        if at_lecture is None:
+            raise ValueError(f"{check}: MuJoCo's own stepping with these external loads evaluates them at every "
+                             "stage at the lecture state: it needs an affine map θ = φ(0) + J q")
+        model.configure(Options(enable=("actuation",)))
+    set_inputs, changes = input_setter(scene, model, timestep, actuated, steps=steps)
+    before = set_inputs
+    if holder is not None:
+        hold, changes = holder
+
+        def before(k: int) -> None:
+            if set_inputs is not None:
+                set_inputs(k)
+            hold(k)
+
+    def loads_at(k: int, theta, theta_dot) -> list:   # at a stage's state, the inputs held over step k
+        u = np.fromiter(held_inputs(scene, names, k, timestep).values(), float)
+        return evaluated_loads(loads, *at_lecture(theta, theta_dot), p, u)
+    start = time.perf_counter()
+    with model.loads_at_each_stage(loads_at, integrator) if staged else contextlib.nullcontext() as calls:
+        out = model.rollout(steps, every, lambda k: (model.time, model.theta(), model.theta_dot()), before=before,
+                            changes=changes, check=check)  # unstable: a failure
+    seconds = time.perf_counter() - start
+    if staged and calls[0] != steps * STAGES[integrator]:
+        raise EngineError(f"{check}: MuJoCo's {integrator} called the loads' callback {calls[0]} times in {steps} "
+                          f"steps, not {STAGES[integrator]} a step")
+    return out, seconds
+
+
 def mujoco_native(system: System, scene: Scene, timestep: float, integrator: str = "RK4") -> Trajectory:
     """MuJoCo's own integrator on the exported MJCF of the pruned system, in lecture coordinates: its tree
     coordinates an affine image of them (``θ = φ(0) + J q``, a constant square ``J``: the identity, a relative
@@ -409,36 +451,14 @@ def mujoco_native(system: System, scene: Scene, timestep: float, integrator: str
         raise ValueError(f"{system.name}: MuJoCo's own integrator here needs tree coordinates that are an affine "
                          "image of the lecture's (θ = φ(0) + J q with a constant square J)")
     phi0, J, J_inv = dyn.affine
-    t_eval = sample_times(scene)
-    steps = int(round(scene.horizon / timestep))
-    every = max(1, int(round(steps / (len(t_eval) - 1))))
-    holder = held_loads(scene, model, loads, dyn.p, dyn.input_names, timestep, steps) \
-        if loads_held(model, loads, dyn.loads_read_state) else None
-    staged = bool(loads) and holder is None
-    model.configure(Options(timestep=timestep, integrator=integrator, enable=("actuation",) if staged else ()))
+    model.configure(Options(timestep=timestep, integrator=integrator))
     model.reset()
     model.set_state(phi0 + J @ np.asarray(scene.q0, float), J @ np.asarray(scene.qd0, float))
-    set_inputs, changes = input_setter(scene, model, timestep, steps=steps)
-    before = set_inputs
-    if holder is not None:
-        hold, changes = holder
-
-        def before(k: int) -> None:
-            if set_inputs is not None:
-                set_inputs(k)
-            hold(k)
-
-    def loads_at(k: int, theta, theta_dot) -> list:   # at a stage's state, the inputs held over step k
-        u = np.fromiter(held_inputs(scene, dyn.input_names, k, timestep).values(), float)
-        return dyn.loads(J_inv @ (theta - phi0), J_inv @ theta_dot, u)
-    start = time.perf_counter()
-    with model.loads_at_each_stage(loads_at, integrator) if staged else contextlib.nullcontext() as calls:
-        out = model.rollout(steps, every, lambda k: (model.time, model.theta(), model.theta_dot()), before=before,
-                            changes=changes, check=f"{system.name} scene {scene.name}")  # unstable: a failure
-    seconds = time.perf_counter() - start
-    if staged and calls[0] != steps * STAGES[integrator]:
-        raise EngineError(f"{system.name} scene {scene.name}: MuJoCo's {integrator} called the loads' callback "
-                          f"{calls[0]} times in {steps} steps, not {STAGES[integrator]} a step")
+    steps = int(round(scene.horizon / timestep))
+    holding = loads_held(model, loads, dyn.loads_read_state)
+    out, seconds = own_rollout(model, scene, timestep, integrator, steps, None, loads, dyn.p, dyn.input_names,
+                               holding, lambda th, thd: (J_inv @ (th - phi0), J_inv @ thd),
+                               f"{system.name} scene {scene.name}")
     q, qd = np.array([x[1] for x in out]), np.array([x[2] for x in out])
     if not dyn.c.identity_map:
         q, qd = (q - phi0) @ J_inv.T, qd @ J_inv.T

@@ -24,7 +24,7 @@ one checks that inference.
   spring and a damper between them) whose length, Jacobian and force MuJoCo no longer computes once every element on
   it is removed; a joint spring or damper of an acting effect, or one of a tendon's two elements, is only a
   coefficient, 0 in the idle model already: the same compiled model, nothing saved (the quarter car's tyre damper).
-  The idle model's loads and inputs are evaluated and applied at every step (held over the step from its start), the
+  The idle model's loads are evaluated and applied at every stage of a step (its inputs held over the step), the
   pruned one's only where called for and not idle; loads of inputs and parameters alone (no state), where every
   input is piecewise constant and each load is a torque, or a force at its body's centre of mass, in world axes,
   are set as MuJoCo's ``xfrc_applied`` at each input change and held
@@ -62,7 +62,7 @@ import time
 import numpy as np
 
 from harness.engines import ENGINES, SYMBOLIC, steps_itself
-from harness.engines.base import evaluated_loads, load_functions, loads_read_state
+from harness.engines.base import load_functions, loads_read_state
 from harness.modeling.scenes import effects_of, pruned, with_idle_effects
 from harness.modeling.system import JointInput
 from harness.scenes import simulate as sim
@@ -85,7 +85,8 @@ class MujocoStepper:
     (:class:`~harness.engines.mujoco_engine.BareTree`), what no pruning of it can step faster than
     (:func:`attainable`). Loads that read no state and are constant ``xfrc_applied``
     (:meth:`~harness.engines.mujoco_engine.MujocoModel.holds`) are held between input changes; others are evaluated
-    at every step at the lecture state: identity or affine maps ``θ = φ(0) + J q``."""
+    at every stage at the lecture state, as in :func:`~harness.scenes.simulate.mujoco_native` (both
+    :func:`~harness.scenes.simulate.own_rollout`): identity or affine maps ``θ = φ(0) + J q``."""
 
     MODELS = ("idle", "pruned", "bare")
 
@@ -123,44 +124,23 @@ class MujocoStepper:
         u0 = idle_scene.u(0.0, idle_system)
         theta0, J, _ = self.c.map_at(np.asarray(scene.q0, float), np.asarray(scene.qd0, float), self.p, u0)
         self.theta0, self.theta_dot0 = theta0, J @ np.asarray(scene.qd0, float)
-        self.held = sim.loads_held(self.model, self.loads, loads_read_state(kept))   # between input changes (run)
+        self.held = sim.loads_held(self.model, self.loads, loads_read_state(kept))   # as xfrc_applied (own_rollout)
+        self.at_lecture = None   # (θ, θ̇) -> (q, q̇): the loads MuJoCo does not hold, evaluated at every stage
         if self.loads and not self.c.affine and not self.held:
             raise ValueError("MuJoCo's own stepping with external loads needs an affine map θ = φ(0) + J q "
                              "(the loads are evaluated at the lecture state)")
         if self.loads and self.c.affine:
-            self.phi0, _, self.J_inv = self.c.affine_map(self.p, u0)
+            phi0, _, J_inv = self.c.affine_map(self.p, u0)
+            self.at_lecture = lambda theta, theta_dot: (J_inv @ (theta - phi0), J_inv @ theta_dot)
 
     def run(self) -> sim.Trajectory:
         model, scene, dt = self.model, self.scene, self.dt
         model.reset()
         model.set_state(self.theta0, self.theta_dot0)
         steps = int(round(scene.horizon / dt))
-        every = max(1, int(round(steps / (sim.SAMPLES - 1))))
-        loads, inputs, p = self.loads, self.inputs, self.kept_p
-
-        set_inputs, changes = sim.input_setter(scene, model, dt, inputs, steps=steps)   # None: constant, set here
-        holder = sim.held_loads(scene, model, loads, p, self.kept_inputs, dt, steps) if self.held else None
-        held = holder is not None
-        if held:
-            hold, changes = holder
-
-        def before(k):
-            if set_inputs is not None:
-                set_inputs(k)
-            if held:   # constant until the next input change: MuJoCo applies them at every stage (xfrc_applied)
-                hold(k)
-            elif loads:  # at the lecture state of the step's start, held over the step as the actuators' inputs
-                u = np.fromiter(sim.held_inputs(scene, self.kept_inputs, k, dt).values(), float)
-                theta, theta_dot = model.theta(), model.theta_dot()
-                q, qd = self.J_inv @ (theta - self.phi0), self.J_inv @ theta_dot
-                model.pose(theta)   # the kinematics the loads are applied at (mj_kinematics, mj_comPos)
-                model.apply_loads(evaluated_loads(loads, q, qd, p, u))
-
-        start = time.perf_counter()
-        out = model.rollout(steps, every, lambda k: (model.time, model.theta(), model.theta_dot()),
-                            before=before if set_inputs is not None or loads else None,
-                            changes=None if loads and not held else changes, check=f"{scene.name} (pruning)")
-        seconds = time.perf_counter() - start
+        out, seconds = sim.own_rollout(model, scene, dt, "RK4", steps, self.inputs, self.loads, self.kept_p,
+                                       self.kept_inputs, self.held, self.at_lecture,
+                                       f"{scene.name} (pruning)")
         disabled = f", disabled {', '.join(self.flags)}" if self.flags else ""
         return sim.Trajectory(f"mujoco (mj_step RK4, dt={dt:g}{disabled})",
                               np.array([x[0] for x in out]), np.array([x[1] for x in out]),
