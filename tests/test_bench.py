@@ -228,9 +228,18 @@ def test_ours_against_the_fastest_engine_is_judged_on_alternating_pairs():
     catalogue = repository()
     reference = wp.reference_task(catalogue, "pendulum", "swing")
     ours = {"engine": "symbolic", "method": "DOP853", "rtol": 1e-8, "dt": None}
+    slower = {"engine": "symbolic", "method": "DOP853", "rtol": 1e-12, "dt": None}   # 1451 evaluations, ours 557
     engine = {"engine": "mujoco", "method": "RK4", "rtol": None, "dt": 0.02}
-    duel = wp.duel_task(catalogue, "pendulum", "swing", ours, engine, reference, budget=60_000, repeats=3)
+    duel = wp.duel_task(catalogue, "pendulum", "swing", [slower, ours], engine, reference, budget=60_000, repeats=3)
     assert len(duel["ours_all"]) == len(duel["engine_all"]) == 3 and all(x > 0 for x in duel["ours_all"])
+    # each side's fastest of its candidates duels, whatever order the sweep's medians gave them
+    assert duel["symbolic_configuration"] == wp.label(ours)
+    assert duel["fastest_engine_configuration"] == wp.label(engine)
+    runs = [{**ours, "error": 1e-7, "seconds": 1.0}, {**slower, "error": 1e-9, "seconds": 1.2},
+            {**ours, "rtol": 1e-6, "error": 1e-5, "seconds": 0.5}, {**slower, "rtol": 1e-10, "error": 1e-9,
+                                                                     "seconds": 1.4},
+            {**engine, "error": 1e-7, "seconds": 2.0}]
+    assert wp.candidates(runs) == ([runs[0], runs[1]], [runs[4]])   # within 1.3 × of the fastest at 1e-6
     assert duel["ratio_low"] <= duel["ratio"] <= duel["ratio_high"] and duel["verdict"] == at_most(duel, 1.0)
 
     def scene(name, low, high):

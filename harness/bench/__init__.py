@@ -42,7 +42,8 @@ Schema of ``bench.json`` (``schema: 2``; times in seconds, errors relative to th
                           alternating pairs of the two configurations, harness.bench.workprecision.duel_task),
                           "ratio_low", "ratio_high" (its interval), "ours_all", "engine_all", "verdict",
                           "sweep_ratio" (the sweep's medians' ratio), "symbolic_configuration",
-                          "fastest_engine_configuration"} (when both exist)},
+                          "fastest_engine_configuration" (the duel's: each side's fastest of its candidates,
+                          harness.bench.workprecision.candidates)} (when both exist)},
           "figure": path relative to DIR}]},
       "evaluation": {"states": int, "systems": [{"system", "dof", "states",
                      "symbolic": {"terms" (M, C·q̇, g, f_np in one call), "qdd", "terms_native", "qdd_native"
@@ -303,7 +304,7 @@ def _duels(catalogue, scenes: list[dict], by_task, grid: wp.Grid, scheduler, wor
         versus = entry.get("summary", {}).get("symbolic_vs_fastest_engine")
         if not versus:
             continue
-        ours, engine = wp.contenders(entry["runs"])
+        ours, engine = wp.candidates(entry["runs"])
         reference = {k: by_task[f"reference {entry['system']}/{entry['scene']}"][k] for k in ("t", "q", "qd")}
         tasks.append(Task("harness.bench.workprecision:duel_task",
                           {"catalogue": catalogue, "system": entry["system"], "scene": entry["scene"], "ours": ours,
