@@ -114,6 +114,39 @@ def test_the_ratio_is_the_median_of_the_pairs_within_its_sign_test_interval():
     assert ratio_interval(fifteen, [1.0] * 15) == (8.0, 2.0, 14.0)
 
 
+def test_more_pairs_are_taken_while_the_verdict_is_undecided():
+    """bwp12's series_rlc/lc_ring: ours / MuJoCo's RK4 read [0.81, 1.08] over 21 pairs, undecided against 1 ×, where
+    four other bench runs read [0.81, 0.87] at most: a burst of noise in a block. Another block of pairs is taken while
+    the verdict the pairs are for is undecided, LOOKS blocks at most, and the interval is taken at CONFIDENCE /
+    LOOKS (Bonferroni over the looks: at 21 pairs still [r_(4), r_(18)], at 42 [r_(11), r_(32)]). A ratio within the
+    resolution of its target stays undecided after every block; one that is decided is not timed again."""
+    from harness.scenes.phenomena.pruning import LOOKS, at_most, judged_at_most, paired, ratio_interval
+
+    def runs(seconds):
+        it = iter(seconds)
+        return lambda: next(it)
+
+    # the first block: 8 pairs of a burst (ratio 1.1) among 13 at 0.85: the 18th of 21 sorted ratios is 1.1
+    ours = [0.85] * 13 + [1.1] * 8 + [0.85] * 21 + [0.85] * 21
+    undecided = []
+
+    def verdict(a, b):
+        undecided.append((len(a), judged_at_most(a, b, 1.0)["verdict"]))
+        return undecided[-1][1] == "undecided"
+
+    a, b = paired(runs(ours), runs([1.0] * 63), 21, verdict)
+    assert undecided == [(21, "undecided"), (42, "met")] and len(a) == len(b) == 42
+    assert at_most(judged_at_most(a, b, 1.0), 1.0) == "met"       # [r_(11), r_(32)] = [0.85, 0.85] widened: 0.89
+    assert ratio_interval([float(k) for k in range(1, 43)], [1.0] * 42)[1:] == (11.0, 32.0)
+    # within the resolution of the target: every block looked at, then the pairs stop
+    undecided.clear()
+    a, b = paired(runs([0.98] * 63), runs([1.0] * 63), 21, verdict)
+    assert undecided == [(21, "undecided"), (42, "undecided")] and len(a) == 21 * LOOKS
+    # decided after the first block, or no verdict asked for, or a single pair (a proof): no more pairs
+    assert len(paired(runs([0.5] * 21), runs([1.0] * 21), 21, verdict)[0]) == 21
+    assert len(paired(runs([0.98] * 21), runs([1.0] * 21), 21)[0]) == 21
+    assert len(paired(runs([0.98]), runs([1.0]), 1, verdict)[0]) == 1
+
 def test_the_price_of_a_dop853_run_is_also_taken_per_call():
     """With repeats, the entry of a source integrated by DOP853 (symbolic, Pinocchio) also times one call of the
     right-hand side of the pruned and of the idle model (what pruning saves per evaluation, without the integrator

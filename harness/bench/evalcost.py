@@ -76,7 +76,8 @@ def paired_ratio(ours, theirs, target: float, per: int = 1, pairs: int = PAIRS) 
         number = _loop_length(timer)
         return lambda: timer.timeit(number) / number / states
 
-    return judged_at_most(*paired(loop(ours, per), loop(theirs, 1), pairs), target)
+    return judged_at_most(*paired(loop(ours, per), loop(theirs, 1), pairs,
+                                  lambda a, b: judged_at_most(a, b, target)["verdict"] == "undecided"), target)
 
 
 def measure(catalogue, system: str, states: int = 10_000, seed: int = 0) -> dict:

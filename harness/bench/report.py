@@ -11,11 +11,13 @@ import math
 from collections import Counter
 
 from harness.bench import derivation, evalcost, workprecision as wp
+from harness.bench.contact_pruning import CONTACT_GOAL
 from harness.checks import Check
-from harness.scenes.phenomena.pruning import (PRUNING_GOAL, against, attainable, bound, interval, slower_pruned,
-                                              widened)
+from harness.scenes.phenomena.pruning import (LOOKS, PRUNING_GOAL, REPEATS, against, attainable, bound, interval,
+                                              slower_pruned, widened)
 
 GOAL = "bench goal"
+MORE = f"up to {REPEATS * LOOKS} while the verdict is undecided"   # pruning.paired
 """The basis of every goal: a target ratio of wall times the issue set, not a tolerance."""
 
 
@@ -56,7 +58,8 @@ def goals(doc: dict) -> list[dict]:
                      f"{len(rows)} systems")
             if all("paired" in r for r in rows):
                 where += (f"; judged on {worst['paired'][key]['ratio']:.3g} ×{judged[worst['system']][1]}, the median "
-                          "of 21 alternating pairs of our loop and Pinocchio's three calls with its ≥ 99.5 % interval "
+                          f"of {REPEATS} alternating pairs ({MORE}) of our loop and Pinocchio's three calls with its "
+                          "≥ 99.5 % interval "
                           "widened by the resolution (harness.bench.evalcost.paired_ratio)")
             if verdicts.count("met") < len(verdicts):
                 sym = worst["symbolic"]
@@ -129,8 +132,8 @@ def goals(doc: dict) -> list[dict]:
         counts = ", ".join(f"{v} on {verdicts.count(v)}" for v in ("met", "undecided", "not met") if v in verdicts)
         paired = all("verdict" in r for _, r in ratios)
         where = (f"ours / the fastest engine ≤ 1 × {counts} of {len(ratios)} scenes"
-                 + (f" (the median of {worst['repeats']} alternating pairs of the two configurations, its ≥ 99.5 % "
-                    "interval widened by the resolution; undecided: the interval holds 1 ×; "
+                 + (f" (the median of {worst['repeats']} alternating pairs of the two configurations ({MORE}), its "
+                    "≥ 99.5 % interval widened by the resolution; undecided: the interval holds 1 ×; "
                     "harness.bench.workprecision.duel_task)" if paired else " (the sweep's medians alone)")
                  + (f"; {'; '.join(missed)}. Worst: ours {sym['configuration']} "
                     f"{sym['evaluations']} evaluations × {sym['seconds'] / max(sym['evaluations'], 1) * 1e6:.1f} µs "
@@ -255,7 +258,8 @@ def markdown(doc: dict) -> str:
         lines += ["", f"## Work-precision: fastest configuration per engine reaching {wpd['accuracy']:g}", "",
                   "Error: largest state difference at the 201 sample times against the reference, relative to the "
                   "state's scale. Time: median wall time of the run. Figures: `bench/<system>-<scene>.svg`. Ours / fastest "
-                  "engine: our fastest configuration and the engines' timed again in alternating pairs, the median of "
+                  f"engine: our fastest configuration and the engines' timed again in {REPEATS} alternating pairs "
+                  f"({MORE}), the median of "
                   "the pairs' ratios and its ≥ 99.5 % interval widened by the resolution (a verdict where it is not "
                   "met).", "",
                   "| scene | reference (agreement with its confirmation) | symbolic | symbolic-numba | pinocchio | "
@@ -370,7 +374,8 @@ def _pruning(rows: list[dict]) -> list[str]:
              "tree (bodies, joints and inertias alone, every disable flag set) against the idle run, the same "
              "pairs: no pruned model steps faster than the bare tree, so a target above its interval is **out of "
              "reach** of MuJoCo on that scene. Ratio = idle / pruned: "
-             "the median of the ratios of N alternating pairs of runs, in brackets its distribution-free ≥ 99.5 % "
+             f"the median of the ratios of {REPEATS} alternating pairs of runs ({MORE} against {PRUNING_GOAL:g} ×), "
+             "in brackets its distribution-free ≥ 99.5 % "
              "confidence interval (sign test) widened by the bench's 5 % resolution (A/A runs: `python -m "
              "harness.bench.resolution`), the milliseconds the fastest run of each; **a whole interval below 1: "
              "a finding** (the pruned run is slower); a target is met where the whole interval is at or above it. "
@@ -564,9 +569,6 @@ def _noise(m: dict) -> str:
     """A ratio's interval from its pairs of runs (≥ 99.5 %, widened by the resolution), where it has more than one."""
     low, high = interval(m)
     return "" if low == high else f" [{low:.0f}, {high:.0f}]" if low >= 100 else f" [{low:.2f}, {high:.2f}]"
-
-
-CONTACT_GOAL = 3.0      # MuJoCo, the robot with contact detection pruned (issue 17)
 
 
 def _contact(c: dict) -> list[str]:

@@ -342,10 +342,10 @@ PICK = 5          # rounds that time the candidates of a side, each once a round
 def duel_task(catalogue, system: str, scene: str, ours, engine, reference: dict, budget: int,
               repeats: int = REPEATS) -> dict:
     """Our fastest configuration at :data:`ACCURACY` (``ours``, a run of the sweep) against the engines' fastest
-    (``engine``), timed again in ``repeats`` alternating pairs in one process
-    (:func:`~harness.scenes.phenomena.pruning.paired`). The sweep's times are medians of 3 runs taken by different
-    tasks at different times, beside another worker: their single ratio flipped the goal's verdict from one bench run
-    to the next (tower_crane/slew 1.07 ×, then 0.67 ×, the same code). A pair's two runs share the machine's state,
+    (``engine``), timed again in ``repeats`` alternating pairs in one process, more while the verdict is undecided
+    (:func:`~harness.scenes.phenomena.pruning.paired`; ``"repeats"``: the pairs taken). The sweep's times are
+    medians of 3 runs taken by different tasks at different times, beside another worker: their single ratio
+    flipped the goal's verdict from one bench run to the next (tower_crane/slew 1.07 ×, then 0.67 ×, the same code). A pair's two runs share the machine's state,
     so its ratio cancels what drifts between pairs. ``{"ratio": the median of the pairs' ours / engine, "ratio_low",
     "ratio_high": its ≥ 99.5 % interval (:func:`~harness.scenes.phenomena.pruning.ratio_interval`), "ours_all",
     "engine_all": every run's seconds, "verdict"}`` (:func:`~harness.scenes.phenomena.pruning.at_most` 1 ×).
@@ -376,9 +376,11 @@ def duel_task(catalogue, system: str, scene: str, ours, engine, reference: dict,
         return runs[k], timings[k]
 
     (our_run, mine), (their_run, theirs) = fastest(ours), fastest(engine)
-    ours_all, engine_all = paired(mine, theirs, repeats)
+    ours_all, engine_all = paired(mine, theirs, repeats,
+                                  lambda ours, engine: judged_at_most(ours, engine, 1.0)["verdict"] == "undecided")
     return judged_at_most(ours_all, engine_all, 1.0) | {"ours_all": ours_all, "engine_all": engine_all,
-                                                         "repeats": repeats, "symbolic_configuration": label(our_run),
+                                                         "repeats": len(ours_all),
+                                                         "symbolic_configuration": label(our_run),
                                                          "fastest_engine_configuration": label(their_run)}
 
 

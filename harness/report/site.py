@@ -112,7 +112,7 @@ def pruning_view(system: str, scene: dict, bench: dict | None) -> dict | None:
     and the disagreements (its notes), and per source the idle / pruned time ratio that ``harness bench --parts
     pruning`` measured (``bench``: bench.json; only where the scene has the check's pruned = idle proof of that
     source, else why not) or "nothing to prune"."""
-    from harness.scenes.phenomena.pruning import CHECK, PRUNING_GOAL, SOURCES, attainable, bound, interval
+    from harness.scenes.phenomena.pruning import CHECK, LOOKS, PRUNING_GOAL, SOURCES, attainable, bound, interval
 
     notes = scene.get("notes") or {}
     if "effects declared" not in notes:
@@ -123,6 +123,7 @@ def pruning_view(system: str, scene: dict, bench: dict | None) -> dict | None:
                      if m.get("system") == system and m.get("scene") == scene.get("scene")), None)
     run = _bench_run(bench, "pruning") if bench else {}
     view["ratios"], view["repeats"] = [], (measured or {}).get("repeats")
+    view["most_pairs"], view["goal"] = LOOKS * (view["repeats"] or 0), f"{PRUNING_GOAL:g}"
     view["measured"] = f"{run['command']} ({run.get('generated', '?')})" if run.get("command") else ""
     view["rows_ratios"] = _rows_ratios(scene, (measured or {}).get("rows")) if view["rows_left_out"] else []
     if view["nothing"]:
