@@ -329,12 +329,11 @@ def spring_damper_forces(tree: NumericTree, nv: int, q, v, position, jacobian, q
     f_damper = np.zeros(nv)
     for name, a, b, stiffness, rest, damping in tree.tendons:
         r = position(b) - position(a)
-        length = np.linalg.norm(r)
+        length = math.sqrt(r @ r)                             # np.linalg.norm's own formula, without its checks
         e = r / length
-        J = jacobian(b) - jacobian(a)
-        length_rate = e @ (J @ v)
-        f_spring += J.T @ (-stiffness * (length - rest) * e)
-        f_damper += J.T @ (-damping * length_rate * e)
+        moment = e @ (jacobian(b) - jacobian(a))              # ∂length/∂θ = eᵀ (J_b − J_a): one product, not four
+        f_spring -= stiffness * (length - rest) * moment
+        f_damper -= damping * (moment @ v) * moment
     for joint, (stiffness, rest) in tree.joint_stiffness.items():
         f_spring[v_index[joint]] += -stiffness * (q[q_index[joint]] - rest)
     for joint, damping in tree.joint_damping.items():

@@ -71,6 +71,12 @@ class HybridTrajectory(Trajectory):
     events: list = field(default_factory=list)
 
 
+def solve(A, b):
+    """``x`` of ``A x = b``, the small systems of a map at every evaluation (5.58–5.60): one coordinate is one
+    division, written as such (bit for bit LAPACK's 1 × 1 solve, without the 3–5 µs of checks around it)."""
+    return b / A[0, 0] if len(b) == 1 else np.linalg.solve(A, b)
+
+
 class Dynamics:
     """``q̈ = f(t, q, q̇)`` of one scene from one source (``"symbolic"`` or an engine of the registry), in lecture
     coordinates. ``model`` is the engine's adapter (None for the symbolic model)."""
@@ -124,10 +130,10 @@ class Dynamics:
         if J.shape[0] == J.shape[1]:
             # only the engine's forward dynamics: θ̈ of the tree, then q̈ = J⁻¹ (θ̈ − J̇ q̇) (5.58)
             theta_dd = self.model.forward_dynamics(theta, J @ qd, inputs, self.loads(q, qd, u))
-            return np.linalg.solve(J, theta_dd - J_dot @ qd)
+            return solve(J, theta_dd - J_dot @ qd)
         # more tree joints than lecture coordinates: M_q q̈ = Jᵀ (h − M J̇ q̇) with M_q = Jᵀ M J (5.58–5.60)
         M, h = self.model.mass_and_forces(theta, J @ qd, inputs, self.loads(q, qd, u))
-        return np.linalg.solve(J.T @ M @ J, J.T @ (h - M @ (J_dot @ qd)))
+        return solve(J.T @ M @ J, J.T @ (h - M @ (J_dot @ qd)))
 
     def loads(self, q, qd, u) -> list[Load]:
         """The external loads (PointForce, BodyTorque) at one state, each engine turns them into forces."""

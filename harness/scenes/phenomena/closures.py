@@ -170,10 +170,9 @@ def _least_squares(J, r):
     """``x`` minimizing ``|J x − r|`` for a ``J`` of full column rank (more tree joints than coordinates), from the
     normal equations ``JᵀJ x = Jᵀ r``: an ``n × n`` solve where ``lstsq``'s SVD cost 20 µs a call, at every
     MuJoCo step of a scene with loads; the maps' ``J`` are well conditioned (at most 10 over the catalogue), so
-    squaring the condition number leaves ``x`` within round-off of ``lstsq``'s. One coordinate: the solve is one
-    division, written as such (bit for bit LAPACK's 1 × 1 solve, without its 5 µs of checks)."""
-    A, b = J.T @ J, J.T @ r
-    return b / A[0, 0] if len(b) == 1 else np.linalg.solve(A, b)
+    squaring the condition number leaves ``x`` within round-off of ``lstsq``'s (:func:`~harness.scenes.simulate.solve`:
+    one coordinate, one division)."""
+    return sim.solve(J.T @ J, J.T @ r)
 
 
 def _start(system, scene, dyn):
