@@ -146,6 +146,12 @@ def test_more_pairs_are_taken_while_the_verdict_is_undecided():
     assert len(paired(runs([0.5] * 21), runs([1.0] * 21), 21, verdict)[0]) == 21
     assert len(paired(runs([0.98] * 21), runs([1.0] * 21), 21)[0]) == 21
     assert len(paired(runs([0.98]), runs([1.0]), 1, verdict)[0]) == 1
+    # the pruning's predicate: idle / pruned against a target, of seconds or of runs' seconds (their bounds too)
+    from types import SimpleNamespace
+    from harness.scenes.phenomena.pruning import undecided as pruning_undecided
+    assert pruning_undecided(1.3)([1.0] * 21, [1.3] * 21) and not pruning_undecided(1.3)([1.0] * 21, [2.0] * 21)
+    trajectories = [SimpleNamespace(seconds=1.0)] * 21, [SimpleNamespace(seconds=1.3)] * 21
+    assert pruning_undecided(1.3, runs=True)(*trajectories) and not pruning_undecided(1.0, runs=True)(*trajectories)
 
 def test_the_price_of_a_dop853_run_is_also_taken_per_call():
     """With repeats, the entry of a source integrated by DOP853 (symbolic, Pinocchio) also times one call of the

@@ -130,7 +130,7 @@ def task(catalogue, repeats: int = REPEATS) -> dict:
     median of the pairs' with its ≥ 99.5 % interval (:func:`~harness.scenes.phenomena.pruning.ratio_interval`), the
     seconds the fastest of each."""
     from harness.engines.mujoco_engine import CollisionMeshes, MujocoModel, Options, VisualGeomsDropped
-    from harness.scenes.phenomena.pruning import against, paired, price
+    from harness.scenes.phenomena.pruning import paired, price, undecided
     from harness.export.numeric import instantiate
     from harness.scenes import simulate as sim
 
@@ -187,8 +187,7 @@ def task(catalogue, repeats: int = REPEATS) -> dict:
                                                 STEPS)
     free = (certified // EVERY) * EVERY   # contact provably idle: the samples before its bound ends
     lean_runs, idle_runs = paired(lambda: run(lean, free)[0], lambda: run(idle, free)[0], repeats,
-                                  lambda lean, idle: against(price([t.seconds for t in lean], [t.seconds for t in idle]),
-                                                             CONTACT_GOAL) == "undecided")
+                                  undecided(CONTACT_GOAL, runs=True))
     pruned_whole = run(lean, STEPS)[0]
     return {"system": ROBOT, "scene": SCENE, "source": "mujoco", "method": f"mj_step RK4, dt={dt:g}",
             "collision_geoms": len(meshes), "meshes": sum(g[1][0] == "mesh" for g in meshes), "left_out": left_out,

@@ -231,8 +231,7 @@ def timed(pruned, idle, repeats: int, method: str) -> dict:
     """``repeats`` alternating pairs of the ``pruned`` and the ``idle`` run (:func:`paired`; more while the ratio is
     undecided against :data:`PRUNING_GOAL`): their :func:`price`, the first pair's trajectories compared (``error``:
     the proof), both runs' ``evaluations`` and ``method``."""
-    lean, full = paired(pruned, idle, repeats, lambda lean, full: against(_price_of(lean, full), PRUNING_GOAL)
-                        == "undecided")
+    lean, full = paired(pruned, idle, repeats, undecided(PRUNING_GOAL, runs=True))
     return {**_price_of(lean, full), "error": sim.max_error(full[0], lean[0]),
             "evaluations": [lean[0].evaluations, full[0].evaluations], "method": method}
 
@@ -247,19 +246,19 @@ CALLS = 500   # right-hand-side calls per timing of :func:`per_call`
 
 def bare_tree(bare, idle, repeats: int) -> dict:
     """Where MuJoCo's own run's time goes: its run of the bare tree (:class:`MujocoStepper` ``"bare"``: bodies,
-    joints and inertias alone, every disable flag set) against the idle one, ``repeats`` alternating pairs: their
-    :func:`price`. What no pruning of the tree can step faster than: the bound of the run's ratio
-    (:func:`attainable`)."""
-    return _price_of(*paired(bare, idle, repeats))
+    joints and inertias alone, every disable flag set) against the idle one, ``repeats`` alternating pairs (more
+    while undecided against :data:`PRUNING_GOAL`, :func:`undecided`): their :func:`price`. What no pruning of the
+    tree can step faster than: the bound of the run's ratio (:func:`attainable`)."""
+    return _price_of(*paired(bare, idle, repeats, undecided(PRUNING_GOAL, runs=True)))
 
 
 def per_call(system, scene, idle_system, idle_scene, repeats: int, source: str = SYMBOLIC) -> dict:
     """Where a DOP853 run's time goes: one call of the right-hand side ``q̈(t, q, q̇)`` of ``source``
     (:class:`~harness.scenes.simulate.Dynamics`: our compiled model, or the engine's forward dynamics with the force
     elements our adapter evaluates) of the pruned and of the idle model at the scene's initial state, :data:`CALLS`
-    calls per timing, ``repeats`` alternating pairs: their :func:`price` (seconds per call) and ``calls``. What
-    pruning saves per evaluation, without the integrator's own work around it: the bound of the run's ratio
-    (:func:`attainable`)."""
+    calls per timing, ``repeats`` alternating pairs (more while undecided, :func:`undecided`): their :func:`price`
+    (seconds per call) and ``calls``. What pruning saves per evaluation, without the integrator's own work around
+    it: the bound of the run's ratio (:func:`attainable`)."""
     lean, idle = sim.Dynamics(system, scene, source), sim.Dynamics(idle_system, idle_scene, source)
     q, qd = np.asarray(scene.q0, dtype=float), np.asarray(scene.qd0, dtype=float)
 
@@ -272,7 +271,7 @@ def per_call(system, scene, idle_system, idle_scene, repeats: int, source: str =
         return run
 
     timing(lean)(), timing(idle)()  # the first calls compile: not timed
-    return price(*paired(timing(lean), timing(idle), repeats)) | {"calls": CALLS}
+    return price(*paired(timing(lean), timing(idle), repeats, undecided(PRUNING_GOAL))) | {"calls": CALLS}
 
 
 def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalogue, given, made):
@@ -350,6 +349,17 @@ def paired(pruned, idle, repeats: int, undecided=None) -> tuple[list, list]:
         for run, into in alternating(k, (pruned, lean), (idle, full)):
             into.append(run())
     return lean, full
+
+
+def undecided(target: float, runs: bool = False):
+    """The predicate on which :func:`paired` takes more pairs: their :func:`price` (of the runs' ``seconds`` where
+    the calls return trajectories, ``runs``) undecided against ``target`` (:func:`against`). A ratio and the bounds
+    of it (:func:`per_call`, :func:`bare_tree`) each, so that the bound too proves a target out of reach or not."""
+    def holds(lean, idle) -> bool:
+        if runs:
+            lean, idle = [t.seconds for t in lean], [t.seconds for t in idle]
+        return against(price(lean, idle), target) == "undecided"
+    return holds
 
 
 def price(pruned_all, idle_all) -> dict:
