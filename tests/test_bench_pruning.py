@@ -169,7 +169,9 @@ def test_the_price_of_a_dop853_run_is_also_taken_per_call():
         assert c["ratio_low"] <= c["ratio"] <= c["ratio_high"]
     assert "per_call" not in row["sources"]["mujoco"]
     bare = row["sources"]["mujoco"]["bare"]   # MuJoCo's bound: its run of the bare tree against the idle one
-    assert bare["ratio_low"] <= bare["ratio"] <= bare["ratio_high"] and len(bare["idle_all"]) == 3
+    assert bare["ratio_low"] <= bare["ratio"] <= bare["ratio_high"]
+    # 3 pairs, or 3 more at a time while undecided against 1.3 × (pruning.paired): [min, max] of 3 often holds it
+    assert len(bare["idle_all"]) in (3, 6, 9) and len(bare["idle_all"]) == len(bare["pruned_all"])
     line = next(x for x in report._pruning([row]) if x.startswith("| quarter_car/smooth_road"))
     assert "; per call " in line and " µs)" in line and "; bare tree " in line
 

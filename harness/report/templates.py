@@ -13,6 +13,7 @@ table { border-collapse: collapse; margin: .6em 0 1.4em; }
 th, td { border: 1px solid #ccc; padding: .2em .5em; text-align: left; vertical-align: top; }
 th { background: #f3f3f3; }
 td.num { font-family: ui-monospace, monospace; text-align: right; white-space: nowrap; }
+td.measured { font-family: ui-monospace, monospace; }   /* a ratio with its interval, bound and verdict: wraps */
 .ok { background: #e7f6e7; } .fail { background: #fbe3e3; } .na { background: #f2f2f2; color: #666; }
 .erratum { background: #fff1d6; }
 .matrix td { font-family: ui-monospace, monospace; font-size: 11px; white-space: nowrap; }
@@ -177,11 +178,11 @@ number follows (compared in <a href="#claims">Printed equations</a>).</p>
 {% if pr.rows_idle %}<tr><td>constraint rows inferred inactive (proof)</td><td>{{ pr.rows_idle }}</td></tr>{% endif %}
 {% if pr.rows_needed %}<tr><td>constraint rows needed (counterexample)</td><td>{{ pr.rows_needed }}</td></tr>{% endif %}
 {% if pr.rows_left_out %}<tr><td>constraint rows left out when pruned</td><td>{{ pr.rows_left_out }}</td></tr>
-{% for r in pr.rows_ratios %}<tr><td>time constrained / open tree, {{ r.source }}</td><td class="num">{{ r.ratio }}</td></tr>{% endfor %}{% endif %}
+{% for r in pr.rows_ratios %}<tr><td>time constrained / open tree, {{ r.source }}</td><td class="measured">{{ r.ratio }}</td></tr>{% endfor %}{% endif %}
 {% for k, v in pr.disagreements.items() %}<tr><td>disagreement (a note, not fixed): {{ k }}</td><td>{{ v }}</td></tr>{% endfor %}
 {% if pr.nothing %}<tr><td>idle / pruned</td><td>{{ pr.nothing }}</td></tr>
 {% else %}<tr><td>left out when pruned</td><td>{{ pr.left_out or "no effect" }}{% if pr.left_out_elements %}; force elements {{ pr.left_out_elements }}{% endif %}{% if pr.held %}; the friction on {{ pr.held }} held (it never switches: no breakaway looked for){% endif %}</td></tr>
-{% for r in pr.ratios %}<tr><td>time idle / pruned, {{ r.source }}</td><td class="num">{{ r.ratio }}</td></tr>{% endfor %}{% endif %}</table>
+{% for r in pr.ratios %}<tr><td>time idle / pruned, {{ r.source }}</td><td class="measured">{{ r.ratio }}</td></tr>{% endfor %}{% endif %}</table>
 {% if not pr.nothing %}<p><small>Idle: every effect present, the left-out ones multiplied by 0; pruned: without them. The check proves pruned = idle from one run of each; the time ratios are the benchmark's (<a href="../bench.html">Benchmarks</a>: the median ratio of {{ pr.repeats or "N" }} alternating pairs of runs (up to {{ pr.most_pairs }} while its verdict against {{ pr.goal }} × is undecided), one worker, in brackets its ≥ 99.5 % confidence interval widened by the bench's 5 % resolution; {{ pr.measured or "not measured yet: harness bench --parts pruning" }}). The most a run's ratio can be: <i>per call</i>, one evaluation of the right-hand side, idle against pruned (a DOP853 run takes the same steps in both); <i>bare tree</i>, MuJoCo's idle run against the tree alone (bodies, joints and inertias, every disable flag set), which no pruned model steps faster than. Where that bound's interval ends below {{ pr.goal }} ×, the target is out of reach of the source.</small></p>{% endif %}
 {% endif %}
 {% if sc.notes %}<ul>{% for k, v in sc.notes.items() %}<li>{{ k }}: {{ v }}</li>{% endfor %}</ul>{% endif %}
