@@ -163,12 +163,13 @@ def _rows_ratios(scene: dict, measured: dict | None) -> list[dict]:
 
 def _ratio_shown(m: dict) -> str:
     """A bench ratio on a system page: the median, its interval (:func:`~harness.scenes.phenomena.pruning.interval`)
-    and, below 1, what that is (:func:`~harness.scenes.phenomena.pruning.slower_pruned`)."""
-    from harness.scenes.phenomena.pruning import interval, slower_pruned
+    over the pairs taken, its verdict against the target (:func:`~harness.scenes.phenomena.pruning.against`) and,
+    below 1, what that is (:func:`~harness.scenes.phenomena.pruning.slower_pruned`)."""
+    from harness.scenes.phenomena.pruning import PRUNING_GOAL, against, interval, slower_pruned
 
-    (low, high), finding = interval(m), slower_pruned(m)
-    return (f"{m['ratio']:.3g} ×" + (f" [{low:.3g}, {high:.3g}]" if high > low else "")
-            + (f" ({finding})" if finding else ""))
+    (low, high), finding, pairs = interval(m), slower_pruned(m), len(m.get("idle_all") or ())
+    return (f"{m['ratio']:.3g} ×" + (f" [{low:.2f}, {high:.2f}] over {pairs} pairs" if high > low else "")
+            + (f" ({finding})" if finding else "") + f": {PRUNING_GOAL:g} × {against(m, PRUNING_GOAL)}")
 
 
 def _profile_figure(out: Path) -> None:
