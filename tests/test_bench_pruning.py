@@ -152,6 +152,9 @@ def test_more_pairs_are_taken_while_the_verdict_is_undecided():
     assert pruning_undecided(1.3)([1.0] * 21, [1.3] * 21) and not pruning_undecided(1.3)([1.0] * 21, [2.0] * 21)
     trajectories = [SimpleNamespace(seconds=1.0)] * 21, [SimpleNamespace(seconds=1.3)] * 21
     assert pruning_undecided(1.3, runs=True)(*trajectories) and not pruning_undecided(1.0, runs=True)(*trajectories)
+    # ours / an engine's, which should be small (the duel, the evaluation goals)
+    assert pruning_undecided(1.0, at_most=True)([0.98] * 21, [1.0] * 21)
+    assert not pruning_undecided(1.0, at_most=True)([0.5] * 21, [1.0] * 21)
 
 def test_the_price_of_a_dop853_run_is_also_taken_per_call():
     """With repeats, the entry of a source integrated by DOP853 (symbolic, Pinocchio) also times one call of the

@@ -38,7 +38,7 @@ import numpy as np
 from harness.derivation.compile import compiled
 from harness.engines import ENGINES
 from harness.export.numeric import instantiate
-from harness.scenes.phenomena.pruning import judged_at_most, paired
+from harness.scenes.phenomena.pruning import judged_at_most, paired, undecided
 
 GOAL_BATCHED = 0.2
 GOAL_ONE_CALL = 2.0
@@ -76,8 +76,7 @@ def paired_ratio(ours, theirs, target: float, per: int = 1, pairs: int = PAIRS) 
         number = _loop_length(timer)
         return lambda: timer.timeit(number) / number / states
 
-    return judged_at_most(*paired(loop(ours, per), loop(theirs, 1), pairs,
-                                  lambda a, b: judged_at_most(a, b, target)["verdict"] == "undecided"), target)
+    return judged_at_most(*paired(loop(ours, per), loop(theirs, 1), pairs, undecided(target, at_most=True)), target)
 
 
 def measure(catalogue, system: str, states: int = 10_000, seed: int = 0) -> dict:

@@ -17,8 +17,8 @@ from harness.scenes.phenomena.pruning import (LOOKS, PRUNING_GOAL, REPEATS, agai
                                               slower_pruned, widened)
 
 GOAL = "bench goal"
-MORE = f"up to {REPEATS * LOOKS} while the verdict is undecided"   # pruning.paired
 """The basis of every goal: a target ratio of wall times the issue set, not a tolerance."""
+MORE = f"up to {REPEATS * LOOKS} while the verdict is undecided"   # pruning.paired
 
 
 def _goal(what: str, measured, target: float, where: str) -> dict:

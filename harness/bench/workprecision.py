@@ -48,7 +48,7 @@ from harness.modeling.scenes import Scene
 from harness.scenes.base import REFERENCE_TOL
 from harness.scenes.phenomena import motion_of, mujoco_own
 from harness.scenes.phenomena.closures import constrained, mujoco_constrained
-from harness.scenes.phenomena.pruning import REPEATS, judged_at_most, paired
+from harness.scenes.phenomena.pruning import REPEATS, judged_at_most, paired, undecided
 
 SCIPY_METHODS = ("RK45", "DOP853", "Radau", "LSODA")
 ADAPTIVE = (*SCIPY_METHODS, sim.ODEINT)
@@ -345,10 +345,11 @@ def duel_task(catalogue, system: str, scene: str, ours, engine, reference: dict,
     (``engine``), timed again in ``repeats`` alternating pairs in one process, more while the verdict is undecided
     (:func:`~harness.scenes.phenomena.pruning.paired`; ``"repeats"``: the pairs taken). The sweep's times are
     medians of 3 runs taken by different tasks at different times, beside another worker: their single ratio
-    flipped the goal's verdict from one bench run to the next (tower_crane/slew 1.07 ×, then 0.67 ×, the same code). A pair's two runs share the machine's state,
-    so its ratio cancels what drifts between pairs. ``{"ratio": the median of the pairs' ours / engine, "ratio_low",
-    "ratio_high": its ≥ 99.5 % interval (:func:`~harness.scenes.phenomena.pruning.ratio_interval`), "ours_all",
-    "engine_all": every run's seconds, "verdict"}`` (:func:`~harness.scenes.phenomena.pruning.at_most` 1 ×).
+    flipped the goal's verdict from one bench run to the next (tower_crane/slew 1.07 ×, then 0.67 ×, the same
+    code). A pair's two runs share the machine's state, so its ratio cancels what drifts between pairs.
+    ``{"ratio": the median of the pairs' ours / engine, "ratio_low", "ratio_high": its ≥ 99.5 % interval
+    (:func:`~harness.scenes.phenomena.pruning.ratio_interval`), "ours_all", "engine_all": every run's seconds,
+    "verdict"}`` (:func:`~harness.scenes.phenomena.pruning.at_most` 1 ×).
 
     ``ours`` and ``engine`` may each be a list of candidates (:func:`candidates`): which of them is fastest the sweep's
     medians decide no better than they decide the ratio (tower_crane/slew: our LSODA at rtol 1e-8, 358 evaluations,
@@ -376,8 +377,7 @@ def duel_task(catalogue, system: str, scene: str, ours, engine, reference: dict,
         return runs[k], timings[k]
 
     (our_run, mine), (their_run, theirs) = fastest(ours), fastest(engine)
-    ours_all, engine_all = paired(mine, theirs, repeats,
-                                  lambda ours, engine: judged_at_most(ours, engine, 1.0)["verdict"] == "undecided")
+    ours_all, engine_all = paired(mine, theirs, repeats, undecided(1.0, at_most=True))
     return judged_at_most(ours_all, engine_all, 1.0) | {"ours_all": ours_all, "engine_all": engine_all,
                                                          "repeats": len(ours_all),
                                                          "symbolic_configuration": label(our_run),

@@ -351,14 +351,17 @@ def paired(pruned, idle, repeats: int, undecided=None) -> tuple[list, list]:
     return lean, full
 
 
-def undecided(target: float, runs: bool = False):
+def undecided(target: float, runs: bool = False, at_most: bool = False):
     """The predicate on which :func:`paired` takes more pairs: their :func:`price` (of the runs' ``seconds`` where
-    the calls return trajectories, ``runs``) undecided against ``target`` (:func:`against`). A ratio and the bounds
-    of it (:func:`per_call`, :func:`bare_tree`) each, so that the bound too proves a target out of reach or not."""
-    def holds(lean, idle) -> bool:
+    the calls return trajectories, ``runs``) undecided against ``target`` (:func:`against`); ``at_most``: a ratio
+    that should be small, the first calls' over the second's (ours / an engine's, :func:`judged_at_most`). A ratio
+    and its bounds (:func:`per_call`, :func:`bare_tree`) each, so that a bound too proves a target out of reach."""
+    def holds(first, second) -> bool:
         if runs:
-            lean, idle = [t.seconds for t in lean], [t.seconds for t in idle]
-        return against(price(lean, idle), target) == "undecided"
+            first, second = [t.seconds for t in first], [t.seconds for t in second]
+        if at_most:
+            return judged_at_most(first, second, target)["verdict"] == "undecided"
+        return against(price(first, second), target) == "undecided"
     return holds
 
 
