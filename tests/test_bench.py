@@ -231,8 +231,12 @@ def test_ours_against_the_fastest_engine_is_judged_on_alternating_pairs():
     slower = {"engine": "symbolic", "method": "DOP853", "rtol": 1e-12, "dt": None}   # 1451 evaluations, ours 557
     engine = {"engine": "mujoco", "method": "RK4", "rtol": None, "dt": 0.02}
     duel = wp.duel_task(catalogue, "pendulum", "swing", [slower, ours], engine, reference, budget=60_000, repeats=3)
-    # 3 pairs, 3 more at a time while the verdict is undecided (pruning.paired), the pairs taken recorded
-    assert len(duel["ours_all"]) == len(duel["engine_all"]) == duel["repeats"] in (3, 6, 9)
+    # 3 pairs, and 3 more at each look whose verdict was undecided (pruning.paired), the pairs taken recorded
+    from harness.scenes.phenomena.pruning import LOOKS, undecided
+    n = duel["repeats"]
+    assert len(duel["ours_all"]) == len(duel["engine_all"]) == n and n in range(3, 3 * LOOKS + 1, 3)
+    assert all(undecided(1.0, at_most=True)(duel["ours_all"][:k], duel["engine_all"][:k]) for k in range(3, n, 3))
+    assert n == 3 * LOOKS or not undecided(1.0, at_most=True)(duel["ours_all"], duel["engine_all"])
     assert all(x > 0 for x in duel["ours_all"])
     # each side's fastest of its candidates duels, whatever order the sweep's medians gave them
     assert duel["symbolic_configuration"] == wp.label(ours)
