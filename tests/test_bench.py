@@ -313,3 +313,19 @@ def test_the_allocator_is_held_at_one_state_for_every_task():
     allocator.steady.cache_clear()
     assert execute(Task("harness.bench.workprecision:label", {"run": {"engine": "e", "method": "m", "rtol": 1e-6}}))
     assert allocator.steady.cache_info().currsize == 1 and allocator.steady() is True
+
+
+def test_bench_json_keeps_seven_significant_digits_of_a_float():
+    """bench.json (``harness.bench.dumps``): every float to DIGITS significant digits, nested in lists and dicts,
+    integers, strings and non-finite numbers (as strings) as they were; a time measured to ~1e-4 of itself loses
+    nothing, and the file stays under the 2 MB a tracked file may have (1.92 MB with the 17 digits of repr)."""
+    import json
+
+    from harness import bench
+
+    doc = {"seconds": 0.0011285149994364474, "runs": [{"error": 7.154848840142524e-07, "evaluations": 206,
+                                                       "all": [1 / 3, 2.0, float("inf")]}], "name": "x"}
+    back = json.loads(bench.dumps(doc))
+    assert back == {"seconds": 0.001128515, "runs": [{"error": 7.154849e-07, "evaluations": 206,
+                                                      "all": [0.3333333, 2.0, "inf"]}], "name": "x"}
+    assert bench.DIGITS == 7 and isinstance(back["runs"][0]["evaluations"], int)

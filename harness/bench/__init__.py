@@ -277,9 +277,22 @@ def render(out="reports") -> dict:
     return doc
 
 
+DIGITS = 7   # significant digits of a float in bench.json: a time is measured to ~1e-4 of itself (its pairs' noise),
+             # an error is compared with an accuracy; the 17 of a float's repr made the file 1.92 MB of a 2 MB limit
+
+
 def dumps(doc: dict) -> str:
-    """``bench.json``: non-finite numbers as strings (:func:`harness.checks.json_clean`)."""
-    return json.dumps(json_clean(doc), indent=1, allow_nan=False) + "\n"
+    """``bench.json``: non-finite numbers as strings (:func:`harness.checks.json_clean`), every float to
+    :data:`DIGITS` significant digits."""
+    return json.dumps(_rounded(json_clean(doc)), indent=1, allow_nan=False) + "\n"
+
+
+def _rounded(node):
+    if isinstance(node, dict):
+        return {k: _rounded(v) for k, v in node.items()}
+    if isinstance(node, list):
+        return [_rounded(v) for v in node]
+    return float(f"{node:.{DIGITS}g}") if isinstance(node, float) else node
 
 
 def as_run(result: dict) -> dict:
