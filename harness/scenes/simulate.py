@@ -401,6 +401,12 @@ def held_loads(scene: Scene, model, loads, p, names, timestep: float, steps: int
     return hold, changes
 
 
+def lecture_state(phi0, J_inv):
+    """``(θ, θ̇) -> (q, q̇)`` of an affine map ``θ = φ(0) + J q`` (5.58): ``q = J⁻¹ (θ − φ(0))``, ``q̇ = J⁻¹ θ̇``; what
+    :func:`own_rollout` evaluates loads at."""
+    return lambda theta, theta_dot: (J_inv @ (theta - phi0), J_inv @ theta_dot)
+
+
 def own_rollout(model, scene: Scene, timestep: float, integrator: str, steps: int, actuated, loads, p, names,
                 holding: bool, at_lecture, check: str) -> tuple[list, float]:
     """MuJoCo's own stepping of ``model`` (configured, at its start state) over ``steps`` steps with the scene's
@@ -463,7 +469,7 @@ def mujoco_native(system: System, scene: Scene, timestep: float, integrator: str
     steps = int(round(scene.horizon / timestep))
     holding = loads_held(model, loads, dyn.loads_read_state)
     out, seconds = own_rollout(model, scene, timestep, integrator, steps, None, loads, dyn.p, dyn.input_names,
-                               holding, lambda th, thd: (J_inv @ (th - phi0), J_inv @ thd),
+                               holding, lecture_state(phi0, J_inv),
                                f"{system.name} scene {scene.name}")
     q, qd = np.array([x[1] for x in out]), np.array([x[2] for x in out])
     if not dyn.c.identity_map:

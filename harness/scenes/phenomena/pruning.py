@@ -131,7 +131,7 @@ class MujocoStepper:
                              "(the loads are evaluated at the lecture state)")
         if self.loads and self.c.affine:
             phi0, _, J_inv = self.c.affine_map(self.p, u0)
-            self.at_lecture = lambda theta, theta_dot: (J_inv @ (theta - phi0), J_inv @ theta_dot)
+            self.at_lecture = sim.lecture_state(phi0, J_inv)
 
     def run(self) -> sim.Trajectory:
         model, scene, dt = self.model, self.scene, self.dt
