@@ -235,7 +235,7 @@ def test_loads_of_inputs_alone_are_held_where_mujoco_applies_them():
         held = idle.run()
         idle.held = False      # the loads evaluated and applied at every stage instead (MuJoCo's control callback)
         assert sim.max_error(held, idle.run()) < 1e-12, name
-    model, ((kind, where, frame, _),) = idle.model, idle.loads     # the spherical pendulum's f_e at the bob
+    model, ((kind, where, frame),) = idle.model, idle.loads     # the spherical pendulum's f_e at the bob
     theta, theta_dot = np.array([0.7, -1.2]), np.array([0.4, 2.0])
     force = Load(kind, where, frame, np.array([1.5, -0.5, 2.0]))
     qdd_applied = model.forward_dynamics(theta, theta_dot, {}, [force])
@@ -246,7 +246,7 @@ def test_loads_of_inputs_alone_are_held_where_mujoco_applies_them():
     assert np.allclose(model.data.qacc[model.dof_index], qdd_applied, rtol=1e-12, atol=1e-12)
     for name, load in (("cantilever_beam", "follower_force"), ("planar_robot", "f_e")):
         dyn = sim.Dynamics(catalogue.get(name), catalogue.scenes(name)[0], "mujoco")
-        kind, where, frame, _ = dyn.load_functions[0]
+        kind, where, frame = dyn.load_functions[0]
         assert not dyn.model.holds(kind, where, frame), name
         with pytest.raises(ValueError, match="not a constant xfrc_applied"):
             dyn.model.hold_loads([Load(kind, where, frame, np.ones(3))])

@@ -71,14 +71,14 @@ class CompiledModel:
         s, d = self.system, self.derivation
         M, C, g, f_np = (_compiled_form(d, name) for name in ("M", "C", "g", "f_np"))
         with profiling.phase("lambdify terms of (5.93)"):
-            return _float_function(s, [*M, *matrix_vector(C, s.qd), *g, *f_np], d.graph)
+            return float_function(s, [*M, *matrix_vector(C, s.qd), *g, *f_np], d.graph)
 
     @cached_property
     def _map_function(self):
         """The entries of ``θ = φ(q)``, ``J = ∂φ/∂q``, ``J̇`` as one function of floats."""
         s, d = self.system, self.derivation
         phi, J_phi, J_phi_dot = (_compiled_form(d, name) for name in ("phi", "J_phi", "J_phi_dot"))
-        return _float_function(s, [*phi, *J_phi, *J_phi_dot], d.graph)
+        return float_function(s, [*phi, *J_phi, *J_phi_dot], d.graph)
 
     @cached_property
     def dof(self) -> int:
@@ -185,7 +185,7 @@ class CompiledModel:
             return self._native[0](np.asarray(q, dtype=float), np.asarray(qd, dtype=float),
                                    np.asarray(p, dtype=float), np.asarray(u, dtype=float))
         n = self.dof
-        return np.array(_call(self._terms_function, n * (n + 3), q, qd, p, u), dtype=float)
+        return np.array(call_floats(self._terms_function, n * (n + 3), q, qd, p, u), dtype=float)
 
     def batched_terms(self, Q, QD, p, U) -> np.ndarray:
         """:meth:`terms_array` at ``N`` states, ``(N, n (n + 3))``, in machine code (numba, a loop over the states:
@@ -202,7 +202,7 @@ class CompiledModel:
     def map_at(self, q, qd, p, u) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``θ = φ(q)``, ``J`` and ``J̇`` (5.58) at one state, from one call of one compiled function."""
         n, k = self.dof, self.derivation.phi.shape[0]
-        values = np.array(_call(self._map_function, k * (2 * n + 1), q, qd, p, u), dtype=float)
+        values = np.array(call_floats(self._map_function, k * (2 * n + 1), q, qd, p, u), dtype=float)
         return values[:k], values[k:k + k * n].reshape(k, n), values[k + k * n:].reshape(k, n)
 
     def __call__(self, name: str, q, qd=None, p=None, u=None) -> np.ndarray:
@@ -276,7 +276,7 @@ class CompiledModel:
                 check_regular(self.system, self.terms(q, qd, p, u)[0], q)  # raises its clear error
             return qdd
         if self.dof == 1:  # eigh of a 1 × 1 M is w = M, V = [[1]]: the same q̈, bit for bit, without LAPACK
-            m, Cqd, g, f_np = _call(self._terms_function, 4, q, qd, p, u)
+            m, Cqd, g, f_np = call_floats(self._terms_function, 4, q, qd, p, u)
             if not regular_spectrum((m,)) or not math.isfinite(q[0]):  # also nan: every comparison is false
                 check_regular(self.system, np.array([[m]]), q)  # raises its clear error
             return np.array([(f_np - Cqd - g) / m])
@@ -297,7 +297,7 @@ class CompiledModel:
         regularity test (:func:`regular_spectrum`), and ``q̈ = M⁻¹ rhs`` by Cramer's rule. The same q̈ to
         rounding (``cond(M) ε``, tests/test_engines.py), without the eigendecomposition's and NumPy's fixed cost per
         call: measured on planar_manipulator (its swing's model), 9.6 µs → 3.0 µs a call."""
-        a, _, b, d, c0, c1, g0, g1, f0, f1 = _call(self._terms_function, 10, q, qd, p, u)
+        a, _, b, d, c0, c1, g0, g1, f0, f1 = call_floats(self._terms_function, 10, q, qd, p, u)
         if not regular_spectrum(eigenvalues_2(a, b, d)) or not math.isfinite(q[0] + q[1]):
             check_regular(self.system, np.array([[a, b], [b, d]]), q)  # raises its clear error
         r0, r1, det = f0 - c0 - g0, f1 - c1 - g1, a * d - b * b
@@ -362,7 +362,7 @@ def check_regular(system: System, M, q) -> None:
                      f"(eigenvalues {w[0]:.2g} … {w[-1]:.2g}); a rate of {', '.join(idle)} moves no mass")
 
 
-def _float_function(system: System, exprs: list, graph=None):
+def float_function(system: System, exprs: list, graph=None):
     """``exprs`` as one function of four lists of floats ``(q, q̇, p, u)`` returning a list of floats, printed with
     Python's ``math`` (``sin`` of a float: 50 ns; ``numpy.sin`` of a NumPy scalar: 1 µs), shared subexpressions
     computed once (those of ``graph`` when the expressions are in its symbols: :func:`_compiled_form`)."""
@@ -382,8 +382,8 @@ def _floats(x) -> list:
     return x.tolist() if isinstance(x, np.ndarray) else [float(v) for v in x]
 
 
-def _call(fn, size: int, q, qd, p, u) -> list:
-    """``fn`` of :func:`_float_function` at one state; ``nan`` where ``math`` raises (NumPy returns nan / inf)."""
+def call_floats(fn, size: int, q, qd, p, u) -> list:
+    """``fn`` of :func:`float_function` at one state; ``nan`` where ``math`` raises (NumPy returns nan / inf)."""
     try:
         return fn(_floats(q), _floats(qd), _floats(p), _floats(u))
     except (ValueError, ZeroDivisionError, OverflowError):

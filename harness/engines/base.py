@@ -12,13 +12,13 @@ import sys
 import tempfile
 from dataclasses import dataclass, field
 from functools import cache, cached_property
+from typing import NamedTuple
 
 import numpy as np
 import sympy as sp
 
 from harness import limits
-from harness.derivation.lambdified import lambdify
-from harness.derivation.compile import compiled
+from harness.derivation.compile import call_floats, compiled, float_function
 from harness.errors import InputError
 from harness.export.numeric import NumericTree, exact_key, instantiate
 from harness.modeling.system import WORLD, System
@@ -122,26 +122,50 @@ class State:
         return evaluated_loads(load_functions(self.system), self.q, self.qd, self.p, self.u_vec)
 
 
+@dataclass(frozen=True)
+class Loads:
+    """The external loads of a system (PointForce, BodyTorque): ``(kind, point or link, frame)`` of each
+    (``entries``), and the components of all of them, three a load in that order, as one compiled function of
+    ``(q, q̇, p, u)`` on Python floats (``components``, :func:`~harness.derivation.compile.float_function`; None
+    without loads). One call for every load: a NumPy function per load cost 2.9 µs a call, most of it its own call
+    and the array it built (two_mass_oscillator's two torques: 7.8 µs, one call of all 1.9 µs)."""
+
+    entries: tuple
+    components: object = None
+
+    def __len__(self) -> int:
+        return len(self.entries)
+
+    def __iter__(self):
+        return iter(self.entries)
+
+    def __getitem__(self, k):
+        return self.entries[k]
+
+
 @cache
-def load_functions(system: System) -> list:
-    """``(kind, point or link, frame, compiled components)`` of each external load, compiled once."""
+def load_functions(system: System) -> Loads:
+    """The external loads of ``system`` (:class:`Loads`), compiled once."""
     from harness.export.numeric import point_name
     from harness.modeling.system import BodyTorque, PointForce
 
-    args = [system.q, system.qd, system.p, system.u]
-    out = []
+    entries, components = [], []
     for f in system.forces:
         if isinstance(f, PointForce):
-            out.append(("force", point_name(f.point), f.frame, lambdify(args, sp.Matrix(f.force), "numpy")))
+            entries.append(("force", point_name(f.point), f.frame))
+            components += list(f.force)
         elif isinstance(f, BodyTorque):
-            out.append(("torque", f.link, f.frame, lambdify(args, sp.Matrix(f.torque), "numpy")))
-    return out
+            entries.append(("torque", f.link, f.frame))
+            components += list(f.torque)
+    return Loads(tuple(entries), float_function(system, components) if entries else None)
 
 
-def evaluated_loads(functions, q, qd, p, u) -> list["Load"]:
-    """The external loads of :func:`load_functions`' ``functions`` with their components at ``(q, q̇, p, u)``."""
-    return [Load(kind, where, frame, np.asarray(fn(q, qd, p, u), dtype=float).ravel())
-            for kind, where, frame, fn in functions]
+def evaluated_loads(loads: Loads, q, qd, p, u) -> list["Load"]:
+    """The external loads ``loads`` (:func:`load_functions`) with their components at ``(q, q̇, p, u)``."""
+    if not loads.entries:
+        return []
+    values = np.array(call_floats(loads.components, 3 * len(loads), q, qd, p, u), dtype=float)
+    return [Load(kind, where, frame, values[3 * k:3 * k + 3]) for k, (kind, where, frame) in enumerate(loads)]
 
 
 def loads_read_state(system: System) -> bool:
@@ -154,9 +178,9 @@ def loads_read_state(system: System) -> bool:
                for c in (f.force if isinstance(f, PointForce) else f.torque))
 
 
-@dataclass(frozen=True)
-class Load:
-    """A force at a named point, or a torque on a link, components in ``frame`` (world or a link)."""
+class Load(NamedTuple):
+    """A force at a named point, or a torque on a link, components in ``frame`` (world or a link). A named tuple:
+    made at every call of a simulation's right-hand side, in a third of a frozen dataclass's time."""
 
     kind: str
     where: str

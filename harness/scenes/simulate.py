@@ -381,7 +381,7 @@ def loads_held(model, loads, reads_state: bool) -> bool:
     :func:`~harness.engines.base.loads_read_state` of their system) and each is a constant ``xfrc_applied``
     (:meth:`~harness.engines.mujoco_engine.MujocoModel.holds`: a torque, or a force at its body's centre of mass, in
     world axes), which MuJoCo applies through each stage's Jacobian."""
-    return bool(loads) and not reads_state and all(model.holds(kind, where, frame) for kind, where, frame, _ in loads)
+    return bool(loads) and not reads_state and all(model.holds(kind, where, frame) for kind, where, frame in loads)
 
 
 def held_loads(scene: Scene, model, loads, p, names, timestep: float, steps: int):
