@@ -1,4 +1,5 @@
-"""Errors the harness reports to a user as one clear line (the CLI prints them without a traceback)."""
+"""Errors the harness reports to a user as one clear line (the CLI prints them without a traceback), and
+:class:`NotApplicable`, which a caller reports as a note."""
 
 
 class HarnessError(Exception):
@@ -23,3 +24,11 @@ class EngineError(HarnessError):
 
 class OutputError(HarnessError):
     """A destination that cannot be written (not a folder, no permission, a full disk)."""
+
+
+class NotApplicable(ValueError):
+    """A source or method that does not apply to a system or scene (MuJoCo's own integrator through a map that is not
+    affine, MuJoCo's own run of a motion with events, a pruning that leaves the same model): raised where that is
+    found, and reported by the one caller that asks (a note, a skipped run) with this message. Only this is caught
+    there: any other error, a ``ValueError`` of a bug among them, is a failure, not a skip (a wrong unpacking in the
+    loads' code had read "skipped: not enough values to unpack" in the pruning bench)."""

@@ -309,3 +309,26 @@ def test_constraint_rows_pruned_are_their_own_measurement():
              "constraint_rows": {"inactive": False, "why": "at q = [0.1] the tree's balance asks for 2 N m"}}
     text = "\n".join(report._pruning([row, press]))
     assert "Constraint rows needed, kept (a state where the constraints must act): toggle_press/return (at q" in text
+
+
+def test_only_a_source_that_does_not_apply_is_skipped(monkeypatch):
+    """A source whose method does not apply to the scene (:class:`~harness.errors.NotApplicable`) is skipped with
+    its reason; any other error, a ``ValueError`` of a bug too, fails the measurement instead of reading as a
+    skip (a wrong unpacking in the loads' code had read "skipped: not enough values to unpack")."""
+    from harness.catalogue import repository
+    from harness.errors import NotApplicable
+    from harness.scenes.phenomena import pruning
+
+    catalogue = repository()
+    system, scene = catalogue.get("quarter_car"), catalogue.scenes("quarter_car")[1]
+
+    def refuse(why):
+        def runs(*args):
+            raise why
+        return runs
+    monkeypatch.setattr(pruning, "_runs", refuse(NotApplicable("needs an affine map")))
+    out = pruning.measure(system, scene, None, None, catalogue, sources=("mujoco",))
+    assert out["sources"]["mujoco"] == {"skipped": "needs an affine map"}
+    monkeypatch.setattr(pruning, "_runs", refuse(ValueError("not enough values to unpack (expected 4, got 3)")))
+    with pytest.raises(ValueError, match="not enough values to unpack"):
+        pruning.measure(system, scene, None, None, catalogue, sources=("mujoco",))

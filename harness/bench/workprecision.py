@@ -41,7 +41,7 @@ import numpy as np
 
 from harness.engines import ENGINES, steps_itself
 from harness.engines.mujoco_engine import STAGES
-from harness.errors import EngineError
+from harness.errors import EngineError, NotApplicable
 from harness.scenes import simulate as sim
 from harness.modeling.events import RollSlip
 from harness.modeling.scenes import Scene
@@ -257,7 +257,7 @@ def run_task(catalogue, system: str, scene: str, engine: str, method: str, setti
     for _ in range(max(1, repeats)):
         try:
             tr = _one_run(s, sc, engine, method, setting, out["dt"], budget, reference["t"], catalogue)
-        except ValueError as exc:  # MuJoCo's own integrator does not apply
+        except NotApplicable as exc:  # MuJoCo's own integrator does not apply
             return {**out, "skipped": str(exc)}
         except _Budget:
             return {**out, "skipped": f"over the budget of {budget} evaluations"}

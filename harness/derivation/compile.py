@@ -23,7 +23,7 @@ from numpy.linalg import _umath_linalg
 from harness import profiling
 from harness.derivation.lambdified import lambdify
 from harness.derivation.derive import Derivation, derive, is_per_body, matrix_vector
-from harness.errors import ModelError
+from harness.errors import ModelError, NotApplicable
 from harness.modeling.system import System
 
 QUANTITIES = ("M", "C", "g", "g_gravity", "g_spring", "f_np", "f_damper", "f_input", "T", "V", "M_dot",
@@ -108,7 +108,7 @@ class CompiledModel:
         """``(φ(0), J, J⁻¹)`` of a constant square map (:attr:`affine`): ``θ = φ(0) + J q`` at every state,
         evaluated once."""
         if not self.affine:
-            raise ValueError(f"{self.system.name}: θ = φ(q) is not an affine map with a square J")
+            raise NotApplicable(f"{self.system.name}: θ = φ(q) is not an affine map with a square J")
         n = self.dof
         phi0, J, _ = self.map_at(np.zeros(n), np.zeros(n), p, u)
         return phi0, J, np.linalg.inv(J)

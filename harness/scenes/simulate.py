@@ -24,7 +24,7 @@ from harness.derivation.compile import compiled
 from harness.engines import SYMBOLIC, engine
 from harness.engines.base import Load, evaluated_loads, load_functions, loads_read_state, to_lecture
 from harness.engines.mujoco_engine import STAGES, Options
-from harness.errors import EngineError
+from harness.errors import EngineError, NotApplicable
 from harness.export.numeric import instantiate
 from harness.modeling.system import System
 from harness.modeling.scenes import Constant, Scene, pruned
@@ -422,7 +422,7 @@ def own_rollout(model, scene: Scene, timestep: float, integrator: str, steps: in
     staged = bool(loads) and holder is None
     if staged:
         if at_lecture is None:
-            raise ValueError(f"{check}: MuJoCo's own stepping with these external loads evaluates them at every "
+            raise NotApplicable(f"{check}: MuJoCo's own stepping with these external loads evaluates them at every "
                              "stage at the lecture state: it needs an affine map θ = φ(0) + J q")
         model.configure(Options(enable=("actuation",)))
     set_inputs, changes = input_setter(scene, model, timestep, actuated, steps=steps)
@@ -460,7 +460,7 @@ def mujoco_native(system: System, scene: Scene, timestep: float, integrator: str
     dyn = Dynamics(system, scene, "mujoco")
     model, loads = dyn.model, dyn.load_functions
     if not dyn.c.affine:
-        raise ValueError(f"{system.name}: MuJoCo's own integrator here needs tree coordinates that are an affine "
+        raise NotApplicable(f"{system.name}: MuJoCo's own integrator here needs tree coordinates that are an affine "
                          "image of the lecture's (θ = φ(0) + J q with a constant square J)")
     phi0, J, J_inv = dyn.affine
     model.configure(Options(timestep=timestep, integrator=integrator))

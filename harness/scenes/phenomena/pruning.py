@@ -63,6 +63,7 @@ import numpy as np
 
 from harness.engines import ENGINES, SYMBOLIC, steps_itself
 from harness.engines.base import load_functions, loads_read_state
+from harness.errors import NotApplicable
 from harness.modeling.scenes import effects_of, pruned, with_idle_effects
 from harness.modeling.system import JointInput
 from harness.scenes import simulate as sim
@@ -127,7 +128,7 @@ class MujocoStepper:
         self.held = sim.loads_held(self.model, self.loads, loads_read_state(kept))   # as xfrc_applied (own_rollout)
         self.at_lecture = None   # (θ, θ̇) -> (q, q̇): the loads MuJoCo does not hold, evaluated at every stage
         if self.loads and not self.c.affine and not self.held:
-            raise ValueError("MuJoCo's own stepping with external loads needs an affine map θ = φ(0) + J q "
+            raise NotApplicable("MuJoCo's own stepping with external loads needs an affine map θ = φ(0) + J q "
                              "(the loads are evaluated at the lecture state)")
         if self.loads and self.c.affine:
             phi0, _, J_inv = self.c.affine_map(self.p, u0)
@@ -172,7 +173,7 @@ def measure(system, scene, motion, event, catalogue=None, sources=SOURCES, repea
         try:
             runs = _runs(lean_system, lean_scene, idle_system, idle_scene, motion, event, source, catalogue,
                          (system, scene, found), made or {})
-        except (ValueError, NotImplementedError) as why:
+        except (NotApplicable, NotImplementedError) as why:
             out["sources"][source] = {"skipped": str(why)}
             continue
         if runs is None:
@@ -289,7 +290,7 @@ def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalog
                     f"its own run of the event's plug-in, dt={dt:g}, against the friction held: the joint stays at "
                     "rest, nothing to step", None)
         if event is not None or scene.events:
-            raise ValueError("its motion switches at events: MuJoCo's own run of it is the event's plug-in's")
+            raise NotApplicable("its motion switches at events: MuJoCo's own run of it is the event's plug-in's")
         own_system, own_scene, found = given
         dt = scene.horizon / sim.grid_steps(scene, MUJOCO_STEPS)
         lean = MujocoStepper(own_system, own_scene, "pruned", dt, found)
@@ -305,11 +306,11 @@ def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalog
         return (lean.run, full.run, f"mj_step RK4, dt={dt:g}, pruned: {'; '.join(how) or 'nothing'}",
                 lambda: MujocoStepper(own_system, own_scene, "bare", dt, found).run)
     if source != SYMBOLIC and ENGINES[source].applies(system):
-        raise ValueError(ENGINES[source].applies(system))
+        raise NotApplicable(ENGINES[source].applies(system))
 
     if source == SYMBOLIC and same_right_hand_side(pruned(system, scene.effects),
                                                    pruned(idle_system, idle_scene.effects)):
-        raise ValueError("the pruned and the idle model derive the same M, C, g, f_np (what is left out adds no "
+        raise NotApplicable("the pruned and the idle model derive the same M, C, g, f_np (what is left out adds no "
                          "term, e.g. gravity orthogonal to every motion): nothing is pruned in this source")
 
     def one(s, sc):
