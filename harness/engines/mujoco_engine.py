@@ -187,6 +187,10 @@ class MujocoModel(TreeEngine):
             self.jids.append(jid)
             self.qpos_index.append(model.jnt_qposadr[jid])
             self.dof_index.append(model.jnt_dofadr[jid])
+        # index arrays, not lists: NumPy picks by an array in a sixth of the time (0.12 µs, a list 0.78 µs), and a
+        # run of MuJoCo's own reads θ, θ̇ at every sample (planar_manipulator/swing: 1.0 ms of a 10.5 ms run)
+        self.qpos_index = np.array(self.qpos_index, dtype=np.intp)
+        self.dof_index = np.array(self.dof_index, dtype=np.intp)
 
     def _bias(self, theta, velocity):
         """``qfrc_bias`` (Coriolis, centrifugal and gravity) at one state, from ``mj_forward``."""
