@@ -154,6 +154,41 @@ def test_piecewise_constant_inputs_are_set_where_they_change_and_step_alike():
         assert np.array_equal(runs[0], runs[1]), (jump, dt)
 
 
+
+def test_a_run_recorded_in_mujocos_loop_is_the_sampled_run_bit_for_bit():
+    """``MujocoModel.recorded`` (``mujoco.rollout``: stepped and recorded in MuJoCo's C loop, the samples picked from
+    the records) takes the steps of ``rollout`` (a Python stop at every sample) bit for bit: with a step input set
+    where it changes and a load held as ``xfrc_applied`` (``ctrl`` and ``xfrc_applied`` held over each stretch), a
+    sample interval that does not divide the steps, no change at all; the model ends in the same state, its inputs
+    as set."""
+    import dataclasses
+
+    from harness.engines.base import Load
+    from harness.modeling.scenes import Step
+    from harness.scenes import simulate as sim
+
+    system = models.CATALOGUE.get("planar_manipulator")
+    detached = next(s for s in models.CATALOGUE.scenes("planar_manipulator") if s.name == "detached")
+    scene = dataclasses.replace(detached, inputs={**detached.inputs, "tau_1": Step(0.3, 5.0)})
+    for steps, every, driven in ((2000, 7, True), (300, 10, True), (103, 7, False)):
+        runs, ends = [], []
+        for recorded in (False, True):
+            model = sim.Dynamics(system, scene, "mujoco").model
+            model.set_state(np.array([0.3, -0.7]), np.array([0.5, 1.0]))
+            model.hold_loads([Load("torque", model.tree.links[-1].name, "world", np.array([0.0, 0.4, 0.0]))])
+            before, changes = sim.input_setter(scene, model, 0.0015, steps=steps) if driven else (None, None)
+            if recorded:
+                t, theta, theta_dot = model.recorded(steps, every, before, changes)
+                runs.append(np.column_stack([t, theta, theta_dot]))
+            else:
+                runs.append(np.array(model.rollout(
+                    steps, every, lambda k: np.concatenate([[model.time], model.theta(), model.theta_dot()]),
+                    before=before, changes=changes)))
+            ends.append(np.concatenate([[model.time], model.theta(), model.theta_dot(), model.data.ctrl,
+                                        model.data.xfrc_applied.ravel()]))
+        assert runs[0].shape == (steps // every + 1, 5) and np.array_equal(runs[0], runs[1]), steps
+        assert np.array_equal(ends[0], ends[1]) and np.any(ends[1][-6:] != 0), steps   # the load held to the end
+
 def test_mujocos_own_integrator_runs_affine_maps_and_external_loads():
     """MuJoCo's own RK4 (``simulate.mujoco_native``) beyond identity maps without loads: tree coordinates an affine
     image of the lecture's (two_mass_oscillator's relative angle) with its torques held as ``xfrc_applied`` between

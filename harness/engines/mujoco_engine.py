@@ -432,6 +432,40 @@ class MujocoModel(TreeEngine):
             check_warnings(m, d, check)
         return out
 
+    def recorded(self, steps: int, every: int = 1, before=None, changes=None,
+                 check: str | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(t, θ, θ̇)`` at steps ``k = 0, every, …`` up to ``steps`` of MuJoCo's own stepping from the current
+        state, the steps :meth:`rollout` takes, bit for bit, but stepped **and recorded** in MuJoCo's C loop
+        (``mujoco.rollout``: the physics state after every step, the inputs ``ctrl``, ``qfrc_applied`` and
+        ``xfrc_applied`` held as set), ``before(k)`` run ahead of each step of ``changes`` (sorted, from 0; None:
+        no change) and nothing of Python between them; the samples are picked from the records afterwards. Where
+        :meth:`rollout` stops at every sample to read the state, a run costs a Python call per sample: 201 samples
+        took a quarter of tower_crane/slew's 200 steps of RK4 (1.67 ms against 1.26 ms), time a comparison of
+        MuJoCo's runs with others would have counted as MuJoCo's."""
+        from mujoco import rollout as c_rollout
+
+        m, d = self.model, self.data
+        size, inputs = mujoco.mj_stateSize(m, _STATE), mujoco.mj_stateSize(m, _INPUTS)
+        states = np.empty((steps + 1, size))
+        mujoco.mj_getState(m, d, states[0], _STATE)
+        starts = sorted({0, *(k for k in (changes or ()) if k < steps)})
+        for start, end in zip(starts, starts[1:] + [steps]):
+            if before is not None and start in (changes or ()):
+                before(start)
+            if end == start:
+                continue
+            state, held = np.empty((1, size)), np.empty(inputs)
+            mujoco.mj_getState(m, d, state[0], _STATE)        # what before(start) left, as the loop would step it
+            mujoco.mj_getState(m, d, held, _INPUTS)
+            c_rollout.rollout([m], [d], state, np.tile(held, (1, end - start, 1)),
+                              control_spec=_INPUTS, nstep=end - start, state=states[start + 1:end + 1][None],
+                              initial_warmstart=d.qacc_warmstart[None].copy(), skip_checks=True)
+        if check is not None:
+            check_warnings(m, d, check)
+        picked = states[::every]
+        nq = m.nq
+        return picked[:, 0], picked[:, 1 + self.qpos_index], picked[:, 1 + nq + self.dof_index]
+
     # ----- a tree of other origin (harness.files.importer): M, bias, what each joint moves
     # MuJoCo's free joint: ``qpos = [x, y, z, qw, qx, qy, qz]`` (quaternion scalar first), ``qvel`` = linear
     # velocity of the body's origin **in world axes**, then angular velocity **in the body's axes** (MuJoCo
@@ -753,6 +787,9 @@ def effect_flags(effects) -> tuple:
 
 STIFF_SOLIMP = [0.9999, 0.9999, 0.001, 0.5, 2.0]   # MuJoCo's impedance at its hardest
 
+_STATE = mujoco.mjtState.mjSTATE_FULLPHYSICS    # what MujocoModel.recorded keeps of each step: time, qpos, qvel, …
+_INPUTS = (mujoco.mjtState.mjSTATE_CTRL | mujoco.mjtState.mjSTATE_QFRC_APPLIED
+           | mujoco.mjtState.mjSTATE_XFRC_APPLIED)   # what it holds over a stretch between input changes
 STAGES = {"Euler": 1, "implicitfast": 1, "implicit": 1, "RK4": 4}   # mj_forward calls of one mj_step
 
 

@@ -416,7 +416,9 @@ def own_rollout(model, scene: Scene, timestep: float, integrator: str, steps: in
     inputs) set where the inputs change and held with ``holding`` (:func:`loads_held`; :func:`held_loads`), else
     evaluated at every stage of a step at the lecture state ``at_lecture(θ, θ̇) -> (q, q̇)``, their inputs held as the
     actuators' are (:meth:`~harness.engines.mujoco_engine.MujocoModel.loads_at_each_stage`: the model's
-    ``actuation`` flag is cleared for it, MuJoCo's control callback runs only with it)."""
+    ``actuation`` flag is cleared for it, MuJoCo's control callback runs only with it). Without a Python call at
+    every stage or step, the run is stepped and recorded in MuJoCo's own loop
+    (:meth:`~harness.engines.mujoco_engine.MujocoModel.recorded`), not stopped at every sample."""
     every = max(1, int(round(steps / (SAMPLES - 1))))
     holder = held_loads(scene, model, loads, p, names, timestep, steps) if holding else None
     staged = bool(loads) and holder is None
@@ -439,10 +441,15 @@ def own_rollout(model, scene: Scene, timestep: float, integrator: str, steps: in
         u = np.fromiter(held_inputs(scene, names, k, timestep).values(), float)
         return evaluated_loads(loads, *at_lecture(theta, theta_dot), p, u)
     start = time.perf_counter()
-    with model.loads_at_each_stage(loads_at, integrator) if staged else contextlib.nullcontext() as calls:
-        out = model.rollout(steps, every, lambda k: (model.time, model.theta(), model.theta_dot()), before=before,
-                            changes=changes, check=check)  # unstable: a failure
-    seconds = time.perf_counter() - start
+    if staged or (before is not None and changes is None):   # a Python call at every stage, or at every step
+        with model.loads_at_each_stage(loads_at, integrator) if staged else contextlib.nullcontext() as calls:
+            out = model.rollout(steps, every, lambda k: (model.time, model.theta(), model.theta_dot()),
+                                before=before, changes=changes, check=check)  # unstable: a failure
+        seconds = time.perf_counter() - start
+    else:   # stepped and recorded in MuJoCo's own loop, Python only where the inputs change
+        out = model.recorded(steps, every, before, changes, check=check)
+        seconds = time.perf_counter() - start
+        out = list(zip(*out))
     if staged and calls[0] != steps * STAGES[integrator]:
         raise EngineError(f"{check}: MuJoCo's {integrator} called the loads' callback {calls[0]} times in {steps} "
                           f"steps, not {STAGES[integrator]} a step")
