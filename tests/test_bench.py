@@ -246,6 +246,10 @@ def test_ours_against_the_fastest_engine_is_judged_on_alternating_pairs():
                                                                      "seconds": 1.4},
             {**engine, "error": 1e-7, "seconds": 2.0}]
     assert wp.candidates(runs) == ([runs[0], runs[1]], [runs[4]])   # within 1.3 × of the fastest at 1e-6
+    # a run of the fastest's family with fewer evaluations is a candidate however slow the sweep read it
+    cheaper = {**ours, "rtol": 1e-7, "error": 5e-7, "seconds": 1.5, "evaluations": 400}
+    family = [{**run, "evaluations": n} for run, n in zip(runs, (557, 1451, 300, 1200, 100))] + [cheaper]
+    assert wp.candidates(family) == ([family[0], family[1], cheaper], [family[4]])
     assert duel["ratio_low"] <= duel["ratio"] <= duel["ratio_high"] and duel["verdict"] == at_most(duel, 1.0)
 
     def scene(name, low, high):
