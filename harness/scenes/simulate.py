@@ -425,7 +425,7 @@ def own_rollout(model, scene: Scene, timestep: float, integrator: str, steps: in
     if staged:
         if at_lecture is None:
             raise NotApplicable(f"{check}: MuJoCo's own stepping with these external loads evaluates them at every "
-                             "stage at the lecture state: it needs an affine map θ = φ(0) + J q")
+                                "stage at the lecture state: it needs an affine map θ = φ(0) + J q")
         model.configure(Options(enable=("actuation",)))
     set_inputs, changes = input_setter(scene, model, timestep, actuated, steps=steps)
     before = set_inputs
@@ -468,7 +468,7 @@ def mujoco_native(system: System, scene: Scene, timestep: float, integrator: str
     model, loads = dyn.model, dyn.load_functions
     if not dyn.c.affine:
         raise NotApplicable(f"{system.name}: MuJoCo's own integrator here needs tree coordinates that are an affine "
-                         "image of the lecture's (θ = φ(0) + J q with a constant square J)")
+                            "image of the lecture's (θ = φ(0) + J q with a constant square J)")
     phi0, J, J_inv = dyn.affine
     model.configure(Options(timestep=timestep, integrator=integrator))
     model.reset()

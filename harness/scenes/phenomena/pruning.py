@@ -129,7 +129,7 @@ class MujocoStepper:
         self.at_lecture = None   # (θ, θ̇) -> (q, q̇): the loads MuJoCo does not hold, evaluated at every stage
         if self.loads and not self.c.affine and not self.held:
             raise NotApplicable("MuJoCo's own stepping with external loads needs an affine map θ = φ(0) + J q "
-                             "(the loads are evaluated at the lecture state)")
+                                "(the loads are evaluated at the lecture state)")
         if self.loads and self.c.affine:
             phi0, _, J_inv = self.c.affine_map(self.p, u0)
             self.at_lecture = sim.lecture_state(phi0, J_inv)
@@ -310,8 +310,8 @@ def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalog
 
     if source == SYMBOLIC and same_right_hand_side(pruned(system, scene.effects),
                                                    pruned(idle_system, idle_scene.effects)):
-        raise NotApplicable("the pruned and the idle model derive the same M, C, g, f_np (what is left out adds no "
-                         "term, e.g. gravity orthogonal to every motion): nothing is pruned in this source")
+        raise NotApplicable("the pruned and the idle model derive the same M, C, g, f_np (what is left out adds "
+                            "no term, e.g. gravity orthogonal to every motion): nothing is pruned in this source")
 
     def one(s, sc):
         if s is given[0] and sc is given[1] and source in made:   # the same call the motion made: its run
