@@ -395,7 +395,8 @@ class MujocoModel(TreeEngine):
         ``steps`` calls of ``mj_step`` (split into ``mj_step1``, ``between(k)``, ``mj_step2`` when ``between`` is
         given: forces that depend on the step's kinematics), ``before(k)`` ahead of step ``k`` (inputs, mode
         switches), ``sample(k)`` at ``k = 0, every, …`` up to ``steps`` (the samples returned); without ``before``
-        and ``between`` the steps between two samples are one ``mj_step(m, d, nstep)`` (MuJoCo's loop in C: the same steps, no Python call per step).
+        and ``between`` the steps between two samples are one ``mj_step(m, d, nstep)`` (MuJoCo's loop in C: the
+        same steps, no Python call per step).
         ``changes``: the steps (sorted, from 0) at which ``before`` has something new to set, what it set held in
         between (piecewise-constant inputs, :func:`harness.scenes.simulate.input_setter`): ``before`` runs there
         only and MuJoCo steps in its own loop to the next change or sample; None: ``before`` runs at every step.
