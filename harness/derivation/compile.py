@@ -128,6 +128,7 @@ class CompiledModel:
         jit = numba.njit(error_model="numpy")
         arithmetic = jit(self._terms_function)
         is_regular = jit(regular_spectrum)
+        solve_certified = jit(cholesky_solve)
 
         @jit
         def terms(q, qd, p, u):
@@ -140,12 +141,16 @@ class CompiledModel:
         @jit
         def qdd(q, qd, p, u):
             """``(q̈, regular)``: ``regular`` is the test of :meth:`forward_dynamics` (finite state, finite M,
-            eigenvalue ratio above SINGULAR_M)."""
+            eigenvalue ratio above SINGULAR_M), decided by :func:`cholesky_solve`'s bound where it proves M
+            regular, else by the eigenvalues."""
             v = terms(q, qd, p, u)
             if not (np.isfinite(v[:n * n]).all() and np.isfinite(q).all()):
                 return np.full(n, np.nan), False
-            w, V = np.linalg.eigh(v[:n * n].reshape((n, n)))
             rhs = v[n * n + 2 * n:] - v[n * n:n * n + n] - v[n * n + n:n * n + 2 * n]  # f_np − C q̇ − g
+            a, proved = solve_certified(v[:n * n], rhs, n)
+            if proved:
+                return a, True
+            w, V = np.linalg.eigh(v[:n * n].reshape((n, n)))
             return V @ ((V.T @ rhs) / w), is_regular(w)
 
         @jit
@@ -302,6 +307,46 @@ class CompiledModel:
             check_regular(self.system, np.array([[a, b], [b, d]]), q)  # raises its clear error
         r0, r1, det = f0 - c0 - g0, f1 - c1 - g1, a * d - b * b
         return np.array([(d * r0 - b * r1) / det, (a * r1 - b * r0) / det])
+
+
+def cholesky_solve(M, rhs, n: int):
+    """``(M⁻¹ rhs, True)`` where a Cholesky factorization ``M = L Lᵀ`` (of ``M``'s lower triangle, ``M`` row-major
+    flat) proves ``M`` regular: its eigenvalues are positive, ``λ_max ≤ tr M`` and ``λ_min ≥ 1 / tr M⁻¹``, with
+    ``tr M⁻¹ = ‖L⁻¹‖_F²``, so ``λ_min / λ_max ≥ 1 / (tr M tr M⁻¹)``; proved where that is above twice
+    :data:`SINGULAR_M`. Else ``(rhs, False)``, and the eigenvalues decide (:func:`regular_spectrum`). Where proved,
+    the eigenvalue test passes too: then ``cond(M) < 5e12``, and both the bound's and ``eigh``'s rounding
+    (``n ε cond(M)`` relative, below 1 %) are far within the factor 2. For the machine code of ``q̈``
+    (:attr:`CompiledModel._native`): measured on lightweight_robot's ``M`` (n = 7), 0.3 µs instead of ``eigh``'s
+    4.7 µs; the same ``q̈`` to rounding (``cond(M) ε``)."""
+    L = np.zeros((n, n))
+    for j in range(n):
+        d = M[j * n + j]
+        for k in range(j):
+            d -= L[j, k] * L[j, k]
+        if not d > 0.0:  # also nan
+            return rhs, False
+        L[j, j] = math.sqrt(d)
+        for i in range(j + 1, n):
+            s = M[i * n + j]
+            for k in range(j):
+                s -= L[i, k] * L[j, k]
+            L[i, j] = s / L[j, j]
+    inverse = np.zeros((n, n))   # L⁻¹, lower triangular, by forward substitution of the unit vectors
+    for j in range(n):
+        inverse[j, j] = 1.0 / L[j, j]
+        for i in range(j + 1, n):
+            s = 0.0
+            for k in range(j, i):
+                s -= L[i, k] * inverse[k, j]
+            inverse[i, j] = s / L[i, i]
+    trace, trace_inverse = 0.0, 0.0
+    for i in range(n):
+        trace += M[i * n + i]
+        for j in range(i + 1):
+            trace_inverse += inverse[i, j] * inverse[i, j]
+    if not trace * trace_inverse * (2.0 * SINGULAR_M) < 1.0:
+        return rhs, False
+    return inverse.T @ (inverse @ rhs), True
 
 
 def eigenvalues_2(a: float, b: float, d: float) -> tuple[float, float]:
