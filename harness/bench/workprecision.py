@@ -9,7 +9,8 @@
 * **configurations**: ``symbolic`` and ``pinocchio`` (q̈ from :class:`harness.scenes.simulate.Dynamics`) with scipy's
   RK45, DOP853, Radau, LSODA (``solve_ivp``) over ``rtol`` (``atol = rtol``), and LSODA with its stepping loop in
   Fortran (``odeint``, :data:`harness.scenes.simulate.ODEINT`); ``symbolic-numba``: our ẏ in machine code (numba, opt-in,
-  :attr:`harness.derivation.compile.CompiledModel.native_state_derivative`) with DOP853 and ``odeint``; ``pinocchio`` also
+  :attr:`harness.derivation.compile.CompiledModel.native_state_derivative`) with DOP853 and ``odeint``, and with
+  DOP853 stepping in machine code too (:data:`harness.scenes.native.METHOD`: no evaluation leaves it); ``pinocchio`` also
   with fixed-step classical RK4 and semi-implicit (symplectic) Euler; ``mujoco`` with its own integrators
   (``mj_step``: Euler, implicitfast, implicit, RK4) over time steps; a closed chain's tree under MuJoCo's soft
   equality constraints with implicitfast (:func:`harness.scenes.phenomena.closures.mujoco_constrained`). Our path is
@@ -42,7 +43,7 @@ import numpy as np
 from harness.engines import ENGINES, steps_itself
 from harness.engines.mujoco_engine import STAGES
 from harness.errors import EngineError, NotApplicable
-from harness.scenes import simulate as sim
+from harness.scenes import native, simulate as sim
 from harness.modeling.events import RollSlip
 from harness.modeling.scenes import Scene
 from harness.scenes.base import REFERENCE_TOL
@@ -53,7 +54,7 @@ from harness.scenes.phenomena.pruning import REPEATS, judged_at_most, paired, un
 SCIPY_METHODS = ("RK45", "DOP853", "Radau", "LSODA")
 ADAPTIVE = (*SCIPY_METHODS, sim.ODEINT)
 OURS = ("symbolic", "symbolic-numba")   # our symbolic model: Python floats, or machine code
-NATIVE_METHODS = ("DOP853", sim.ODEINT)
+NATIVE_METHODS = ("DOP853", sim.ODEINT, native.METHOD)   # native.METHOD: the stepping in machine code too
 FIXED_METHODS = ("RK4", "semi-implicit Euler")
 MUJOCO_INTEGRATORS = ("Euler", "implicitfast", "implicit", "RK4")
 ACCURACY = 1e-6           # the accuracy at which the engines are compared (the issue's goal)
@@ -239,7 +240,7 @@ def run_task(catalogue, system: str, scene: str, engine: str, method: str, setti
              budget: int, reference: dict) -> dict:
     """One configuration: ``setting`` is ``rtol`` (adaptive) or ``k`` (fixed step ``dt = Δ/k``)."""
     s, sc = get_scene(catalogue, system, scene)
-    adaptive = method in ADAPTIVE and not steps_itself(engine)
+    adaptive = method in (*ADAPTIVE, native.METHOD) and not steps_itself(engine)
     out = {"system": system, "scene": scene, "engine": engine, "method": method,
            "rtol": setting if adaptive else None,
            "dt": None if adaptive else fixed_dt(sc, engine, len(reference["t"]), int(setting))}
@@ -305,6 +306,18 @@ def _one_run(s, sc: Scene, engine, method, setting, dt, budget, t_eval, catalogu
     dyn = sim.Dynamics(s, sc, "symbolic" if engine in OURS else engine)
     n = len(s.coordinates)
 
+    y0 = np.concatenate([sc.q0, sc.qd0]).astype(float)
+    if method == native.METHOD:  # ẏ and the stepping in machine code; the inputs held over each piece
+        native.solve_piecewise(dyn.c, sc, y0, setting, setting, t_eval[:2], dyn.p, dyn.inputs, dyn.hold)  # compiles
+        start = time.perf_counter()
+        try:
+            with np.errstate(all="ignore"):
+                t, y, dyn.evaluations = native.solve_piecewise(dyn.c, sc, y0, setting, setting, t_eval, dyn.p,
+                                                               dyn.inputs, dyn.hold, budget)
+        except native.OverBudget:
+            raise _Budget from None
+        seconds = time.perf_counter() - start
+        return _trajectory(f"{engine} {method}", t, y[:n].T, y[n:].T, seconds, dyn.evaluations)
     if engine == "symbolic-numba":  # the integrator calls the machine code of ẏ; only the inputs are Python
         f, p, inputs, u0 = dyn.c.native_state_derivative, dyn.p, bool(sc.inputs), sc.u(0.0, dyn.system)
 
@@ -319,7 +332,6 @@ def _one_run(s, sc: Scene, engine, method, setting, dt, budget, t_eval, catalogu
                 raise _Budget
             return np.concatenate([y[n:], dyn(t, y[:n], y[n:])])
 
-    y0 = np.concatenate([sc.q0, sc.qd0]).astype(float)
     rhs(0.0, y0)  # warm-up (first call of every compiled function), not timed
     dyn.evaluations = 0
     start = time.perf_counter()
