@@ -67,8 +67,8 @@ def mass_matrices(draw):
 @settings(max_examples=300, deadline=None)
 @given(mass_matrices())
 def test_the_cholesky_bound_proves_only_what_the_eigenvalues_confirm(M):
-    """The machine code's q̈ solves by Cholesky where ``λ_min / λ_max ≥ 1 / (tr M tr M⁻¹) > 2 SINGULAR_M`` proves M
-    regular (:func:`~harness.derivation.compile.cholesky_solve`): wherever it proves so, the eigenvalue test of
+    """The machine code's q̈ solves by Cholesky where ``λ_min / λ_max ≥ 1 / (tr M tr M⁻¹) > 2 SINGULAR_M`` proves
+    M regular (:func:`~harness.derivation.compile.cholesky_solve`): wherever it proves so, the eigenvalue test of
     every other path agrees; it proves every M whose ``n² cond(M)`` is well inside the bound; its q̈ is LAPACK's to
     ``cond(M) ε``."""
     from harness.derivation.compile import SINGULAR_M, cholesky_solve, regular_spectrum

@@ -22,7 +22,7 @@ from scipy.integrate._ivp import dop853_coefficients as tableau
 
 from harness.errors import NotApplicable
 from harness.modeling.scenes import Scene
-from harness.scenes.simulate import _pieces
+from harness.scenes.simulate import pieces
 
 METHOD = "DOP853 (machine code)"   # its name in the work-precision sweep, beside scipy's "DOP853"
 SAFETY, MIN_FACTOR, MAX_FACTOR = 0.9, 0.2, 10.0   # scipy's step-size control (scipy.integrate._ivp.rk)
@@ -168,7 +168,7 @@ def solve_piecewise(compiled_model, scene: Scene, y0, rtol: float, atol: float, 
     p = np.ascontiguousarray(p, dtype=float)
     edges = [0.0, *[b for b in scene.breakpoints if b < scene.horizon], scene.horizon]
     ys, nfev, y = [], 0, np.ascontiguousarray(y0, dtype=float)
-    for k, (a, b) in _pieces(edges, on_piece):
+    for k, (a, b) in pieces(edges, on_piece):
         last = k == len(edges) - 2
         inside = t_eval[(t_eval >= a) & ((t_eval <= b) if last else (t_eval < b))]
         times = np.ascontiguousarray(inside if last else np.append(inside, b), dtype=float)

@@ -205,7 +205,7 @@ def solve_piecewise(rhs, scene: Scene, y0, method: str, rtol: float, atol: float
     t_eval = t_eval[t_eval <= end]
     edges = [0.0, *[b for b in scene.breakpoints if b < end], end]
     ts, ys, nfev, y = [], [], 0, np.asarray(y0, dtype=float)
-    for k, (a, b) in _pieces(edges, on_piece):
+    for k, (a, b) in pieces(edges, on_piece):
         last = k == len(edges) - 2
         inside = t_eval[(t_eval >= a) & ((t_eval <= b) if last else (t_eval < b))]
         sol = solve_ivp(rhs, (a, b), y, method=method, rtol=rtol, atol=atol,
@@ -220,7 +220,7 @@ def solve_piecewise(rhs, scene: Scene, y0, method: str, rtol: float, atol: float
     return np.concatenate(ts), np.concatenate(ys, axis=1), nfev
 
 
-def _pieces(edges, on_piece):
+def pieces(edges, on_piece):
     """``(k, (a, b))`` of the pieces between ``edges``, with ``on_piece(a, b)`` before each and ``on_piece(None)``
     after the last (also where the integration of a piece failed)."""
     try:
@@ -244,7 +244,7 @@ def odeint_piecewise(rhs, scene: Scene, y0, rtol: float, atol: float, t_eval, ma
     ``t_eval`` like :func:`solve_piecewise`, ``on_piece`` as there."""
     edges = [0.0, *scene.breakpoints, scene.horizon]
     ys, nfev, y = [], 0, np.asarray(y0, dtype=float)
-    for k, (a, b) in _pieces(edges, on_piece):
+    for k, (a, b) in pieces(edges, on_piece):
         last = k == len(edges) - 2
         inside = t_eval[(t_eval >= a) & ((t_eval <= b) if last else (t_eval < b))]
         times = np.unique(np.concatenate([[a], inside, [b]]))  # sorted: a first, b last
