@@ -110,6 +110,8 @@ class PinocchioModel(TreeEngine):
     natively = frozenset({"kkt constraints"})
     free: str | None = None
     """The free-flyer joint of a floating base (:meth:`loaded` with ``free``), else None."""
+    force_free = False
+    """Whether the tree has no force element (spring, damper, input) to evaluate: ``τ`` is 0 without loads."""
 
     def __init__(self, tree: NumericTree, urdf: str | None = None):
         self.tree = tree
@@ -122,6 +124,7 @@ class PinocchioModel(TreeEngine):
             raise EngineError(f"{tree.system}: Pinocchio model has nq != nv (continuous joints?)")
         self._attach(model, [j.name for j in tree.joints])
         self.frames = {p.name: model.getFrameId(p.name) for p in tree.points}
+        self.force_free = not (tree.tendons or tree.joint_stiffness or tree.joint_damping or tree.actuators)
 
     @classmethod
     def loaded(cls, model: pin.Model, joints: list[str], free: str | None = None) -> "PinocchioModel":
@@ -209,6 +212,9 @@ class PinocchioModel(TreeEngine):
         from Pinocchio's frame placements and frame Jacobians: ``Σ J_bᵀ f − J_aᵀ f``. The frames are computed
         only for a tree with tendons (joint springs and dampers act on ``q``, ``v`` alone)."""
         model, data = self.model, self.data
+        if not (self.tree.tendons or self.tree.joint_stiffness or self.tree.joint_damping):
+            zero = np.zeros(model.nv)   # no spring or damper in the tree (a pruned one): nothing to evaluate
+            return zero, zero
         if self.tree.tendons:
             self._frames(q)
         return spring_damper_forces(self.tree, model.nv, q, v,
@@ -234,14 +240,20 @@ class PinocchioModel(TreeEngine):
 
     def _applied(self, q, v, u: dict, loads=()) -> tuple:
         """``(f_spring, f_damper, τ_input)`` in Pinocchio's order: the force elements' generalized forces
-        (:meth:`point_forces`, then :meth:`input_forces`, which reuses the frames the first computed)."""
+        (:meth:`point_forces`, then :meth:`input_forces`, which reuses the frames the first computed); zeros,
+        nothing evaluated, for a tree without force elements and loads (:attr:`force_free`: a pruned one)."""
+        if self.force_free and not loads:
+            zero = np.zeros(self.model.nv)
+            return zero, zero, zero
         f_spring, f_damper = self.point_forces(q, v)
         return f_spring, f_damper, self.input_forces(q, u, loads)
 
     def _aba(self, q, v, u: dict, loads=()) -> tuple:
         """``(θ̈, f_spring, f_damper, τ_input)`` in Pinocchio's order: ``pin.aba`` with ``τ`` = inputs + springs +
-        dampers (:meth:`_applied`)."""
+        dampers (:meth:`_applied`; ``τ`` = 0 itself where :attr:`force_free`, no sum to form)."""
         f_spring, f_damper, tau_input = self._applied(q, v, u, loads)
+        if self.force_free and not loads:
+            return pin.aba(self.model, self.data, q, v, tau_input).copy(), f_spring, f_damper, tau_input
         return pin.aba(self.model, self.data, q, v, tau_input + f_spring + f_damper).copy(), f_spring, f_damper, \
             tau_input
 

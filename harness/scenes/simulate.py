@@ -93,6 +93,7 @@ class Dynamics:
         self.loads_read_state = loads_read_state(self.system)
         self.evaluations = 0
         self.held = None      # the inputs held over the piece being integrated (:meth:`hold`); None: u(t)
+        self.no_inputs = None if self.input_names else np.zeros(0)   # u(t) of a system without inputs, made once
         self.model = None if source == SYMBOLIC else engine(source)(instantiate(self.system, self.params))
         # (φ(0), J, J⁻¹) of a constant square map (the identity too), evaluated once: :meth:`at`, mujoco_native
         self.affine = self.c.affine_map(self.p, np.zeros(len(self.input_names))) \
@@ -104,7 +105,9 @@ class Dynamics:
 
     def inputs(self, t: float) -> np.ndarray:
         """``u(t)``: the scene's inputs, or those held over the piece being integrated (:meth:`hold`)."""
-        return self.held if self.held is not None else self.scene.u(t, self.system)
+        if self.held is not None:
+            return self.held
+        return self.no_inputs if self.no_inputs is not None else self.scene.u(t, self.system)
 
     def hold(self, a: float | None, b: float | None = None) -> None:
         """The ``on_piece`` of :func:`solve_piecewise` and :func:`odeint_piecewise`: over the piece ``[a, b]``
