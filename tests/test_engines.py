@@ -375,3 +375,31 @@ def test_simulation_through_a_map_gives_the_evaluations_qdd(name):
             t = adapter.quantities(state.theta, state.theta_dot, state.u, state.loads, christoffel=False)
             assert relative_error(M, t.M) < 1e-12
             assert relative_error(h, t.tau_input + t.f_damper - t.Cqd - t.g_gravity - t.g_spring) < 1e-9
+
+
+@pytest.mark.parametrize("name, label", [("planar_manipulator", "swing"), ("spherical_pendulum", "conical")])
+def test_a_tree_without_force_elements_skips_them_bit_for_bit(name, label):
+    """Pinocchio's adapter evaluates no force element of a pruned tree that has none (``force_free``: ``τ`` = 0
+    handed to ``pin.aba``, nothing summed): the same θ̈ and the same tree quantities, bit for bit, as the general
+    path that forms each kind's (zero) forces and sums them."""
+    from harness.scenes.effects import infer
+    from harness.scenes.simulate import Dynamics
+
+    system = models.get(name)
+    scene = next(s for s in models.CATALOGUE.scenes(name) if s.name == label)
+    lean, lean_scene = infer(system, scene).pruned(system, scene)
+    dyn = Dynamics(lean, lean_scene, "pinocchio")
+    assert dyn.model.force_free
+    rng = np.random.default_rng(3)
+    for _ in range(5):
+        theta, theta_dot = rng.uniform(-1, 1, (2, len(lean.coordinates)))
+        skipped = dyn.model.forward_dynamics(theta, theta_dot, {})
+        quantities = dyn.model.quantities(theta, theta_dot, {}, christoffel=False)
+        dyn.model.force_free = False
+        try:
+            assert np.array_equal(dyn.model.forward_dynamics(theta, theta_dot, {}), skipped)
+            general = dyn.model.quantities(theta, theta_dot, {}, christoffel=False)
+        finally:
+            dyn.model.force_free = True
+        for key in ("qdd", "g_spring", "f_damper", "tau_input", "M"):
+            assert np.array_equal(getattr(general, key), getattr(quantities, key))
