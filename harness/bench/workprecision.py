@@ -308,7 +308,7 @@ def _one_run(s, sc: Scene, engine, method, setting, dt, budget, t_eval, catalogu
 
     y0 = np.concatenate([sc.q0, sc.qd0]).astype(float)
     if method == native.METHOD:  # ẏ and the stepping in machine code; the inputs held over each piece
-        native.solve_piecewise(dyn.c, sc, y0, setting, setting, t_eval[:2], dyn.p, dyn.inputs, dyn.hold)  # compiles
+        native.warm(dyn.c, y0, dyn.p, dyn.inputs(0.0))
         start = time.perf_counter()
         try:
             with np.errstate(all="ignore"):
