@@ -22,7 +22,7 @@ from scipy.integrate._ivp import dop853_coefficients as tableau
 
 from harness.errors import NotApplicable
 from harness.modeling.scenes import Scene
-from harness.scenes.simulate import pieces
+from harness.scenes.simulate import piece_samples, pieces
 
 METHOD = "DOP853 (machine code)"   # its name in the work-precision sweep, beside scipy's "DOP853"
 SAFETY, MIN_FACTOR, MAX_FACTOR = 0.9, 0.2, 10.0   # scipy's step-size control (scipy.integrate._ivp.rk)
@@ -177,7 +177,7 @@ def solve_piecewise(compiled_model, scene: Scene, y0, rtol: float, atol: float, 
     ys, nfev, y = [], 0, np.ascontiguousarray(y0, dtype=float)
     for k, (a, b) in pieces(edges, on_piece):
         last = k == len(edges) - 2
-        inside = t_eval[(t_eval >= a) & ((t_eval <= b) if last else (t_eval < b))]
+        inside = piece_samples(t_eval, a, b, last)
         times = np.ascontiguousarray(inside if last else np.append(inside, b), dtype=float)
         u = np.ascontiguousarray(inputs(0.5 * (a + b)), dtype=float)
         values, used, status = integrate(a, b, y, times, rtol, atol, p, u, budget - nfev)

@@ -210,7 +210,7 @@ def solve_piecewise(rhs, scene: Scene, y0, method: str, rtol: float, atol: float
     ts, ys, nfev, y = [], [], 0, np.asarray(y0, dtype=float)
     for k, (a, b) in pieces(edges, on_piece):
         last = k == len(edges) - 2
-        inside = t_eval[(t_eval >= a) & ((t_eval <= b) if last else (t_eval < b))]
+        inside = piece_samples(t_eval, a, b, last)
         sol = solve_ivp(rhs, (a, b), y, method=method, rtol=rtol, atol=atol,
                         t_eval=inside if last else np.append(inside, b), max_step=max_step,
                         **({} if jac is None else {"jac": jac}))
@@ -221,6 +221,12 @@ def solve_piecewise(rhs, scene: Scene, y0, method: str, rtol: float, atol: float
         nfev += sol.nfev
         y = sol.y[:, -1].copy()
     return np.concatenate(ts), np.concatenate(ys, axis=1), nfev
+
+
+def piece_samples(t_eval, a: float, b: float, last: bool) -> np.ndarray:
+    """The sample times integrated in the piece ``[a, b)``, ``[a, b]`` if it is the last one (the next piece starts
+    at ``b`` and samples it)."""
+    return t_eval[(t_eval >= a) & ((t_eval <= b) if last else (t_eval < b))]
 
 
 def pieces(edges, on_piece):
@@ -249,7 +255,7 @@ def odeint_piecewise(rhs, scene: Scene, y0, rtol: float, atol: float, t_eval, ma
     ys, nfev, y = [], 0, np.asarray(y0, dtype=float)
     for k, (a, b) in pieces(edges, on_piece):
         last = k == len(edges) - 2
-        inside = t_eval[(t_eval >= a) & ((t_eval <= b) if last else (t_eval < b))]
+        inside = piece_samples(t_eval, a, b, last)
         times = np.unique(np.concatenate([[a], inside, [b]]))  # sorted: a first, b last
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # a failure is read from its message below
