@@ -154,7 +154,6 @@ def test_piecewise_constant_inputs_are_set_where_they_change_and_step_alike():
         assert np.array_equal(runs[0], runs[1]), (jump, dt)
 
 
-
 def test_a_run_recorded_in_mujocos_loop_is_the_sampled_run_bit_for_bit():
     """``MujocoModel.recorded`` (``mujoco.rollout``: stepped and recorded in MuJoCo's C loop, the samples picked from
     the records) takes the steps of ``rollout`` (a Python stop at every sample) bit for bit: with a step input set
@@ -188,6 +187,7 @@ def test_a_run_recorded_in_mujocos_loop_is_the_sampled_run_bit_for_bit():
                                         model.data.xfrc_applied.ravel()]))
         assert runs[0].shape == (steps // every + 1, 5) and np.array_equal(runs[0], runs[1]), steps
         assert np.array_equal(ends[0], ends[1]) and np.any(ends[1][-6:] != 0), steps   # the load held to the end
+
 
 def test_mujocos_own_integrator_runs_affine_maps_and_external_loads():
     """MuJoCo's own RK4 (``simulate.mujoco_native``) beyond identity maps without loads: tree coordinates an affine

@@ -110,6 +110,8 @@ class PinocchioModel(TreeEngine):
     natively = frozenset({"kkt constraints"})
     free: str | None = None
     """The free-flyer joint of a floating base (:meth:`loaded` with ``free``), else None."""
+    springs_or_dampers = False
+    """Whether the tree has a spring or a damper (a tendon, a joint spring or damper) to evaluate."""
     force_free = False
     """Whether the tree has no force element (spring, damper, input) to evaluate: ``τ`` is 0 without loads."""
 
@@ -124,7 +126,8 @@ class PinocchioModel(TreeEngine):
             raise EngineError(f"{tree.system}: Pinocchio model has nq != nv (continuous joints?)")
         self._attach(model, [j.name for j in tree.joints])
         self.frames = {p.name: model.getFrameId(p.name) for p in tree.points}
-        self.force_free = not (tree.tendons or tree.joint_stiffness or tree.joint_damping or tree.actuators)
+        self.springs_or_dampers = bool(tree.tendons or tree.joint_stiffness or tree.joint_damping)
+        self.force_free = not (self.springs_or_dampers or tree.actuators)
 
     @classmethod
     def loaded(cls, model: pin.Model, joints: list[str], free: str | None = None) -> "PinocchioModel":
@@ -212,7 +215,7 @@ class PinocchioModel(TreeEngine):
         from Pinocchio's frame placements and frame Jacobians: ``Σ J_bᵀ f − J_aᵀ f``. The frames are computed
         only for a tree with tendons (joint springs and dampers act on ``q``, ``v`` alone)."""
         model, data = self.model, self.data
-        if not (self.tree.tendons or self.tree.joint_stiffness or self.tree.joint_damping):
+        if not self.springs_or_dampers:
             zero = np.zeros(model.nv)   # no spring or damper in the tree (a pruned one): nothing to evaluate
             return zero, zero
         if self.tree.tendons:
