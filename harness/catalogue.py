@@ -9,10 +9,11 @@ Search path: the package's own folder first, then the folders added to its ``__p
 a throwaway system in a test); a module there cannot shadow a module of the package's own folder.
 
 A module that does not load — it raises, has a syntax error, calls ``sys.exit``, defines an invalid model, a
-printed equation (claim) with a symbol the system does not declare, or a system name another module already
-uses — is that module's failure, one line naming its file: :meth:`Catalogue.failures` lists them,
-:meth:`Catalogue.names` includes them (so that a run over the catalogue reports them), :meth:`Catalogue.get`
-raises it for that name only; every other system still loads.
+printed equation (claim) with a symbol the system does not declare, a scene whose initial state, inputs or
+parameter values do not fit the system, or a system name another module already uses — is that module's failure,
+one line naming its file: :meth:`Catalogue.failures` lists them, :meth:`Catalogue.names` includes them (so that a
+run over the catalogue reports them), :meth:`Catalogue.get` raises it for that name only; every other system still
+loads.
 
 A catalogue pickles as its description (package name and search path): a worker process (``--jobs``, the
 benchmark's process pool or Dask workers) rebuilds it from that and loads the modules itself.
@@ -77,7 +78,7 @@ class Catalogue:
 
     # ------------------------------------------------------------------------------------------ loading
     def _load(self, info: pkgutil.ModuleInfo, path: str):
-        """Import ``<package>.<name>`` and check its claims; a module that does not load is one error naming
+        """Import ``<package>.<name>`` and check its claims and scenes; a module that does not load is one error naming
         its file."""
         name = f"{self.package}.{info.name}"
         try:
@@ -92,9 +93,11 @@ class Catalogue:
         system = getattr(module, "SYSTEM", None)
         if isinstance(system, System):
             from harness.modeling.claims import validate_claims
+            from harness.modeling.scenes import validate_scenes
 
             try:
                 validate_claims(system, getattr(module, "CLAIMS", []))
+                validate_scenes(system, getattr(module, "SCENES", []))
             except HarnessError as exc:
                 raise ModelError(f"{path}: {exc}") from None
         return module

@@ -1,6 +1,7 @@
 """Nothing clobbered, nothing blocked: `check --out` and `claims --out` merge by system into what the folder
-holds; a user module that does not load is that module's failure while every other system still runs; a claim
-that uses a symbol its system does not declare is refused when the module loads, with one line."""
+holds; a user module that does not load is that module's failure while every other system still runs (an export
+names it and fails); a claim that uses a symbol its system does not declare, or a scene that does not fit its
+system, is refused when the module loads, with one line."""
 
 from __future__ import annotations
 
@@ -20,6 +21,18 @@ BROKEN = {  # module name -> (its text, what the one-line failure says)
                     "SYSTEM = dataclasses.replace(_S, title='a fake')\n", "system name 'pendulum' is already used by"),
     "aa_user_shadow": ("from models.pendulum import SYSTEM as _S\nimport dataclasses\n"  # sorts before pendulum
                        "SYSTEM = dataclasses.replace(_S, title='a fake')\n", "system name 'pendulum' is already used"),
+}
+SCENE = ("import dataclasses\nfrom models.pendulum import SYSTEM as _S\nfrom harness.modeling import Constant, Scene\n"
+         "SYSTEM = dataclasses.replace(_S, name='{module}')\nSCENES = [Scene('drop', '', {fields})]\n")
+BROKEN |= {  # a scene that does not fit its system: refused when the module loads, the field and the fix named
+    "user_scene_q0": (SCENE.format(module="user_scene_q0", fields="(0.1, 0.2), (0.0,), 1.0, {'gravity'}"),
+                      "scene drop: q0 has 2 value(s); user_scene_q0 has 1 coordinate(s) (phi)"),
+    "user_scene_input": (SCENE.format(module="user_scene_input",
+                                      fields="(0.1,), (0.0,), 1.0, {'inputs'}, inputs={'tau': Constant(1.0)}"),
+                         "scene drop: tau is not an input of user_scene_input (inputs: none)"),
+    "user_scene_mass": (SCENE.format(module="user_scene_mass", fields="(0.1,), (0.0,), 1.0, {'gravity'}, "
+                                     "params={'m': -1.0}"),
+                        "scene drop: parameter m=-1.0: must be positive (point mass)"),
 }
 UNDECLARED_CLAIM = '''
 import sympy as sp
@@ -73,6 +86,19 @@ def test_a_broken_user_module_blocks_nothing_else(user_models, capsys, module):
     assert cli.main(["list"]) == 0 and module in capsys.readouterr().out
     assert cli.main(["check", module, "--examples", "2", "--no-scenes"]) == 2
     assert message in _one_line(capsys)
+
+
+def test_an_export_names_a_module_that_does_not_load_and_fails(user_models, tmp_path, capsys):
+    """Its files are neither written nor compared (they may be stale): the export says so and exits 2; every other
+    system's files are written."""
+    (user_models / "user_raises.py").write_text(BROKEN["user_raises"][0])
+    folder = tmp_path / "urdf"
+    assert cli.main(["export", "--dir", str(folder)]) == 2
+    line = _one_line(capsys)
+    assert "user_raises.py does not load" in line and "not exported" in line
+    assert (folder / "pendulum.urdf").is_file()
+    assert cli.main(["export", "--check", "--dir", str(folder)]) == 2
+    assert "user_raises.py does not load" in _one_line(capsys)
 
 
 def test_a_broken_module_is_a_failed_record_in_a_catalogue_run(user_models):

@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from harness.errors import InputError
+from harness.errors import HarnessError, InputError, ModelError
 from harness.modeling.system import (BodyTorque, Damper, JointDamper, JointInput, JointSpring, Parameter, PointForce,
                                      Spring, System, name_of)
 
@@ -141,6 +141,48 @@ class Scene:
     @property
     def conservative(self) -> bool:
         return not ({"dampers", "inputs", "external", "friction", "contact"} & set(self.effects))
+
+
+def validate_scenes(system: System, scenes) -> None:
+    """What a scene states of its system, checked when the module loads (not deep inside a simulation): a name of
+    its own, ``q0`` and ``q̇0`` one finite number per coordinate, inputs that are the system's, parameter values
+    for the system's parameters within their assumptions (or 0: an element the scene leaves idle). Raises
+    :class:`~harness.errors.ModelError` naming the scene, the field and the fix."""
+    coordinates = [c.name for c in system.coordinates]
+    inputs = {i.name for i in system.inputs}
+    parameters = {p.name: p for p in system.parameters}
+    seen = set()
+    for scene in scenes:
+        if not isinstance(scene, Scene):
+            raise ModelError(f"SCENES holds {type(scene).__name__}, not Scene")
+        if scene.name in seen:
+            raise ModelError(f"scene {scene.name}: the name is used twice; give each scene of {system.name} its own")
+        seen.add(scene.name)
+        for field_name in ("q0", "qd0"):
+            values = getattr(scene, field_name)
+            try:
+                numbers = [float(v) for v in values]
+            except (TypeError, ValueError):
+                raise ModelError(f"scene {scene.name}: {field_name}={values!r} is not a sequence of numbers, one per "
+                                 f"coordinate ({', '.join(coordinates)})") from None
+            if len(numbers) != len(coordinates):
+                raise ModelError(f"scene {scene.name}: {field_name} has {len(numbers)} value(s); {system.name} has "
+                                 f"{len(coordinates)} coordinate(s) ({', '.join(coordinates)})")
+            if not all(map(math.isfinite, numbers)):
+                raise ModelError(f"scene {scene.name}: {field_name}={values!r} must be finite numbers")
+        unknown = sorted(set(scene.inputs) - inputs)
+        if unknown:
+            raise ModelError(f"scene {scene.name}: {', '.join(unknown)} is not an input of {system.name} "
+                             f"(inputs: {', '.join(sorted(inputs)) or 'none'})")
+        for name, value in scene.params.items():
+            if name not in parameters:
+                raise ModelError(f"scene {scene.name}: {name} is not a parameter of {system.name} "
+                                 f"(parameters: {', '.join(parameters)})")
+            try:
+                if value != 0:  # 0 of a positive coefficient: the scene's element is there, idle (pruning)
+                    parameters[name].check(value)
+            except HarnessError as exc:
+                raise ModelError(f"scene {scene.name}: {exc}") from None
 
 
 def effects_of(system: System) -> frozenset:

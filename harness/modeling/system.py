@@ -620,7 +620,9 @@ def validate(system: System) -> None:
     known_links = set(link_names) | {WORLD}
     for j in system.joints:
         if j.parent not in known_links or j.child not in known_links:
-            raise ModelError(f"{where}: joint {j.name} connects unknown link(s) {j.parent!r} -> {j.child!r}")
+            unknown = " and ".join(repr(n) for n in (j.parent, j.child) if n not in known_links)
+            raise ModelError(f"{where}: joint {j.name} connects unknown link {unknown} ({j.parent!r} -> {j.child!r}); "
+                             f"links are {', '.join(map(repr, [WORLD, *link_names]))}")
     for link in link_names:
         system.chain(link)  # raises when the chain does not reach the world or loops
     static = set(system.p)

@@ -4,7 +4,7 @@ reduced to what matters with the printed and derived values there — as ``errat
 summary table and the numbered equations that have no claim, with the reason.
 
 :func:`finding` runs where the claim was classified (it needs the SymPy expressions); :func:`markdown` and
-:func:`html` work from the JSON records alone."""
+:func:`sheet` (the page's body, :func:`harness.report.site.write_errata`) work from the JSON records alone."""
 
 from __future__ import annotations
 
@@ -333,8 +333,11 @@ def _partial(records, lecture: set[str] | None) -> str:
     present = {r["system"] for r in records}
     if not lecture or lecture <= present or not lecture & present:
         return ""
+    missing = sorted(lecture - present)
+    named = ", ".join(missing[:4]) + (f" and {len(missing) - 4} more" if len(missing) > 4 else "")
     return (f"Listed when the printed equations of every lecture system are classified: these hold "
-            f"{len(lecture & present)} of the {len(lecture)} systems that list some.")
+            f"{len(lecture & present)} of the {len(lecture)} systems that list some; not classified yet: {named} "
+            f"(`harness claims NAME … --out FOLDER` adds them to the report's folder).")
 
 
 def _in_range(eq: str, labels: str) -> bool:
@@ -440,15 +443,7 @@ def _reduced_text(reduced: dict) -> str:
 
 STYLE = ("table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:2px 6px;text-align:left}"
          ".diff math{background:#fde2e2}.act{font-weight:bold}.note{color:#555;font-size:90%}")
-"""The errata sheet's own style (standalone in ``errata.html`` of ``harness claims``, and inside the report site)."""
-
-
-def html(records, lecture: set[str] | None = None) -> str:
-    """``errata.html`` of ``harness claims``: the sheet (:func:`sheet`) as a standalone page."""
-    return ("<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>"
-            f"<title>{escape(title(records, lecture))}</title>"
-            f"<style>body{{font-family:sans-serif;max-width:60em;margin:auto}}{STYLE}</style></head><body>"
-            + sheet(records, lecture) + "</body></html>\n")
+"""The errata sheet's own style, inside the site's page ``errata.html`` (:func:`harness.report.site.write_errata`)."""
 
 
 def _anchor(record) -> str:

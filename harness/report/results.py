@@ -95,12 +95,13 @@ def read_claims(out: Path | str) -> list[dict]:
 
 def write_claims(records: list[dict], out: Path | str, lecture: set[str] | None = None) -> list[Path]:
     """``claims.json`` (the records, non-finite numbers as strings) and the errata sheet ``errata.md`` and
-    ``errata.html`` (:mod:`harness.report.errata`; ``lecture``: the lecture systems with printed equations,
+    ``errata.html`` (:mod:`harness.report.errata`, the page as the report's site has it:
+    :func:`harness.report.site.write_errata`; ``lecture``: the lecture systems with printed equations,
     :func:`harness.report.errata.unclaimed`), atomically."""
     from harness.report import errata
+    from harness.report.site import write_errata
 
     out = Path(out)
     atomic_write_text(out / "claims.json", json.dumps(json_clean(records), indent=1) + "\n")
     atomic_write_text(out / "errata.md", errata.markdown(records, lecture))
-    atomic_write_text(out / "errata.html", errata.html(records, lecture))
-    return [out / "claims.json", out / "errata.md", out / "errata.html"]
+    return [out / "claims.json", out / "errata.md", write_errata(out, records, lecture)]

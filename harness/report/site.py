@@ -204,7 +204,7 @@ def system_view(record: dict, claims: list[dict], out: Path, figures: set, bench
         view = {"scene": sc.get("scene", "?"), "description": sc.get("description", ""),
                 "effects": list(sc.get("effects") or []), "horizon": sc.get("horizon"),
                 "passed": bool(sc.get("passed")),
-                "notes": {k: v for k, v in (sc.get("notes") or {}).items()
+                "notes": {k: format(v, ".4g") if isinstance(v, float) else v for k, v in (sc.get("notes") or {}).items()
                           if k not in _PRUNING_NOTES and not k.startswith(("effects disagreement", "pruning, "))},
                 "pruning": pruning_view(name, sc, bench),
                 "checks": [_check_view(c) for c in sc.get("checks", [])], "figure": None,
@@ -388,6 +388,32 @@ def _stale(folder: Path, keep: set[str], pattern: str) -> None:
                 path.unlink()
 
 
+def _common(out: Path, versions: dict, claims: bool) -> dict:
+    """What every page of the site shows around its own content: the navigation to the pages ``out`` holds (the
+    errata where ``claims``) and the packages' versions."""
+    extra_pages = [{"file": "errata.html", "title": "Errata"}] if claims else []
+    extra_pages += [{"file": file, "title": title} for file, title, source, _, _ in OPTIONAL_PAGES
+                    if (out / source).is_file()]
+    return {"extra_pages": extra_pages, "versions_line": ", ".join(f"{k} {v}" for k, v in versions.items())}
+
+
+def write_errata(out: Path | str, claims: list[dict], lecture: set[str] | None, env=None, common=None) -> Path:
+    """``out/errata.html``, the errata sheet (:func:`harness.report.errata.sheet`) as a page of the site, the one
+    page ``harness claims --out`` and ``harness report`` both write (``env``, ``common``: the site's, where the
+    report renders it; else made here from what ``out`` holds)."""
+    from harness.report import errata
+    from harness.report.results import load_results
+
+    out = Path(out)
+    if common is None:
+        common = _common(out, (load_results(out) or {}).get("versions") or {}, True)
+    page = (env or environment()).get_template("errata").render(
+        records=claims, sheet=errata.sheet(claims, lecture), errata_title=errata.title(claims, lecture),
+        style=errata.STYLE, root="", **common)
+    atomic_write_text(out / "errata.html", page)
+    return out / "errata.html"
+
+
 def build_site(out: Path | str, catalogue=None, progress=None, jobs: int = 1) -> dict:
     """Render the site from ``out/results.json`` (+ claims.json, hard.json, bench.json, importer.json,
     robots.json); the
@@ -406,14 +432,8 @@ def build_site(out: Path | str, catalogue=None, progress=None, jobs: int = 1) ->
     for c in claims:
         by_system.setdefault(c.get("system", "?"), []).append(c)
     env = environment()
-    extra_pages = []
-    if claims:
-        extra_pages.append({"file": "errata.html", "title": "Errata"})
-    for file, title, source, _, _ in OPTIONAL_PAGES:
-        if (out / source).is_file():
-            extra_pages.append({"file": file, "title": title})
     versions = doc.get("versions") or {}
-    common = {"extra_pages": extra_pages, "versions_line": ", ".join(f"{k} {v}" for k, v in versions.items())}
+    common = _common(out, versions, bool(claims))
 
     try:
         systems = {} if catalogue is None else catalogue.systems()
@@ -493,12 +513,7 @@ def build_site(out: Path | str, catalogue=None, progress=None, jobs: int = 1) ->
     atomic_write_text(out / "index.html", index)
     written.append("index.html")
     if claims:
-        from harness.report import errata
-
-        lecture = catalogue.lecture_claims() if catalogue else None
-        atomic_write_text(out / "errata.html", env.get_template("errata").render(
-            records=claims, sheet=errata.sheet(claims, lecture), errata_title=errata.title(claims, lecture),
-            style=errata.STYLE, root="", **common))
+        write_errata(out, claims, catalogue.lecture_claims() if catalogue else None, env, common)
         written.append("errata.html")
     written += robot_pages(out, env, common)   # before robots.html, whose table links them
     _profile_figure(out)
