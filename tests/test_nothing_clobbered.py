@@ -33,6 +33,10 @@ BROKEN |= {  # a scene that does not fit its system: refused when the module loa
     "user_scene_mass": (SCENE.format(module="user_scene_mass", fields="(0.1,), (0.0,), 1.0, {'gravity'}, "
                                      "params={'m': -1.0}"),
                         "scene drop: parameter m=-1.0: must be positive (point mass)"),
+    "user_scene_event": ("import dataclasses\nfrom models.stick_slip import SYSTEM as _S, SCENES as _SC\n"
+                         "SYSTEM = dataclasses.replace(_S, name='user_scene_event')\n"
+                         "SCENES = [dataclasses.replace(_SC[0], events=(dataclasses.replace(_SC[0].events[0], "
+                         "coordinate='y'),))]\n", "StickSlip.coordinate='y' is not a coordinate of user_scene_event"),
 }
 UNDECLARED_CLAIM = '''
 import sympy as sp

@@ -183,6 +183,24 @@ def validate_scenes(system: System, scenes) -> None:
                     parameters[name].check(value)
             except HarnessError as exc:
                 raise ModelError(f"scene {scene.name}: {exc}") from None
+        for event in scene.events:
+            _validate_event(system, scene, event)
+
+
+def _validate_event(system: System, scene: "Scene", event) -> None:
+    """The names an event of ``scene`` holds (:mod:`harness.modeling.events`) are the system's: a coordinate, a
+    joint, a link, parameters."""
+    from harness.modeling.events import RollSlip, StickSlip
+
+    kinds = {"coordinate": [c.name for c in system.coordinates], "parameter": [p.name for p in system.parameters],
+             "link": [link.name for link in system.links], "joint": [j.name for j in system.joints]}
+    named = {StickSlip: {"coordinate": "coordinate", "mu_H": "parameter", "mu_C": "parameter"},
+             RollSlip: {"link": "link", "radius": "parameter", "slide_joint": "joint", "roll_joint": "joint"}}
+    for field_name, kind in named.get(type(event), {}).items():
+        value = getattr(event, field_name)
+        if value not in kinds[kind]:
+            raise ModelError(f"scene {scene.name}: {type(event).__name__}.{field_name}={value!r} is not a {kind} of "
+                             f"{system.name} ({kind}s: {', '.join(kinds[kind])})")
 
 
 def effects_of(system: System) -> frozenset:
