@@ -57,6 +57,22 @@ def test_pruning_rows_goals_and_findings():
     assert "slower pruned (the whole interval below 1 ×, a finding) on 1 of 2 scenes" in text
 
 
+def test_the_pruning_figure_draws_each_measured_ratio_and_writes_one_off_the_scale(tmp_path):
+    """bench/pruning.svg: a row per thing left out that has a ratio, one marker per measured source (the run; its
+    bound open), a ratio beyond the axis written at its edge; the bench page shows it in the pruning section."""
+    from harness.bench import figures
+
+    rows = [_row("governor", "coast", {"symbolic": 0.9, "pinocchio": 1.5}),
+            _row("stick_slip", "holds", {"mujoco": 885.0}),
+            {"system": "pendulum", "scene": "swing", "nothing": "nothing to prune", "inferred_idle": {}}]
+    rows[0]["sources"]["pinocchio"]["per_call"] = {"pruned_seconds": 1e-6, "idle_seconds": 2e-6, "ratio": 2.0}
+    figures.draw_all({"pruning": rows}, tmp_path)
+    svg = (tmp_path / "bench" / "pruning.svg").read_text()
+    assert "governor/coast" in svg and "stick_slip/holds" in svg and "pendulum/swing" not in svg
+    assert "885 ×" in svg and "1.3 × (the goal)" in svg
+    assert "](bench/pruning.svg)" in "\n".join(report._pruning(rows))
+
+
 def test_contact_is_proved_idle_until_just_before_the_arm_touches_itself():
     """The clearance bound along the pruned run (every step, every geom pair MuJoCo considers) ends at or before
     the first contact MuJoCo's own run with contact on finds, and not far before it (the bound is a proof, and a

@@ -121,6 +121,63 @@ def evaluation(ev: dict, path: Path) -> None:
     _save(fig, path)
 
 
+_PRUNING_RANGE = (0.8, 6.0)   # the pruning figure's axis: ratios beyond it are written at its right edge
+
+
+def pruning(entries: list[dict], goal: float, path: Path) -> None:
+    """Effect pruning at a glance: one row per thing left out (a scene's effects, its constraint rows), per source
+    its ratio idle / pruned (filled marker) with the interval the bench can tell (the bar: ≥ 99.5 % and the
+    resolution, :func:`harness.scenes.phenomena.pruning.interval`) and the most the run's ratio can be (open marker
+    with its interval: one call of the right-hand side, or MuJoCo's bare tree; :func:`~harness.scenes.phenomena.
+    pruning.bound`); lines at 1 × (slower pruned below) and at the ``goal``."""
+    from harness.scenes.phenomena.pruning import bound, interval
+
+    sources = [s for s in ("symbolic", "pinocchio", "mujoco") if any("ratio" in e["sources"].get(s, {})
+                                                                       for e in entries)]
+    rows = [e for e in entries if any("ratio" in e["sources"].get(s, {}) for s in sources)]
+    if not rows:
+        return
+    colours = {s: _COLOURS[s](0.75) for s in sources}
+    fig, ax = plt.subplots(figsize=(7.5, 0.42 * len(rows) + 1.4))
+    height = 0.8 / len(sources)
+    for i, e in enumerate(rows):
+        for k, source in enumerate(sources):
+            m = e["sources"].get(source, {})
+            if "ratio" not in m:
+                continue
+            y = i + (k - (len(sources) - 1) / 2) * height
+            if m["ratio"] > _PRUNING_RANGE[1]:  # a run with nothing left to step (a friction held): off the scale
+                ax.plot([_PRUNING_RANGE[1] / 1.04], [y], ">", ms=5, color=colours[source])
+                ax.annotate(f"{m['ratio']:.0f} ×", (_PRUNING_RANGE[1] / 1.1, y), fontsize=7, ha="right",
+                            va="center", color=colours[source])
+                continue
+            low, high = interval(m)
+            ax.errorbar([m["ratio"]], [y], xerr=[[m["ratio"] - low], [high - m["ratio"]]], fmt="o", ms=5,
+                        color=colours[source], capsize=2, lw=1.2)
+            if bound(m):
+                _, c = bound(m)
+                b_low, b_high = interval(c)
+                ax.errorbar([c["ratio"]], [y], xerr=[[c["ratio"] - b_low], [b_high - c["ratio"]]], fmt="o", ms=5,
+                            mfc="white", color=colours[source], capsize=2, lw=0.6, alpha=0.8)
+    for x, style in ((1.0, ":"), (goal, "--")):
+        ax.axvline(x, color="0.3", ls=style, lw=0.9)
+    ax.set_yticks(range(len(rows)), [f"{e['system']}/{e['scene']}" for e in rows], fontsize=8)
+    ax.invert_yaxis()
+    ax.set_xscale("log")
+    ax.set_xlim(*_PRUNING_RANGE)
+    ax.xaxis.set_major_locator(matplotlib.ticker.FixedLocator([0.8, 1, 1.3, 2, 3, 5]))
+    ax.xaxis.set_minor_locator(matplotlib.ticker.NullLocator())
+    ax.xaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g} ×"))
+    ax.set_xlabel("idle / pruned (● the run, ○ the most it can be: one call, or MuJoCo's bare tree)", fontsize=8)
+    handles = [plt.Line2D([], [], color=colours[s], marker="o", ls="", label=s) for s in sources]
+    handles += [plt.Line2D([], [], color="0.3", ls=":", label="1 × (below: slower pruned)"),
+                plt.Line2D([], [], color="0.3", ls="--", label=f"{goal:g} × (the goal)")]
+    ax.legend(handles=handles, fontsize=7, loc="lower right")
+    ax.grid(True, axis="x", which="both", alpha=0.3)
+    ax.set_title("Effect pruning: every effect present but idle / only what can act", fontsize=10)
+    _save(fig, path)
+
+
 def draw_all(doc: dict, out: Path) -> None:
     folder = Path(out) / "bench"
     wpd = doc.get("workprecision")
@@ -130,6 +187,11 @@ def draw_all(doc: dict, out: Path) -> None:
     if doc.get("derivation"):
         doc["derivation"]["figure"] = "bench/derivation.svg"
         derivation(doc["derivation"], folder / "derivation.svg")
+    if doc.get("pruning"):
+        from harness.bench.report import measurements
+        from harness.scenes.phenomena.pruning import PRUNING_GOAL
+
+        pruning(measurements(doc["pruning"]), PRUNING_GOAL, folder / "pruning.svg")
     if doc.get("evaluation"):
         doc["evaluation"]["figure"] = "bench/evaluation.svg"
         evaluation(doc["evaluation"], folder / "evaluation.svg")

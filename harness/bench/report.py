@@ -382,6 +382,7 @@ def _pruning(rows: list[dict]) -> list[str]:
              "a finding** (the pruned run is slower); a target is met where the whole interval is at or above it. "
              "A scene that "
              "calls for every effect of its system, each able to act, has nothing to prune and no ratio.", "",
+             "![idle / pruned per scene and source, with the most each run's ratio can be](bench/pruning.svg)", "",
              "| scene | declared | inferred idle (reason) | left out | " +
              " | ".join(f"{s} idle / pruned" for s in PRUNING_SOURCES) + " | pruned = idle (worst error) |",
              "|---|---|---|---|" + "---|" * len(PRUNING_SOURCES) + "---|"]
@@ -446,7 +447,7 @@ def _pruning_goals(rows: list[dict]) -> list[dict]:
     noise of a target is listed as undecided (:func:`harness.scenes.phenomena.pruning.against`)."""
     out = []
     for source in PRUNING_SOURCES:
-        got = [(r, r["sources"][source]) for r in _measurements(rows) if "ratio" in r["sources"].get(source, {})]
+        got = [(r, r["sources"][source]) for r in measurements(rows) if "ratio" in r["sources"].get(source, {})]
         if not got:
             continue
         listed = ", ".join(f"{r['system']}/{r['scene']} {m['ratio']:.{0 if m['ratio'] >= 100 else 2}f} ×{_noise(m)}"
@@ -490,7 +491,7 @@ def _pruning_goals(rows: list[dict]) -> list[dict]:
     return out
 
 
-def _measurements(rows: list[dict]) -> list[dict]:
+def measurements(rows: list[dict]) -> list[dict]:
     """What the pruning bench measured, one entry per thing left out: a scene's effects (its row) and, where its
     tree's constraint rows are proved inactive, those rows (``"rows"``: the scene named "… (constraint rows)")."""
     out = []
