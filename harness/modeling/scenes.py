@@ -179,8 +179,12 @@ def validate_scenes(system: System, scenes) -> None:
                 raise ModelError(f"scene {scene.name}: {name} is not a parameter of {system.name} "
                                  f"(parameters: {', '.join(parameters)})")
             try:
-                if value != 0:  # 0 of a positive coefficient: the scene's element is there, idle (pruning)
-                    parameters[name].check(value)
+                number = float(value)
+            except (TypeError, ValueError):
+                raise ModelError(f"scene {scene.name}: parameter {name}={value!r} is not a number") from None
+            try:
+                if number != 0:  # 0 of a positive coefficient: the scene's element is there, idle (pruning)
+                    parameters[name].check(number)
             except HarnessError as exc:
                 raise ModelError(f"scene {scene.name}: {exc}") from None
         for event in scene.events:
