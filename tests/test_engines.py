@@ -403,3 +403,30 @@ def test_a_tree_without_force_elements_skips_them_bit_for_bit(name, label):
             dyn.model.force_free = True
         for key in ("qdd", "g_spring", "f_damper", "tau_input", "M"):
             assert np.array_equal(getattr(general, key), getattr(quantities, key))
+
+
+@pytest.mark.parametrize("name", ["rotating_body", "two_mass_oscillator", "quarter_car", "toggle_press"])
+def test_a_spring_force_is_judged_on_the_size_of_its_terms(name):
+    """``g_spring`` is a difference, ``c (L − l₀) ∂L/∂q`` (a joint spring's ``k (θ − θ₀)``): its round-off is relative
+    to the size of the terms ``c L``, ``c l₀`` (``Derivation.g_spring_terms``), not to the force, which vanishes at
+    the rest length. The terms bound the force at every drawn state; at the rest length the force is round-off
+    while the terms are not, and every engine agrees within the tolerance relative to them."""
+    system = models.catalogue().get(name)
+    for batch in strategies.system_states(system, 12):
+        for state in batch:
+            ref = evaluate(SYMBOLIC, state)
+            terms = ref.extra["g_spring_terms"]
+            assert np.all(terms >= np.abs(ref.g_spring) * (1 - 1e-12)), (terms, ref.g_spring)
+    if name != "rotating_body":
+        return
+    params = system.default_parameters() | {"l_f0": system.default_parameters()["l_f_0"]}  # at rest at phi = 0
+    state = State.make(system, np.zeros(1), np.zeros(1), params)
+    ref = evaluate(SYMBOLIC, state)
+    ref.extra["qd"] = state.qd
+    terms = float(ref.extra["g_spring_terms"][0])
+    assert abs(ref.g_spring[0]) < 1e-12 * terms and conformance.scales(ref)["g_spring"] >= terms > 0
+    for engine_name in ENGINES:
+        if not ENGINES[engine_name].applies(system):
+            other = evaluate(engine_name, state)
+            assert relative_error(other.g_spring, ref.g_spring, conformance.scales(ref)["g_spring"]) \
+                <= conformance.ROUND_OFF.value

@@ -26,7 +26,7 @@ from harness.derivation.derive import Derivation, derive, is_per_body, matrix_ve
 from harness.errors import ModelError, NotApplicable
 from harness.modeling.system import System
 
-QUANTITIES = ("M", "C", "g", "g_gravity", "g_spring", "f_np", "f_damper", "f_input", "T", "V", "M_dot",
+QUANTITIES = ("M", "C", "g", "g_gravity", "g_spring", "g_spring_terms", "f_np", "f_damper", "f_input", "T", "V", "M_dot",
               "phi", "J_phi", "J_phi_dot")
 
 

@@ -30,6 +30,7 @@ class Derivation:
     g: sp.Matrix            # potential forces ∂V/∂q (5.96): gravity and springs
     g_gravity: sp.Matrix    # the gravity part of g
     g_spring: sp.Matrix     # the spring part of g
+    g_spring_terms: sp.Matrix  # the size of the terms whose difference g_spring is: its round-off's scale
     f_np: sp.Matrix         # non-potential generalized forces (5.73): dampers + inputs + external
     f_damper: sp.Matrix     # the damper part of f_np
     f_input: sp.Matrix      # the input part of f_np (depends on u)
@@ -171,6 +172,7 @@ def derive_uncached(system: System) -> Derivation:
     V_spring = sp.Integer(0)
     V_joint_springs = sp.Integer(0)
     g_point_springs = sp.zeros(n, 1)
+    g_spring_terms = sp.zeros(n, 1)
     f_damper = sp.zeros(n, 1)
     f_input = sp.zeros(n, 1)
     for element in system.forces:
@@ -182,6 +184,10 @@ def derive_uncached(system: System) -> Derivation:
             rest = sp.sympify(element.rest_length)
             V_spring += sp.sympify(element.stiffness) * (length - rest) ** 2 / 2
             g_point_springs += sp.sympify(element.stiffness) * (1 - rest / length) * (J_r.T * r)
+            # c J_rᵀ r and c l0 / L J_rᵀ r cancel where L ≈ l0: their size, not the force's, is what round-off
+            # is relative to (each product of J_rᵀ r by the sizes of its factors)
+            g_spring_terms += (sp.Abs(sp.sympify(element.stiffness)) * (1 + sp.Abs(rest) / length)
+                               * (J_r.applyfunc(sp.Abs).T * r.applyfunc(sp.Abs)))
         elif isinstance(element, Damper):
             # axial force -d L̇ r/L on b; its generalized force (5.73) is -d L̇ ∂L/∂q with ∂L/∂q = J_rᵀ r / L,
             # L̇ = rᵀ J_r q̇ / L (r, J_r and L as for a spring)
@@ -192,6 +198,10 @@ def derive_uncached(system: System) -> Derivation:
             V_joint = sp.sympify(element.stiffness) * (theta - sp.sympify(element.rest)) ** 2 / 2
             V_spring += V_joint
             V_joint_springs += V_joint
+            # k (θ − θ0) ∂θ/∂q: k θ and k θ0 cancel where θ ≈ θ0
+            row = J_phi[system.joints.index(system.joint(element.joint)), :]
+            g_spring_terms += (sp.Abs(sp.sympify(element.stiffness)) * (sp.Abs(theta) + sp.Abs(sp.sympify(element.rest)))
+                               * row.applyfunc(sp.Abs).T)
         elif isinstance(element, JointDamper):
             row = J_phi[system.joints.index(system.joint(element.joint)), :]
             f_damper += -sp.sympify(element.damping) * (row * sp.Matrix(qd))[0] * row.T
@@ -217,6 +227,7 @@ def derive_uncached(system: System) -> Derivation:
     T = quadratic_form(M, qd) / 2
     M_dot = _simplify_matrix(M.applyfunc(lambda e: time_derivative(e, q, qd))) if per_body is None else per_body[2]
     return Derivation(M=M, C=C, g=g_gravity + g_spring, g_gravity=g_gravity, g_spring=g_spring,
+                      g_spring_terms=g_spring_terms,
                       f_np=f_damper + f_input, f_damper=f_damper, f_input=f_input, T=T, V=V,
                       M_dot=M_dot, phi=phi, J_phi=J_phi, J_phi_dot=J_phi_dot,
                       seconds=time.perf_counter() - start)
