@@ -25,7 +25,7 @@ import numpy as np
 
 from harness.engines import warnings_log
 from harness.engines.base import (FREE_JOINT, Base, TreeEngine, TreeQuantities, captured_output, one_line,
-                                  polarization)
+                                  polarization, polarization_step)
 from harness.errors import EngineError, ModelError
 from harness.export.mjcf import exported_mjcf, mjcf_spec, rpy_quat
 from harness.modeling.system import WORLD
@@ -278,7 +278,8 @@ class MujocoModel(TreeEngine):
             M=M[np.ix_(self.dof_index, self.dof_index)], Cqd=self._pick(d.qfrc_bias) - gravity,
             g_gravity=gravity, g_spring=-self._pick(d.qfrc_spring),
             f_damper=self._pick(d.qfrc_damper), tau_input=self._pick(tau_input), qdd=self._pick(d.qacc), C=C,
-            extra={"Cqd_subtracted": float(np.abs(gravity).max(initial=0.0))},
+            extra={"Cqd_subtracted": float(np.abs(gravity).max(initial=0.0)),
+                   "C_subtracted": np.abs(gravity) / polarization_step(theta_dot)},
             calls={"C": "polarization of qfrc_bias(qvel ± s e_j) / 4s", "M": "mj_fullM", "Cqd": "qfrc_bias(qvel) - qfrc_bias(qvel=0)", "g": "qfrc_bias(qvel=0) - qfrc_spring",
                    "f_damper": "qfrc_damper", "qdd": "mj_forward -> qacc"})
 
