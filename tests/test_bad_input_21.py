@@ -49,6 +49,21 @@ def test_every_path_attribute_of_mjcf_is_confined(capfd, tmp_path, top):
     assert "Traceback" not in line
 
 
+@pytest.mark.parametrize("name, text", [
+    ("m.xml", mjcf(top='<asset><mesh name="m" file="../../outside.stl"/></asset>')),
+    ("m.urdf", urdf(extra='<visual><geometry><mesh filename="../../outside.stl"/></geometry></visual>')),
+])
+def test_a_model_named_by_a_relative_path_with_folders_is_confined_the_same(capfd, tmp_path, monkeypatch, name, text):
+    """``harness validate sub/deep/m.xml`` from the folder above: the model's folder is ``sub/deep`` once, not twice
+    (a path joined to the root again let as many ``../`` out as the command line's path had folders, and MuJoCo
+    read the file outside)."""
+    (tmp_path / "outside.stl").write_bytes(b"solid x\nendsolid x\n")
+    (tmp_path / "sub" / "deep").mkdir(parents=True)
+    (tmp_path / "sub" / "deep" / name).write_text(text)
+    monkeypatch.chdir(tmp_path)
+    fails(capfd, ["validate", f"sub/deep/{name}"], "is outside the model's folder sub/deep")
+
+
 def test_flexcomp_file_is_confined(capfd, tmp_path):
     body = '<flexcomp name="f" type="mesh" file="../../x.obj" dim="2"/>'
     validate_fails(capfd, tmp_path, mjcf(body=body), "file='../../x.obj' is outside the model's folder", "m.xml")

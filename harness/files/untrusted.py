@@ -329,7 +329,9 @@ def resolve_uri(uri: str, root: Path, folder: Path | None = None, base: str = ""
         raise ValueError(f"scheme {scheme}:// is not allowed (only package://, file:// and relative paths)")
     try:
         real_root = Path(root).resolve()
-        lexical = Path(os.path.normpath(os.path.join(os.path.abspath(root), target)))
+        # target is relative to the working folder, as root and folder are: never joined to root again (a model
+        # named by a path with folders, sub/deep/m.urdf, would count sub/deep twice and let as many ../ out)
+        lexical = Path(os.path.normpath(os.path.abspath(target)))
         lexical_root = Path(os.path.normpath(os.path.abspath(root)))
         if not _inside(lexical, lexical_root):
             raise ValueError(f"{LEAVES} {root}")
