@@ -216,6 +216,8 @@ def _unloaded(catalogue) -> int:
 def cmd_export(args) -> int:
     catalogue = _catalogue()
     if args.check:
+        if not Path(args.dir).is_dir():
+            raise InputError(f"--dir {args.dir}: is not a folder of exported files")
         return max(_stale(args.dir, run.stale_exports(catalogue, args.dir)), _unloaded(catalogue))
     files, stale = run.export(catalogue, args.dir)
     print(f"wrote {len(files)} files to {Path(args.dir)}/ ({len(stale)} changed)")
@@ -235,6 +237,9 @@ def cmd_main(args) -> int:
     phase that fails does not stop the later ones (the report shows the failure); the exit code is the largest of
     the phases' (Ctrl-C stops at once, 130)."""
     jobs, out, parser = str(args.jobs), args.out, build_parser()
+    run.check_folder(out)   # bad input before any phase: one line, not one per phase
+    if not Path(args.dir).is_dir():
+        raise InputError(f"--dir {args.dir}: is not a folder of exported files")
     start, ended = time.perf_counter(), []  # (phase, exit code, seconds or None)
     side_by_side = args.jobs > 1
 

@@ -212,6 +212,22 @@ def test_unwritable_destination_is_refused_before_the_work(capfd, tmp_path, comm
     assert afile.read_text() == "keep\n"
 
 
+@pytest.mark.parametrize("args, message", [
+    (["export", "--check", "--dir", "{afile}"], "is not a folder of exported files"),
+    (["main", "--out", "/proc/x"], "cannot write into /proc"),
+    (["main", "--out", "{out}", "--dir", "/proc/x"], "is not a folder of exported files"),
+    (["check", "pendulum", "--no-scenes", "--out", "{out}", "--junit", "/proc/x/j.xml"], "--junit /proc/x"),
+])
+def test_a_destination_or_folder_of_a_later_phase_is_refused_before_the_work(capfd, tmp_path, args, message):
+    """Found by a user's trial: these ran the whole job (a check, the main job), wrote its results, and failed at the
+    end (an unwritable JUnit file, a missing folder of exported files), or printed one error per phase."""
+    afile = tmp_path / "afile"
+    afile.write_text("keep\n")
+    out = tmp_path / "out"
+    fails(capfd, [a.format(afile=afile, out=out) for a in args], message)
+    assert not out.exists() and afile.read_text() == "keep\n"
+
+
 def test_unwritable_cache_folder_is_refused_before_the_work(capfd, tmp_path, monkeypatch):
     (tmp_path / "afile").write_text("")
     for cache in ("/proc/x", str(tmp_path / "afile")):

@@ -15,6 +15,10 @@ def prepare(junit: str | None, baseline: str | None) -> dict | None:
     """Validate the flags before any work (bad input: one line, no partial file); the baseline document."""
     if junit is not None and Path(junit).is_dir():
         raise InputError(f"--junit {junit}: is a folder, give a file name")
+    if junit is not None:  # its folder writable before the work: not a check run whose results then cannot be kept
+        from harness.io import writable_folder
+
+        writable_folder(Path(junit).parent, "--junit")
     if baseline is None:
         return None
     from harness.report.baseline import load_baseline
