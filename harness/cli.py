@@ -213,11 +213,16 @@ def _unloaded(catalogue) -> int:
     return 2 if failures else 0
 
 
+def _exported_folder(folder) -> None:
+    """The folder ``export --check`` compares (the main job's too) exists, before any work: one line, exit 2."""
+    if not Path(folder).is_dir():
+        raise InputError(f"--dir {folder}: is not a folder of exported files")
+
+
 def cmd_export(args) -> int:
     catalogue = _catalogue()
     if args.check:
-        if not Path(args.dir).is_dir():
-            raise InputError(f"--dir {args.dir}: is not a folder of exported files")
+        _exported_folder(args.dir)
         return max(_stale(args.dir, run.stale_exports(catalogue, args.dir)), _unloaded(catalogue))
     files, stale = run.export(catalogue, args.dir)
     print(f"wrote {len(files)} files to {Path(args.dir)}/ ({len(stale)} changed)")
@@ -238,8 +243,7 @@ def cmd_main(args) -> int:
     the phases' (Ctrl-C stops at once, 130)."""
     jobs, out, parser = str(args.jobs), args.out, build_parser()
     run.check_folder(out)   # bad input before any phase: one line, not one per phase
-    if not Path(args.dir).is_dir():
-        raise InputError(f"--dir {args.dir}: is not a folder of exported files")
+    _exported_folder(args.dir)
     start, ended = time.perf_counter(), []  # (phase, exit code, seconds or None)
     side_by_side = args.jobs > 1
 
