@@ -9,6 +9,7 @@ import argparse
 import contextlib
 import json
 import os
+import re
 import sys
 import threading
 import time
@@ -35,6 +36,14 @@ STATES = limits.bounded_int(1, limits.STATES, "harness.limits.STATES")
 
 
 class _Parser(argparse.ArgumentParser):
+    # a value such as -1e-3 or -inf is a number, not an option: argparse's own pattern takes -1 and -.5 alone, and
+    # `--q -1e-3 0` failed with "expected at least one argument" (no option of ours starts with a digit or "inf")
+    NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-(inf|infinity|nan)$", re.IGNORECASE)
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = self.NEGATIVE_NUMBER
+
     def error(self, message):  # one line, exit 2, like every other bad input
         raise InputError(f"{self.prog}: {message}")
 

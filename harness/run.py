@@ -75,10 +75,11 @@ def evaluate(catalogue: Catalogue, name: str, engine: str, q, qd=None, params=No
     state = State.make(system, q, qd, params or {}, inputs or {})
     _check_state_regular(state)  # one verdict for every engine at a coordinate singularity
     try:
-        ev = engine_evaluate(engine, state)
+        with np.errstate(all="ignore"):  # a value that is not finite is an error below, not a warning
+            ev = engine_evaluate(engine, state)
     except np.linalg.LinAlgError as exc:
         raise EngineError(f"{system.name}: {engine} failed at q = {state.q.tolist()}: {exc}") from None
-    for key in ("M", "C", "Cqd", "g", "qdd"):
+    for key in ("M", "C", "Cqd", "g", "f_damper", "qdd"):
         value = getattr(ev, key)
         if value is not None and not np.all(np.isfinite(value)):
             changed = ", ".join(f"{k}={v:g}" for k, v in state.params.items()
@@ -89,16 +90,17 @@ def evaluate(catalogue: Catalogue, name: str, engine: str, q, qd=None, params=No
             "coordinates": [c.name for c in system.coordinates],
             "q": state.q.tolist(), "qd": state.qd.tolist(), "params": state.params, "inputs": state.u,
             "M": ev.M.tolist(), "C": None if ev.C is None else ev.C.tolist(), "Cqd": ev.Cqd.tolist(),
-            "g": ev.g.tolist(), "qdd": ev.qdd.tolist(), "calls": ev.calls}
+            "g": ev.g.tolist(), "f_damper": ev.f_damper.tolist(), "qdd": ev.qdd.tolist(), "calls": ev.calls}
 
 
 def _check_state_regular(state) -> None:
-    """Raise the symbolic model's ModelError where ``M(q)`` is singular (a coordinate singularity), whatever
-    the engine: Pinocchio would return NaN and MuJoCo, with its lower bound on inertias, q̈ = 0 there."""
-    from harness.derivation.compile import check_regular, compiled
+    """Raise the symbolic model's ModelError where ``M(q)`` is singular (a coordinate singularity) or a force term is
+    not finite (a spring between two points at the same place), whatever the engine: Pinocchio would return NaN
+    and MuJoCo, with its lower bound on inertias, q̈ = 0 there, or a zero-length tendon's force 0."""
+    from harness.derivation.compile import compiled
 
-    M = compiled(state.system)("M", state.q, state.qd, state.p, state.u_vec)
-    check_regular(state.system, M, state.q)
+    with np.errstate(all="ignore"):  # raises its clear error (CompiledModel.not_regular)
+        compiled(state.system).forward_dynamics(state.q, state.qd, state.p, state.u_vec)
 
 
 # =========================================================================================== the results document

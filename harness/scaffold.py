@@ -117,7 +117,8 @@ def scaffold(name: str, folder: str | Path | None = None, catalogue=None) -> Pat
     if target.exists():
         raise InputError(f"new: {target} exists already")
     if not path.is_dir():
-        raise InputError(f"new: folder {path} does not exist")
+        raise InputError(f"new: {path} " + ("is not a folder" if path.exists() else "does not exist: make the folder "
+                                            "first"))
     atomic_write_text(target, TEMPLATE.substitute(name=name))
     target.chmod(0o644)
     return target

@@ -5,6 +5,7 @@ faults (a file size limit in a child process for a full disk), no mocks. The hel
 (``fails``, ``validate_fails``, ``urdf``, ``mjcf``) are reused.
 """
 
+import json
 import os
 import subprocess
 import sys
@@ -341,3 +342,35 @@ def test_a_valid_model_still_validates_in_the_child(capfd, tmp_path):
     path.write_text(urdf(extra='<visual><geometry><mesh filename="package://arm/meshes/a.stl"/></geometry></visual>'))
     assert cli.main(["validate", str(path), "--states", "2"]) == 0
     assert capfd.readouterr().out.strip().endswith("valid")
+
+
+# ----------------------------------------------------------------------------------- a user's second trial
+@pytest.mark.parametrize("args, message", [
+    (["eval", "pendulum", "--q", "-inf"], "--q must be finite numbers, got [-inf]"),
+    (["eval", "pendulum", "--q", "-nan"], "--q must be finite numbers"),
+    (["validate", "{folder}"], "is a folder; give a URDF (.urdf) or MJCF (.xml) file in it"),
+    (["validate", "{urdf}", "--root", "{afile}"], "--root {afile}: is not a folder"),
+    (["validate", "{urdf}", "--root", "{missing}"], "--root {missing}: no such folder"),
+    (["new", "my_system", "--dir", "{afile}"], "new: {afile} is not a folder"),
+    (["new", "my_system", "--dir", "{missing}"], "new: {missing} does not exist"),
+    (["eval", "spring_mass_damper", "--q", "0.1", "0", "0", "--engine", "mujoco"],
+     "g(q) (5.96) not finite at s_1 = 0.1, s_2 = 0, s_3 = 0 in spring_mass_damper: a force element is singular"),
+])
+def test_a_negative_number_a_folder_or_a_singular_force_gets_its_own_message(capfd, tmp_path, args, message):
+    """Found by trying the commands by hand: `--q -inf` (and `-1e-3`) was taken for an option ("expected at least one
+    argument"); a folder given to validate was "no such file"; `--root` a file or a missing folder was accepted; `new
+    --dir` a file said the folder "does not exist"; a spring of length 0 was "the mass matrix M is not finite", after
+    a page of RuntimeWarnings, and MuJoCo answered with a zero-length tendon's force 0."""
+    names = {"folder": tmp_path / "models", "afile": tmp_path / "afile", "missing": tmp_path / "missing",
+             "urdf": tmp_path / "models" / "m.urdf"}
+    names["folder"].mkdir()
+    names["afile"].write_text("keep\n")
+    names["urdf"].write_text(urdf())
+    fails(capfd, [a.format(**names) for a in args], message.format(**names))
+    assert names["afile"].read_text() == "keep\n" and not names["missing"].exists()
+
+
+def test_a_negative_number_in_scientific_notation_is_a_value(capfd):
+    assert cli.main(["eval", "pendulum", "--q", "-1e-3", "--qd", "-2.5E+1", "--json"]) == 0
+    doc = json.loads(capfd.readouterr().out)
+    assert doc["q"] == [-1e-3] and doc["qd"] == [-25.0] and doc["f_damper"] == [0.0]

@@ -278,12 +278,12 @@ class CompiledModel:
             qdd, regular = self._native[1](np.asarray(q, dtype=float), np.asarray(qd, dtype=float),
                                            np.asarray(p, dtype=float), np.asarray(u, dtype=float))
             if not regular:
-                check_regular(self.system, self.terms(q, qd, p, u)[0], q)  # raises its clear error
+                self.not_regular(q, qd, p, u)
             return qdd
         if self.dof == 1:  # eigh of a 1 × 1 M is w = M, V = [[1]]: the same q̈, bit for bit, without LAPACK
             m, Cqd, g, f_np = call_floats(self._terms_function, 4, q, qd, p, u)
             if not regular_spectrum((m,)) or not math.isfinite(q[0]):  # also nan: every comparison is false
-                check_regular(self.system, np.array([[m]]), q)  # raises its clear error
+                self.not_regular(q, qd, p, u)
             return np.array([(f_np - Cqd - g) / m])
         if self.dof == 2:
             return self._forward_dynamics_2(q, qd, p, u)
@@ -293,8 +293,22 @@ class CompiledModel:
         except np.linalg.LinAlgError:  # not finite
             w = None
         if w is None or not regular_spectrum(w) or not math.isfinite(sum(q)):
-            check_regular(self.system, M, q)  # raises its clear error
+            self.not_regular(q, qd, p, u)
         return V @ ((V.T @ (f_np - Cqd - g)) / w)
+
+    def not_regular(self, q, qd, p, u) -> None:
+        """Raise the clear error of a state where ``q̈`` cannot be computed (:class:`ModelError`): ``M`` singular or
+        not finite (:func:`check_regular`), else the force terms that are not finite there. ``M``, ``C q̇``, ``g``
+        and ``f_np`` are computed together (:meth:`terms`): one term that is not finite makes them all ``nan``, and
+        was reported as a mass matrix that is not finite."""
+        with np.errstate(all="ignore"):   # the terms below are not finite: the error says which
+            check_regular(self.system, self("M", q, p=p), q)
+            C, g, f_np = self("C", q, qd, p, u), self("g", q, p=p), self("f_np", q, qd, p, u)
+        bad = [name for name, x in (("C(q, q̇) q̇ (5.95)", C @ np.asarray(qd, dtype=float)), ("g(q) (5.96)", g),
+                                     ("f_np (5.73)", f_np)) if not np.all(np.isfinite(x))]
+        raise ModelError(f"{' and '.join(bad) or 'q̈'} not finite at {state_text(self.system, q)} in "
+                         f"{self.system.name}: a force element is singular there (e.g. a spring or damper between "
+                         "two points at the same place, whose direction is undefined)")
 
     def _forward_dynamics_2(self, q, qd, p, u) -> np.ndarray:
         """:meth:`forward_dynamics` of two coordinates in Python floats: the eigenvalues of the symmetric ``M =
@@ -304,7 +318,7 @@ class CompiledModel:
         call: measured on planar_manipulator (its swing's model), 9.6 µs → 3.0 µs a call."""
         a, _, b, d, c0, c1, g0, g1, f0, f1 = call_floats(self._terms_function, 10, q, qd, p, u)
         if not regular_spectrum(eigenvalues_2(a, b, d)) or not math.isfinite(q[0] + q[1]):
-            check_regular(self.system, np.array([[a, b], [b, d]]), q)  # raises its clear error
+            self.not_regular(q, qd, p, u)
         r0, r1, det = f0 - c0 - g0, f1 - c1 - g1, a * d - b * b
         return np.array([(d * r0 - b * r1) / det, (a * r1 - b * r0) / det])
 
@@ -388,12 +402,17 @@ def regular_spectrum(w) -> bool:
     return w[0] > SINGULAR_M * max(abs(w[-1]), 1e-300)
 
 
+def state_text(system: System, q) -> str:
+    """``q`` as an error message names it: ``name = value`` of each coordinate."""
+    return ", ".join(f"{c.name} = {float(x):.6g}" for c, x in zip(system.coordinates, q))
+
+
 def check_regular(system: System, M, q) -> None:
     """Raise :class:`ModelError` where ``M(q)`` is singular to working precision (a coordinate singularity:
     some q̇ moves no mass, e.g. ``phi`` at ``theta = 0`` of the spherical pendulum, (5.81)), instead of
     returning a q̈ made of round-off."""
     def at():
-        return ", ".join(f"{c.name} = {float(x):.6g}" for c, x in zip(system.coordinates, q))
+        return state_text(system, q)
     if not np.all(np.isfinite(q)):
         raise ModelError(f"the state is not finite ({at()}) in {system.name}: the integration diverged")
     if not np.all(np.isfinite(M)):

@@ -304,6 +304,7 @@ class PinocchioModel(TreeEngine):
                    "g": "pin.computeGeneralizedGravity + frame-Jacobian springs",
                    "C": "0.5 * pin.computeRNEADerivatives(g=0, a=0).dtau_dv",
                    "C_coriolis_matrix": "pin.computeCoriolisMatrix",
+                   "f_damper": "frame-Jacobian dampers (pin.computeJointJacobians), joint dampers",
                    "qdd": "pin.aba(tau = inputs + springs + dampers)"})
 
     def evaluate(self, state: State):

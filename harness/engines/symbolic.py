@@ -25,7 +25,8 @@ def evaluate(state: State) -> Evaluation:
                "g_spring_terms": c("g_spring_terms", *args).ravel(), "T": float(c("T", *args)),
                "V": float(c("V", *args))},
         calls={"M": "M(q) (5.21)", "C": "Christoffel (5.95), (5.97)", "g": "dV/dq (5.96)",
-               "qdd": "numpy.linalg.solve(M, f_np - C qd - g) (5.93)"},
+               "f_damper": "f_damper (5.73)",
+               "qdd": "M^-1 (f_np - C qd - g) (5.93): eigh of M (closed form for 1 or 2 coordinates)"},
     )
 
 

@@ -240,6 +240,8 @@ def parse_model(text: str | bytes, source: str = "<string>", folder: Path | str 
 
 def _read_text(path: Path) -> str:
     try:
+        if path.is_dir():
+            raise InputError(f"{path}: is a folder; give a URDF (.urdf) or MJCF (.xml) file in it")
         if not path.is_file():
             raise InputError(f"{path}: no such file")
         if path.stat().st_size > MAX_BYTES:
@@ -533,6 +535,8 @@ def read_model(path: Path | str, root: Path | str | None = None) -> ModelFile:
     """Read, safely parse and check a ``.urdf`` or MJCF ``.xml`` file; ``root`` bounds the files it may refer
     to (default: its own folder)."""
     path = Path(path)
+    if root is not None and not Path(root).is_dir():
+        raise InputError(f"--root {root}: " + ("is not a folder" if Path(root).exists() else "no such folder"))
     text = _read_text(path)
     model = parse_model(text, str(path), path.parent)
     return check_model(model, root)
