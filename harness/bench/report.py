@@ -360,7 +360,9 @@ def _pruning(rows: list[dict]) -> list[str]:
              "",
              "Left out: the effects the scene does not call for, those it calls for found idle, and the force "
              "elements found idle inside an acting effect. Symbolic and Pinocchio: forward dynamics of the pruned "
-             "model by DOP853 1e-10 (the same steps: the ratio is the cost of the idle terms per evaluation; also per "
+             "model by odeint's LSODA 1e-10 (stepping in Fortran: 0.5 µs of its own work an evaluation, scipy's DOP853 "
+             "5.7 µs, the same in both runs and not saved by pruning; DOP853 in an event's plug-in; the same steps: "
+             "the ratio is the cost of the idle terms per evaluation; also per "
              "call: 500 calls of the right-hand side at the scene's initial state per timing, the same pairs, "
              "what pruning saves per evaluation without the integrator around it, and the most the run's ratio can "
              "be: with the same evaluations and the same integrator work in both, idle / pruned of the run is at "

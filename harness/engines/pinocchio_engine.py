@@ -253,12 +253,16 @@ class PinocchioModel(TreeEngine):
 
     def _aba(self, q, v, u: dict, loads=()) -> tuple:
         """``(θ̈, f_spring, f_damper, τ_input)`` in Pinocchio's order: ``pin.aba`` with ``τ`` = inputs + springs +
-        dampers (:meth:`_applied`; ``τ`` = 0 itself where :attr:`force_free`, no sum to form)."""
+        dampers (:meth:`_applied`, :meth:`_tau`)."""
         f_spring, f_damper, tau_input = self._applied(q, v, u, loads)
-        if self.force_free and not loads:
-            return pin.aba(self.model, self.data, q, v, tau_input).copy(), f_spring, f_damper, tau_input
-        return pin.aba(self.model, self.data, q, v, tau_input + f_spring + f_damper).copy(), f_spring, f_damper, \
-            tau_input
+        return pin.aba(self.model, self.data, q, v, self._tau(f_spring, f_damper, tau_input)).copy(), f_spring, \
+            f_damper, tau_input
+
+    def _tau(self, f_spring, f_damper, tau_input):
+        """``τ`` = inputs + springs + dampers; the inputs and loads alone, no sum of zeros formed, in a tree without
+        springs and dampers (:attr:`springs_or_dampers`: a pruned one; ``τ`` = 0 itself where :attr:`force_free`).
+        The same ``τ`` bit for bit (``x + 0 = x``)."""
+        return tau_input + f_spring + f_damper if self.springs_or_dampers else tau_input
 
     def forward_dynamics(self, theta, theta_dot, u: dict, loads=()) -> np.ndarray:
         """``θ̈`` alone, the call a simulation makes (:meth:`_aba`)."""
@@ -271,7 +275,7 @@ class PinocchioModel(TreeEngine):
         q, v = self.to_pin(theta), self.to_pin(theta_dot)
         M = self._crba(q)
         f_spring, f_damper, tau_input = self._applied(q, v, u, loads)
-        h = tau_input + f_spring + f_damper - pin.nonLinearEffects(self.model, self.data, q, v)
+        h = self._tau(f_spring, f_damper, tau_input) - pin.nonLinearEffects(self.model, self.data, q, v)
         return self.from_pin_matrix(M), self.from_pin(h)
 
     def _crba(self, q) -> np.ndarray:

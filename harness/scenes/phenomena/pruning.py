@@ -8,8 +8,8 @@ the pruned run looks for no breakaway and integrates nothing (``ẋ ≡ 0``), wh
 guard over its stick segment from three forward-dynamics calls (``stick_slip/holds``); the pruned run equal to the idle
 one checks that inference.
 
-* **symbolic**: the right-hand side derived and compiled from the pruned model (DOP853 at 1e-10) against the one
-  of the idle model;
+* **symbolic**: the right-hand side derived and compiled from the pruned model against the one of the idle model,
+  both integrated by odeint's LSODA at 1e-10 (:data:`RUN_METHOD`; DOP853 in an event's plug-in);
 * **pinocchio**: its forward dynamics (``pin.aba``; through a map with more tree joints than lecture coordinates
   ``pin.crba`` and ``pin.nonLinearEffects``, projected) of the pruned URDF against the idle one's, integrated alike:
   the pruned tree has no idle spring, damper, input or load to evaluate, and without a tendon or a load no frame
@@ -150,17 +150,16 @@ class MujocoStepper:
 
 # --------------------------------------------------------------------------- the measurement
 def measure(system, scene, motion, event, catalogue=None, sources=SOURCES, repeats: int = 1,
-            found=None, made=None) -> dict:
+            found=None) -> dict:
     """Idle against pruned by each of ``sources``: ``{"left_out": [effect], "left_out_elements": [force element],
     "held": [coordinate whose friction is held, proved never to switch],
     "sources": {source: {"pruned_seconds", "idle_seconds", "ratio", "ratio_low", "ratio_high", "error",
-    "evaluations", "method", "pruned_all", "idle_all", "per_call" (a DOP853 run, with repeats: :func:`per_call`)} |
+    "evaluations", "method", "pruned_all", "idle_all", "per_call" (a run our code integrates, with repeats:
+    :func:`per_call`)} |
     {"skipped": why}}}``, or ``{"nothing": why}`` when the scene calls for every effect of its system and none of
     them, nor any force element, is found idle (``found``: :func:`~harness.scenes.effects.infer`). Runs alternate
     (:func:`alternating`): the seconds are the fastest of each, the ratio the median of the pairs' ratios within
-    ``[ratio_low, ratio_high]`` (:func:`ratio_interval`; ``repeats`` 1: the proof alone, its ratio a single timing).
-    ``made``: the scene's own runs its motion already made by DOP853 at 1e-10 (source → trajectory); where
-    nothing of the scene is found idle, the pruned run of that source is that run, not made again."""
+    ``[ratio_low, ratio_high]`` (:func:`ratio_interval`; ``repeats`` 1: the proof alone, its ratio a single timing)."""
     found = found or infer(system, scene)
     idle_system, idle_scene = with_idle_effects(system, scene)
     lean_system, lean_scene = found.pruned(system, scene)
@@ -172,7 +171,7 @@ def measure(system, scene, motion, event, catalogue=None, sources=SOURCES, repea
     for source in sources:
         try:
             runs = _runs(lean_system, lean_scene, idle_system, idle_scene, motion, event, source, catalogue,
-                         (system, scene, found), made or {})
+                         (system, scene, found))
         except (NotApplicable, NotImplementedError) as why:
             out["sources"][source] = {"skipped": str(why)}
             continue
@@ -254,7 +253,7 @@ def bare_tree(bare, idle, repeats: int) -> dict:
 
 
 def per_call(system, scene, idle_system, idle_scene, repeats: int, source: str = SYMBOLIC) -> dict:
-    """Where a DOP853 run's time goes: one call of the right-hand side ``q̈(t, q, q̇)`` of ``source``
+    """Where the time of a run our code integrates goes: one call of the right-hand side ``q̈(t, q, q̇)`` of ``source``
     (:class:`~harness.scenes.simulate.Dynamics`: our compiled model, or the engine's forward dynamics with the force
     elements our adapter evaluates) of the pruned and of the idle model at the scene's initial state, :data:`CALLS`
     calls per timing, ``repeats`` alternating pairs (more while undecided, :func:`undecided`): their :func:`price`
@@ -275,11 +274,10 @@ def per_call(system, scene, idle_system, idle_scene, repeats: int, source: str =
     return price(*paired(timing(lean), timing(idle), repeats, undecided(PRUNING_GOAL))) | {"calls": CALLS}
 
 
-def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalogue, given, made):
+def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalogue, given):
     """``(pruned run, idle run, method, bare)`` of ``source``, each run a call returning a trajectory, ``bare`` a call
     returning the run of the bare tree (MuJoCo's own stepping, :func:`bare_tree`; compiled only where timed) or
-    None: ``system``, ``scene`` the pruned ones, ``given`` the scene's own ``(system, scene, found)``, ``made`` the
-    runs of the scene its motion made (:func:`measure`)."""
+    None: ``system``, ``scene`` the pruned ones, ``given`` the scene's own ``(system, scene, found)``."""
     if steps_itself(source):  # an engine that steps the scene itself: its flags
         held = next((e for e in scene.events if getattr(e, "held", False)), None)
         if held is not None and motion.mujoco_run is not None:  # its plug-in's own run against nothing to step
@@ -313,17 +311,23 @@ def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalog
         raise NotApplicable("the pruned and the idle model derive the same M, C, g, f_np (what is left out adds "
                             "no term, e.g. gravity orthogonal to every motion): nothing is pruned in this source")
 
+    integrator = RUN_METHOD if event is None and not scene.events else "DOP853"   # an event's plug-in: DOP853
+
     def one(s, sc):
-        if s is given[0] and sc is given[1] and source in made:   # the same call the motion made: its run
-            return lambda: made[source]
         own = event if event is None else next(e for e in sc.events if type(e) is type(event))  # e.g. held
-        return lambda: motion.simulate(s, sc, own, source, rtol=1e-10, atol=1e-10, catalogue=catalogue)
+        return lambda: motion.simulate(s, sc, own, source, method=integrator, rtol=1e-10, atol=1e-10,
+                                       catalogue=catalogue)
     method = "our compiled right-hand side" if source == SYMBOLIC else f"{source} forward dynamics"
     if any(getattr(e, "held", False) for e in scene.events):
         method += ("; pruned: the friction held, proved to stick throughout (no breakaway guard to bound, "
                    "ẋ ≡ 0: the state stays the initial one)")
-    return one(system, scene), one(idle_system, idle_scene), f"{method}, DOP853 1e-10", None
+    return one(system, scene), one(idle_system, idle_scene), f"{method}, {integrator} 1e-10", None
 
+
+RUN_METHOD = sim.ODEINT  # the runs our code integrates (symbolic, Pinocchio), without events: LSODA stepping in
+    # Fortran, 0.46 µs of its own work an evaluation, against 5.7 µs for scipy's DOP853 stepping in Python (a linear
+    # 8-state right-hand side at rtol 1e-10, 392 and 233 evaluations). That work is the same in the pruned and the idle
+    # run, and no pruning saves it: DOP853's drew Pinocchio's tower_crane/swing to 1.16 × against 1.33 × a call
 
 CONFIDENCE = 0.995  # of the interval of one time ratio (ratio_interval): a goal's verdict over up to 10 scenes
                     # of a source then holds with at least 95 % (Bonferroni: 10 x 0.5 %)
@@ -471,10 +475,10 @@ def attainable(m: dict, target: float) -> str:
     """Whether a target can be met at all (``m``: :func:`measure`'s per-source entry): "" where it can or nothing
     bounds it, else why not.
 
-    * A run integrated by DOP853, with its ``per_call``: the pruned and the idle run take the same steps (the same
-      ``evaluations``: the idle terms are multiplied by 0, the error control sees the same state), so each run is
-      ``N (c + o)``: ``N`` evaluations of the right-hand side at ``c`` seconds each and the integrator's own work
-      ``o`` per evaluation, the same in both. Then ``idle / pruned = (c_idle + o) / (c_pruned + o) ≤ c_idle /
+    * A run our code integrates (:data:`RUN_METHOD`), with its ``per_call``: the pruned and the idle run take the
+      same steps (the same ``evaluations``: the idle terms are multiplied by 0, the error control sees the same
+      state), so each run is ``N (c + o)``: ``N`` evaluations of the right-hand side at ``c`` seconds each and the
+      integrator's own work ``o`` per evaluation, the same in both. Then ``idle / pruned = (c_idle + o) / (c_pruned + o) ≤ c_idle /
       c_pruned`` (for ``c_idle ≥ c_pruned``, ``o ≥ 0``): no run can be faster pruned than its right-hand side is.
     * MuJoCo's own run, with its ``bare`` (:func:`bare_tree`): the same steps of the same tree, and the pruned
       model has every element of the bare tree and no more flags set, so each of its steps computes the bare
@@ -500,7 +504,7 @@ def attainable(m: dict, target: float) -> str:
 
 def bound(m: dict) -> tuple[str, dict] | None:
     """What bounds a measured ratio (:func:`measure`'s per-source entry) from above, as ``(label, its price)``:
-    ``("per call", …)`` for a DOP853 run (:func:`per_call`), ``("bare tree", …)`` for MuJoCo's own
+    ``("per call", …)`` for a run our code integrates (:func:`per_call`), ``("bare tree", …)`` for MuJoCo's own
     (:func:`bare_tree`); None without (a single timing, an event's plug-in)."""
     if m.get("per_call"):
         return "per call", m["per_call"]
@@ -542,8 +546,7 @@ class Pruning(Phenomenon):
         found = infer(system, scene)
         result.notes.update(found.notes())
         measured = measure(system, scene, run.motion, run.event, run.catalogue,
-                           sources=(SYMBOLIC,) + tuple(e for e in run.engines if e in SOURCES), found=found,
-                           made={e: result.trajectories[e] for e in run.engines if e in result.trajectories})
+                           sources=(SYMBOLIC,) + tuple(e for e in run.engines if e in SOURCES), found=found)
         if "nothing" in measured:
             result.notes["pruning"] = measured["nothing"]
             return
