@@ -253,10 +253,11 @@ class PinocchioModel(TreeEngine):
 
     def _aba(self, q, v, u: dict, loads=()) -> tuple:
         """``(θ̈, f_spring, f_damper, τ_input)`` in Pinocchio's order: ``pin.aba`` with ``τ`` = inputs + springs +
-        dampers (:meth:`_applied`, :meth:`_tau`)."""
+        dampers (:meth:`_applied`, :meth:`_tau`). ``θ̈`` is a view of Pinocchio's ``data.ddq``, which the next
+        ``pin.aba`` overwrites: both callers take it through :meth:`from_pin`, which copies, before any other call."""
         f_spring, f_damper, tau_input = self._applied(q, v, u, loads)
-        return pin.aba(self.model, self.data, q, v, self._tau(f_spring, f_damper, tau_input)).copy(), f_spring, \
-            f_damper, tau_input
+        return pin.aba(self.model, self.data, q, v, self._tau(f_spring, f_damper, tau_input)), f_spring, f_damper, \
+            tau_input
 
     def _tau(self, f_spring, f_damper, tau_input):
         """``τ`` = inputs + springs + dampers; the inputs and loads alone, no sum of zeros formed, in a tree without
