@@ -1,7 +1,7 @@
 """The timing resolution of the pruning bench: an A/A comparison (:data:`harness.scenes.phenomena.pruning.RESOLUTION`).
 
-Each scene with something to prune: its idle run against itself, symbolic and Pinocchio (DOP853 1e-10, as the bench
-runs them), through the bench's own pairs (:func:`~harness.scenes.phenomena.pruning.paired`, :data:`REPEATS`) and
+Each scene with something to prune: its idle run against itself, symbolic and Pinocchio (odeint 1e-10, DOP853 in an
+event's plug-in: :func:`~harness.scenes.phenomena.pruning.run_method`, as the bench runs them), through the bench's own pairs (:func:`~harness.scenes.phenomena.pruning.paired`, :data:`REPEATS`) and
 interval (:func:`~harness.scenes.phenomena.pruning.ratio_interval`), twice. Identical runs: every interval should
 hold 1, every median be 1. What it prints is how far they are off on this machine::
 
@@ -15,7 +15,7 @@ from harness.engines import ENGINES
 from harness.modeling.scenes import with_idle_effects
 from harness.scenes.effects import infer
 from harness.scenes.phenomena import motion_of
-from harness.scenes.phenomena.pruning import REPEATS, RESOLUTION, paired, ratio_interval, widened
+from harness.scenes.phenomena.pruning import REPEATS, RESOLUTION, paired, ratio_interval, run_method, widened
 
 
 def a_a(rounds: int = 2, sources=("symbolic", "pinocchio")) -> list[dict]:
@@ -31,7 +31,8 @@ def a_a(rounds: int = 2, sources=("symbolic", "pinocchio")) -> list[dict]:
                 motion, event = motion_of(idle_scene)
                 for source in (s for s in sources if s == "symbolic" or not ENGINES[s].applies(idle_system)):
                     def run(source=source):
-                        return motion.simulate(idle_system, idle_scene, event, source, rtol=1e-10, atol=1e-10,
+                        return motion.simulate(idle_system, idle_scene, event, source,
+                                               method=run_method(idle_scene, event), rtol=1e-10, atol=1e-10,
                                                catalogue=catalogue).seconds
                     a, b = paired(run, run, REPEATS)
                     ratio, low, high = ratio_interval(a, b)

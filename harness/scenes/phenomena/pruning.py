@@ -311,7 +311,7 @@ def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalog
         raise NotApplicable("the pruned and the idle model derive the same M, C, g, f_np (what is left out adds "
                             "no term, e.g. gravity orthogonal to every motion): nothing is pruned in this source")
 
-    integrator = RUN_METHOD if event is None and not scene.events else "DOP853"   # an event's plug-in: DOP853
+    integrator = run_method(scene, event)
 
     def one(s, sc):
         own = event if event is None else next(e for e in sc.events if type(e) is type(event))  # e.g. held
@@ -328,6 +328,14 @@ RUN_METHOD = sim.ODEINT  # the runs our code integrates (symbolic, Pinocchio), w
     # Fortran, 0.46 µs of its own work an evaluation, against 5.7 µs for scipy's DOP853 stepping in Python (a linear
     # 8-state right-hand side at rtol 1e-10, 392 and 233 evaluations). That work is the same in the pruned and the idle
     # run, and no pruning saves it: DOP853's drew Pinocchio's tower_crane/swing to 1.16 × against 1.33 × a call
+    # (bp31); odeint 1.43 × (bp35)
+
+
+
+def run_method(scene, event) -> str:
+    """The integrator of a pruning run our code integrates: :data:`RUN_METHOD`; DOP853 in an event's plug-in."""
+    return RUN_METHOD if event is None and not scene.events else "DOP853"
+
 
 CONFIDENCE = 0.995  # of the interval of one time ratio (ratio_interval): a goal's verdict over up to 10 scenes
                     # of a source then holds with at least 95 % (Bonferroni: 10 x 0.5 %)
@@ -421,7 +429,9 @@ longer than a pair. Measured A/A (each scene's idle run against itself through t
 Pinocchio: ``.venv/bin/python -m harness.bench.resolution``), two runs: 1 interval of 44 and 1 of 48 missed 1 (by
 1.5 % and 0.6 %, at a nominal 0.15 % chance each), the medians 0.91-1.13. And tower_crane/swing's symbolic ratio
 read 0.967 [0.774, 0.995] in one bench run, 0.96-1.10 in five others, while its pruned right-hand side is 1-3 %
-faster per call: without the resolution the "no scene slower" verdict flipped from one run to the next."""
+faster per call: without the resolution the "no scene slower" verdict flipped from one run to the next. Since the
+runs are odeint's (:data:`RUN_METHOD`, shorter: 3-100 ms), the same A/A twice: 0 of 48 intervals missed 1 in each,
+the medians 0.970-1.022."""
 
 
 def interval(m: dict) -> tuple[float, float]:
