@@ -1,9 +1,10 @@
 """The timing resolution of the pruning bench: an A/A comparison (:data:`harness.scenes.phenomena.pruning.RESOLUTION`).
 
 Each scene with something to prune: its idle run against itself, symbolic and Pinocchio (odeint 1e-10, DOP853 in an
-event's plug-in: :func:`~harness.scenes.phenomena.pruning.run_method`, as the bench runs them), through the bench's own pairs (:func:`~harness.scenes.phenomena.pruning.paired`, :data:`REPEATS`) and
-interval (:func:`~harness.scenes.phenomena.pruning.ratio_interval`), twice. Identical runs: every interval should
-hold 1, every median be 1. What it prints is how far they are off on this machine::
+event's plug-in: :func:`~harness.scenes.phenomena.pruning.run_method`, as the bench runs them), through the bench's
+own pairs (:func:`~harness.scenes.phenomena.pruning.paired`, :data:`REPEATS`) and interval
+(:func:`~harness.scenes.phenomena.pruning.ratio_interval`), twice. Identical runs: every interval should hold 1,
+every median be 1. What it prints is how far they are off on this machine::
 
     .venv/bin/python -m harness.bench.resolution
 """

@@ -446,9 +446,9 @@ def fixed_step(rhs, scene: Scene, y0, method: str, k: int, t_eval, on_piece=None
 # --------------------------------------------------------------------------- effect pruning
 def pruning_task(catalogue, system: str, scene: str, repeats: int = REPEATS) -> dict:
     """Idle against pruned by every source (:func:`harness.scenes.phenomena.pruning.measure`: symbolic and
-    Pinocchio forward dynamics by odeint 1e-10 (:data:`~harness.scenes.phenomena.pruning.RUN_METHOD`), MuJoCo's
-    own RK4 with the pruned effects' disable flags), ``repeats`` alternating pairs of runs in this process (:data:`~harness.scenes.phenomena.pruning.REPEATS`);
-    the effects inferred beside the declared ones
+    Pinocchio forward dynamics by odeint 1e-10 (:data:`~harness.scenes.phenomena.pruning.RUN_METHOD`), MuJoCo's own
+    RK4 with the pruned effects' disable flags), ``repeats`` alternating pairs of runs in this process
+    (:data:`~harness.scenes.phenomena.pruning.REPEATS`); the effects inferred beside the declared ones
     (:func:`harness.scenes.effects.infer`)."""
     from harness.scenes.effects import infer
     from harness.scenes.phenomena.pruning import measure, measure_rows

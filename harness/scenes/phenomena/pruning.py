@@ -74,6 +74,16 @@ SOURCES = (SYMBOLIC, "pinocchio", "mujoco")
 MUJOCO_STEPS = 2000        # RK4 steps of MuJoCo's own runs (at least; on the scene's grid, simulate.grid_steps)
 CHECK = "pruned = all effects present but idle"
 PRUNING_GOAL = 1.3         # idle / pruned, every source on every scene where something is pruned (issue 17)
+RUN_METHOD = sim.ODEINT  # the runs our code integrates (symbolic, Pinocchio), without events: LSODA stepping in
+    # Fortran, 0.46 µs of its own work an evaluation, against 5.7 µs for scipy's DOP853 stepping in Python (a linear
+    # 8-state right-hand side at rtol 1e-10, 392 and 233 evaluations). That work is the same in the pruned and the idle
+    # run, and no pruning saves it: DOP853's drew Pinocchio's tower_crane/swing to 1.16 × against 1.33 × a call
+    # (bp31); odeint 1.43 × (bp35)
+
+
+def run_method(scene, event) -> str:
+    """The integrator of a pruning run our code integrates: :data:`RUN_METHOD`; DOP853 in an event's plug-in."""
+    return RUN_METHOD if event is None and not scene.events else "DOP853"
 
 
 # --------------------------------------------------------------------------- MuJoCo's own stepping, idle or pruned
@@ -253,12 +263,12 @@ def bare_tree(bare, idle, repeats: int) -> dict:
 
 
 def per_call(system, scene, idle_system, idle_scene, repeats: int, source: str = SYMBOLIC) -> dict:
-    """Where the time of a run our code integrates goes: one call of the right-hand side ``q̈(t, q, q̇)`` of ``source``
-    (:class:`~harness.scenes.simulate.Dynamics`: our compiled model, or the engine's forward dynamics with the force
-    elements our adapter evaluates) of the pruned and of the idle model at the scene's initial state, :data:`CALLS`
-    calls per timing, ``repeats`` alternating pairs (more while undecided, :func:`undecided`): their :func:`price`
-    (seconds per call) and ``calls``. What pruning saves per evaluation, without the integrator's own work around
-    it: the bound of the run's ratio (:func:`attainable`)."""
+    """Where the time of a run our code integrates goes: one call of the right-hand side ``q̈(t, q, q̇)`` of
+    ``source`` (:class:`~harness.scenes.simulate.Dynamics`: our compiled model, or the engine's forward dynamics
+    with the force elements our adapter evaluates) of the pruned and of the idle model at the scene's initial state,
+    :data:`CALLS` calls per timing, ``repeats`` alternating pairs (more while undecided, :func:`undecided`): their
+    :func:`price` (seconds per call) and ``calls``. What pruning saves per evaluation, without the integrator's own
+    work around it: the bound of the run's ratio (:func:`attainable`)."""
     lean, idle = sim.Dynamics(system, scene, source), sim.Dynamics(idle_system, idle_scene, source)
     q, qd = np.asarray(scene.q0, dtype=float), np.asarray(scene.qd0, dtype=float)
 
@@ -322,19 +332,6 @@ def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalog
         method += ("; pruned: the friction held, proved to stick throughout (no breakaway guard to bound, "
                    "ẋ ≡ 0: the state stays the initial one)")
     return one(system, scene), one(idle_system, idle_scene), f"{method}, {integrator} 1e-10", None
-
-
-RUN_METHOD = sim.ODEINT  # the runs our code integrates (symbolic, Pinocchio), without events: LSODA stepping in
-    # Fortran, 0.46 µs of its own work an evaluation, against 5.7 µs for scipy's DOP853 stepping in Python (a linear
-    # 8-state right-hand side at rtol 1e-10, 392 and 233 evaluations). That work is the same in the pruned and the idle
-    # run, and no pruning saves it: DOP853's drew Pinocchio's tower_crane/swing to 1.16 × against 1.33 × a call
-    # (bp31); odeint 1.43 × (bp35)
-
-
-
-def run_method(scene, event) -> str:
-    """The integrator of a pruning run our code integrates: :data:`RUN_METHOD`; DOP853 in an event's plug-in."""
-    return RUN_METHOD if event is None and not scene.events else "DOP853"
 
 
 CONFIDENCE = 0.995  # of the interval of one time ratio (ratio_interval): a goal's verdict over up to 10 scenes
@@ -488,8 +485,9 @@ def attainable(m: dict, target: float) -> str:
     * A run our code integrates (:data:`RUN_METHOD`), with its ``per_call``: the pruned and the idle run take the
       same steps (the same ``evaluations``: the idle terms are multiplied by 0, the error control sees the same
       state), so each run is ``N (c + o)``: ``N`` evaluations of the right-hand side at ``c`` seconds each and the
-      integrator's own work ``o`` per evaluation, the same in both. Then ``idle / pruned = (c_idle + o) / (c_pruned + o) ≤ c_idle /
-      c_pruned`` (for ``c_idle ≥ c_pruned``, ``o ≥ 0``): no run can be faster pruned than its right-hand side is.
+      integrator's own work ``o`` per evaluation, the same in both. Then ``idle / pruned = (c_idle + o) / (c_pruned
+      + o) ≤ c_idle / c_pruned`` (for ``c_idle ≥ c_pruned``, ``o ≥ 0``): no run can be faster pruned than its
+      right-hand side is.
     * MuJoCo's own run, with its ``bare`` (:func:`bare_tree`): the same steps of the same tree, and the pruned
       model has every element of the bare tree and no more flags set, so each of its steps computes the bare
       tree's stages and more: ``idle / pruned ≤ idle / bare``.
