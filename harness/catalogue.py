@@ -46,6 +46,17 @@ def search_path(environ=None) -> list[str]:
     return [os.path.abspath(p) for p in value.split(os.pathsep) if p]
 
 
+def check_search_path(environ=None) -> None:
+    """Raise :class:`InputError` where ``HARNESS_MODELS_PATH`` names something that is not a folder: its systems
+    would be missing from every listing without a word (the entry points call this; importing ``models`` does
+    not fail on it)."""
+    for folder in search_path(environ):
+        if not os.path.isdir(folder):
+            raise InputError(f"{MODELS_PATH_VARIABLE} names {folder}: " +
+                             ("not a folder (it names folders of model modules)" if os.path.exists(folder) else
+                              "no such folder"))
+
+
 def _path(info: pkgutil.ModuleInfo) -> str:
     path = os.path.abspath(os.path.join(getattr(info.module_finder, "path", ""), f"{info.name}.py"))
     return os.path.relpath(path) if not os.path.relpath(path).startswith("..") else path

@@ -66,8 +66,9 @@ def _assignments(items, what: str) -> dict[str, float]:
 def _catalogue():
     """The catalogue of ``models/`` and ``HARNESS_MODELS_PATH`` (:func:`harness.catalogue.repository`); the
     library is handed it."""
-    from harness.catalogue import repository
+    from harness.catalogue import check_search_path, repository
 
+    check_search_path()
     return repository()
 
 

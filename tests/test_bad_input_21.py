@@ -374,3 +374,11 @@ def test_a_negative_number_in_scientific_notation_is_a_value(capfd):
     assert cli.main(["eval", "pendulum", "--q", "-1e-3", "--qd", "-2.5E+1", "--json"]) == 0
     doc = json.loads(capfd.readouterr().out)
     assert doc["q"] == [-1e-3] and doc["qd"] == [-25.0] and doc["f_damper"] == [0.0]
+
+
+@pytest.mark.parametrize("where, message", [("missing", "no such folder"), ("afile", "not a folder")])
+def test_a_models_path_that_names_no_folder_is_refused(capfd, tmp_path, monkeypatch, where, message):
+    """A mistyped HARNESS_MODELS_PATH was ignored without a word: the user's systems were simply not listed."""
+    (tmp_path / "afile").write_text("")
+    monkeypatch.setenv("HARNESS_MODELS_PATH", str(tmp_path / where))
+    fails(capfd, ["list"], f"HARNESS_MODELS_PATH names {tmp_path / where}: {message}")
