@@ -103,6 +103,14 @@ def moving_joints(model: pin.Model, free: str | None = None) -> list[str]:
     return names
 
 
+def _read_only(a: np.ndarray) -> np.ndarray:
+    a.flags.writeable = False
+    return a
+
+
+MIRRORED_ONE_BY_ONE = 10   # lower-triangle elements of M that _crba mirrors one by one (nv <= 5), else by indexing
+
+
 class PinocchioModel(TreeEngine):
     """A Pinocchio model of one :class:`NumericTree` with the index maps to our joint order."""
 
@@ -126,6 +134,10 @@ class PinocchioModel(TreeEngine):
             raise EngineError(f"{tree.system}: Pinocchio model has nq != nv (continuous joints?)")
         self._attach(model, [j.name for j in tree.joints])
         self.frames = {p.name: model.getFrameId(p.name) for p in tree.points}
+        # a point on no joint (the world's): its placement is its frame's own and its Jacobian zero, read once
+        pin.framesForwardKinematics(model, self.data, pin.neutral(model))
+        self._fixed = {name: (_read_only(self.data.oMf[f].translation.copy()), _read_only(np.zeros((3, model.nv))))
+                       for name, f in self.frames.items() if model.frames[f].parentJoint == 0}
         self.springs_or_dampers = bool(tree.tendons or tree.joint_stiffness or tree.joint_damping)
         self.force_free = not (self.springs_or_dampers or tree.actuators)
 
@@ -137,7 +149,7 @@ class PinocchioModel(TreeEngine):
         followed by ``joints``."""
         self = cls.__new__(cls)
         self._attach(model, list(joints))
-        self.frames = {}
+        self.frames, self._fixed = {}, {}
         if free is not None:
             if not model.existJointName(free):
                 raise EngineError(f"joint {free} missing in the Pinocchio model")
@@ -164,6 +176,8 @@ class PinocchioModel(TreeEngine):
         self.index = [model.joints[jid].idx_v for jid in self.jids]
         self._index_grid = np.ix_(self.index, self.index)   # from_pin_matrix's rows and columns
         self._lower = np.tril_indices(model.nv, -1)         # what _crba mirrors from the upper triangle
+        # ... one element at a time where that is cheaper than fancy indexing (1.6 µs; an element 0.1 µs)
+        self._lower_pairs = tuple(zip(*self._lower)) if model.nv * (model.nv - 1) // 2 <= MIRRORED_ONE_BY_ONE else None
         self.v_index = dict(zip(joints, self.index))
         self.continuous = any(model.joints[jid].nq == 2 for jid in self.jids)
         # Pinocchio's configuration and velocity hold our θ, θ̇ in their order: to_pin and from_pin copy, no scatter
@@ -197,7 +211,8 @@ class PinocchioModel(TreeEngine):
         return np.array(v, dtype=float) if self._in_order else np.asarray(v)[self.index]
 
     def from_pin_matrix(self, A):
-        return np.asarray(A)[self._index_grid]
+        """Ours of Pinocchio's matrix: a copy, its rows and columns in our order."""
+        return np.array(A, dtype=float) if self._in_order else np.asarray(A)[self._index_grid]
 
     def frame_jacobian(self, frame: int) -> np.ndarray:
         """``6 x nv`` frame Jacobian (LOCAL_WORLD_ALIGNED); eigenpy hands a ``6 x 1`` matrix back as a 1-D array."""
@@ -220,9 +235,19 @@ class PinocchioModel(TreeEngine):
             return zero, zero
         if self.tree.tendons:
             self._frames(q)
-        return spring_damper_forces(self.tree, model.nv, q, v,
-                                    lambda p: data.oMf[self.frames[p]].translation,
-                                    lambda p: self.frame_jacobian(self.frames[p])[:3], self.v_index, self.v_index)
+        return spring_damper_forces(self.tree, model.nv, q, v, self._position, self._point_jacobian, self.v_index,
+                                    self.v_index)
+
+    def _position(self, point: str) -> np.ndarray:
+        """A point's position in world axes (after :meth:`_frames`); a point of the world's, read once."""
+        fixed = self._fixed.get(point)
+        return fixed[0] if fixed is not None else self.data.oMf[self.frames[point]].translation
+
+    def _point_jacobian(self, point: str) -> np.ndarray:
+        """A point's ``3 x nv`` translational Jacobian (LOCAL_WORLD_ALIGNED, after :meth:`_frames`); 0 for a point of
+        the world's."""
+        fixed = self._fixed.get(point)
+        return fixed[1] if fixed is not None else self.frame_jacobian(self.frames[point])[:3]
 
     def input_forces(self, q, u: dict, loads=()):
         """Inputs on joints, and external forces/torques by (5.73) with Pinocchio's frame Jacobians
@@ -231,8 +256,7 @@ class PinocchioModel(TreeEngine):
         if loads and not self.tree.tendons:
             self._frames(q)
         return input_forces(self.tree, model.nv, u, loads, self.v_index,
-                            lambda link: data.oMf[self._frame_of(link)].rotation,
-                            lambda p: self.frame_jacobian(self.frames[p])[:3],
+                            lambda link: data.oMf[self._frame_of(link)].rotation, self._point_jacobian,
                             lambda link: self.frame_jacobian(self._frame_of(link))[3:])
 
     def _frame_of(self, link: str) -> int:
@@ -282,7 +306,11 @@ class PinocchioModel(TreeEngine):
     def _crba(self, q) -> np.ndarray:
         """``pin.crba`` fills the upper triangle: the symmetric ``M`` in Pinocchio's order."""
         M = np.array(pin.crba(self.model, self.data, q))
-        M[self._lower] = M.T[self._lower]
+        if self._lower_pairs is None:
+            M[self._lower] = M.T[self._lower]
+        else:
+            for i, j in self._lower_pairs:
+                M[i, j] = M[j, i]
         return M
 
     def quantities(self, theta, theta_dot, u: dict, loads=(), christoffel: bool = True) -> TreeQuantities:
