@@ -411,19 +411,18 @@ def check_regular(system: System, M, q) -> None:
     """Raise :class:`ModelError` where ``M(q)`` is singular to working precision (a coordinate singularity:
     some q̇ moves no mass, e.g. ``phi`` at ``theta = 0`` of the spherical pendulum, (5.81)), instead of
     returning a q̈ made of round-off."""
-    def at():
-        return state_text(system, q)
     if not np.all(np.isfinite(q)):
-        raise ModelError(f"the state is not finite ({at()}) in {system.name}: the integration diverged")
+        raise ModelError(f"the state is not finite ({state_text(system, q)}) in {system.name}: the integration "
+                         "diverged")
     if not np.all(np.isfinite(M)):
-        raise ModelError(f"the mass matrix M is not finite at {at()} in {system.name}: the state is outside the "
-                         f"domain of the map theta = phi(q) or at its singularity")
+        raise ModelError(f"the mass matrix M is not finite at {state_text(system, q)} in {system.name}: the state is "
+                         "outside the domain of the map theta = phi(q) or at its singularity")
     w, v = np.linalg.eigh(M)
     if regular_spectrum(w):
         return
     idle = [c.name for c, x in zip(system.coordinates, v[:, 0]) if abs(x) > 0.1]
-    raise ModelError(f"coordinate singularity at {at()} in {system.name}: the mass matrix M is singular "
-                     f"(eigenvalues {w[0]:.2g} … {w[-1]:.2g}); a rate of {', '.join(idle)} moves no mass")
+    raise ModelError(f"coordinate singularity at {state_text(system, q)} in {system.name}: the mass matrix M is "
+                     f"singular (eigenvalues {w[0]:.2g} … {w[-1]:.2g}); a rate of {', '.join(idle)} moves no mass")
 
 
 def float_function(system: System, exprs: list, graph=None):
