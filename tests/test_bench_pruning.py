@@ -348,3 +348,18 @@ def test_only_a_source_that_does_not_apply_is_skipped(monkeypatch):
     monkeypatch.setattr(pruning, "_runs", refuse(ValueError("not enough values to unpack (expected 4, got 3)")))
     with pytest.raises(ValueError, match="not enough values to unpack"):
         pruning.measure(system, scene, None, None, catalogue, sources=("mujoco",))
+
+
+def test_mujocos_own_run_of_a_chain_whose_rows_act_is_not_the_open_tree():
+    """MuJoCo's pruning runs step the exported tree, which has no equality rows: where a closed chain's rows act
+    (the toggle press) that is not the scene's motion, and MuJoCo is not measured, whatever else the scene has."""
+    from harness.catalogue import repository
+    from harness.scenes.phenomena import motion_of
+    from harness.scenes.phenomena.pruning import measure
+
+    catalogue = repository()
+    system = catalogue.get("toggle_press")
+    scene = next(s for s in catalogue.scenes("toggle_press") if s.name == "return")
+    motion, event = motion_of(scene)
+    out = measure(system, scene, motion, event, catalogue, sources=("mujoco",))
+    assert out["sources"]["mujoco"]["skipped"].startswith("its closed chain's constraint rows act (at q = ")

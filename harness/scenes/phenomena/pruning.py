@@ -300,6 +300,10 @@ def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalog
         if event is not None or scene.events:
             raise NotApplicable("its motion switches at events: MuJoCo's own run of it is the event's plug-in's")
         own_system, own_scene, found = given
+        if found.rows is not None and not found.rows[0]:  # MujocoStepper steps the exported tree: no equality rows
+            raise NotApplicable("its closed chain's constraint rows act (" + found.rows[1] + "): MuJoCo's own run of "
+                                "the open tree is not the scene's motion, and its equality-constrained run is the "
+                                "closures plug-in's")
         dt = scene.horizon / sim.grid_steps(scene, MUJOCO_STEPS)
         lean = MujocoStepper(own_system, own_scene, "pruned", dt, found)
         full = MujocoStepper(own_system, own_scene, "idle", dt, found)
