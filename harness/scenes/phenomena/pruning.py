@@ -42,7 +42,8 @@ Constraint rows: where the tree's couplings and closures are proved inactive
 (:func:`~harness.scenes.effects.constraint_rows_idle`: the governor's mirrored arms), the engines' constrained tree
 (:mod:`harness.scenes.phenomena.closures`) is pruned to the open tree, a measurement of its own
 (:func:`measure_rows`): Pinocchio's ``pin.aba`` against its KKT forward dynamics, MuJoCo without its equality
-constraints; the check's proof is the closures plug-in's (``ROWS_CHECK``).
+constraints; the check's proof is the closures plug-in's (``ROWS_CHECK``). Where the rows act (the toggle press),
+MuJoCo's own pruning run, which steps the exported open tree, is not the scene's motion: not measured.
 
 Each source: the same trajectory (``ENGINE``, :mod:`harness.scenes.base`), checked by ``harness check`` from one
 run of each (the proof), and the time ratio idle / pruned, measured by ``harness bench --parts pruning`` (the price):
