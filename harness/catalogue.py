@@ -33,6 +33,7 @@ from pathlib import Path
 from types import ModuleType
 
 from harness.errors import HarnessError, InputError, ModelError
+from harness.io import existing_folder
 from harness.modeling.system import System
 
 MODELS_PATH_VARIABLE = "HARNESS_MODELS_PATH"
@@ -51,10 +52,7 @@ def check_search_path(environ=None) -> None:
     would be missing from every listing without a word (the entry points call this; importing ``models`` does
     not fail on it)."""
     for folder in search_path(environ):
-        if not os.path.isdir(folder):
-            raise InputError(f"{MODELS_PATH_VARIABLE} names {folder}: " +
-                             ("not a folder (it names folders of model modules)" if os.path.exists(folder) else
-                              "no such folder"))
+        existing_folder(folder, MODELS_PATH_VARIABLE)
 
 
 def _path(info: pkgutil.ModuleInfo) -> str:

@@ -12,7 +12,7 @@ import os
 import tempfile
 from pathlib import Path
 
-from harness.errors import OutputError
+from harness.errors import InputError, OutputError
 
 
 def _umask() -> int:
@@ -23,6 +23,15 @@ def _umask() -> int:
 
 def _why(exc: OSError) -> str:
     return exc.strerror or errno.errorcode.get(exc.errno or 0, type(exc).__name__)
+
+
+def existing_folder(path: Path | str, what: str) -> Path:
+    """``path`` if it is a folder that exists (one a command reads from); else one :class:`InputError` line naming
+    ``what`` (the option or variable): ``no such folder`` or ``is not a folder``."""
+    path = Path(path)
+    if not path.is_dir():
+        raise InputError(f"{what} {path}: " + ("is not a folder" if path.exists() else "no such folder"))
+    return path
 
 
 def writable_folder(path: Path | str, what: str = "--out") -> Path:

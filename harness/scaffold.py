@@ -13,6 +13,7 @@ from pathlib import Path
 from string import Template
 
 from harness.errors import InputError
+from harness.io import atomic_write_text, existing_folder
 
 _NAME = re.compile(r"[a-z][a-z0-9_]*\Z")
 
@@ -102,8 +103,6 @@ def check_name(name: str, catalogue=None) -> None:
 def scaffold(name: str, folder: str | Path | None = None, catalogue=None) -> Path:
     """Write ``<folder>/<name>.py`` (default: the catalogue's own folder, else ``models/``) from
     :data:`TEMPLATE`; refuses to overwrite and refuses a name ``catalogue`` holds."""
-    from harness.io import atomic_write_text
-
     check_name(name, catalogue)
     if folder:
         path = Path(folder)
@@ -116,9 +115,7 @@ def scaffold(name: str, folder: str | Path | None = None, catalogue=None) -> Pat
     target = path / f"{name}.py"
     if target.exists():
         raise InputError(f"new: {target} exists already")
-    if not path.is_dir():
-        raise InputError(f"new: {path} " + ("is not a folder" if path.exists() else "does not exist: make the folder "
-                                            "first"))
+    existing_folder(path, "new --dir")
     atomic_write_text(target, TEMPLATE.substitute(name=name))
     target.chmod(0o644)
     return target

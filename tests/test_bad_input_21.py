@@ -351,8 +351,8 @@ def test_a_valid_model_still_validates_in_the_child(capfd, tmp_path):
     (["validate", "{folder}"], "is a folder; give a URDF (.urdf) or MJCF (.xml) file in it"),
     (["validate", "{urdf}", "--root", "{afile}"], "--root {afile}: is not a folder"),
     (["validate", "{urdf}", "--root", "{missing}"], "--root {missing}: no such folder"),
-    (["new", "my_system", "--dir", "{afile}"], "new: {afile} is not a folder"),
-    (["new", "my_system", "--dir", "{missing}"], "new: {missing} does not exist"),
+    (["new", "my_system", "--dir", "{afile}"], "new --dir {afile}: is not a folder"),
+    (["new", "my_system", "--dir", "{missing}"], "new --dir {missing}: no such folder"),
     (["eval", "spring_mass_damper", "--q", "0.1", "0", "0", "--engine", "mujoco"],
      "g(q) (5.96) not finite at s_1 = 0.1, s_2 = 0, s_3 = 0 in spring_mass_damper: a force element is singular"),
 ])
@@ -376,9 +376,9 @@ def test_a_negative_number_in_scientific_notation_is_a_value(capfd):
     assert doc["q"] == [-1e-3] and doc["qd"] == [-25.0] and doc["f_damper"] == [0.0]
 
 
-@pytest.mark.parametrize("where, message", [("missing", "no such folder"), ("afile", "not a folder")])
+@pytest.mark.parametrize("where, message", [("missing", "no such folder"), ("afile", "is not a folder")])
 def test_a_models_path_that_names_no_folder_is_refused(capfd, tmp_path, monkeypatch, where, message):
     """A mistyped HARNESS_MODELS_PATH was ignored without a word: the user's systems were simply not listed."""
     (tmp_path / "afile").write_text("")
     monkeypatch.setenv("HARNESS_MODELS_PATH", str(tmp_path / where))
-    fails(capfd, ["list"], f"HARNESS_MODELS_PATH names {tmp_path / where}: {message}")
+    fails(capfd, ["list"], f"HARNESS_MODELS_PATH {tmp_path / where}: {message}")

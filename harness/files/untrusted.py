@@ -46,6 +46,7 @@ from lxml import etree
 
 from harness import limits
 from harness.errors import InputError, ModelError
+from harness.io import existing_folder
 
 MAX_BYTES = limits.MODEL_BYTES
 MAX_DEPTH = limits.XML_DEPTH
@@ -535,8 +536,8 @@ def read_model(path: Path | str, root: Path | str | None = None) -> ModelFile:
     """Read, safely parse and check a ``.urdf`` or MJCF ``.xml`` file; ``root`` bounds the files it may refer
     to (default: its own folder)."""
     path = Path(path)
-    if root is not None and not Path(root).is_dir():
-        raise InputError(f"--root {root}: " + ("is not a folder" if Path(root).exists() else "no such folder"))
+    if root is not None:
+        existing_folder(root, "--root")
     text = _read_text(path)
     model = parse_model(text, str(path), path.parent)
     return check_model(model, root)
