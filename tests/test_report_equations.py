@@ -177,3 +177,34 @@ def test_a_sum_reads_each_term_with_its_own_sign_in_the_lecture_order():
     row = page["equations"]["eom"][0]["math"]
     _parses(row)
     assert "+ c F &#966; - L s g m" in _tokens(row)           # M q̈, then g: + c_F φ − L_s g m (…)
+
+
+def test_a_matrix_wider_than_a_line_is_written_entry_by_entry_each_broken_after_its_terms():
+    """A matrix or an equation of motion wider than a line (``LINE_WIDTH``, by ``width``: a stacked fraction as wide
+    as its wider part) scrolled sideways on its page, and with it its equation numbers: the tower crane's M is a
+    5 × 5 matrix whose M₁₁ has 23 terms. Such a matrix is written entry by entry (M by its upper triangle, being
+    symmetric), each entry broken after its terms, a later line beginning with its term's sign; a narrow one stays a
+    matrix."""
+    from harness.report.mathml import LINE_WIDTH, broken, lines, width
+
+    x, y, m = sp.symbols("x y m")
+    assert width(x / (x + y)) == width(x + y) + 1 < len(str(x / (x + y)))   # stacked: its wider part
+    terms = [m * sp.sin(x) ** k for k in range(1, 30)]
+    grouped = lines(terms)
+    assert [t for line in grouped for t in line] == terms and len(grouped) > 1
+    assert all(len(line) == 1 or sum(map(width, line)) <= LINE_WIDTH for line in grouped)
+    text = broken([("<mi>M</mi>", "<mo>=</mo>", [x, *(-t for t in terms)])])
+    _parses(text)
+    assert text.count("<mtr>") == len(lines([x, *terms]))
+    assert all(row.split('text-align:left">', 1)[1].startswith("<mrow><mo>-</mo>")
+               for row in text.split("<mtr>")[2:])                  # each later line after its own sign
+
+    wide = sp.Matrix([[sum(terms), m * x], [m * x, m]])
+    entry = equations._equation("<mi>M</mi>", wide, letter="M")
+    _parses(entry["math"])
+    assert "text-align:left" in entry["math"] and "M is symmetric" in entry["note"]
+    assert [s for s in ("11", "12", "21", "22") if f"<mi>{s}</mi>" in entry["math"]] == ["11", "12", "22"]
+    narrow = equations._equation("<mi>M</mi>", sp.Matrix([[m, m * x], [m * x, m]]), letter="M")
+    assert "text-align:left" not in narrow["math"] and "<mi>11</mi>" not in narrow["math"] and narrow["note"] == ""
+    vector = equations._equation("<mi>g</mi>", sp.Matrix([sum(terms), m]), letter="g", vector=True)
+    assert "<mi>1</mi>" in vector["math"] and "<mi>2</mi>" in vector["math"] and vector["note"] == ""

@@ -19,7 +19,7 @@ from html import escape
 import sympy as sp
 
 from harness.limits import OutOfTime, cpu_budget
-from harness.report.mathml import body, bold, math, signed_terms
+from harness.report.mathml import LINE_WIDTH, body, bold, broken, math, signed_terms, width
 
 SIMPLIFY_MAX_OPS = 150
 """Entries with more operations are shown as derived, and an entry with more once expanded is not passed to
@@ -89,12 +89,42 @@ def _too_large(expr) -> int:
     return ops if ops > PRINT_MAX_OPS else 0
 
 
-def _equation(lhs: str, expr, *, label: str = "", lecture: str = "", names=None) -> dict:
+def _equation(lhs: str, expr, *, label: str = "", lecture: str = "", names=None, letter: str = "",
+              superscript: str = "", vector: bool = False) -> dict:
+    """``lhs = expr``; a matrix too wide for a line (:func:`_wide`) entry by entry, each ``letter`` with its indices
+    (one for a ``vector``) and ``superscript`` (:func:`_entries`)."""
     size = _too_large(expr)
     if size:
         return {"math": math(lhs, "<mo>=</mo>", "<mo>…</mo>"), "label": label, "lecture": lecture,
                 "note": f"{size} operations: too large to print here"}
+    if letter and _wide(expr):
+        text, note = _entries(letter, expr, superscript, vector)
+        return {"math": text, "label": label, "lecture": lecture, "note": note}
     return {"math": math(lhs, "<mo>=</mo>", body(expr, names=names)), "label": label, "lecture": lecture, "note": ""}
+
+
+def _wide(matrix) -> bool:
+    """Whether ``matrix`` printed is wider than a line (:data:`~harness.report.mathml.LINE_WIDTH`): its columns'
+    widest entries together."""
+    return sum(max(width(matrix[i, j]) for i in range(matrix.rows)) for j in range(matrix.cols)) > LINE_WIDTH
+
+
+def _terms(expr) -> list:
+    return list(expr.as_ordered_terms()) if isinstance(expr, sp.Add) else [expr]
+
+
+def _entries(letter: str, matrix, superscript: str = "", vector: bool = False) -> tuple[str, str]:
+    """A matrix too wide for a line as its entries ``letter_ij = …``, each broken after its terms
+    (:func:`~harness.report.mathml.broken`), and what the page says of the entries not written: a symmetric matrix
+    (M) is written by its entries on and above the diagonal."""
+    symmetric = matrix.is_square and matrix.rows > 1 and matrix == matrix.T
+    written = []
+    for i in range(matrix.rows):
+        for j in range(i if symmetric else 0, matrix.cols):
+            index = str(i + 1) if vector else (f"{i + 1}{j + 1}" if matrix.rows < 10 else f"{i + 1},{j + 1}")
+            written.append((bold(letter, subscript=index, superscript=superscript), "<mo>=</mo>", _terms(matrix[i, j])))
+    return broken(written), f"{letter} is symmetric: its entries on and above the diagonal are written." if symmetric \
+        else ""
 
 
 def _claim_labels(claims, quantity: str) -> str:
@@ -119,14 +149,15 @@ def derived_equations(system, claims=(), budget: Budget | None = None) -> dict:
     M, C, g, f = (budget.simplify(x) for x in (d.M, d.C, d.g, d.f_np))
     quantities = [
         {"title": "Mass matrix", **_equation(bold("M", args="q"), M, label=GENERAL["M"],
-                                            lecture=_claim_labels(claims, "M"))},
+                                            lecture=_claim_labels(claims, "M"), letter="M")},
         {"title": "Coriolis matrix from the Christoffel symbols", **_equation(
-            bold("C", args="q, qd"), C, label=GENERAL["C"], lecture=_claim_labels(claims, "C"))},
+            bold("C", args="q, qd"), C, label=GENERAL["C"], lecture=_claim_labels(claims, "C"), letter="C")},
         {"title": "Potential forces", **_equation(bold("g", args="q"), g, label=GENERAL["g"],
-                                                 lecture=_claim_labels(claims, "g"))},
+                                                 lecture=_claim_labels(claims, "g"), letter="g",
+                                                 vector=True)},
         {"title": "Non-potential generalized forces", **_equation(
             bold("f", subscript="q", superscript="np"), f, label=GENERAL["f_np"],
-            lecture=_claim_labels(claims, "f_np"))},
+            lecture=_claim_labels(claims, "f_np"), letter="f", superscript="np", vector=True)},
     ]
     eom = []
     by_row = {}
@@ -144,7 +175,9 @@ def derived_equations(system, claims=(), budget: Budget | None = None) -> dict:
             eom.append({"math": "", "label": GENERAL["eom"], "lecture": ", ".join(by_row.get(k, [])),
                         "note": f"row {k + 1}: {sp.count_ops(lhs) + sp.count_ops(f[k])} operations, too large to print"})
             continue
-        eom.append({"math": math(signed_terms(terms) if terms else body(lhs), "<mo>=</mo>", body(f[k])),
+        wide = terms and sum(map(width, terms)) + width(f[k]) > LINE_WIDTH   # broken after its terms, "= f" last
+        eom.append({"math": broken([("", "", terms), ("", "<mo>=</mo>", _terms(f[k]))]) if wide else
+                    math(signed_terms(terms) if terms else body(lhs), "<mo>=</mo>", body(f[k])),
                     "label": GENERAL["eom"],
                     "lecture": ", ".join(by_row.get(k, [])), "note": ""})
     return {"quantities": quantities, "eom": eom, "notes": []}

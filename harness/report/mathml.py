@@ -110,20 +110,82 @@ def body(expr, *, names: dict[str, Override] | None = None) -> str:
     return _numeric_entities(LecturePrinter(names, mat_delim="[").doprint(readable(expr)))
 
 
-def signed_terms(terms) -> str:
+def signed_terms(terms, continued: bool = False) -> str:
     """The sum of ``terms`` as presentation MathML in the given order, each term after its own sign. SymPy's printer
     sorts a sum's terms, and prints a sum nested in a sum that it can pull a minus sign out of as ``−`` and the
     negated sum without parentheses: ``a + (−c x + c y)`` read ``a − c x − c y`` (the equations of motion of 5
-    systems on their report pages had a wrong sign so, e.g. torsion_spring_body's ``− c_F φ`` for ``+ c_F φ``)."""
+    systems on their report pages had a wrong sign so, e.g. torsion_spring_body's ``− c_F φ`` for ``+ c_F φ``).
+    ``continued``: the terms continue a sum (a line of :func:`broken`), the first one after its ``+`` too."""
     out = []
     for k, term in enumerate(terms):
         if term.could_extract_minus_sign():
             out.append("<mo>-</mo>")
             term = -term
-        elif k:
+        elif k or continued:
             out.append("<mo>+</mo>")
         out.append(body(term))
     return f"<mrow>{''.join(out)}</mrow>"
+
+
+LINE_WIDTH = 80
+"""What one line of a broken sum (:func:`broken`) holds, in characters as :func:`width` counts them: at the report's
+1300 px beside an equation's title and numbers, a line of 80 of them fits with its numbers (the trebuchet's, toggle
+press's and cart pendulum's equations in Chromium); a single term wider than a line is a line of its own."""
+
+
+def width(expr) -> float:
+    """How wide ``expr`` prints, in characters, roughly as the page sets it: a fraction as wide as the wider of its
+    numerator and denominator (stacked), an exponent or subscript at 0.7 of a character, parentheses around a sum
+    inside a product or power, a sign or operator as one character (:data:`LINE_WIDTH`)."""
+    expr = sp.sympify(expr)
+    if isinstance(expr, sp.Symbol):
+        base, subs, supers, accent = lecture_parts(expr.name)
+        return len(greek_unicode.get(base, base)) + 0.7 * sum(len(s) for s in (*subs, *supers))
+    if expr.is_Number or expr.is_NumberSymbol or expr.is_Atom:
+        return len(sp.sstr(readable(expr)))
+    if isinstance(expr, sp.Add):
+        return sum(width(a) for a in expr.args) + 3 * (len(expr.args) - 1)
+    if isinstance(expr, sp.Mul):
+        numerator, denominator = sp.fraction(expr)
+        if denominator != 1:
+            return max(width(numerator), width(denominator)) + 1
+        return sum(width(a) + 2 * isinstance(a, sp.Add) for a in expr.args)
+    if isinstance(expr, sp.Pow):
+        if expr.exp.is_negative:
+            return width(1 / expr) + 1
+        return width(expr.base) + 2 * isinstance(expr.base, (sp.Add, sp.Mul)) + 0.7 * width(expr.exp)
+    if isinstance(expr, sp.Function):
+        return len(type(expr).__name__) + 2 + sum(width(a) for a in expr.args) + (len(expr.args) - 1)
+    return len(sp.sstr(expr))
+
+
+def lines(terms, line_width: int = LINE_WIDTH) -> list[list]:
+    """``terms`` in their order, grouped into lines of at most ``line_width`` (:func:`width`) each."""
+    out: list[list] = []
+    used = 0
+    for term in terms:
+        w = width(term)
+        if out and used + w <= line_width:
+            out[-1].append(term)
+            used += w
+        else:
+            out.append([term])
+            used = w
+    return out
+
+
+def broken(equations) -> str:
+    """Equations too wide for a line as one ``<math>`` element, each broken after its terms: ``equations`` are
+    ``(left, relation, terms)`` (MathML of the left-hand side, e.g. :func:`bold`, and of the relation, the sum's terms
+    in their order), a table row per line of terms (:func:`lines`), the left-hand side and the relation on the first,
+    each later line beginning with its first term's sign (:func:`signed_terms`)."""
+    rows = []
+    for left, relation, terms in equations:
+        for k, line in enumerate(lines(terms) or [[sp.S.Zero]]):
+            rows.append(f'<mtr><mtd style="text-align:right">{left if k == 0 else ""}</mtd>'
+                        f'<mtd>{relation if k == 0 else ""}</mtd>'
+                        f'<mtd style="text-align:left">{signed_terms(line, continued=k > 0)}</mtd></mtr>')
+    return f'<math xmlns="http://www.w3.org/1998/Math/MathML" display="block"><mtable>{"".join(rows)}</mtable></math>'
 
 
 def bold(letter: str, *, subscript: str = "", superscript: str = "", args: str = "") -> str:

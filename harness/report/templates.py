@@ -24,7 +24,7 @@ code { font-family: ui-monospace, monospace; }
 img.figure { max-width: 100%; border: 1px solid #ddd; }
 small { color: #666; }
 .doc { max-width: 60em; }
-.eq { display: flex; align-items: center; gap: 1em; margin: .4em 0; overflow-x: auto; min-width: 0; }
+.eq { display: flex; align-items: center; gap: 1em; margin: .4em 0; padding: .3em 0; overflow-x: auto; min-width: 0; }
 .eq math { flex: 1 1 auto; }
 .eqtitle { flex: 0 0 12em; color: #444; }
 .claim { border-left: 4px solid #ccc; padding: .3em .8em; margin: .8em 0; }
