@@ -350,16 +350,78 @@ def test_only_a_source_that_does_not_apply_is_skipped(monkeypatch):
         pruning.measure(system, scene, None, None, catalogue, sources=("mujoco",))
 
 
-def test_mujocos_own_run_of_a_chain_whose_rows_act_is_not_the_open_tree():
+def test_mujocos_pruning_run_of_a_chain_whose_rows_act_is_its_constrained_tree():
     """MuJoCo's pruning runs step the exported tree, which has no equality rows: where a closed chain's rows act
-    (the toggle press) that is not the scene's motion, and MuJoCo is not measured, whatever else the scene has."""
+    (the toggle press) that is not the scene's motion. There MuJoCo steps the closures plug-in's equality-constrained
+    tree, its loads as site actuators (the idle ones' gears 0): the pruned run is the scene's motion (within the soft
+    constraints' first-order error at this dt, 2.2e-3 against our derivation; the open tree does not keep the slide
+    on its axis), equal to the idle one, and the bare tree of its bound keeps the rows."""
     from harness.catalogue import repository
+    from harness.modeling.scenes import with_idle_effects
+    from harness.scenes import simulate as sim
+    from harness.scenes.effects import infer
     from harness.scenes.phenomena import motion_of
-    from harness.scenes.phenomena.pruning import measure
+    from harness.scenes.phenomena.pruning import BARE_ROWS, constrained_runs, measure
 
     catalogue = repository()
     system = catalogue.get("toggle_press")
     scene = next(s for s in catalogue.scenes("toggle_press") if s.name == "return")
     motion, event = motion_of(scene)
-    out = measure(system, scene, motion, event, catalogue, sources=("mujoco",))
-    assert out["sources"]["mujoco"]["skipped"].startswith("its closed chain's constraint rows act (at q = ")
+    out = measure(system, scene, motion, event, catalogue, sources=("mujoco",))["sources"]["mujoco"]
+    assert out["method"].startswith("equality-constrained tree (its rows act: at q = ")
+    assert "loads as site actuators" in out["method"] and out["error"] == 0.0   # pruned = idle, bit for bit
+    found = infer(system, scene)
+    lean_system, lean_scene = found.pruned(system, scene)
+    lean, _, _, (bare, what) = constrained_runs(lean_system, lean_scene, *with_idle_effects(system, scene), found)
+    reference = sim.integrate(lean_system, lean_scene, "symbolic", rtol=1e-10, atol=1e-10)
+    assert sim.max_error(reference, lean()) < 1e-2
+    run = bare()()
+    assert what == BARE_ROWS and "equality constraints" in run.source and run.evaluations == 4000
+
+
+def test_loads_of_inputs_alone_are_mujocos_site_actuators():
+    """The toggle press's knee force (0, −f, 0) and load force (−f_L, 0, 0), forces in world axes linear in the
+    inputs, as MuJoCo's site actuators with world-axis gears (``LoadActuators``): at drawn states and inputs the
+    generalized force MuJoCo's actuators apply (``qfrc_actuator``) is the one MuJoCo's ``mj_applyFT`` gives for the
+    same loads (``MujocoModel.applied``, what a run evaluated in Python applies). A torque, a force that reads the state
+    or one not 0 at zero inputs is not such a load."""
+    import dataclasses
+
+    import mujoco
+    import sympy as sp
+
+    from harness.catalogue import repository
+    from harness.engines.mujoco_engine import MujocoModel
+    from harness.export.numeric import instantiate
+    from harness.modeling.scenes import effects_of
+    from harness.modeling.system import PointForce
+    from harness.scenes import simulate as sim
+
+    catalogue = repository()
+    system = catalogue.get("toggle_press")
+    params = system.default_parameters()
+    actuators = sim.load_actuators(system, params)
+    assert [e[:3] for e in actuators.entries] == [("knee_force:f", "f", "knee"), ("load_force:f_L", "f_L", "e")]
+    mm = MujocoModel(instantiate(system, params), transforms=[actuators])
+    every = dataclasses.replace(catalogue.scenes("toggle_press")[0], effects=frozenset(effects_of(system)))
+    dyn = sim.Dynamics(system, every, "mujoco")    # its loads present
+    rng = np.random.default_rng(7)
+    largest = 0.0
+    for _ in range(5):
+        q, qd, u = rng.uniform(-0.3, 0.3, 1), rng.uniform(-1, 1, 1), rng.uniform(-50, 50, 2)
+        theta, J, _ = dyn.c.map_at(q, qd, dyn.p, u)
+        mm.set_state(theta, J @ qd)
+        mm.set_inputs(dict(zip(dyn.input_names, u)))
+        mujoco.mj_forward(mm.model, mm.data)
+        applied = mm.applied(dyn.loads(q, qd, u))
+        assert np.allclose(mm.data.qfrc_actuator[mm.dof_index], applied, rtol=1e-12, atol=1e-12 * np.abs(u).max())
+        largest = max(largest, np.abs(applied).max())
+    assert largest > 10.0
+    assert sim.load_actuators(catalogue.get("two_mass_oscillator"), catalogue.get("two_mass_oscillator")
+                              .default_parameters()) is None                       # torques
+    q, f = sp.Symbol("q", real=True), sp.Symbol("f", real=True)
+    for force in ((0, -f * sp.cos(q), 0), (0, -f - 1, 0)):                           # reads the state; 0 at no input
+        other = dataclasses.replace(system, forces=tuple(
+            dataclasses.replace(e, force=force) if isinstance(e, PointForce) and e.name == "knee_force" else e
+            for e in system.forces))
+        assert sim.load_actuators(other, params) is None

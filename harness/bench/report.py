@@ -373,8 +373,11 @@ def _pruning(rows: list[dict]) -> list[str]:
              "or damper is only a coefficient, 0 in the idle model too: nothing saved), the idle loads and inputs "
              "evaluated and applied as in any run (piecewise-constant inputs, and loads of inputs alone that are a "
              "torque or a force at a centre of mass in world axes, set at each input change as `ctrl` and "
-             "`xfrc_applied` and held, MuJoCo stepping in its own loop; other loads at every stage); also the bare "
-             "tree (bodies, joints and inertias alone, every disable flag set) against the idle run, the same "
+             "`xfrc_applied` and held, MuJoCo stepping in its own loop; other loads at every stage); a closed chain "
+             "whose constraint rows act (the toggle press) as the closures plug-in steps it, its equality-constrained "
+             "tree by implicitfast, its loads as site actuators (world-axis gears, 0 in the idle model); also the "
+             "bare tree (bodies, joints and inertias alone, and such a chain's rows, every other disable flag set) "
+             "against the idle run, the same "
              "pairs: no pruned model steps faster than the bare tree, so a target above its interval is **out of "
              "reach** of MuJoCo on that scene. Ratio = idle / pruned: "
              f"the median of the ratios of {REPEATS} alternating pairs of runs ({MORE} against {PRUNING_GOAL:g} ×), "
@@ -475,8 +478,9 @@ def _pruning_goals(rows: list[dict]) -> list[dict]:
                                 + ("one evaluation of the pruned right-hand side is less than "
                                    f"{target:g} × cheaper, and with the same evaluations no run can be"
                                    if labels == {"per call"} else
-                                   f"the run of the bare tree (bodies, joints and inertias alone, every disable flag "
-                                   f"set) is less than {target:g} × faster than the idle run, and no pruned model "
+                                   "the run of the bare tree (bodies, joints and inertias alone, and a closed "
+                                   "chain's constraint rows where they act, every other disable flag set) is less "
+                                   f"than {target:g} × faster than the idle run, and no pruned model "
                                    "steps faster than it")
                                 + " (harness.scenes.phenomena.pruning.attainable)")
             else:

@@ -156,6 +156,16 @@ class MujocoModel(TreeEngine):
         self._attach(model, [j.name for j in tree.joints])
         self.actuators = {name: mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_ACTUATOR, name)
                           for name, _ in tree.actuators}
+        # (input, actuator id) of the external loads MuJoCo applies as actuators (LoadActuators)
+        self.load_actuators = [(input_name, mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_ACTUATOR, name))
+                               for t in transforms if isinstance(t, LoadActuators)
+                               for name, input_name, _, _ in t.entries]
+
+    @property
+    def driven(self) -> list[str]:
+        """The inputs that set a ``ctrl`` (:meth:`set_inputs`): of the actuators on joints, then of the loads
+        MuJoCo applies as actuators (:class:`LoadActuators`)."""
+        return list(dict.fromkeys([*self.actuators, *(name for name, _ in self.load_actuators)]))
 
     @classmethod
     def loaded(cls, model: mujoco.MjModel, joints: list[str], free: str | None = None) -> "MujocoModel":
@@ -164,7 +174,7 @@ class MujocoModel(TreeEngine):
         (:class:`~harness.engines.base.Base`; see :meth:`terms`)."""
         self = cls.__new__(cls)
         self._attach(model, list(joints))
-        self.actuators = {}
+        self.actuators, self.load_actuators = {}, []
         self._base = Base.rest()
         if free is not None:
             fid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, free)
@@ -318,8 +328,11 @@ class MujocoModel(TreeEngine):
         self.data.qpos[address[0]], self.data.qvel[address[1]] = position, velocity
 
     def set_inputs(self, values: dict) -> None:
-        """``ctrl`` of each actuator (an input on a joint) from ``values`` by input name."""
+        """``ctrl`` of each actuator (an input on a joint, a load applied as an actuator) from ``values`` by input
+        name (:attr:`driven`)."""
         for name, aid in self.actuators.items():
+            self.data.ctrl[aid] = values[name]
+        for name, aid in self.load_actuators:
             self.data.ctrl[aid] = values[name]
 
     def apply_loads(self, loads) -> None:
@@ -857,17 +870,51 @@ class BareTree:
     would compute for them with no element left: gravity, passive forces, constraints, …; ``autoreset`` excepted:
     a run that went unstable is a failure, :func:`check_warnings`). What a step of this tree costs at the least: a
     model with more elements or fewer flags computes the same stages and more, so no pruning of it steps faster
-    (:func:`harness.scenes.phenomena.pruning.attainable`). Its motion is not the scene's and is not read."""
+    (:func:`harness.scenes.phenomena.pruning.attainable`). Its motion is not the scene's and is not read.
+    ``rows``: the tree with its constraint rows, which a closed chain whose rows act needs: its equalities kept, and
+    the sites they join, with the equality and constraint flags clear."""
+
+    rows: bool = False
 
     def __call__(self, spec) -> None:
-        for kind in ("actuators", "sensors", "equalities", "tendons", "pairs", "excludes", "geoms", "sites"):
+        joined = {name for e in spec.equalities for name in (e.name1, e.name2)} if self.rows else set()
+        kinds = ("actuators", "sensors", "tendons", "pairs", "excludes", "geoms")
+        for kind in kinds + (() if self.rows else ("equalities",)):
             for element in list(getattr(spec, kind)):
                 spec.delete(element)
-        bits = 0
-        for name, bit in mujoco.mjtDisableBit.__members__.items():
-            if name not in ("mjNDISABLE", "mjDSBL_AUTORESET"):
-                bits |= int(bit)
-        spec.option.disableflags |= bits
+        for site in list(spec.sites):
+            if site.name not in joined:
+                spec.delete(site)
+        rows = ("mjDSBL_EQUALITY", "mjDSBL_CONSTRAINT") if self.rows else ()
+        bits = {name: int(bit) for name, bit in mujoco.mjtDisableBit.__members__.items()
+                if name not in ("mjNDISABLE", "mjDSBL_AUTORESET")}
+        for name, bit in bits.items():
+            if name in rows:
+                spec.option.disableflags &= ~bit
+            else:
+                spec.option.disableflags |= bit
+
+
+LOADS_REFERENCE = "loads_reference"   # the world site the gear of a load applied as an actuator is in (LoadActuators)
+
+
+@dataclass(frozen=True)
+class LoadActuators:
+    """External forces at points in world axes, linear in the inputs with constant directions, ``f = Σᵢ uᵢ dᵢ``, as
+    MuJoCo's site actuators: one per input of a load, ``<general site="point" refsite="loads_reference"
+    gear="dᵢ 0 0 0">`` with ``ctrl = uᵢ`` (a force ``uᵢ dᵢ`` at the site, ``dᵢ`` in the axes of a site fixed to the
+    world). MuJoCo applies them in its own step, where a load evaluated in Python costs a call per step or stage
+    (:meth:`MujocoModel.apply_loads`, :meth:`MujocoModel.loads_at_each_stage`); :func:`~harness.scenes.simulate.
+    load_actuators` reads them from a system. ``entries``: ``(actuator name, input name, point, dᵢ)``."""
+
+    entries: tuple
+
+    def __call__(self, spec) -> None:
+        spec.option.disableflags &= ~int(mujoco.mjtDisableBit.mjDSBL_ACTUATION)  # off in an export without inputs
+        spec.worldbody.add_site(name=LOADS_REFERENCE)
+        for name, _, point, direction in self.entries:
+            spec.add_actuator(name=name, target=point, trntype=mujoco.mjtTrn.mjTRN_SITE, refsite=LOADS_REFERENCE,
+                              gear=[*map(float, direction), 0.0, 0.0, 0.0])
 
 
 @dataclass(frozen=True)

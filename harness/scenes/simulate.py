@@ -354,7 +354,7 @@ def input_setter(scene: Scene, model, timestep: float, names=None, steps: int | 
     None)`` where every one of them is a constant (or not driven: 0), set here once — the values every step would
     set —, so that MuJoCo steps in its own loop and a run's time is MuJoCo's, not a Python call per step (measured
     on cart_pendulum: 4.65 µs a step with ``mj_step(nstep)``, about 1.5 µs more with a callback)."""
-    names = list(model.actuators if names is None else names)
+    names = list(model.driven if names is None else names)
     if all(isinstance(scene.inputs.get(name), (Constant, type(None))) for name in names):
         if names:
             model.set_inputs(held_inputs(scene, names, 0, timestep))
@@ -391,6 +391,40 @@ def loads_held(model, loads, reads_state: bool) -> bool:
     (:meth:`~harness.engines.mujoco_engine.MujocoModel.holds`: a torque, or a force at its body's centre of mass, in
     world axes), which MuJoCo applies through each stage's Jacobian."""
     return bool(loads) and not reads_state and all(model.holds(kind, where, frame) for kind, where, frame in loads)
+
+
+def load_actuators(system: System, params: dict):
+    """The external loads of ``system`` as MuJoCo's site actuators (:class:`~harness.engines.mujoco_engine.
+    LoadActuators`; ``params`` the parameter values by name), where each load is a force in world axes linear in the
+    inputs with constant directions, ``f = Σᵢ uᵢ dᵢ``, ``dᵢ = ∂f/∂uᵢ`` of parameters alone: one actuator per input of a
+    load, named ``load:input``. None where a load is not such a force (a torque, a force in a link's axes, one that
+    reads the state or the time, or one not 0 at zero inputs)."""
+    import sympy as sp
+
+    from harness.engines.mujoco_engine import LoadActuators
+    from harness.export.numeric import point_name
+    from harness.modeling.system import WORLD, BodyTorque, PointForce, value_at
+
+    inputs = {u.name: sp.Symbol(u.name, real=True) for u in system.inputs}
+    constants = {p.name for p in system.parameters}
+    entries = []
+    for f in system.forces:
+        if isinstance(f, BodyTorque) or (isinstance(f, PointForce) and f.frame != WORLD):
+            return None
+        if not isinstance(f, PointForce):
+            continue
+        force = sp.Matrix(f.force)
+        directions = {name: force.diff(u) for name, u in inputs.items()}
+        rest = force - sum((d * inputs[name] for name, d in directions.items()), sp.zeros(3, 1))
+        if sp.expand(rest) != sp.zeros(3, 1):
+            return None   # not linear in the inputs: a term without one, or one that is a product of them
+        for name, d in directions.items():
+            if d == sp.zeros(3, 1):
+                continue
+            if any(x.name not in constants for x in d.free_symbols):
+                return None   # a direction that turns with the state or the time
+            entries.append((f"{f.name}:{name}", name, point_name(f.point), tuple(value_at(c, params) for c in d)))
+    return LoadActuators(tuple(entries))
 
 
 def held_loads(scene: Scene, model, loads, p, names, timestep: float, steps: int):

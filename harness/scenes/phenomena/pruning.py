@@ -43,7 +43,8 @@ Constraint rows: where the tree's couplings and closures are proved inactive
 (:mod:`harness.scenes.phenomena.closures`) is pruned to the open tree, a measurement of its own
 (:func:`measure_rows`): Pinocchio's ``pin.aba`` against its KKT forward dynamics, MuJoCo without its equality
 constraints; the check's proof is the closures plug-in's (``ROWS_CHECK``). Where the rows act (the toggle press),
-MuJoCo's own pruning run, which steps the exported open tree, is not the scene's motion: not measured.
+the exported open tree :class:`MujocoStepper` steps is not the scene's motion: MuJoCo's runs are then the closures
+plug-in's equality-constrained tree, the idle loads MuJoCo's site actuators (:func:`constrained_runs`).
 
 Each source: the same trajectory (``ENGINE``, :mod:`harness.scenes.base`), checked by ``harness check`` from one
 run of each (the proof), and the time ratio idle / pruned, measured by ``harness bench --parts pruning`` (the price):
@@ -188,7 +189,7 @@ def measure(system, scene, motion, event, catalogue=None, sources=SOURCES, repea
             continue
         if runs is None:
             continue
-        lean_run, full_run, method, bare_run = runs
+        lean_run, full_run, method, bare = runs
         same = source != SYMBOLIC and same_force_elements(pruned(lean_system, lean_scene.effects),
                                                           pruned(idle_system, idle_scene.effects))
         if same:  # the proof, not a price
@@ -197,8 +198,9 @@ def measure(system, scene, motion, event, catalogue=None, sources=SOURCES, repea
                                       "method": method}
             continue
         out["sources"][source] = timed(lean_run, full_run, repeats, method)
-        if repeats > 1 and bare_run is not None:
-            out["sources"][source]["bare"] = bare_tree(bare_run(), full_run, repeats)
+        if repeats > 1 and bare is not None:
+            bare_run, what = bare
+            out["sources"][source]["bare"] = bare_tree(bare_run(), full_run, repeats) | {"what": what}
         if repeats > 1 and not steps_itself(source) and len(set(out["sources"][source]["evaluations"])) == 1:
             out["sources"][source]["per_call"] = per_call(lean_system, lean_scene, idle_system, idle_scene, repeats,
                                                           source)
@@ -287,8 +289,9 @@ def per_call(system, scene, idle_system, idle_scene, repeats: int, source: str =
 
 def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalogue, given):
     """``(pruned run, idle run, method, bare)`` of ``source``, each run a call returning a trajectory, ``bare`` a call
-    returning the run of the bare tree (MuJoCo's own stepping, :func:`bare_tree`; compiled only where timed) or
-    None: ``system``, ``scene`` the pruned ones, ``given`` the scene's own ``(system, scene, found)``."""
+    returning the run of the bare tree (MuJoCo's own stepping, :func:`bare_tree`; compiled only where timed) and what
+    that tree is (:data:`BARE`, :data:`BARE_ROWS`), or None: ``system``, ``scene`` the pruned ones, ``given`` the
+    scene's own ``(system, scene, found)``."""
     if steps_itself(source):  # an engine that steps the scene itself: its flags
         held = next((e for e in scene.events if getattr(e, "held", False)), None)
         if held is not None and motion.mujoco_run is not None:  # its plug-in's own run against nothing to step
@@ -302,9 +305,7 @@ def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalog
             raise NotApplicable("its motion switches at events: MuJoCo's own run of it is the event's plug-in's")
         own_system, own_scene, found = given
         if found.rows is not None and not found.rows[0]:  # MujocoStepper steps the exported tree: no equality rows
-            raise NotApplicable("its closed chain's constraint rows act (" + found.rows[1] + "): MuJoCo's own run of "
-                                "the open tree is not the scene's motion, and its equality-constrained run is the "
-                                "closures plug-in's")
+            return constrained_runs(system, scene, idle_system, idle_scene, found)
         dt = scene.horizon / sim.grid_steps(scene, MUJOCO_STEPS)
         lean = MujocoStepper(own_system, own_scene, "pruned", dt, found)
         full = MujocoStepper(own_system, own_scene, "idle", dt, found)
@@ -317,7 +318,7 @@ def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalog
         if held:
             how.append(f"{' and '.join(held)} loads held as xfrc_applied between input changes")
         return (lean.run, full.run, f"mj_step RK4, dt={dt:g}, pruned: {'; '.join(how) or 'nothing'}",
-                lambda: MujocoStepper(own_system, own_scene, "bare", dt, found).run)
+                (lambda: MujocoStepper(own_system, own_scene, "bare", dt, found).run, BARE))
     if source != SYMBOLIC and ENGINES[source].applies(system):
         raise NotApplicable(ENGINES[source].applies(system))
 
@@ -337,6 +338,36 @@ def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalog
         method += ("; pruned: the friction held, proved to stick throughout (no breakaway guard to bound, "
                    "ẋ ≡ 0: the state stays the initial one)")
     return one(system, scene), one(idle_system, idle_scene), f"{method}, {integrator} 1e-10", None
+
+
+def constrained_runs(system, scene, idle_system, idle_scene, found):
+    """MuJoCo's own runs of a closed chain whose constraint rows act (``found.rows``, the toggle press): the closures
+    plug-in's equality-constrained tree (:func:`~harness.scenes.phenomena.closures.mujoco_constrained`, implicitfast at
+    its ``dt``), where :class:`MujocoStepper` steps the open exported tree. The idle system's loads are MuJoCo's site
+    actuators (:func:`~harness.scenes.simulate.load_actuators`, idle: zero gears), which MuJoCo computes in its own
+    step, as it holds other scenes' loads (``xfrc_applied``) where a load evaluated in Python per step would price our
+    call, not MuJoCo; the pruned system has none, its left-out effects' disable flags set and its visual geoms
+    dropped. Bound (:func:`attainable`): the constrained tree bare, its rows kept
+    (:class:`~harness.engines.mujoco_engine.BareTree` ``rows``), at the same integrator and ``dt``, which steps faster
+    than any model of it. ``(pruned run, idle run, method, bare)`` as :func:`_runs`."""
+    from harness.engines.mujoco_engine import BareTree, Options, VisualGeomsDropped, effect_flags
+    from harness.scenes.phenomena.closures import mujoco_constrained
+
+    left_out = (effects_of(idle_system) | set(idle_scene.effects)) - found.simulated
+    flags = effect_flags(left_out)
+    dt = scene.horizon / sim.grid_steps(scene, CLOSURE_STEPS)
+    lean_extra = ([Options(disable=flags)] if flags else []) + [VisualGeomsDropped()]
+    # fail here, not in a timed run, where the idle loads are not forces MuJoCo can apply as site actuators
+    if sim.load_actuators(idle_system, {**idle_system.default_parameters(), **idle_scene.params}) is None:
+        raise NotApplicable("its closed chain's constraint rows act and its external loads are not forces of the "
+                            "inputs alone in world axes: MuJoCo's constrained run would evaluate them in Python")
+    how = ([f"disable flags {', '.join(flags)}"] if flags else []) + ["visual geoms dropped",
+                                                                     "idle loads' site actuators not in the MJCF"]
+    return (lambda: mujoco_constrained(system, scene, dt, loads_as_actuators=True, extra=lean_extra),
+            lambda: mujoco_constrained(idle_system, idle_scene, dt, loads_as_actuators=True),
+            f"equality-constrained tree (its rows act: {found.rows[1]}), implicitfast dt={dt:g}, loads as site "
+            f"actuators, pruned: {'; '.join(how)}",
+            (lambda: lambda: mujoco_constrained(system, scene, dt, extra=[BareTree(rows=True)]), BARE_ROWS))
 
 
 CONFIDENCE = 0.995  # of the interval of one time ratio (ratio_interval): a goal's verdict over up to 10 scenes
@@ -509,10 +540,15 @@ def attainable(m: dict, target: float) -> str:
         return (f"out of reach: one evaluation of the right-hand side is at most {high:.2f} × cheaper pruned "
                 f"({c['idle_seconds'] * 1e6:.2f} / {c['pruned_seconds'] * 1e6:.2f} µs), and with the same "
                 f"{m['evaluations'][0]} evaluations the run's ratio cannot exceed it")
-    return (f"out of reach: the run of the bare tree (bodies, joints and inertias alone, every disable flag set) is "
-            f"at most {high:.2f} × faster than the idle run ({c['idle_seconds'] * 1e3:.2f} / "
+    return (f"out of reach: the run of the bare tree ({c.get('what', BARE)}) is at most {high:.2f} × faster than the "
+            f"idle run ({c['idle_seconds'] * 1e3:.2f} / "
             f"{c['pruned_seconds'] * 1e3:.2f} ms over the same {m['evaluations'][0]} steps), and no pruned "
             "model steps faster than the bare tree")
+
+
+BARE = "bodies, joints and inertias alone, every disable flag set"   # what a bare tree is (BareTree)
+BARE_ROWS = ("bodies, joints, inertias and constraint rows alone (the equalities and the sites they join), every other "
+             "disable flag set")                                  # a closed chain's whose rows act (BareTree rows)
 
 
 def bound(m: dict) -> tuple[str, dict] | None:
