@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from harness.export.mjcf import fused_links
+from harness.export.mjcf import exported_inertia, fused_links
 from harness.export.numeric import MUJOCO_POINT_MASS_INERTIA, NumericTree
 from harness.modeling.system import WORLD
 
@@ -163,11 +163,11 @@ def mjcf_roundtrip(tree: NumericTree, model) -> list[RoundTripError]:
             out.append(_missing(E, link.name))
             continue
         intended = link.inertia
-        if not np.any(intended):
-            # A zero inertia tensor (point mass) is exported as the isotropic MUJOCO_POINT_MASS_INERTIA,
-            # which MuJoCo requires (see numeric.py); exactly that value counts as a match, anything else
-            # (zero included) is a finding.
-            intended = np.eye(3) * MUJOCO_POINT_MASS_INERTIA
+        if exported_inertia(intended) is not None:
+            # A tensor MuJoCo refuses as it is (a point mass, a slender rod) is exported plus the isotropic
+            # MUJOCO_POINT_MASS_INERTIA (see numeric.py, mjcf.exported_inertia); exactly that tensor counts as a
+            # match, anything else (zero included) is a finding.
+            intended = intended + np.eye(3) * MUJOCO_POINT_MASS_INERTIA
         out += [_numbers(E, f"{link.name} mass", [link.mass], [loaded["mass"]]),
                 _numbers(E, f"{link.name} inertia", intended, loaded["inertia"])]
         if link.mass > 0:  # a massless link has no centre of mass

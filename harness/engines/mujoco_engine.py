@@ -27,9 +27,9 @@ from harness.engines import warnings_log
 from harness.engines.base import (FREE_JOINT, Base, TreeEngine, TreeQuantities, captured_output, one_line,
                                   polarization, polarization_step)
 from harness.errors import EngineError, ModelError
-from harness.export.mjcf import exported_mjcf, mjcf_spec, rpy_quat
+from harness.export.mjcf import exported_inertia, exported_mjcf, mjcf_spec, rpy_quat
 from harness.modeling.system import WORLD
-from harness.export.numeric import NumericTree
+from harness.export.numeric import MUJOCO_POINT_MASS_INERTIA, NumericTree
 
 VERSION = mujoco.__version__
 
@@ -156,6 +156,9 @@ class MujocoModel(TreeEngine):
         self._attach(model, [j.name for j in tree.joints])
         self.actuators = {name: mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_ACTUATOR, name)
                           for name, _ in tree.actuators}
+        # bodies our export gave the stand-in inertia ε E (point masses, slender rods: mjcf.exported_inertia)
+        self.stand_ins = [bid for link in tree.links if exported_inertia(link.inertia) is not None
+                          and (bid := mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_BODY, link.name)) > 0]
         # (input, actuator id) of the external loads MuJoCo applies as actuators (LoadActuators)
         self.load_actuators = [(input_name, mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_ACTUATOR, name))
                                for t in transforms if isinstance(t, LoadActuators)
@@ -174,7 +177,7 @@ class MujocoModel(TreeEngine):
         (:class:`~harness.engines.base.Base`; see :meth:`terms`)."""
         self = cls.__new__(cls)
         self._attach(model, list(joints))
-        self.actuators, self.load_actuators = {}, []
+        self.actuators, self.load_actuators, self.stand_ins = {}, [], []
         self._base = Base.rest()
         if free is not None:
             fid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, free)
@@ -203,13 +206,31 @@ class MujocoModel(TreeEngine):
         self.dof_index = np.array(self.dof_index, dtype=np.intp)
 
     def _bias(self, theta, velocity):
-        """``qfrc_bias`` (Coriolis, centrifugal and gravity) at one state, from ``mj_forward``."""
+        """``qfrc_bias`` (Coriolis, centrifugal and gravity) at one state, from ``mj_forward``, less the stand-in
+        inertia's (:meth:`stand_in`)."""
         d = self.data
         d.qpos[self.qpos_index] = theta
         d.qvel[:] = 0.0
         d.qvel[self.dof_index] = velocity
         mujoco.mj_forward(self.model, d)
-        return self._pick(d.qfrc_bias)
+        return self._pick(d.qfrc_bias - self.stand_in(d)[1]) if self.stand_ins else self._pick(d.qfrc_bias)
+
+    def stand_in(self, d) -> tuple[np.ndarray, np.ndarray]:
+        """``(ΔM, Δb)``: the terms the stand-in inertia ``ε E`` of our export (a point mass's, a slender rod's:
+        :func:`~harness.export.mjcf.exported_inertia`) adds to ``mj_fullM`` and ``qfrc_bias`` at the state of ``d``
+        (after its forward): ``ΔM = ε Σ J_ωᵀ J_ω`` and ``Δb = ε Σ J_ωᵀ J̇_ω q̇`` over those bodies, their angular
+        Jacobians ``mj_jacBody`` and its rate ``mj_jacDot`` in world axes (an isotropic inertia turns with no
+        gyroscopic term). MuJoCo needs it (mjMINVAL); the model we compare is without it: on a lab-sized Furuta
+        pendulum (arm 85 mm, pendulum 24 g) it put MuJoCo's M off ours by 20 times the tolerance."""
+        m = self.model
+        delta_M, delta_b = np.zeros((m.nv, m.nv)), np.zeros(m.nv)
+        jacr, jacr_dot = np.zeros((3, m.nv)), np.zeros((3, m.nv))
+        for body in self.stand_ins:
+            mujoco.mj_jacBody(m, d, None, jacr, body)
+            mujoco.mj_jacDot(m, d, None, jacr_dot, d.xipos[body], body)
+            delta_M += MUJOCO_POINT_MASS_INERTIA * jacr.T @ jacr
+            delta_b += MUJOCO_POINT_MASS_INERTIA * jacr.T @ (jacr_dot @ d.qvel)
+        return delta_M, delta_b
 
     def christoffel(self, theta, theta_dot):
         return polarization(lambda v: self._bias(theta, v), theta_dot)
@@ -252,21 +273,36 @@ class MujocoModel(TreeEngine):
         mujoco.mj_forward(m, data)
 
     def forward_dynamics(self, theta, theta_dot, u: dict, loads=()) -> np.ndarray:
-        """``θ̈`` alone: ``mj_forward → qacc`` (checked as :meth:`quantities` does)."""
+        """``θ̈`` alone: ``mj_forward → qacc`` (checked as :meth:`quantities` does; the stand-in inertia's terms
+        taken out, :meth:`_own`)."""
         self._forward(self.data, theta, theta_dot, u, loads)
         check_state(self.model, self.data, self.tree.system)
-        return self._pick(self.data.qacc)
+        return self._pick(self._own(self.data)[2] if self.stand_ins else self.data.qacc)
 
     def mass_and_forces(self, theta, theta_dot, u: dict, loads=()) -> tuple[np.ndarray, np.ndarray]:
         """``(M, h)`` from one ``mj_forward``: ``mj_fullM`` and ``h = qfrc_actuator + qfrc_applied + qfrc_spring +
-        qfrc_damper − qfrc_bias`` (:meth:`quantities` takes a second forward to split gravity off ``qfrc_bias``)."""
+        qfrc_damper − qfrc_bias`` (:meth:`quantities` takes a second forward to split gravity off ``qfrc_bias``; the
+        stand-in inertia's terms taken out, :meth:`_own`)."""
         m, d = self.model, self.data
         self._forward(d, theta, theta_dot, u, loads)
         check_state(m, d, self.tree.system)
+        M, bias, _ = self._own(d)
+        h = d.qfrc_actuator + d.qfrc_applied + d.qfrc_spring + d.qfrc_damper - bias
+        return M[np.ix_(self.dof_index, self.dof_index)], self._pick(h)
+
+    def _own(self, d) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(M, qfrc_bias, qacc)`` of ``d``'s forward (``mj_fullM``), the stand-in inertia's terms taken out
+        (:meth:`stand_in`): from ``(M + ΔM) qacc = τ − b − Δb``, ``M q̈ = τ − b`` with
+        ``q̈ = qacc + M⁻¹ (ΔM qacc + Δb)``."""
+        m = self.model
         M = np.zeros((m.nv, m.nv))
         mujoco.mj_fullM(m, d, M)
-        h = d.qfrc_actuator + d.qfrc_applied + d.qfrc_spring + d.qfrc_damper - d.qfrc_bias
-        return M[np.ix_(self.dof_index, self.dof_index)], self._pick(h)
+        bias, qacc = d.qfrc_bias.copy(), d.qacc.copy()
+        if self.stand_ins:
+            delta_M, delta_b = self.stand_in(d)
+            M, bias = M - delta_M, bias - delta_b
+            qacc = qacc + np.linalg.solve(M, delta_M @ qacc + delta_b)
+        return M, bias, qacc
 
     def quantities(self, theta, theta_dot, u: dict, loads=(), christoffel: bool = True) -> TreeQuantities:
         m, d = self.model, self.data
@@ -277,21 +313,27 @@ class MujocoModel(TreeEngine):
         d.qacc_warmstart[:] = warmstart
         clear_warnings(d)  # what is checked below is the state's forward, as with a data of its own
         self._forward(d, theta, theta_dot, u, loads)  # last: the data holds the state's own forward afterwards
-        M = np.zeros((m.nv, m.nv))
-        mujoco.mj_fullM(m, d, M)
+        M, bias, qacc = self._own(d)
+        calls = {"C": "polarization of qfrc_bias(qvel ± s e_j) / 4s", "M": "mj_fullM",
+                 "Cqd": "qfrc_bias(qvel) - qfrc_bias(qvel=0)", "g": "qfrc_bias(qvel=0) - qfrc_spring",
+                 "f_damper": "qfrc_damper", "qdd": "mj_forward -> qacc"}
+        if self.stand_ins:
+            stand_in = " (less the stand-in inertia's terms, MujocoModel.stand_in)"
+            calls = {**{k: v + stand_in for k, v in calls.items() if k in ("C", "M", "Cqd")},
+                     "qdd": "mj_forward -> qacc, + M⁻¹ (ΔM qacc + Δb) for the stand-in inertia (MujocoModel.stand_in)",
+                     "g": calls["g"], "f_damper": calls["f_damper"]}
         tau_input = np.zeros(m.nv)
         tau_input[:] = d.qfrc_actuator + d.qfrc_applied
         check_state(m, d, self.tree.system)
         if C is not None and not np.all(np.isfinite(C)):
             raise EngineError(f"{self.tree.system}: MuJoCo's qfrc_bias is not finite at this velocity")
         return TreeQuantities(
-            M=M[np.ix_(self.dof_index, self.dof_index)], Cqd=self._pick(d.qfrc_bias) - gravity,
+            M=M[np.ix_(self.dof_index, self.dof_index)], Cqd=self._pick(bias) - gravity,
             g_gravity=gravity, g_spring=-self._pick(d.qfrc_spring),
-            f_damper=self._pick(d.qfrc_damper), tau_input=self._pick(tau_input), qdd=self._pick(d.qacc), C=C,
+            f_damper=self._pick(d.qfrc_damper), tau_input=self._pick(tau_input), qdd=self._pick(qacc), C=C,
             extra={"Cqd_subtracted": float(np.abs(gravity).max(initial=0.0)),
                    "C_subtracted": np.abs(gravity) / polarization_step(theta_dot)},
-            calls={"C": "polarization of qfrc_bias(qvel ± s e_j) / 4s", "M": "mj_fullM", "Cqd": "qfrc_bias(qvel) - qfrc_bias(qvel=0)", "g": "qfrc_bias(qvel=0) - qfrc_spring",
-                   "f_damper": "qfrc_damper", "qdd": "mj_forward -> qacc"})
+            calls=calls)
 
     # ----- MuJoCo's own time stepping
     def configure(self, options: "Options") -> None:

@@ -110,9 +110,11 @@ def mjcf_spec(tree: NumericTree) -> mujoco.MjSpec:
             body.explicitinertial = True
             body.mass = link.mass
             body.ipos = link.com
-            inertia = link.inertia
-            if not np.any(inertia):  # a point mass: principal moments (numeric.MUJOCO_POINT_MASS_INERTIA)
-                body.inertia = [MUJOCO_POINT_MASS_INERTIA] * 3
+            inertia, principal = link.inertia, exported_inertia(link.inertia)
+            if principal is not None:  # a point mass, a slender rod: principal moments (exported_inertia)
+                body.inertia = list(principal[0])
+                if not np.array_equal(principal[1], [1.0, 0.0, 0.0, 0.0]):
+                    body.iquat = list(principal[1])
             else:
                 body.fullinertia = [inertia[0, 0], inertia[1, 1], inertia[2, 2], inertia[0, 1], inertia[0, 2],
                                     inertia[1, 2]]
@@ -152,6 +154,29 @@ def model_scale(tree: NumericTree) -> float:
 def _length(v) -> float:
     """Euclidean length by ``math.hypot`` (NumPy's ``norm`` is a BLAS dot product, whose kernel is chosen per CPU)."""
     return math.hypot(*(float(x) for x in v))
+
+
+FULL_INERTIA_LEAST = 1e-14
+"""The least principal moment of a tensor written as ``fullinertia``: MuJoCo's compiler refuses a full tensor whose
+eigenvalue test finds a moment below about 5e-15, as it refuses principal moments below mjMINVAL = 1e-15. A tensor
+with a smaller one is written by its principal moments (:func:`exported_inertia`)."""
+
+
+def exported_inertia(inertia: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    """``(principal moments, quaternion of their axes)`` a link's inertia tensor is written to MJCF with where MuJoCo
+    refuses it as a full tensor, a principal moment below :data:`FULL_INERTIA_LEAST`: a point mass (the zero tensor)
+    or a slender rod (0 about its long axis, which the lecture and papers neglect; it made MuJoCo's compiler fail with
+    "inertia must have positive eigenvalues", exit 1 of a check). Such a tensor is written plus ``ε E``, ε =
+    :data:`~harness.export.numeric.MUJOCO_POINT_MASS_INERTIA`: isotropic, so that its terms are ``ε J_ωᵀ J_ω`` in M
+    and ``ε J_ωᵀ J̇_ω q̇`` in the bias whatever the body's orientation, which the MuJoCo adapter takes out of the
+    quantities it reports (:meth:`~harness.engines.mujoco_engine.MujocoModel.stand_in`). None where the full
+    tensor is written as it is."""
+    if not np.any(inertia):
+        return np.full(3, MUJOCO_POINT_MASS_INERTIA), np.array([1.0, 0.0, 0.0, 0.0])
+    moments, quat = principal_axes(inertia)
+    if moments.min() >= FULL_INERTIA_LEAST:
+        return None
+    return np.maximum(moments, 0.0) + MUJOCO_POINT_MASS_INERTIA, quat
 
 
 def principal_axes(inertia: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

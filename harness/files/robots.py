@@ -569,6 +569,7 @@ def load_export(robot: Robot, reference: Reference, facts: dict, findings: list[
     (:data:`~harness.export.numeric.MUJOCO_POINT_MASS_INERTIA`) when the tree has one, else 0. The exporter writes
     the file's (lumped) numbers: no boundmass/boundinertia, no balanceinertia (:func:`harness.export.mjcf.mjcf_spec`);
     what is not physical ``instantiate`` refuses before."""
+    from harness.export.mjcf import exported_inertia
     from harness.export.numeric import MUJOCO_POINT_MASS_INERTIA
 
     system, tree = export_system(robot, quarter_turns)
@@ -583,7 +584,7 @@ def load_export(robot: Robot, reference: Reference, facts: dict, findings: list[
     if view.dofs != reference.view.dofs:
         findings.append(_finding("dof count", EXPORT, f"our export has {view.dofs} dofs, Pinocchio "
                                  f"{reference.view.dofs}"))
-    point = any(link.mass > 0 and not np.any(link.inertia) for link in tree.links)
+    point = any(link.mass > 0 and exported_inertia(link.inertia) is not None for link in tree.links)
     return view, MUJOCO_POINT_MASS_INERTIA if point else 0.0
 
 
