@@ -185,19 +185,26 @@ def test_a_matrix_wider_than_a_line_is_written_entry_by_entry_each_broken_after_
     5 × 5 matrix whose M₁₁ has 23 terms. Such a matrix is written entry by entry (M by its upper triangle, being
     symmetric), each entry broken after its terms, a later line beginning with its term's sign; a narrow one stays a
     matrix."""
-    from harness.report.mathml import LINE_WIDTH, broken, lines, width
+    from harness.report.mathml import LINE_WIDTH, broken, lines, pieces, width
 
     x, y, m = sp.symbols("x y m")
     assert width(x / (x + y)) == width(x + y) + 1 < len(str(x / (x + y)))   # stacked: its wider part
     terms = [m * sp.sin(x) ** k for k in range(1, 30)]
-    grouped = lines(terms)
-    assert [t for line in grouped for t in line] == terms and len(grouped) > 1
-    assert all(len(line) == 1 or sum(map(width, line)) <= LINE_WIDTH for line in grouped)
+    grouped, each = lines(terms), pieces(terms)
+    assert [t for line in grouped for t in line] == [text for _, text in each] and len(grouped) > 1
+    widths = dict((text, w) for w, text in each)
+    assert all(len(line) == 1 or sum(widths[t] for t in line) <= LINE_WIDTH for line in grouped)
     text = broken([("<mi>M</mi>", "<mo>=</mo>", [x, *(-t for t in terms)])])
     _parses(text)
     assert text.count("<mtr>") == len(lines([x, *terms]))
     assert all(row.split('text-align:left">', 1)[1].startswith("<mrow><mo>-</mo>")
                for row in text.split("<mtr>")[2:])                  # each later line after its own sign
+    # a product wider than a line with a sum among its factors (a Christoffel entry grouped by a rate) is opened:
+    # "y (" ends its first line, the sum goes on over lines, ")" ends the last
+    opened = broken([("<mi>C</mi>", "<mo>=</mo>", [y * sp.Add(*terms)])])
+    _parses(opened)
+    rows = opened.split("<mtr>")[1:]
+    assert len(rows) > 1 and "<mi>y</mi><mo>(</mo>" in rows[0] and rows[-1].count("<mo>)</mo></mrow></mtd>") == 1
 
     wide = sp.Matrix([[sum(terms), m * x], [m * x, m]])
     entry = equations._equation("<mi>M</mi>", wide, letter="M")

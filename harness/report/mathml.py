@@ -110,18 +110,17 @@ def body(expr, *, names: dict[str, Override] | None = None) -> str:
     return _numeric_entities(LecturePrinter(names, mat_delim="[").doprint(readable(expr)))
 
 
-def signed_terms(terms, continued: bool = False) -> str:
+def signed_terms(terms) -> str:
     """The sum of ``terms`` as presentation MathML in the given order, each term after its own sign. SymPy's printer
     sorts a sum's terms, and prints a sum nested in a sum that it can pull a minus sign out of as ``−`` and the
     negated sum without parentheses: ``a + (−c x + c y)`` read ``a − c x − c y`` (the equations of motion of 5
-    systems on their report pages had a wrong sign so, e.g. torsion_spring_body's ``− c_F φ`` for ``+ c_F φ``).
-    ``continued``: the terms continue a sum (a line of :func:`broken`), the first one after its ``+`` too."""
+    systems on their report pages had a wrong sign so, e.g. torsion_spring_body's ``− c_F φ`` for ``+ c_F φ``)."""
     out = []
     for k, term in enumerate(terms):
         if term.could_extract_minus_sign():
             out.append("<mo>-</mo>")
             term = -term
-        elif k or continued:
+        elif k:
             out.append("<mo>+</mo>")
         out.append(body(term))
     return f"<mrow>{''.join(out)}</mrow>"
@@ -159,17 +158,52 @@ def width(expr) -> float:
     return len(sp.sstr(expr))
 
 
+def pieces(terms) -> list[tuple[float, str]]:
+    """The sum of ``terms`` in their order as pieces to set on lines, ``(width, MathML)`` each, every term after its
+    own sign (:func:`signed_terms`; the first without a ``+``). A term wider than a line that is a product with a
+    sum among its factors (``φ̇₃ (…)``, a Christoffel entry grouped by the velocity) is opened: its other factors and
+    ``(`` as one piece, the sum's own pieces, ``)`` as the last, so that the sum is broken over lines too
+    (:func:`_opened`)."""
+    out = []
+    for k, term in enumerate(terms):
+        minus = term.could_extract_minus_sign()
+        term = -term if minus else term
+        sign = "<mo>-</mo>" if minus else ("<mo>+</mo>" if k else "")
+        inner = _opened(term)
+        if inner is None:
+            out.append((width(term) + bool(sign), sign + body(term)))
+            continue
+        factor, total = inner
+        opening = sign + (body(factor) if factor != 1 else "") + "<mo>(</mo>"
+        out.append((width(factor) * (factor != 1) + 2, opening))
+        out += pieces(list(total.as_ordered_terms()))
+        out.append((1, "<mo>)</mo>"))
+    return out
+
+
+def _opened(term):
+    """``(other factors, sum)`` of a term wider than a line whose widest factor is a sum of terms that each fit on a
+    line, else None: a sum of wider terms (the trebuchet's, nested roots and arccosines) opened level after level
+    ran down the page a bracket per line, harder to read than the one line it scrolls in."""
+    if width(term) <= LINE_WIDTH or not isinstance(term, sp.Mul):
+        return None
+    total = max(term.args, key=width)
+    if not isinstance(total, sp.Add) or any(width(t) > LINE_WIDTH for t in total.args):
+        return None
+    return sp.Mul(*(a for a in term.args if a is not total)), total
+
+
 def lines(terms, line_width: int = LINE_WIDTH) -> list[list]:
-    """``terms`` in their order, grouped into lines of at most ``line_width`` (:func:`width`) each."""
+    """The :func:`pieces` of ``terms`` grouped into lines of at most ``line_width`` (:func:`width`) each (a piece
+    wider than a line alone on its own)."""
     out: list[list] = []
     used = 0
-    for term in terms:
-        w = width(term)
+    for w, piece in pieces(terms):
         if out and used + w <= line_width:
-            out[-1].append(term)
+            out[-1].append(piece)
             used += w
         else:
-            out.append([term])
+            out.append([piece])
             used = w
     return out
 
@@ -178,13 +212,13 @@ def broken(equations) -> str:
     """Equations too wide for a line as one ``<math>`` element, each broken after its terms: ``equations`` are
     ``(left, relation, terms)`` (MathML of the left-hand side, e.g. :func:`bold`, and of the relation, the sum's terms
     in their order), a table row per line of terms (:func:`lines`), the left-hand side and the relation on the first,
-    each later line beginning with its first term's sign (:func:`signed_terms`)."""
+    each later line beginning with the sign of its first term."""
     rows = []
     for left, relation, terms in equations:
-        for k, line in enumerate(lines(terms) or [[sp.S.Zero]]):
+        for k, line in enumerate(lines(terms) or [[body(sp.S.Zero)]]):
             rows.append(f'<mtr><mtd style="text-align:right">{left if k == 0 else ""}</mtd>'
                         f'<mtd>{relation if k == 0 else ""}</mtd>'
-                        f'<mtd style="text-align:left">{signed_terms(line, continued=k > 0)}</mtd></mtr>')
+                        f'<mtd style="text-align:left"><mrow>{"".join(line)}</mrow></mtd></mtr>')
     return f'<math xmlns="http://www.w3.org/1998/Math/MathML" display="block"><mtable>{"".join(rows)}</mtable></math>'
 
 
