@@ -58,9 +58,11 @@ def test_edge_cases_of_the_importer():
 def test_our_files_with_an_explained_compiler_warning_are_compared():
     """The tower crane's MJCF and URDF make MuJoCo warn at qpos0 (M singular there, in Pinocchio too: explained,
     as the conformance run accepts it): compared, not dropped as 'not compared'; the Euler top's import differs
-    in M by the bound on its two massless gimbal links, which our MJCF fuses (reported, not hidden)."""
+    in M by the bound on its two massless gimbal links, which our MJCF fuses: within what that bound moves M by
+    (``importer.bound_allowances``; a finding before M had that allowance)."""
     crane = importer.compare_system(models.get("tower_crane"), states=5)
     assert crane["error"] is None and crane["passed"], crane["error"] or crane["findings"]
     assert any("explained: MuJoCo's compiler evaluates M at qpos0" in a for a in crane["adjustments"])
-    top = importer.compare_system(models.get("euler_top"))
-    assert top["error"] is None and [f.split(":")[0] for f in top["findings"]] == ["M"]
+    top = importer.compare_system(models.get("euler_top"))   # its M within what the bound moves it by
+    M = next(c for c in top["checks"] if c["quantity"] == "M")
+    assert top["error"] is None and top["passed"] and M["allowance"] > 0 and M["ratio"] <= 1

@@ -98,13 +98,13 @@ def test_a_broken_mimic_refused_by_drake_is_explained(tmp_path):
 
 
 @pytest.mark.skipif(not robots.available(), reason="example-robot-data is not installed")
-def test_finger_edu_near_bound_is_mujocos_bound_on_a_zero_moment():
-    """finger_edu agrees with MuJoCo at 0.41 of the bound (above the 0.1 margin): finger_lower_link states
-    izz = 0, MuJoCo raises it to boundinertia 1e-14; with that in Pinocchio too the ratio drops below 1e-3."""
+def test_finger_edu_agrees_within_what_the_bound_moves():
+    """finger_edu's finger_lower_link states izz = 0, which MuJoCo raises to boundinertia 1e-14. Before the
+    comparison allowed for what the bound's extra masses and inertias move M and the bias by
+    (``importer.bound_allowances``), that put its agreement at 0.41 of the bound, above the 0.1 margin, and it took
+    that cause, proven, to call it explained; now it agrees below the margin, with no cause to find. The cause is
+    still what MuJoCo's compiler does to that link (``mujoco_inertias``)."""
     name = "finger_edu"
     record = robots.sweep_robot((name, str(robots.available()[name]), 10, 0))
     p = {p["pair"]: p for p in record["pairs"]}["pinocchio-mujoco"]
-    assert p["verdict"] == robots.AGREE and p["worst"]["ratio"] > robots.MARGIN
-    assert p["cause"]["proven"] and p["cause"]["after"] < 1e-3
-    assert [x["link"] for x in p["cause"]["links"]] == ["finger_lower_link"]
-    assert "boundinertia" in p["cause"]["links"][0]["did"]
+    assert p["verdict"] == robots.AGREE and p["worst"]["ratio"] <= robots.MARGIN and not p.get("cause")

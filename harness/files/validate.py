@@ -77,9 +77,12 @@ class Validation:
             worst = {}
             for c in self.comparison["checks"]:
                 worst[c["quantity"]] = max(worst.get(c["quantity"], 0.0), c["max_error"])
+            checks = self.comparison["checks"]
+            bounded = ", plus what the compiler's bound may move it by" if any(c["allowance"] for c in checks) else ""
             out.append(f"  MuJoCo's import vs Pinocchio ({self.comparison['states']} random states): "
                        + ", ".join(f"{q} {e:.1e}" for q, e in worst.items())
-                       + f" (tolerance {importer.TOLERANCE:.0e})")
+                       + f" (tolerance {importer.TOLERANCE:.0e} of each one's scale{bounded}; the largest at "
+                       + f"{max((c['ratio'] for c in checks), default=0.0):.2g} of what is allowed)")
         out += [f"  FINDING {f}" for f in self.findings]
         out.append("valid" if self.passed else f"{len(self.findings)} finding(s)")
         return out
