@@ -110,6 +110,7 @@ class Scene:
         object.__setattr__(self, "effects", frozenset(self.effects))
         for name in ("inputs", "params"):
             object.__setattr__(self, name, {name_of(k): v for k, v in getattr(self, name).items()})
+        object.__setattr__(self, "inputs", {k: self._signal(k, v) for k, v in self.inputs.items()})
         unknown = set(self.effects) - set(EFFECTS)
         if unknown:
             raise InputError(f"scene {self.name}: unknown effect(s) {sorted(unknown)}; effects are {EFFECTS}")
@@ -122,6 +123,18 @@ class Scene:
         if not 0 < horizon <= SCENE_HORIZON:
             raise InputError(f"scene {self.name}: horizon={self.horizon!r} s must be positive and at most "
                              f"{SCENE_HORIZON:g} s (harness.limits.SCENE_HORIZON)")
+
+    def _signal(self, name: str, value):
+        """An input's signal u(t): a number is a :class:`Constant` (``inputs={"f": 0.2}`` had failed deep in a
+        simulation with "'float' object is not callable"); anything else must be a signal of this module."""
+        if isinstance(value, (int, float, np.number)) and not isinstance(value, bool):
+            if not math.isfinite(float(value)):
+                raise InputError(f"scene {self.name}: input {name}={value!r} must be finite")
+            return Constant(float(value))
+        if not callable(value):
+            raise InputError(f"scene {self.name}: input {name}={value!r} is not a signal: give a number (a constant) "
+                             "or Constant, Step, Sine, Bump (harness.modeling)")
+        return value
 
     def u(self, t: float, system: System) -> np.ndarray:
         return np.array([self.inputs[i.name](t) if i.name in self.inputs else 0.0 for i in system.inputs])
