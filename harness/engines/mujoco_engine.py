@@ -317,11 +317,10 @@ class MujocoModel(TreeEngine):
         calls = {"C": "polarization of qfrc_bias(qvel ± s e_j) / 4s", "M": "mj_fullM",
                  "Cqd": "qfrc_bias(qvel) - qfrc_bias(qvel=0)", "g": "qfrc_bias(qvel=0) - qfrc_spring",
                  "f_damper": "qfrc_damper", "qdd": "mj_forward -> qacc"}
-        if self.stand_ins:
-            stand_in = " (less the stand-in inertia's terms, MujocoModel.stand_in)"
-            calls = {**{k: v + stand_in for k, v in calls.items() if k in ("C", "M", "Cqd")},
-                     "qdd": "mj_forward -> qacc, + M⁻¹ (ΔM qacc + Δb) for the stand-in inertia (MujocoModel.stand_in)",
-                     "g": calls["g"], "f_damper": calls["f_damper"]}
+        if self.stand_ins:  # what each call's number is less (_own, stand_in)
+            for k in ("C", "M", "Cqd"):
+                calls[k] += " (less the stand-in inertia's terms, MujocoModel.stand_in)"
+            calls["qdd"] += ", + M⁻¹ (ΔM qacc + Δb) for the stand-in inertia (MujocoModel.stand_in)"
         tau_input = np.zeros(m.nv)
         tau_input[:] = d.qfrc_actuator + d.qfrc_applied
         check_state(m, d, self.tree.system)
