@@ -1,6 +1,7 @@
 """Hypothesis strategies that *build* valid physical objects instead of filtering invalid ones away.
 
-* Positive parameters are drawn log-uniformly in ``[default/2, 2·default]``; real ones around the default.
+* Positive parameters are drawn log-uniformly in ``[default/2, 2·default]``; real ones around the default; one with
+  a ``range`` uniformly in it.
 * Diagonal inertia tensors whose entries are parameters are drawn jointly from the second moments of
   the mass distribution ``a, b, c > 0`` (``∫x² dm`` …): ``I_xx = b + c``, ``I_yy = a + c``, ``I_zz = a + b``
   is positive definite and satisfies the triangle inequality by construction (3.128).
@@ -83,8 +84,8 @@ class _Plan:
             scale = defaults.max()
             self.groups.append((group, [_positive(max(m, 1e-3 * scale)) for m in (a0, b0, c0)]))
         grouped = {n for group, _ in self.groups for n in group}
-        self.others = [(p.name, _positive(p.default) if p.assumption == "positive" else
-                        _real(p.default) if p.assumption == "real" else _float(0, 2 * p.default))
+        self.others = [(p.name, _float(*p.range) if p.range else _positive(p.default) if p.assumption == "positive"
+                        else _real(p.default) if p.assumption == "real" else _float(0, 2 * p.default))
                        for p in system.parameters if p.name not in grouped]
         self.q = [_float(*c.range) if c.range else _float(-ANGLE, ANGLE) if c.unit == "rad" else
                   _float(-LENGTH, LENGTH) for c in system.coordinates]

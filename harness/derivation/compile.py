@@ -302,7 +302,7 @@ class CompiledModel:
         and ``f_np`` are computed together (:meth:`terms`): one term that is not finite makes them all ``nan``, and
         was reported as a mass matrix that is not finite."""
         with np.errstate(all="ignore"):   # the terms below are not finite: the error says which
-            check_regular(self.system, self("M", q, p=p), q)
+            check_regular(self.system, self("M", q, p=p), q, p)
             C, g, f_np = self("C", q, qd, p, u), self("g", q, p=p), self("f_np", q, qd, p, u)
         bad = [name for name, x in (("C(q, q̇) q̇ (5.95)", C @ np.asarray(qd, dtype=float)), ("g(q) (5.96)", g),
                                      ("f_np (5.73)", f_np)) if not np.all(np.isfinite(x))]
@@ -402,21 +402,32 @@ def regular_spectrum(w) -> bool:
     return w[0] > SINGULAR_M * max(abs(w[-1]), 1e-300)
 
 
+def _drawn(system: System, p) -> str:
+    """The parameter values of ``p`` that are not the defaults, as an error names them (none: "")."""
+    if p is None:
+        return ""
+    changed = [f"{x.name} = {float(v):.6g}" for x, v in zip(system.parameters, p) if float(v) != float(x.default)]
+    return (f" with the parameters {', '.join(changed)} (positive ones are drawn in [default/2, 2 default]: a map "
+            "that closes a chain must be defined over that range)") if changed else ""
+
+
 def state_text(system: System, q) -> str:
     """``q`` as an error message names it: ``name = value`` of each coordinate."""
     return ", ".join(f"{c.name} = {float(x):.6g}" for c, x in zip(system.coordinates, q))
 
 
-def check_regular(system: System, M, q) -> None:
+def check_regular(system: System, M, q, p=None) -> None:
     """Raise :class:`ModelError` where ``M(q)`` is singular to working precision (a coordinate singularity:
     some q̇ moves no mass, e.g. ``phi`` at ``theta = 0`` of the spherical pendulum, (5.81)), instead of
-    returning a q̈ made of round-off."""
+    returning a q̈ made of round-off. ``p``: the parameter values, named in the error where they are not the defaults
+    (a map that closes a chain may be undefined at drawn parameters, not at ``q``)."""
     if not np.all(np.isfinite(q)):
         raise ModelError(f"the state is not finite ({state_text(system, q)}) in {system.name}: the integration "
                          "diverged")
     if not np.all(np.isfinite(M)):
-        raise ModelError(f"the mass matrix M is not finite at {state_text(system, q)} in {system.name}: the state is "
-                         "outside the domain of the map theta = phi(q) or at its singularity")
+        raise ModelError(f"the mass matrix M is not finite at {state_text(system, q)}{_drawn(system, p)} in "
+                         f"{system.name}: the state is outside the domain of the map theta = phi(q) or at its "
+                         "singularity")
     w, v = np.linalg.eigh(M)
     if regular_spectrum(w):
         return

@@ -101,9 +101,13 @@ class Declared(sp.Symbol):
         """The plain SymPy symbol (same name and assumptions) the derivation sees."""
         return sp.Symbol(self.name, **self._assumptions_orig)
 
+    _optional: tuple = ()      # metadata left out of the fingerprint where not given (added later: every model's
+                               # fingerprint, and the caches keyed by it, stay what they were)
+
     def canonical(self) -> str:
         """The declaration as the model fingerprint hashes it."""
-        inner = ",".join(f"{k}={_canonical(getattr(self, k))}" for k in self._meta)
+        inner = ",".join(f"{k}={_canonical(getattr(self, k))}" for k in self._meta
+                         if not (k in self._optional and getattr(self, k) is None))
         return f"{type(self).__name__}({inner})"
 
 
@@ -116,12 +120,15 @@ def _redeclare(cls, meta, serial):
 class Parameter(Declared):
     """A model parameter named as in the lecture (``m_1``, ``l_s1``, ``I_zz2``, ``c_e``): a SymPy symbol
     with its default value (SI), unit, description and physical assumption (``positive``, ``nonnegative``,
-    ``real``): ``m = Parameter("m", 1.0, "kg", "point mass")``, then ``m * l**2`` in expressions."""
+    ``real``): ``m = Parameter("m", 1.0, "kg", "point mass")``, then ``m * l**2`` in expressions. ``range``: the
+    values the conformance checks draw it from, where the default span would leave the model undefined
+    (:func:`_parameter_range`)."""
 
-    _meta = ("name", "default", "unit", "description", "assumption")
+    _meta = ("name", "default", "unit", "description", "assumption", "range")
+    _optional = ("range",)
 
     def __new__(cls, name: str, default: float | None = None, unit: str = "", description: str = "",
-                assumption: str = "positive"):
+                assumption: str = "positive", range: tuple | None = None):  # noqa: A002
         if assumption not in ASSUMPTIONS:
             raise ModelError(f"parameter {name}: assumption must be one of {ASSUMPTIONS}")
         if default is None:
@@ -129,9 +136,14 @@ class Parameter(Declared):
                              f"e.g. Parameter({name!r}, 1.0, 'kg', 'what it is')")
         if not unit:
             raise ModelError(f"parameter {name}: give a unit (use '1' for dimensionless)")
+        if range is not None:
+            range = _parameter_range(name, default, range)
         obj = cls._declare(name, assumption, default=default, unit=unit, description=description,
-                           assumption=assumption)
+                           assumption=assumption, range=range)
         obj.check(default)
+        if range is not None:
+            for bound in range:
+                obj.check(bound)
         return obj
 
     def check(self, value: float) -> None:
@@ -142,6 +154,20 @@ class Parameter(Declared):
             raise ModelError(f"parameter {self.name}={value}: must be positive ({self.description})")
         if self.assumption == "nonnegative" and not value >= 0:
             raise ModelError(f"parameter {self.name}={value}: must be non-negative ({self.description})")
+
+
+def _parameter_range(name: str, default: float, span) -> tuple[float, float]:
+    """``range`` of a :class:`Parameter`: the values the conformance checks draw it from (by default
+    ``[default/2, 2 default]`` for a positive one), a pair of finite numbers around the default: a linkage that must
+    close (a four-bar's lengths), a map defined only near the default."""
+    try:
+        lo, hi = (float(x) for x in span)
+    except (TypeError, ValueError):
+        raise ModelError(f"parameter {name}: range={span!r} is not a pair of numbers (low, high)") from None
+    if not (math.isfinite(lo) and math.isfinite(hi) and lo <= float(default) <= hi and lo < hi):
+        raise ModelError(f"parameter {name}: range={span!r} must be finite, low < high, and hold the default "
+                         f"{default}")
+    return lo, hi
 
 
 def standard_gravity() -> Parameter:

@@ -53,7 +53,8 @@ def model_view(system) -> dict:
                          "description": c.description,
                          "range": "default" if c.range is None else str(tuple(c.range))} for c in system.coordinates],
         "parameters": [{"name": p.name, "symbol": mt.inline(p), "default": p.default, "unit": p.unit,
-                        "description": p.description, "assumption": p.assumption} for p in system.parameters],
+                        "description": p.description, "assumption": p.assumption,
+                        "range": "default" if p.range is None else str(tuple(p.range))} for p in system.parameters],
         "inputs": [{"name": i.name, "symbol": mt.inline(i), "unit": i.unit, "description": i.description}
                    for i in system.inputs],
         "links": mt.link_rows(system), "joints": mt.joint_rows(system), "forces": mt.force_rows(system),

@@ -133,8 +133,8 @@ SYSTEM = """{% extends "base" %}
 <table><tr><th>coordinate</th><th>rate</th><th>unit</th><th>meaning</th><th>range drawn</th></tr>
 {% for c in model.coordinates %}<tr><td title="{{ c.name }}">{{ c.symbol|safe }}</td><td>{{ c.rate|safe }}</td><td>{{ c.unit }}</td><td>{{ c.description }}</td><td>{{ c.range }}</td></tr>{% endfor %}</table>
 <h3>Parameters</h3>
-<table><tr><th>symbol</th><th>default</th><th>unit</th><th>meaning</th><th>assumption</th></tr>
-{% for p in model.parameters %}<tr><td title="{{ p.name }}">{{ p.symbol|safe }}</td><td class="num">{{ p.default }}</td><td>{{ p.unit }}</td><td>{{ p.description }}</td><td>{{ p.assumption }}</td></tr>{% endfor %}</table>
+<table><tr><th>symbol</th><th>default</th><th>unit</th><th>meaning</th><th>assumption</th><th>range drawn</th></tr>
+{% for p in model.parameters %}<tr><td title="{{ p.name }}">{{ p.symbol|safe }}</td><td class="num">{{ p.default }}</td><td>{{ p.unit }}</td><td>{{ p.description }}</td><td>{{ p.assumption }}</td><td>{{ p.range }}</td></tr>{% endfor %}</table>
 {% if model.inputs %}<h3>Inputs u</h3><table><tr><th>input</th><th>unit</th><th>meaning</th></tr>
 {% for i in model.inputs %}<tr><td title="{{ i.name }}">{{ i.symbol|safe }}</td><td>{{ i.unit }}</td><td>{{ i.description }}</td></tr>{% endfor %}</table>{% endif %}
 <h3>Bodies</h3>
