@@ -139,6 +139,6 @@ def test_a_map_undefined_at_drawn_parameters_names_them():
     system = models.get("toggle_press")
     params = {**system.default_parameters(), "L_1": 5 * system.default_parameters()["L_2"]}
     p = np.array([params[x.name] for x in system.parameters])
-    with pytest.raises(ModelError, match=r"not finite at q = 0\.3 with the parameters L_1 = .* a map that closes a "
-                                         r"chain must be defined over that range"):
+    with pytest.raises(ModelError, match=r"not finite at q = 0\.3 in toggle_press with the parameters L_1 = .* a "
+                                         r"map that closes a chain must be defined over that range"):
         compiled(system).forward_dynamics(np.array([0.3]), np.array([0.0]), p, np.zeros(len(system.inputs)))

@@ -425,8 +425,8 @@ def check_regular(system: System, M, q, p=None) -> None:
         raise ModelError(f"the state is not finite ({state_text(system, q)}) in {system.name}: the integration "
                          "diverged")
     if not np.all(np.isfinite(M)):
-        raise ModelError(f"the mass matrix M is not finite at {state_text(system, q)}{_drawn(system, p)} in "
-                         f"{system.name}: the state is outside the domain of the map theta = phi(q) or at its "
+        raise ModelError(f"the mass matrix M is not finite at {state_text(system, q)} in {system.name}"
+                         f"{_drawn(system, p)}: the state is outside the domain of the map theta = phi(q) or at its "
                          "singularity")
     w, v = np.linalg.eigh(M)
     if regular_spectrum(w):
