@@ -171,7 +171,7 @@ class MujocoModel(TreeEngine):
         self.stand_ins = [bid for link in tree.links if exported_inertia(link.inertia) is not None
                           and (bid := mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_BODY, link.name)) > 0
                           and _turns(self.model, bid)]
-        self._jacr, self._jacr_dot = np.zeros((3, self.model.nv)), np.zeros((3, self.model.nv))   # _qacc's
+        self._jacr, self._jacr_dot = np.zeros((3, self.model.nv)), np.zeros((3, self.model.nv))   # stand_in's
         # (input, actuator id) of the external loads MuJoCo applies as actuators (LoadActuators)
         self.load_actuators = [(input_name, mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_ACTUATOR, name))
                                for t in transforms if isinstance(t, LoadActuators)
@@ -235,29 +235,34 @@ class MujocoModel(TreeEngine):
         Jacobians ``mj_jacBody`` and its rate ``mj_jacDot`` in world axes (an isotropic inertia turns with no
         gyroscopic term). MuJoCo needs it (mjMINVAL); the model we compare is without it: on a lab-sized Furuta
         pendulum (arm 85 mm, pendulum 24 g) it put MuJoCo's M off ours by 20 times the tolerance."""
+        nv = self.model.nv
+        delta_M, delta_b = np.zeros((nv, nv)), np.zeros(nv)
+        for jacr, rate in self._turning(d):
+            delta_M += jacr.T @ jacr
+            delta_b += jacr.T @ rate
+        return MUJOCO_POINT_MASS_INERTIA * delta_M, MUJOCO_POINT_MASS_INERTIA * delta_b
+
+    def _turning(self, d):
+        """``(J_ω, J̇_ω q̇)`` of each body with the stand-in inertia at the state of ``d`` (``mj_jacBody``,
+        ``mj_jacDot``; ``J_ω`` a buffer, read before the next)."""
         m = self.model
-        delta_M, delta_b = np.zeros((m.nv, m.nv)), np.zeros(m.nv)
-        jacr, jacr_dot = np.zeros((3, m.nv)), np.zeros((3, m.nv))
         for body in self.stand_ins:
-            mujoco.mj_jacBody(m, d, None, jacr, body)
-            mujoco.mj_jacDot(m, d, None, jacr_dot, d.xipos[body], body)
-            delta_M += MUJOCO_POINT_MASS_INERTIA * jacr.T @ jacr
-            delta_b += MUJOCO_POINT_MASS_INERTIA * jacr.T @ (jacr_dot @ d.qvel)
-        return delta_M, delta_b
+            mujoco.mj_jacBody(m, d, None, self._jacr, body)
+            mujoco.mj_jacDot(m, d, None, self._jacr_dot, d.xipos[body], body)
+            yield self._jacr, self._jacr_dot @ d.qvel
 
     def _qacc(self, d) -> np.ndarray:
         """``qacc`` of ``d``'s forward, the stand-in inertia's terms taken out (:meth:`stand_in`): from
         ``(M + ΔM) qacc = τ − b − Δb``, ``q̈ = qacc + (M + ΔM)⁻¹ (ΔM q̈ + Δb)``, taken as ``qacc + (M + ΔM)⁻¹ ε Σ J_ωᵀ
         (J_ω qacc + J̇_ω q̇)`` with MuJoCo's own factor of ``M + ΔM`` from the forward (``mj_solveM``): off the exact
-        one by ``ε² / λ_min(M)²`` relative, and no ``mj_fullM`` on the path a simulation calls (a ``mj_fullM`` and a
-        NumPy solve made the pendulum's forward dynamics 8.6 → 28.2 µs a call; this, 8.4 → 17.2 µs; the governor's
-        two arms 9.2 → 22.5 µs)."""
+        one by ``ε² / λ_min(M)²`` relative, and neither ``mj_fullM`` nor ``ΔM`` formed on the path a simulation calls
+        (a ``mj_fullM`` and a NumPy solve made the pendulum's forward dynamics 8.6 → 28.2 µs a call; this, 8.5 → 17.5
+        µs; the governor's two arms 9.3 → 23.1 µs; forming ``ΔM`` here cost 3.5 µs more). The one q̈ of
+        :meth:`forward_dynamics`, :meth:`quantities` and :meth:`mass_and_forces`."""
         m = self.model
         force = np.zeros(m.nv)
-        for body in self.stand_ins:
-            mujoco.mj_jacBody(m, d, None, self._jacr, body)
-            mujoco.mj_jacDot(m, d, None, self._jacr_dot, d.xipos[body], body)
-            force += self._jacr.T @ (self._jacr @ d.qacc + self._jacr_dot @ d.qvel)
+        for jacr, rate in self._turning(d):
+            force += jacr.T @ (jacr @ d.qacc + rate)
         correction = np.zeros((1, m.nv))
         mujoco.mj_solveM(m, d, correction, (MUJOCO_POINT_MASS_INERTIA * force)[None])
         return d.qacc + correction[0]

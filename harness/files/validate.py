@@ -74,10 +74,9 @@ class Validation:
         for engine, facts in self.engines.items():
             out.append(f"  {engine}: " + "; ".join(f"{k}: {v}" for k, v in facts.items()))
         if self.comparison is not None:
-            worst = {}
-            for c in self.comparison["checks"]:
+            worst, checks = {}, self.comparison["checks"]
+            for c in checks:
                 worst[c["quantity"]] = max(worst.get(c["quantity"], 0.0), c["max_error"])
-            checks = self.comparison["checks"]
             bounded = ", plus what the compiler's bound may move it by" if any(c["allowance"] for c in checks) else ""
             out.append(f"  MuJoCo's import vs Pinocchio ({self.comparison['states']} random states): "
                        + ", ".join(f"{q} {e:.1e}" for q, e in worst.items())

@@ -53,7 +53,7 @@ import sympy as sp
 from harness.checks import Bound
 from harness.engines import simulating
 from harness.engines.mujoco_engine import ClosureGuide, JointCoupling, MujocoModel, Options
-from harness.errors import ModelError, NotApplicable
+from harness.errors import ModelError
 from harness.export.numeric import instantiate, point_name
 from harness.modeling.system import value_at
 from harness.scenes import simulate as sim
@@ -266,21 +266,15 @@ def mujoco_transforms(system, scene, dt: float, rows: bool = True):
     return transforms, tree, dyn
 
 
-def mujoco_constrained(system, scene, dt: float, horizon=None, rows: bool = True, loads_as_actuators: bool = False,
+def mujoco_constrained(system, scene, dt: float, horizon=None, rows: bool = True, load_actuators=None,
                        extra=()) -> sim.Trajectory:
     """MuJoCo's own stepping of the constrained tree (inputs as ``ctrl``, loads as ``qfrc_applied`` from
     ``mj_applyFT`` at the step's kinematics, between ``mj_step1`` and ``mj_step2``); ``rows`` False: the open tree
-    (:func:`mujoco_transforms`). ``loads_as_actuators``: the loads as MuJoCo's site actuators instead
-    (:func:`~harness.scenes.simulate.load_actuators`, which MuJoCo applies in its own step; not applicable where one
-    is not a force of inputs alone in world axes); ``extra``: transforms applied after those (a pruning run's
-    disable flags)."""
+    (:func:`mujoco_transforms`). ``load_actuators``: the system's loads as MuJoCo's site actuators instead
+    (:class:`~harness.engines.mujoco_engine.LoadActuators`, :func:`~harness.scenes.simulate.load_actuators`), which
+    MuJoCo applies in its own step; ``extra``: transforms applied after those (a pruning run's disable flags)."""
     transforms, tree, dyn = mujoco_transforms(system, scene, dt, rows)
-    actuated = None
-    if loads_as_actuators and dyn.load_functions:
-        actuated = sim.load_actuators(dyn.system, dyn.params)
-        if actuated is None:
-            raise NotApplicable("its external loads are not forces of the inputs alone in world axes: MuJoCo cannot "
-                                "apply them as site actuators")
+    actuated = load_actuators if dyn.load_functions else None
     mm = MujocoModel(tree, transforms=[*transforms, *([actuated] if actuated else []), *extra])
     guides = [t for t in transforms if isinstance(t, ClosureGuide)]
     theta, theta_dot = _start(system, scene, dyn)

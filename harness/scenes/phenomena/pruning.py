@@ -357,14 +357,15 @@ def constrained_runs(system, scene, idle_system, idle_scene, found):
     flags = effect_flags(left_out)
     dt = scene.horizon / sim.grid_steps(scene, CLOSURE_STEPS)
     lean_extra = ([Options(disable=flags)] if flags else []) + [VisualGeomsDropped()]
-    # fail here, not in a timed run, where the idle loads are not forces MuJoCo can apply as site actuators
-    if sim.load_actuators(idle_system, {**idle_system.default_parameters(), **idle_scene.params}) is None:
+    # derived once, not at each timed run; refused where the idle loads are not forces MuJoCo can apply as actuators
+    actuated = sim.load_actuators(idle_system, {**idle_system.default_parameters(), **idle_scene.params})
+    if actuated is None:
         raise NotApplicable("its closed chain's constraint rows act and its external loads are not forces of the "
                             "inputs alone in world axes: MuJoCo's constrained run would evaluate them in Python")
     how = ([f"disable flags {', '.join(flags)}"] if flags else []) + ["visual geoms dropped",
                                                                      "idle loads' site actuators not in the MJCF"]
-    return (lambda: mujoco_constrained(system, scene, dt, loads_as_actuators=True, extra=lean_extra),
-            lambda: mujoco_constrained(idle_system, idle_scene, dt, loads_as_actuators=True),
+    return (lambda: mujoco_constrained(system, scene, dt, extra=lean_extra),   # the pruned system has no loads
+            lambda: mujoco_constrained(idle_system, idle_scene, dt, load_actuators=actuated),
             f"equality-constrained tree (its rows act: {found.rows[1]}), implicitfast dt={dt:g}, loads as site "
             f"actuators, pruned: {'; '.join(how)}",
             (lambda: lambda: mujoco_constrained(system, scene, dt, extra=[BareTree(rows=True)]), BARE_ROWS))

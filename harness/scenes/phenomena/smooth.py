@@ -87,14 +87,13 @@ def mj_step(run: SceneRun) -> None:
         fine = sim.mujoco_native(system, scene, dt / 2)
         finer = sim.mujoco_native(system, scene, dt / 4)
         d1, d2 = sim.max_error(coarse, fine), sim.max_error(fine, finer)       # against its own finer steps
-        for _ in range(RK4_REFINEMENTS):   # not yet where the order settles: the steps halved
-            if order_gap(d1, d2, order, floor=RK4_FLOOR / 10) <= RK4_ORDER.value:
-                break
-            dt, coarse, fine = dt / 2, fine, finer
+        halved = 0
+        while halved < RK4_REFINEMENTS and order_gap(d1, d2, order, floor=RK4_FLOOR / 10) > RK4_ORDER.value:
+            dt, coarse, fine, halved = dt / 2, fine, finer, halved + 1       # not yet where the order settles
             finer = sim.mujoco_native(system, scene, dt / 4)
             d1, d2 = d2, sim.max_error(fine, finer)
-            result.notes["mj_step RK4 steps halved: the order had not settled"] = \
-                result.notes.get("mj_step RK4 steps halved: the order had not settled", 0) + 1
+        if halved:
+            result.notes["mj_step RK4 steps halved: the order had not settled"] = halved
     except NotApplicable as why:
         result.notes["mujoco mj_step"] = str(why)
         return
