@@ -234,6 +234,35 @@ def _trajectory(error: float):
     return sim.Trajectory("synthetic", t, (np.sin(t) + error * t)[:, None], (np.cos(t) + error)[:, None], 0.0, 0)
 
 
+@pytest.mark.parametrize("case", ["small K", "large K", "second order"])
+def test_soft_constraints_are_extrapolated_past_a_large_second_order_term(case):
+    """MuJoCo's soft constraints (first order) are extrapolated to dt → 0: Richardson's from two runs, Romberg's
+    once there are three, which cancels the ``dt²`` term too; dt is halved until the extrapolation is within its
+    margin and the error first order. Synthetic runs with errors ``K dt + K₂ dt²``: the four-bar's ``K`` = 1500 per
+    second with ``K₂`` = 7e6 per second², which reproduces its Richardson residual 1.4e-2 after three halvings from
+    dt = 5e-4 (Richardson's alone would need seven); a catalogue-like ``K`` = 10 per second that Richardson
+    settles at once; a second-order error, which has no first-order model to extrapolate: a finding."""
+    from harness.scenes.base import SOFT_REFINEMENTS, SceneResult, soft_convergence
+
+    K, K2 = {"small K": (10.0, 100.0), "large K": (1500.0, 7e6), "second order": (0.0, 4e4)}[case]
+    steps = []
+
+    def run(dt):
+        steps.append(round(1.0 / dt))
+        return _trajectory(K * dt + K2 * dt**2)
+
+    result = SceneResult("synthetic", "synthetic")
+    soft_convergence(result, "soft", run, _trajectory(0.0), 5e-4)
+    limit, order = result.checks
+    if case == "small K":  # Richardson's residual K₂ dt²/2 = 1.2e-5 at once
+        assert steps == [2000, 4000] and limit.passed and order.passed and "Romberg" not in limit.detail
+    elif case == "large K":  # halved until first order (K₂ dt / K ≤ 0.35); Romberg's residual is round-off
+        assert steps == [2000, 4000, 8000, 16000, 32000]
+        assert limit.passed and limit.value < 1e-12 and order.passed and "Romberg" in limit.detail
+    else:
+        assert limit.passed and not order.passed and len(steps) == SOFT_REFINEMENTS + 2
+
+
 @pytest.mark.parametrize("case", ["model floor", "not settled", "second order"])
 def test_mujocos_rk4_order_is_taken_against_its_own_steps(monkeypatch, case):
     """The order of MuJoCo's RK4 comes from its own runs at dt, dt/2, dt/4, not from the errors against our

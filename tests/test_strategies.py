@@ -128,6 +128,22 @@ def test_a_parameter_with_a_range_is_drawn_in_it(data):
             Parameter("l", 1.0, "m", "length", range=span)
 
 
+def test_a_non_negative_parameter_at_zero_is_given_a_span_or_refused():
+    """A damping that defaults to 0 (a swinging spring's, Lynch 2002) was drawn in [0, 2 default] = {0}: its
+    f_damper checks compared zeros and passed without testing the damper's export. Such a parameter is refused with
+    the fix; with ``range`` it is drawn in it."""
+    import pytest
+
+    from harness.errors import ModelError
+    from harness.modeling import Parameter
+
+    with pytest.raises(ModelError, match=r"parameter d: non-negative with default 0, it would be drawn at 0 only .* "
+                                         r"range=\(0, 1.0\)"):
+        Parameter("d", 0.0, "N s/m", "damping", assumption="nonnegative")
+    assert Parameter("d", 0.0, "N s/m", "damping", assumption="nonnegative", range=(0, 2.0)).range == (0.0, 2.0)
+    assert Parameter("mu", 0.3, "1", "friction", assumption="nonnegative").range is None
+
+
 def test_a_map_undefined_at_drawn_parameters_names_them():
     """The toggle press's map φ₂ = arcsin(L₁/L₂ sin q) (A.100) is undefined where L₁ sin q > L₂: at q = 0.3 with L₁
     five times L₂ the error had named q alone, which is fine at the default parameters; it names the parameters."""

@@ -240,7 +240,7 @@ def pruned(system: System, effects, without=()) -> System:
 
 
 IDLE = Parameter("idle", 0.0, "1", "factor of every effect a scene does not call for (0: present but idle)",
-                 assumption="nonnegative")
+                 assumption="nonnegative", range=(0.0, 1.0))
 
 
 def idle(system: System, effects) -> System:

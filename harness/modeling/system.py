@@ -138,6 +138,10 @@ class Parameter(Declared):
             raise ModelError(f"parameter {name}: give a unit (use '1' for dimensionless)")
         if range is not None:
             range = _parameter_range(name, default, range)
+        elif assumption == "nonnegative" and default == 0:
+            raise ModelError(f"parameter {name}: non-negative with default 0, it would be drawn at 0 only (from "
+                             "[0, 2 default]) and no check would test the terms it enters; give the span to draw "
+                             "from, e.g. range=(0, 1.0)")
         obj = cls._declare(name, assumption, default=default, unit=unit, description=description,
                            assumption=assumption, range=range)
         obj.check(default)
