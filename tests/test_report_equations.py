@@ -215,3 +215,32 @@ def test_a_matrix_wider_than_a_line_is_written_entry_by_entry_each_broken_after_
     assert "text-align:left" not in narrow["math"] and "<mi>11</mi>" not in narrow["math"] and narrow["note"] == ""
     vector = equations._equation("<mi>g</mi>", sp.Matrix([sum(terms), m]), letter="g", vector=True)
     assert "<mi>1</mi>" in vector["math"] and "<mi>2</mi>" in vector["math"] and vector["note"] == ""
+
+
+def test_common_subexpressions_of_entries_that_would_scroll_are_named_and_stand_for_them_exactly():
+    """The trebuchet's map ``θ_sling = −θ + arccos(L (sin θ₀ − sin θ) / r)`` and its derivative recur in every entry of
+    its M and C: ``M₁₁`` printed 616 characters wide and ``C₁₁`` 2043, scrolling sideways in Chromium. The
+    entries that broken after their terms would still scroll have their common subexpressions named ``ξ₁, ξ₂, …``
+    (``where ξ₁ = …``): every piece then fits a line, and the names put back give the derived entries exactly. A
+    system whose entries fit (the tower crane's long sums, broken after their terms) has no names."""
+    from harness.derivation.derive import derive
+    from harness.report.mathml import LINE_WIDTH, pieces, width
+
+    system = models.get("trebuchet")
+    d = derive(system)
+    budget = equations.Budget()
+    derived = [budget.simplify(x) for x in (d.M, d.C, d.g, d.f_np)]
+    assert width(derived[0][0, 0]) > 600 and width(derived[1][0, 0]) > 2000
+    named, where = equations.abbreviated(derived)
+    assert 0 < len(where) <= 10 and all(name.name.startswith("xi_") for name, _ in where)
+    assert all(w <= LINE_WIDTH for m in named for entry in m for w, _ in pieces(equations._terms(entry)))
+    assert width(named[0][0, 0]) <= LINE_WIDTH
+    for name, expr in reversed(where):   # a later name may use an earlier one: put back from the last
+        named = [m.xreplace({name: expr}) for m in named]
+    assert all(sp.simplify(a - b) == sp.zeros(*a.shape) for a, b in zip(named, derived))
+    page = equations.derived_equations(system)
+    assert page["quantities"][-1]["title"] == "where" and "&#958;" in page["quantities"][0]["math"]   # ξ
+    _parses(page["quantities"][-1]["math"])
+    crane = models.get("tower_crane")
+    d = derive(crane)
+    assert equations.abbreviated([budget.simplify(x) for x in (d.M, d.C)])[1] == []

@@ -19,7 +19,7 @@ from html import escape
 import sympy as sp
 
 from harness.limits import OutOfTime, cpu_budget
-from harness.report.mathml import LINE_WIDTH, body, bold, broken, math, signed_terms, width
+from harness.report.mathml import LINE_WIDTH, body, bold, broken, math, pieces, signed_terms, width
 
 SIMPLIFY_MAX_OPS = 150
 """Entries with more operations are shown as derived, and an entry with more once expanded is not passed to
@@ -127,6 +127,45 @@ def _entries(letter: str, matrix, superscript: str = "", vector: bool = False) -
         else ""
 
 
+ABBREVIATION_MIN_WIDTH = 20
+"""A common subexpression of the entries wider than a line is named (:func:`abbreviated`) when it is at least this
+wide (:func:`~harness.report.mathml.width`); a narrower one reads better in place than as a name to look up."""
+
+
+def _scrolls(expr) -> bool:
+    """Whether ``expr`` broken after its terms (:func:`~harness.report.mathml.broken`) still has a piece wider than
+    a line."""
+    return any(w > LINE_WIDTH for w, _ in pieces(_terms(expr)))
+
+
+def abbreviated(matrices: list) -> tuple[list, list[tuple[sp.Symbol, sp.Expr]]]:
+    """``matrices`` with the common subexpressions of their entries that would scroll (:func:`_scrolls`) named
+    ``ξ₁, ξ₂, …`` (``sympy.cse``; one named only when at least :data:`ABBREVIATION_MIN_WIDTH` wide), and the names
+    with what they stand for, in the order they are defined (a later one may use an earlier one), the way a
+    derivation by hand writes ``with ξ₁ = …``. Other entries are left as they are. The trebuchet's map
+    ``θ_sling = −θ + arccos(L (sin θ₀ − sin θ) / r)`` and its derivative recur in every entry of its M and C: its
+    ``M₁₁`` printed 616 characters wide, 36 with them named."""
+    wide = [(k, index) for k, m in enumerate(matrices) for index in range(len(m)) if _scrolls(m[index])]
+    if not wide:
+        return matrices, []
+    taken = {s.name for m in matrices for s in m.free_symbols}
+    letter = next(x for x in ("xi", "eta", "zeta", "chi") if not any(n.split("_")[0] == x for n in taken))
+    named, reduced = sp.cse([matrices[k][index] for k, index in wide], symbols=sp.numbered_symbols("_cse"),
+                            order="none")
+    inline, kept = {}, []
+    for symbol, expr in named:
+        expr = expr.xreplace(inline)
+        if width(expr) < ABBREVIATION_MIN_WIDTH:
+            inline[symbol] = expr
+        else:
+            kept.append((symbol, expr))
+    names = {symbol: sp.Symbol(f"{letter}_{n + 1}", real=True) for n, (symbol, _) in enumerate(kept)}
+    out = [sp.Matrix(m) for m in matrices]
+    for (k, index), expr in zip(wide, reduced):
+        out[k][index] = expr.xreplace(inline).xreplace(names)
+    return out, [(names[symbol], expr.xreplace(names)) for symbol, expr in kept]
+
+
 def _claim_labels(claims, quantity: str) -> str:
     return ", ".join(dict.fromkeys(c.equation for c in claims if c.quantity == quantity))
 
@@ -146,7 +185,7 @@ def derived_equations(system, claims=(), budget: Budget | None = None) -> dict:
     q = sp.Matrix(system.q)
     qd = sp.Matrix(system.qd)
     qdd = sp.Matrix([c.accel for c in system.coordinates])
-    M, C, g, f = (budget.simplify(x) for x in (d.M, d.C, d.g, d.f_np))
+    (M, C, g, f), abbreviations = abbreviated([budget.simplify(x) for x in (d.M, d.C, d.g, d.f_np)])
     quantities = [
         {"title": "Mass matrix", **_equation(bold("M", args="q"), M, label=GENERAL["M"],
                                             lecture=_claim_labels(claims, "M"), letter="M")},
@@ -159,6 +198,10 @@ def derived_equations(system, claims=(), budget: Budget | None = None) -> dict:
             bold("f", subscript="q", superscript="np"), f, label=GENERAL["f_np"],
             lecture=_claim_labels(claims, "f_np"), letter="f", superscript="np", vector=True)},
     ]
+    if abbreviations:
+        quantities.append({"title": "where", "label": "", "lecture": "", "math": broken(
+            [(body(name), "<mo>=</mo>", _terms(expr)) for name, expr in abbreviations]),
+            "note": "Common subexpressions of the entries wider than a line, named (sympy.cse)."})
     eom = []
     by_row = {}
     for c in claims:

@@ -183,12 +183,13 @@ def pieces(terms) -> list[tuple[float, str]]:
 
 def _opened(term):
     """``(other factors, sum)`` of a term wider than a line whose widest factor is a sum of terms that each fit on a
-    line, else None: a sum of wider terms (the trebuchet's, nested roots and arccosines) opened level after level
-    ran down the page a bracket per line, harder to read than the one line it scrolls in."""
+    line or are opened themselves, else None: a sum of terms that cannot be opened (nested roots and arccosines
+    inside a function) would run down the page a bracket per line, harder to read than the one line it scrolls in
+    (the report names them instead: :func:`harness.report.equations.abbreviated`)."""
     if width(term) <= LINE_WIDTH or not isinstance(term, sp.Mul):
         return None
     total = max(term.args, key=width)
-    if not isinstance(total, sp.Add) or any(width(t) > LINE_WIDTH for t in total.args):
+    if not isinstance(total, sp.Add) or any(width(t) > LINE_WIDTH and _opened(t) is None for t in total.args):
         return None
     return sp.Mul(*(a for a in term.args if a is not total)), total
 
