@@ -144,6 +144,43 @@ def test_a_non_negative_parameter_at_zero_is_given_a_span_or_refused():
     assert Parameter("mu", 0.3, "1", "friction", assumption="nonnegative").range is None
 
 
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(data=st.data())
+def test_an_inertia_with_products_as_parameters_is_drawn_as_one_valid_tensor(data):
+    """A body not aligned with its frame (a CAD part) has products of inertia; with its six entries parameters, each
+    drawn by itself made a tensor with a negative principal moment (a user's arm: −0.48 kg m², "inertia tensor is
+    not positive (semi-)definite"). The six are drawn as one tensor, a positive diagonal obeying the triangle
+    inequality turned by a uniform rotation; a tensor only partly of parameters that a draw makes invalid is an
+    error naming the drawn parameters and the fix."""
+    import pytest
+
+    from harness.errors import ModelError
+    from harness.export.numeric import instantiate
+    from harness.modeling import Coordinate, Inertia, Joint, Link, Parameter, System
+
+    entries = [Parameter(f"I_{k}", v, "kg m^2", f"inertia {k}", assumption="positive" if len(set(k)) == 1 else "real")
+               for k, v in (("xx", 0.02), ("yy", 0.03), ("zz", 0.04), ("xy", 0.004), ("xz", -0.003), ("yz", 0.002))]
+    m = Parameter("m", 1.0, "kg", "mass")
+    phi = Coordinate("phi", "rad", "angle")
+
+    def body(inertia):
+        return System(name="tilted", title="a tilted body", lecture="(none)", coordinates=(phi,),
+                      links=(Link("body", mass=m, com=(0.1, 0, 0), inertia=inertia),),
+                      joints=(Joint("phi", "revolute", "world", "body", axis="z"),), forces=())
+
+    system = body(Inertia(*entries))
+    values = data.draw(parameters(system))
+    I = np.array([[values["I_xx"], values["I_xy"], values["I_xz"]], [values["I_xy"], values["I_yy"], values["I_yz"]],
+                  [values["I_xz"], values["I_yz"], values["I_zz"]]])
+    a, b, c = np.linalg.eigvalsh(I)
+    assert a > 0 and a + b >= c * (1 - 1e-12)
+    instantiate(system, values)            # a valid tensor: the export's check passes
+    partly = body(Inertia(0.02, 0.03, 0.04, *entries[3:]))
+    bad = {**partly.default_parameters(), "I_xy": 0.5}
+    with pytest.raises(ModelError, match=r"not positive .* with the parameters I_xy = 0\.5 \(drawn by the checks\)"):
+        instantiate(partly, bad)
+
+
 def test_a_map_undefined_at_drawn_parameters_names_them():
     """The toggle press's map φ₂ = arcsin(L₁/L₂ sin q) (A.100) is undefined where L₁ sin q > L₂: at q = 0.3 with L₁
     five times L₂ the error had named q alone, which is fine at the default parameters; it names the parameters."""

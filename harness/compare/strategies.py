@@ -4,7 +4,10 @@
   a ``range`` uniformly in it.
 * Diagonal inertia tensors whose entries are parameters are drawn jointly from the second moments of
   the mass distribution ``a, b, c > 0`` (``∫x² dm`` …): ``I_xx = b + c``, ``I_yy = a + c``, ``I_zz = a + b``
-  is positive definite and satisfies the triangle inequality by construction (3.128).
+  is positive definite and satisfies the triangle inequality by construction (3.128). A tensor whose six entries
+  are parameters (products of inertia: a body not aligned with its frame) is that diagonal turned by a rotation
+  drawn uniformly (Shoemake's quaternion), ``R diag(b + c, a + c, a + b) Rᵀ``: its products drawn one by one made
+  a tensor with a negative principal moment (a user's arm: −0.48 kg m²), a failure of the draw, not of the model.
 * States: angles in ``[-π, π]``, lengths within ±1 m, rates within ±5 per second, inputs within ±10.
 * A conformance run and a printed equation's classification draw their states in batches (:func:`draws`): one
   parameter draw, then :data:`STATES_PER_DRAW` states ``(q, q̇, u)`` of the system with those parameters.
@@ -56,8 +59,9 @@ def _real(default: float):
     return _float(default - span, default + span)
 
 
-def _inertia_groups(system: System) -> list[tuple[str, str, str]]:
-    """(I_xx, I_yy, I_zz) parameter names of links whose diagonal inertia entries are plain parameters."""
+def _inertia_groups(system: System) -> list[tuple[str, ...]]:
+    """Parameter names of the links whose inertia entries are plain parameters: ``(I_xx, I_yy, I_zz)`` of a diagonal
+    tensor, ``(I_xx, I_yy, I_zz, I_xy, I_xz, I_yz)`` of a full one."""
     names = {p.symbol: p.name for p in system.parameters}
     groups = []
     for link in system.links:
@@ -66,7 +70,19 @@ def _inertia_groups(system: System) -> list[tuple[str, str, str]]:
         off = [I[0, 1], I[0, 2], I[1, 2]]
         if all(d in names for d in diagonal) and all(o == 0 for o in off):
             groups.append(tuple(names[d] for d in diagonal))
+        elif all(e in names for e in diagonal + off) and len(set(diagonal + off)) == 6:
+            groups.append(tuple(names[e] for e in diagonal + off))
     return groups
+
+
+def _rotation(u1: float, u2: float, u3: float) -> np.ndarray:
+    """The rotation of the unit quaternion ``(√(1−u₁) sin 2πu₂, √(1−u₁) cos 2πu₂, √u₁ sin 2πu₃, √u₁ cos 2πu₃)``:
+    uniformly distributed for ``u`` uniform in ``[0, 1]³`` (Shoemake 1992)."""
+    x, y = math.sqrt(1 - u1) * math.sin(2 * math.pi * u2), math.sqrt(1 - u1) * math.cos(2 * math.pi * u2)
+    z, w = math.sqrt(u1) * math.sin(2 * math.pi * u3), math.sqrt(u1) * math.cos(2 * math.pi * u3)
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
 
 
 class _Plan:
@@ -78,11 +94,16 @@ class _Plan:
         self.groups = []
         for group in _inertia_groups(system):
             defaults = np.array([system.parameter(n).default for n in group])
+            if len(group) == 6:  # principal moments of the default tensor
+                xx, yy, zz, xy, xz, yz = defaults
+                xx, yy, zz = np.linalg.eigvalsh(np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]]))
+            else:
+                xx, yy, zz = defaults
             # second moments of the default tensor, each kept strictly positive
-            xx, yy, zz = defaults
             a0, b0, c0 = (yy + zz - xx) / 2, (xx + zz - yy) / 2, (xx + yy - zz) / 2
-            scale = defaults.max()
-            self.groups.append((group, [_positive(max(m, 1e-3 * scale)) for m in (a0, b0, c0)]))
+            scale = max(xx, yy, zz)
+            turn = [_float(0.0, 1.0)] * 3 if len(group) == 6 else []
+            self.groups.append((group, [_positive(max(m, 1e-3 * scale)) for m in (a0, b0, c0)] + turn))
         grouped = {n for group, _ in self.groups for n in group}
         self.others = [(p.name, _float(*p.range) if p.range else _positive(p.default) if p.assumption == "positive"
                         else _real(p.default) if p.assumption == "real" else _float(0, 2 * p.default))
@@ -108,8 +129,13 @@ def _plan(system: System) -> _Plan:
 def _parameters(draw, plan: _Plan) -> dict[str, float]:
     values: dict[str, float] = {}
     for group, strategies in plan.groups:
-        a, b, c = (draw(s) for s in strategies)
-        values.update(dict(zip(group, (b + c, a + c, a + b))))
+        a, b, c, *turn = (draw(s) for s in strategies)
+        if turn:
+            R = _rotation(*turn)
+            I = R @ np.diag([b + c, a + c, a + b]) @ R.T
+            values.update(dict(zip(group, map(float, (I[0, 0], I[1, 1], I[2, 2], I[0, 1], I[0, 2], I[1, 2])))))
+        else:
+            values.update(dict(zip(group, (b + c, a + c, a + b))))
     for name, strategy in plan.others:
         values[name] = draw(strategy)
     return values

@@ -229,7 +229,16 @@ def _instantiate(system: System, params: dict[str, float]) -> NumericTree:
         mass = value(link.mass)
         com = value.entries(link, "com_vector")
         inertia = value.entries(link.inertia, "matrix").reshape(3, 3)
-        check_inertia(f"{system.name}: link {link.name}", mass, inertia)
+        try:
+            check_inertia(f"{system.name}: link {link.name}", mass, inertia)
+        except ModelError as exc:
+            drawn = [f"{x.name} = {params[x.name]:.6g}" for x in system.parameters
+                     if x.name in params and float(params[x.name]) != float(x.default)]
+            if not drawn:
+                raise
+            raise ModelError(f"{exc}, with the parameters {', '.join(drawn)} (drawn by the checks): an inertia "
+                             "built from parameters must be valid over their spans; give its six entries as "
+                             "parameters (drawn as one valid tensor) or the parameters a range") from None
         links.append(NumericLink(link.name, mass, com, inertia))
     joints = tuple(NumericJoint(j.name, j.type, j.parent, j.child, np.array(j.axis, dtype=float),
                                 value.entries(j, "origin_vector"),
