@@ -353,3 +353,52 @@ def test_the_tests_cache_is_a_copy_of_the_projects(tmp_path):
     assert (target / "a.json").read_text() == "{\"a\": 1}" and (target / "b.json").read_text() == "{\"b\": 2}"
     _seed(tmp_path / "absent", tmp_path / "elsewhere")
     assert not (tmp_path / "elsewhere").exists()
+
+
+def test_a_derivation_of_large_trees_is_cached_and_compiled_as_a_graph(tmp_path, monkeypatch):
+    """A four-bar linkage whose closed chain is a closed-form map (nested ``atan2`` and ``arccos``, Uicker et al.,
+    Ch. 3) derives trees of 327 543 nodes (its C alone 1.7 MB of ``srepr``): read back from the cache they took
+    7 CPU s at every run, and compiling them 5 s. Past ``GRAPH_MIN_NODES`` a derivation is cached as a graph, its
+    common subexpressions written once (26 kB), and compiled from it; its forward dynamics equals the trees'. The
+    catalogue's derivations stay trees (the largest, the trebuchet's, has 3546 nodes)."""
+    from sympy import acos, atan2, cos, sin, sqrt
+
+    from harness.derivation import derive as derive_module
+    from harness.derivation.compile import CompiledModel
+    from harness.modeling import Closure, Coordinate, Gravity, Inertia, Joint, Link, Parameter, Point, System
+
+    trebuchet = models.get("trebuchet")
+    assert not derive_module.as_graph(trebuchet, derive_module.derive(trebuchet))
+    monkeypatch.setenv("HARNESS_CACHE_DIR", str(tmp_path / "derivations"))
+    L_0, a, b, c = (Parameter(n, v, "m", n, range=(0.95 * v, 1.05 * v))
+                    for n, v in (("L_0", 0.4), ("a", 0.1), ("b", 0.35), ("c", 0.3)))
+    masses = [Parameter(f"m_{k}", v, "kg", f"mass {k}") for k, v in (("a", 0.2), ("b", 0.5), ("c", 0.4))]
+    q = Coordinate("q", "rad", "crank angle")
+    Bx, By = a * cos(q), a * sin(q)
+    d = sqrt((L_0 - Bx) ** 2 + By**2)
+    th_b = atan2(-By, L_0 - Bx) + acos((b**2 + d**2 - c**2) / (2 * b * d))
+    th_c = atan2(-(By + b * sin(th_b)), L_0 - Bx - b * cos(th_b))
+    rod = [Link(n, mass=m, com=(length / 2, 0, 0), inertia=Inertia(0, m * length**2 / 12, m * length**2 / 12))
+           for n, m, length in zip(("crank", "coupler", "rocker"), masses, (a, b, c))]
+    end = Point("rocker", (c, 0, 0), "D_end")
+    system = System(name="fourbar", title="four-bar", lecture="(none)", coordinates=(q,), links=tuple(rod),
+                    joints=(Joint("q", "revolute", "world", "crank", axis="z"),
+                            Joint("coupler_joint", "revolute", "crank", "coupler", origin=(a, 0, 0), phi=th_b - q),
+                            Joint("rocker_joint", "revolute", "coupler", "rocker", origin=(b, 0, 0), phi=th_c - th_b)),
+                    gravity=Gravity(9.81, (0, -1, 0)), forces=(),
+                    closures=(Closure("x", end, (1, 0, 0), L_0), Closure("y", end, (0, 1, 0), 0)))
+    trees = derive_module.derive_uncached(system)
+    assert derive_module.as_graph(system, trees)
+    monkeypatch.setattr(derive_module, "derive_uncached", lambda s: trees)   # derived once (4 s)
+    stored = derive_module.derive(system)                        # stored as a graph, returned as read back
+    assert stored.graph is not None
+    entry = next((tmp_path / "derivations").glob("fourbar-*.json"))
+    assert entry.stat().st_size < 100_000 and "replacements" in json.loads(entry.read_text())
+    loaded = derive_module.derive(system)                        # a later run's cache hit
+    assert loaded.from_cache and loaded.graph is not None
+    p = np.array([x.default for x in system.parameters])
+    for state in ([0.3, 1.2], [2.0, -0.7], [-1.1, 3.0]):
+        qd = np.array(state[1:])
+        expected = CompiledModel(system, trees).forward_dynamics(np.array(state[:1]), qd, p, np.zeros(0))
+        got = CompiledModel(system, loaded).forward_dynamics(np.array(state[:1]), qd, p, np.zeros(0))
+        assert np.allclose(got, expected, rtol=1e-12, atol=1e-12)

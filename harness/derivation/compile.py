@@ -57,7 +57,7 @@ class CompiledModel:
     def _lambdified(self, name: str):
         s, d = self.system, self.derivation
         with profiling.phase("lambdify quantities"):
-            if self._per_body:
+            if self._per_body or d.graph is not None:
                 return _lambdify_graph([s.q, s.qd, s.p, s.u], _compiled_form(d, name), d.graph)
             return lambdify([s.q, s.qd, s.p, s.u], getattr(d, name), modules="numpy", cse=True, docstring_limit=0)
 

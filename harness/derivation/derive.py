@@ -247,6 +247,27 @@ def is_per_body(system: System) -> bool:
     return len(system.q) >= PER_BODY_MIN_DOF and _identity_map(system) is not None
 
 
+GRAPH_MIN_NODES = 50_000
+"""A derivation whose trees have more nodes than this together is cached as a graph too (:func:`as_graph`): the
+catalogue's largest not derived body by body has 3546 (the trebuchet); a user's four-bar linkage, its closed chain a
+closed-form map of nested ``atan2`` and ``arccos``, 327 543 (its C alone 1.7 MB of ``srepr``): reading that back
+took 7 CPU s at every run and compiling it 5 s, where as a graph it is 26 kB, read in 0.01 s."""
+
+
+def as_graph(system: System, derivation) -> bool:
+    """Whether ``derivation`` of ``system`` is cached (and compiled) as a graph: a per-body derivation, or one
+    whose trees are larger than :data:`GRAPH_MIN_NODES` (counted until that is passed)."""
+    if is_per_body(system):
+        return True
+    nodes = 0
+    for name in SYMBOLIC_FIELDS:
+        for _ in sp.preorder_traversal(getattr(derivation, name)):
+            nodes += 1
+            if nodes > GRAPH_MIN_NODES:
+                return True
+    return False
+
+
 def _identity_map(system: System) -> dict | None:
     """``{theta_j: (q_k, q̇_k)}`` when every tree joint's coordinate is a distinct lecture coordinate, else None."""
     rates = dict(zip(system.q, system.qd))
@@ -367,9 +388,9 @@ def derive(system: System, use_cache: bool = True) -> Derivation:
                 return Derivation.stored(*stored)
             return Derivation(**stored[0], from_cache=True)
     derivation = derive_uncached(system)
-    if use_cache:  # a per-body derivation as a graph: srepr would write out its trees
+    if use_cache:  # a per-body or large derivation as a graph: srepr would write out its trees
         values, graph = cache.store(key, {name: getattr(derivation, name) for name in SYMBOLIC_FIELDS},
-                                    graph=is_per_body(system))
+                                    graph=as_graph(system, derivation))
         if graph is not None:  # as a cached run reads it
             return Derivation.stored(values, graph, derivation.seconds, from_cache=False)
         derivation = Derivation(**values, seconds=derivation.seconds)
