@@ -254,3 +254,15 @@ def test_a_holding_claim_is_evaluated_and_decided_again_without_deriving_it(tmp_
     other = next(c for c in models.claims("pendulum") if c.quantity == "a:bob")
     assert claims.derivation_of(system, other) != claims.derivation_of(system, claim)
     assert claims.derivation_of(system, next(c for c in models.claims("pendulum") if c.quantity == "parameter")) is None
+
+
+def test_a_claim_with_its_arguments_swapped_says_what_it_takes():
+    """``Claim("M", "Lynch (2.1)", …)`` (the quantity where the equation goes) said only "unknown quantity"; it names
+    the signature and the quantities."""
+    import pytest
+
+    from harness.modeling import Claim
+
+    with pytest.raises(ValueError, match=r"claim M: unknown quantity 'Lynch \(2.1\)': Claim\(equation, quantity, "
+                                         r"printed, \.\.\.\) takes one of C, Cqd, .* position:<name>"):
+        Claim("M", "Lynch (2.1)", 1)

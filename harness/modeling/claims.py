@@ -76,7 +76,9 @@ class Claim:
     def __post_init__(self):
         kind = self.quantity.split(":")[0]
         if kind not in QUANTITIES | KINDS_WITH_ARGUMENT:
-            raise ValueError(f"claim {self.equation}: unknown quantity {self.quantity!r}")
+            raise ValueError(f"claim {self.equation}: unknown quantity {self.quantity!r}: Claim(equation, quantity, "
+                             f"printed, ...) takes one of {', '.join(sorted(QUANTITIES))} or "
+                             f"{', '.join(k + ':<name>' for k in sorted(KINDS_WITH_ARGUMENT))}")
         if self.at and (not (self.at == AT_REST[0] or self.at.startswith(AT_REST[1]))
                         or kind in ("equilibrium", "holding", "steady")):
             raise ValueError(f"claim {self.equation}: at={self.at!r}: use 'equilibrium' or 'holding:<input>', "
