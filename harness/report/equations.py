@@ -149,7 +149,7 @@ def abbreviated(matrices: list) -> tuple[list, list[tuple[sp.Symbol, sp.Expr]]]:
     if not wide:
         return matrices, []
     taken = {s.name for m in matrices for s in m.free_symbols}
-    letter = next(x for x in ("xi", "eta", "zeta", "chi") if not any(n.split("_")[0] == x for n in taken))
+    letter = next((x for x in ("xi", "eta", "zeta", "chi") if not any(n.split("_")[0] == x for n in taken)), "Xi")
     named, reduced = sp.cse([matrices[k][index] for k, index in wide], symbols=sp.numbered_symbols("_cse"),
                             order="none")
     inline, kept = {}, []
