@@ -152,3 +152,34 @@ def test_every_page_and_link_works_in_chromium(report, tmp_path):
     assert math_count["cart_pendulum.html"] > 20 and math_count["pendulum.html"] > 5
     for picture in ("pendulum.png", "cart_pendulum.png", "pendulum.swing.strip.png"):  # rendered by MuJoCo
         assert (report / "figures" / picture).stat().st_size > 500, picture
+
+
+OVERFLOWING = """() => Array.from(document.querySelectorAll('.eq'))
+  .filter(e => e.scrollWidth > e.clientWidth + 1)
+  .map(e => [e.scrollWidth, e.clientWidth, e.textContent.slice(0, 60)])"""
+
+
+def test_no_derived_equation_of_the_catalogue_scrolls_in_chromium():
+    """Every derived equation of every system page, laid out by Chromium at the report's 1300 px: none is wider than
+    its row (an equation that scrolls sideways takes its equation numbers with it). The trebuchet's M and C, the
+    toggle press's C and the rotating body's and planar manipulator's entries did before their common
+    subexpressions were named (:func:`harness.report.equations.abbreviated`)."""
+    import models
+    from playwright.sync_api import sync_playwright
+
+    from harness.report.equations import page_equations
+    from harness.report.templates import CSS, environment
+
+    template = environment().get_template("equations")
+    rows = "".join(f"<h2>{name}</h2>" + template.render(model={"equations": page_equations(
+        models.get(name), models.claims(name))["equations"]}) for name in models.names())
+    html = f'<!DOCTYPE html><html><head><meta charset="utf-8"><style>{CSS}</style></head><body>{rows}</body></html>'
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS)
+        page = browser.new_page(viewport={"width": 1300, "height": 900})
+        page.set_content(html)
+        wide = page.evaluate(OVERFLOWING)
+        shown = page.evaluate("document.querySelectorAll('.eq').length")
+        browser.close()
+    assert shown > 150
+    assert not wide, wide

@@ -116,6 +116,15 @@ warning fails its system).</p>
 {% endblock %}
 """
 
+EQUATIONS = """{% for e in model.equations.quantities %}<div class="eq"><div class="eqtitle">{{ e.title }}</div>{{ e.math|safe }}<span class="eqno">{{ e.label }}{% if e.lecture %}<br>printed: {{ e.lecture }}{% endif %}</span></div>
+{% if e.note %}<p><small>{{ e.note }}</small></p>{% endif %}{% endfor %}
+{% if model.equations.eom %}<h3>Equations of motion</h3>
+{% for e in model.equations.eom %}<div class="eq">{{ e.math|safe }}<span class="eqno">{{ e.label }}{% if e.lecture %}<br>printed: {{ e.lecture }}{% endif %}</span></div>
+{% if e.note %}<p><small>{{ e.note }}</small></p>{% endif %}{% endfor %}{% endif %}
+"""
+"""A system's derived equations (:func:`harness.report.equations.derived_equations`), one ``.eq`` row each: the
+system page includes it, and a test measures the rows in Chromium."""
+
 SYSTEM = """{% extends "base" %}
 {% block title %}{{ s.name }} — {{ s.title }}{% endblock %}
 {% block body %}
@@ -150,11 +159,7 @@ SYSTEM = """{% extends "base" %}
 <p>By the lecture's procedure (chapter 5): M q̈ + C(q, q̇) q̇ + g(q) = f<sub>q</sub><sup>np</sup> (5.93). Equation
 numbers at the right: the lecture's general equation; where the lecture prints this system's quantity, its
 number follows (compared in <a href="#claims">Printed equations</a>).</p>
-{% for e in model.equations.quantities %}<div class="eq"><div class="eqtitle">{{ e.title }}</div>{{ e.math|safe }}<span class="eqno">{{ e.label }}{% if e.lecture %}<br>printed: {{ e.lecture }}{% endif %}</span></div>
-{% if e.note %}<p><small>{{ e.note }}</small></p>{% endif %}{% endfor %}
-{% if model.equations.eom %}<h3>Equations of motion</h3>
-{% for e in model.equations.eom %}<div class="eq">{{ e.math|safe }}<span class="eqno">{{ e.label }}{% if e.lecture %}<br>printed: {{ e.lecture }}{% endif %}</span></div>
-{% if e.note %}<p><small>{{ e.note }}</small></p>{% endif %}{% endfor %}{% endif %}
+{% include "equations" %}
 {% for n in model.equations.notes + model.equation_notes %}<p><small>{{ n }}</small></p>{% endfor %}
 {% endif %}
 <h2>Conformance checks</h2>
@@ -272,7 +277,7 @@ torques: {% if step.warnings %}warnings:</p><ul>{% for w in step.warnings %}<li>
 
 
 def environment() -> jinja2.Environment:
-    env = jinja2.Environment(loader=jinja2.DictLoader({"base": BASE, "index": INDEX, "system": SYSTEM,
+    env = jinja2.Environment(loader=jinja2.DictLoader({"base": BASE, "index": INDEX, "system": SYSTEM, "equations": EQUATIONS,
                                                         "errata": ERRATA, "generic": GENERIC,
                                                         "robot": ROBOT}),
                              autoescape=True, undefined=jinja2.StrictUndefined, trim_blocks=True, lstrip_blocks=True)
