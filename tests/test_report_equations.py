@@ -244,3 +244,24 @@ def test_common_subexpressions_of_entries_that_would_scroll_are_named_and_stand_
     crane = models.get("tower_crane")
     d = derive(crane)
     assert equations.abbreviated([budget.simplify(x) for x in (d.M, d.C)])[1] == []
+
+
+def test_a_printed_equation_wider_than_a_line_is_broken_as_the_derived_ones_are():
+    """The printed equations beside their derived forms were each one line: the tower crane's printed M (5.37)+
+    (5.39)+(5.41) was 7617 px wide in Chromium at 1300 px, its T 30216 px; 25 rows of the catalogue's pages scrolled.
+    A wide printed or derived matrix is written entry by entry, every entry (the printed one is read entry by entry
+    against the derived one), a wide sum broken after its terms, a residual with ``= 0`` last."""
+    system, claims = models.get("tower_crane"), models.claims("tower_crane")
+    rows = {r["equation"]: r for r in equations.claim_equations(system, claims)}
+    M = rows["(5.37)+(5.39)+(5.41)"]
+    for form in (M["printed"], M["derived"]):
+        _parses(form)
+        assert "text-align:left" in form and form.count("<msub><mrow>") == 25      # M_11 … M_55, all of them
+    x, m = sp.symbols("x m")
+    residual = sp.Add(*(m * sp.sin(x) ** k for k in range(1, 30)))
+    from harness.modeling import Claim
+
+    text = equations._claim_math(Claim("(9.9)", "eom", residual), residual)
+    _parses(text)
+    assert text.count("<mtr>") > 2 and text.endswith('<mtd><mo>=</mo></mtd><mtd style="text-align:left"><mrow><mn>0</mn>'
+                                                    "</mrow></mtd></mtr></mtable></math>")

@@ -113,16 +113,19 @@ def _terms(expr) -> list:
     return list(expr.as_ordered_terms()) if isinstance(expr, sp.Add) else [expr]
 
 
-def _entries(letter: str, matrix, superscript: str = "", vector: bool = False) -> tuple[str, str]:
+def _entries(letter: str, matrix, superscript: str = "", vector: bool = False, name=None) -> tuple[str, str]:
     """A matrix too wide for a line as its entries ``letter_ij = …``, each broken after its terms
     (:func:`~harness.report.mathml.broken`), and what the page says of the entries not written: a symmetric matrix
-    (M) is written by its entries on and above the diagonal."""
-    symmetric = matrix.is_square and matrix.rows > 1 and matrix == matrix.T
+    (M) is written by its entries on and above the diagonal. ``name(index)``: each entry's left-hand side instead
+    (a printed equation's, :func:`_claim_math`), every entry written: a printed matrix is read entry by entry
+    against the derived one."""
+    symmetric = name is None and matrix.is_square and matrix.rows > 1 and matrix == matrix.T
     written = []
     for i in range(matrix.rows):
         for j in range(i if symmetric else 0, matrix.cols):
             index = str(i + 1) if vector else (f"{i + 1}{j + 1}" if matrix.rows < 10 else f"{i + 1},{j + 1}")
-            written.append((bold(letter, subscript=index, superscript=superscript), "<mo>=</mo>", _terms(matrix[i, j])))
+            left = name(index) if name else bold(letter, subscript=index, superscript=superscript)
+            written.append((left, "<mo>=</mo>", _terms(matrix[i, j])))
     return broken(written), f"{letter} is symmetric: its entries on and above the diagonal are written." if symmetric \
         else ""
 
@@ -270,9 +273,20 @@ def _claim_math(claim, expr) -> str:
     size = _too_large(expr)
     text = "<mo>…</mo>" if size else body(expr)
     kind = claim.quantity.split(":")[0]
+    matrix = isinstance(expr, sp.MatrixBase)
+    wide = not size and (_wide(expr) if matrix else width(expr) > LINE_WIDTH)  # broken as the derived equations
     if kind in ("eom", "equilibrium"):
+        if wide:  # each residual after its terms, "= 0" last
+            rows = list(expr) if matrix else [expr]
+            return broken([part for row in rows for part in (("", "", _terms(row)), ("", "<mo>=</mo>", [sp.S.Zero]))])
         return math(text, "<mo>=</mo>", "<mn>0</mn>")
     lhs = _claim_lhs(claim)
+    if wide and lhs:
+        if matrix:
+            def entry(index):
+                return f"<msub><mrow>{lhs}</mrow><mi>{index}</mi></msub>"
+            return _entries("", expr, vector=expr.cols == 1, name=entry)[0]
+        return broken([(lhs, "<mo>=</mo>", _terms(expr))])
     return math(lhs, "<mo>=</mo>", text) if lhs else math(text)
 
 
