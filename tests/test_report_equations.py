@@ -248,9 +248,11 @@ def test_common_subexpressions_of_entries_that_would_scroll_are_named_and_stand_
 
 def test_a_printed_equation_wider_than_a_line_is_broken_as_the_derived_ones_are():
     """The printed equations beside their derived forms were each one line: the tower crane's printed M (5.37)+
-    (5.39)+(5.41) was 7617 px wide in Chromium at 1300 px, its T 30216 px; 25 rows of the catalogue's pages scrolled.
-    A wide printed or derived matrix is written entry by entry, every entry (the printed one is read entry by entry
-    against the derived one), a wide sum broken after its terms, a residual with ``= 0`` last."""
+    (5.39)+(5.41) was 7617 px wide in Chromium at 1300 px, its T 30216 px; 25 rows of the catalogue's pages scrolled,
+    1 does now (a Jacobian printed as a matrix without a name). A wide printed or derived matrix is written entry by
+    entry, every entry (the printed one is read entry by entry against the derived one), a wide sum broken after its
+    terms, a residual with ``= 0`` last; a derived form that would scroll has its common subexpressions named (the
+    trebuchet's projectile velocity (A.180): its sling angle and that angle's derivative)."""
     system, claims = models.get("tower_crane"), models.claims("tower_crane")
     rows = {r["equation"]: r for r in equations.claim_equations(system, claims)}
     M = rows["(5.37)+(5.39)+(5.41)"]
@@ -261,6 +263,8 @@ def test_a_printed_equation_wider_than_a_line_is_broken_as_the_derived_ones_are(
     residual = sp.Add(*(m * sp.sin(x) ** k for k in range(1, 30)))
     from harness.modeling import Claim
 
+    rows = {r["equation"]: r for r in equations.claim_equations(models.get("trebuchet"), models.claims("trebuchet"))}
+    assert "&#958;" not in rows["(A.180)"]["printed"] and "&#958;" in rows["(A.180)"]["derived"]   # ξ: derived only
     text = equations._claim_math(Claim("(9.9)", "eom", residual), residual)
     _parses(text)
     assert text.count("<mtr>") > 2 and text.endswith('<mtd><mo>=</mo></mtd><mtd style="text-align:left"><mrow><mn>0</mn>'

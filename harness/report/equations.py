@@ -98,7 +98,8 @@ def _equation(lhs: str, expr, *, label: str = "", lecture: str = "", names=None,
         return {"math": math(lhs, "<mo>=</mo>", "<mo>…</mo>"), "label": label, "lecture": lecture,
                 "note": f"{size} operations: too large to print here"}
     if letter and _wide(expr):
-        text, note = _entries(letter, expr, superscript, vector)
+        written, note = _entries(letter, expr, superscript, vector)
+        text = broken(written)
         return {"math": text, "label": label, "lecture": lecture, "note": note}
     return {"math": math(lhs, "<mo>=</mo>", body(expr, names=names)), "label": label, "lecture": lecture, "note": ""}
 
@@ -113,9 +114,10 @@ def _terms(expr) -> list:
     return list(expr.as_ordered_terms()) if isinstance(expr, sp.Add) else [expr]
 
 
-def _entries(letter: str, matrix, superscript: str = "", vector: bool = False, name=None) -> tuple[str, str]:
-    """A matrix too wide for a line as its entries ``letter_ij = …``, each broken after its terms
-    (:func:`~harness.report.mathml.broken`), and what the page says of the entries not written: a symmetric matrix
+def _entries(letter: str, matrix, superscript: str = "", vector: bool = False, name=None) -> tuple[list, str]:
+    """A matrix too wide for a line as its entries ``letter_ij = …``, the equations
+    :func:`~harness.report.mathml.broken` sets (each broken after its terms), and what the page says of the entries
+    not written: a symmetric matrix
     (M) is written by its entries on and above the diagonal. ``name(index)``: each entry's left-hand side instead
     (a printed equation's, :func:`_claim_math`), every entry written: a printed matrix is read entry by entry
     against the derived one."""
@@ -126,7 +128,7 @@ def _entries(letter: str, matrix, superscript: str = "", vector: bool = False, n
             index = str(i + 1) if vector else (f"{i + 1}{j + 1}" if matrix.rows < 10 else f"{i + 1},{j + 1}")
             left = name(index) if name else bold(letter, subscript=index, superscript=superscript)
             written.append((left, "<mo>=</mo>", _terms(matrix[i, j])))
-    return broken(written), f"{letter} is symmetric: its entries on and above the diagonal are written." if symmetric \
+    return written, f"{letter} is symmetric: its entries on and above the diagonal are written." if symmetric \
         else ""
 
 
@@ -136,9 +138,9 @@ wide (:func:`~harness.report.mathml.width`); a narrower one reads better in plac
 
 
 def _scrolls(expr) -> bool:
-    """Whether ``expr`` broken after its terms (:func:`~harness.report.mathml.broken`) still has a piece wider than
-    a line."""
-    return any(w > LINE_WIDTH for w, _ in pieces(_terms(expr)))
+    """Whether ``expr`` broken after its terms, its products opened one level (:func:`~harness.report.mathml.pieces`
+    not ``deep``), still has a piece wider than a line."""
+    return any(w > LINE_WIDTH for w, _ in pieces(_terms(expr), deep=False))
 
 
 def abbreviated(matrices: list) -> tuple[list, list[tuple[sp.Symbol, sp.Expr]]]:
@@ -266,28 +268,41 @@ def _claim_lhs(claim) -> str:
     return lhs or ""
 
 
-def _claim_math(claim, expr) -> str:
+def _claim_math(claim, expr, named: bool = False) -> str:
+    """A printed equation, or the derived quantity it is compared with, as MathML: ``lhs = expr`` (an equation of
+    motion as its residuals ``… = 0``), broken as the derived equations are where wider than a line (a matrix entry
+    by entry, every entry; a sum after its terms). ``named`` (a derived form, never a printed one): the common
+    subexpressions of an entry that would scroll named, ``where ξ₁ = …`` after it (:func:`abbreviated`)."""
     expr = sp.Matrix(expr) if isinstance(expr, (sp.MatrixBase, list, tuple)) else sp.sympify(expr)
     if isinstance(expr, sp.MatrixBase) and expr.shape == (1, 1):
         expr = expr[0, 0]
-    size = _too_large(expr)
-    text = "<mo>…</mo>" if size else body(expr)
     kind = claim.quantity.split(":")[0]
-    matrix = isinstance(expr, sp.MatrixBase)
-    wide = not size and (_wide(expr) if matrix else width(expr) > LINE_WIDTH)  # broken as the derived equations
-    if kind in ("eom", "equilibrium"):
-        if wide:  # each residual after its terms, "= 0" last
-            rows = list(expr) if matrix else [expr]
-            return broken([part for row in rows for part in (("", "", _terms(row)), ("", "<mo>=</mo>", [sp.S.Zero]))])
-        return math(text, "<mo>=</mo>", "<mn>0</mn>")
     lhs = _claim_lhs(claim)
-    if wide and lhs:
-        if matrix:
-            def entry(index):
-                return f"<msub><mrow>{lhs}</mrow><mi>{index}</mi></msub>"
-            return _entries("", expr, vector=expr.cols == 1, name=entry)[0]
-        return broken([(lhs, "<mo>=</mo>", _terms(expr))])
-    return math(lhs, "<mo>=</mo>", text) if lhs else math(text)
+    residual = kind in ("eom", "equilibrium")
+    if _too_large(expr):
+        return math("<mo>…</mo>", "<mo>=</mo>", "<mn>0</mn>") if residual else \
+            math(lhs, "<mo>=</mo>", "<mo>…</mo>") if lhs else math("<mo>…</mo>")
+    matrix = isinstance(expr, sp.MatrixBase)
+    if matrix and not lhs and not residual:  # a printed value without a name (a Jacobian): as a matrix
+        return math(body(expr))
+    where = []
+    if named:
+        (entries,), where = abbreviated([expr if matrix else sp.Matrix([expr])])
+        expr = entries if matrix else entries[0, 0]
+    if not where and not (_wide(expr) if matrix else width(expr) > LINE_WIDTH):
+        if residual:
+            return math(body(expr), "<mo>=</mo>", "<mn>0</mn>")
+        return math(lhs, "<mo>=</mo>", body(expr)) if lhs else math(body(expr))
+    if residual:  # each residual after its terms, "= 0" last
+        written = [part for row in (list(expr) if matrix else [expr])
+                   for part in (("", "", _terms(row)), ("", "<mo>=</mo>", [sp.S.Zero]))]
+    elif matrix and lhs:
+        def entry(index):
+            return f"<msub><mrow>{lhs}</mrow><mi>{index}</mi></msub>"
+        written = _entries("", expr, vector=expr.cols == 1, name=entry)[0]
+    else:
+        written = [(lhs, "<mo>=</mo>" if lhs else "", _terms(expr))]
+    return broken(written + [(body(name), "<mo>=</mo>", _terms(value)) for name, value in where])
 
 
 def claim_equations(system, claims, budget: Budget | None = None) -> list[dict]:
@@ -310,7 +325,7 @@ def claim_equations(system, claims, budget: Budget | None = None) -> list[dict]:
             continue
         try:
             derived = _derived(system, claim)
-            row["derived"] = _claim_math(claim, budget.simplify(derived))
+            row["derived"] = _claim_math(claim, budget.simplify(derived), named=True)
         except Exception as exc:  # noqa: BLE001 - a claim whose quantity cannot be derived keeps its printed form
             row["note"] = f"derived form not available: {type(exc).__name__}: {exc}"
         out.append(row)

@@ -158,40 +158,47 @@ def width(expr) -> float:
     return len(sp.sstr(expr))
 
 
-def pieces(terms) -> list[tuple[float, str]]:
+def pieces(terms, deep: bool = True) -> list[tuple[float, str]]:
     """The sum of ``terms`` in their order as pieces to set on lines, ``(width, MathML)`` each, every term after its
     own sign (:func:`signed_terms`; the first without a ``+``). A term wider than a line that is a product with a
     sum among its factors (``φ̇₃ (…)``, a Christoffel entry grouped by the velocity) is opened: its other factors and
     ``(`` as one piece, the sum's own pieces, ``)`` as the last, so that the sum is broken over lines too
-    (:func:`_opened`)."""
+    (:func:`_opened`; ``deep``: also where the sum's own terms are opened in turn)."""
     out = []
     for k, term in enumerate(terms):
         minus = term.could_extract_minus_sign()
         term = -term if minus else term
         sign = "<mo>-</mo>" if minus else ("<mo>+</mo>" if k else "")
-        inner = _opened(term)
+        inner = _opened(term, deep)
         if inner is None:
             out.append((width(term) + bool(sign), sign + body(term)))
             continue
-        factor, total = inner
+        factor, total, power = inner
         opening = sign + (body(factor) if factor != 1 else "") + "<mo>(</mo>"
         out.append((width(factor) * (factor != 1) + 2, opening))
-        out += pieces(list(total.as_ordered_terms()))
-        out.append((1, "<mo>)</mo>"))
+        out += pieces(list(total.as_ordered_terms()), deep)
+        out.append((1, "<mo>)</mo>") if power is None else (2, f"<msup><mo>)</mo>{body(power)}</msup>"))
     return out
 
 
-def _opened(term):
-    """``(other factors, sum)`` of a term wider than a line whose widest factor is a sum of terms that each fit on a
-    line or are opened themselves, else None: a sum of terms that cannot be opened (nested roots and arccosines
-    inside a function) would run down the page a bracket per line, harder to read than the one line it scrolls in
-    (the report names them instead: :func:`harness.report.equations.abbreviated`)."""
-    if width(term) <= LINE_WIDTH or not isinstance(term, sp.Mul):
+def _opened(term, deep: bool = True):
+    """``(other factors, sum, power)`` of a term wider than a line whose widest factor is a sum, or a sum to a
+    positive integer power (``(…)²`` of a kinetic energy; ``power`` None for the sum itself), of terms that each fit
+    on a line or (``deep``) are opened themselves, else None. Opened level after level, nested roots and
+    arccosines ran down the page a bracket per line, harder to read than the one line it scrolls in: where one
+    level does not make an entry fit, the report names its common subexpressions first
+    (:func:`harness.report.equations.abbreviated`), and only then opens deeper."""
+    if width(term) <= LINE_WIDTH or not isinstance(term, (sp.Mul, sp.Pow)):
         return None
-    total = max(term.args, key=width)
-    if not isinstance(total, sp.Add) or any(width(t) > LINE_WIDTH and _opened(t) is None for t in total.args):
+    widest = max(term.args, key=width) if isinstance(term, sp.Mul) else term
+    total, power = widest, None
+    if isinstance(widest, sp.Pow) and widest.exp.is_Integer and widest.exp > 1:
+        total, power = widest.base, widest.exp
+    if not isinstance(total, sp.Add) or any(width(t) > LINE_WIDTH and (not deep or _opened(t) is None)
+                                            for t in total.args):
         return None
-    return sp.Mul(*(a for a in term.args if a is not total)), total
+    rest = sp.Mul(*(a for a in term.args if a is not widest)) if isinstance(term, sp.Mul) else sp.S.One
+    return rest, total, power
 
 
 def lines(terms, line_width: int = LINE_WIDTH) -> list[list]:
