@@ -269,21 +269,26 @@ def _claim_lhs(claim) -> str:
 
 
 def _claim_math(claim, expr, named: bool = False) -> str:
-    """A printed equation, or the derived quantity it is compared with, as MathML: ``lhs = expr`` (an equation of
-    motion as its residuals ``… = 0``), broken as the derived equations are where wider than a line (a matrix entry
-    by entry, every entry; a sum after its terms). ``named`` (a derived form, never a printed one): the common
-    subexpressions of an entry that would scroll named, ``where ξ₁ = …`` after it (:func:`abbreviated`)."""
+    """A printed equation, or the derived quantity it is compared with, as MathML (:func:`wide_math`): ``lhs = expr``
+    with the claim's left-hand side, an equation of motion as its residuals ``… = 0``. ``named``: a derived form,
+    never a printed one."""
+    return wide_math(expr, _claim_lhs(claim), claim.quantity.split(":")[0] in ("eom", "equilibrium"), named)
+
+
+def wide_math(expr, lhs: str = "", residual: bool = False, named: bool = False) -> str:
+    """``lhs = expr`` (MathML of ``lhs``; ``residual``: ``expr = 0``) as one ``<math>`` element, broken as the
+    derived equations are where wider than a line: a matrix entry by entry (every entry: a printed one is read entry
+    by entry against the derived one), a sum after its terms. ``named``: the common subexpressions of an entry that
+    would scroll named, ``where ξ₁ = …`` after it (:func:`abbreviated`). A matrix without a left-hand side (a printed
+    Jacobian) stays a matrix. The system pages' printed equations and the errata sheet are set by it."""
     expr = sp.Matrix(expr) if isinstance(expr, (sp.MatrixBase, list, tuple)) else sp.sympify(expr)
     if isinstance(expr, sp.MatrixBase) and expr.shape == (1, 1):
         expr = expr[0, 0]
-    kind = claim.quantity.split(":")[0]
-    lhs = _claim_lhs(claim)
-    residual = kind in ("eom", "equilibrium")
     if _too_large(expr):
         return math("<mo>…</mo>", "<mo>=</mo>", "<mn>0</mn>") if residual else \
             math(lhs, "<mo>=</mo>", "<mo>…</mo>") if lhs else math("<mo>…</mo>")
     matrix = isinstance(expr, sp.MatrixBase)
-    if matrix and not lhs and not residual:  # a printed value without a name (a Jacobian): as a matrix
+    if matrix and not lhs and not residual:
         return math(body(expr))
     where = []
     if named:
@@ -296,7 +301,7 @@ def _claim_math(claim, expr, named: bool = False) -> str:
     if residual:  # each residual after its terms, "= 0" last
         written = [part for row in (list(expr) if matrix else [expr])
                    for part in (("", "", _terms(row)), ("", "<mo>=</mo>", [sp.S.Zero]))]
-    elif matrix and lhs:
+    elif matrix:
         def entry(index):
             return f"<msub><mrow>{lhs}</mrow><mi>{index}</mi></msub>"
         written = _entries("", expr, vector=expr.cols == 1, name=entry)[0]

@@ -17,7 +17,6 @@ import numpy as np
 import sympy as sp
 
 from harness.modeling.claims import as_matrix
-from harness.report.mathml import mathml
 
 KIND = {"erratum": "substantive", "notation typo": "notation", "convention-dependent": "convention",
         "follows from erratum": "follows", "engines disagree": "engines"}
@@ -104,13 +103,15 @@ def finding(system, verdict, claims) -> dict:
     from harness.compare import claims as claims_module
     from harness.compare.errata import ingredients_of
 
+    from harness.report.equations import _claim_math, wide_math
+
     claim = verdict.claim
-    out: dict = {"printed_mathml": mathml(_shown(claim.printed, claim), label=claim.equation)}
+    out: dict = {"printed_mathml": _claim_math(claim, claim.printed)}
     kind = claim.quantity.split(":")[0]
     if verdict.classification == "notation typo":
         renaming = {sp.Symbol(k, real=True): sp.Symbol(v, real=True) for k, v in verdict.renaming.items()}
         corrected = as_matrix(claim.printed).xreplace(renaming)
-        out["corrected_mathml"] = mathml(_shown(corrected, claim))
+        out["corrected_mathml"] = _claim_math(claim, corrected)
         pairs = ", ".join(f"{k} → {v}" for k, v in verdict.renaming.items())
         names = ", ".join(verdict.renaming)
         verb = "is not a symbol" if len(verdict.renaming) == 1 else "are not symbols"
@@ -139,23 +140,14 @@ def finding(system, verdict, claims) -> dict:
     corrected = lecture_form(derived, keep, relations)
     if printed_shown.shape != corrected.shape and len(printed_shown) == len(corrected):
         printed_shown = printed_shown.reshape(*corrected.shape)
-    out["corrected_mathml"] = mathml(_shown(corrected, claim), label=claim.equation)
+    out["corrected_mathml"] = _claim_math(claim, corrected, named=True)
     delta = lecture_form(derived - printed_model.reshape(*derived.shape), keep, relations)
     out["difference"] = str(delta if delta.shape != (1, 1) else delta[0])
-    out["difference_mathml"] = mathml(delta[0] if delta.shape == (1, 1) else delta)
+    out["difference_mathml"] = wide_math(delta, "<mi>Δ</mi>", named=True)
     out["sentence"] = (along_the_line(system, claim, printed_model, derived) or
                        sentence(claim, printed_shown, corrected, verdict))
     out["counterexample_reduced"] = reduced_counterexample(system, claim, verdict, delta, relations)
     return out
-
-
-def _shown(expr, claim):
-    """Residual claims (eom, equilibrium) as ``… = 0``, others as the printed quantity."""
-    m = as_matrix(expr)
-    value = m[0] if m.shape == (1, 1) else m
-    if claim.quantity == "eom":
-        return sp.Eq(value, sp.zeros(*m.shape) if m.shape != (1, 1) else 0, evaluate=False)
-    return value
 
 
 def _scaled_like(printed, derived, system):
@@ -474,11 +466,11 @@ def sheet(records, lecture: set[str] | None = None) -> str:
         if r.get("sentence"):
             body.append(f"<p class='act'>{escape(r['sentence'])}</p>")
         if r.get("printed_mathml"):
-            body.append(f"<p>printed:</p>{r['printed_mathml']}")
+            body.append(f"<p>printed {escape(r['equation'])}:</p>{r['printed_mathml']}")
         if r.get("corrected_mathml"):
-            body.append(f"<p>corrected:</p>{r['corrected_mathml']}")
+            body.append(f"<p>corrected {escape(r['equation'])}:</p>{r['corrected_mathml']}")
         if r.get("difference_mathml"):
-            body.append(f"<p class='diff'>derived − printed:</p><div class='diff'>{r['difference_mathml']}</div>")
+            body.append(f"<p class='diff'>derived − printed, Δ:</p><div class='diff'>{r['difference_mathml']}</div>")
         if r.get("counterexample_reduced"):
             body.append(f"<p>counterexample: {escape(_reduced_text(r['counterexample_reduced']))}</p>")
         if r["note"]:
