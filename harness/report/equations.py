@@ -280,7 +280,7 @@ def wide_math(expr, lhs: str = "", residual: bool = False, named: bool = False) 
     derived equations are where wider than a line: a matrix entry by entry (every entry: a printed one is read entry
     by entry against the derived one), a sum after its terms. ``named``: the common subexpressions of an entry that
     would scroll named, ``where ξ₁ = …`` after it (:func:`abbreviated`). A matrix without a left-hand side (a printed
-    Jacobian) stays a matrix. The system pages' printed equations and the errata sheet are set by it."""
+    Jacobian) is written column by column. The system pages' printed equations and the errata sheet are set by it."""
     expr = sp.Matrix(expr) if isinstance(expr, (sp.MatrixBase, list, tuple)) else sp.sympify(expr)
     if isinstance(expr, sp.MatrixBase) and expr.shape == (1, 1):
         expr = expr[0, 0]
@@ -288,8 +288,10 @@ def wide_math(expr, lhs: str = "", residual: bool = False, named: bool = False) 
         return math("<mo>…</mo>", "<mo>=</mo>", "<mn>0</mn>") if residual else \
             math(lhs, "<mo>=</mo>", "<mo>…</mo>") if lhs else math("<mo>…</mo>")
     matrix = isinstance(expr, sp.MatrixBase)
-    if matrix and not lhs and not residual:
-        return math(body(expr))
+    if matrix and not lhs and not residual:  # a matrix without a name (a printed Jacobian): column by column
+        if not _wide(expr):
+            return math(body(expr))
+        return broken([(f"<mtext>column {j + 1}</mtext>", "<mo>:</mo>", [expr[:, j]]) for j in range(expr.cols)])
     where = []
     if named:
         (entries,), where = abbreviated([expr if matrix else sp.Matrix([expr])])

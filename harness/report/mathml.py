@@ -137,6 +137,8 @@ def width(expr) -> float:
     numerator and denominator (stacked), an exponent or subscript at 0.7 of a character, parentheses around a sum
     inside a product or power, a sign or operator as one character (:data:`LINE_WIDTH`)."""
     expr = sp.sympify(expr)
+    if isinstance(expr, sp.MatrixBase):  # its columns side by side, each as wide as its widest entry
+        return sum(max(width(expr[i, j]) for i in range(expr.rows)) + 1 for j in range(expr.cols)) + 2
     if isinstance(expr, sp.Symbol):
         base, subs, supers, accent = lecture_parts(expr.name)
         return len(greek_unicode.get(base, base)) + 0.7 * sum(len(s) for s in (*subs, *supers))
@@ -166,7 +168,7 @@ def pieces(terms, deep: bool = True) -> list[tuple[float, str]]:
     (:func:`_opened`; ``deep``: also where the sum's own terms are opened in turn)."""
     out = []
     for k, term in enumerate(terms):
-        minus = term.could_extract_minus_sign()
+        minus = not isinstance(term, sp.MatrixBase) and term.could_extract_minus_sign()   # a matrix: one piece
         term = -term if minus else term
         sign = "<mo>-</mo>" if minus else ("<mo>+</mo>" if k else "")
         inner = _opened(term, deep)

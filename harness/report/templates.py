@@ -125,6 +125,16 @@ EQUATIONS = """{% for e in model.equations.quantities %}<div class="eq"><div cla
 """A system's derived equations (:func:`harness.report.equations.derived_equations`), one ``.eq`` row each: the
 system page includes it, and a test measures the rows in Chromium."""
 
+CLAIMS = """{% for c in model.claims %}{% set r = c.record %}<div class="claim {{ 'na' if not r else ('ok' if r.classification == 'confirmed' else 'erratum') }}">
+<div class="claimhead"><b>{{ c.equation }}</b> <small>{{ c.quantity }}{% if c.description %}: {{ c.description }}{% endif %}</small> — {% if r %}<b>{{ r.classification }}</b>{% if r.convention %}; convention: {{ r.convention }}{% endif %}{% if r.counterexample %}<br><small>counterexample: {{ r.counterexample }}</small>{% endif %}{% else %}not classified{% endif %}</div>
+<div class="eq"><div class="eqtitle">printed</div>{{ c.printed|safe }}</div>
+<div class="eq"><div class="eqtitle">derived</div>{{ c.derived|safe }}{% if c.note %}<small>{{ c.note }}</small>{% endif %}</div></div>
+{% endfor %}
+"""
+"""A system's printed equations, each beside the derived quantity it is compared with
+(:func:`harness.report.equations.claim_equations`, with its classification ``record``): the system page includes it,
+and a test measures the rows in Chromium."""
+
 SYSTEM = """{% extends "base" %}
 {% block title %}{{ s.name }} — {{ s.title }}{% endblock %}
 {% block body %}
@@ -206,11 +216,7 @@ number follows (compared in <a href="#claims">Printed equations</a>).</p>
 <h2 id="claims">Printed equations</h2>
 {% if model and model.claims %}<p>Each equation as the lecture prints it, and under it the derived quantity it is compared with
 (equations of motion as residuals = 0).{% if not s.claims %} Not classified yet: run <code>harness claims --out</code>.{% endif %}</p>
-{% for c in model.claims %}{% set r = c.record %}<div class="claim {{ 'na' if not r else ('ok' if r.classification == 'confirmed' else 'erratum') }}">
-<div class="claimhead"><b>{{ c.equation }}</b> <small>{{ c.quantity }}{% if c.description %}: {{ c.description }}{% endif %}</small> — {% if r %}<b>{{ r.classification }}</b>{% if r.convention %}; convention: {{ r.convention }}{% endif %}{% if r.counterexample %}<br><small>counterexample: {{ r.counterexample }}</small>{% endif %}{% else %}not classified{% endif %}</div>
-<div class="eq"><div class="eqtitle">printed</div>{{ c.printed|safe }}</div>
-<div class="eq"><div class="eqtitle">derived</div>{{ c.derived|safe }}{% if c.note %}<small>{{ c.note }}</small>{% endif %}</div></div>
-{% endfor %}
+{% include "claims" %}
 {% elif s.claims %}<table><tr><th>equation</th><th>quantity</th><th>description</th><th>classification</th><th>printed</th><th>derived / counterexample</th></tr>
 {% for c in s.claims %}<tr class="{{ 'ok' if c.classification == 'confirmed' else 'erratum' }}"><td>{{ c.equation }}</td><td>{{ c.quantity }}</td><td>{{ c.description }}</td><td>{{ c.classification }}</td><td><code>{{ c.printed }}</code></td>
 <td>{% if c.corrected %}<code>{{ c.corrected }}</code>{% endif %}{% if c.convention %}<br>convention: {{ c.convention }}{% endif %}{% if c.counterexample %}<br><small>{{ c.counterexample }}</small>{% endif %}</td></tr>{% endfor %}</table>
@@ -277,7 +283,7 @@ torques: {% if step.warnings %}warnings:</p><ul>{% for w in step.warnings %}<li>
 
 
 def environment() -> jinja2.Environment:
-    env = jinja2.Environment(loader=jinja2.DictLoader({"base": BASE, "index": INDEX, "system": SYSTEM, "equations": EQUATIONS,
+    env = jinja2.Environment(loader=jinja2.DictLoader({"base": BASE, "index": INDEX, "system": SYSTEM, "equations": EQUATIONS, "claims": CLAIMS,
                                                         "errata": ERRATA, "generic": GENERIC,
                                                         "robot": ROBOT}),
                              autoescape=True, undefined=jinja2.StrictUndefined, trim_blocks=True, lstrip_blocks=True)
