@@ -265,7 +265,7 @@ def test_a_printed_equation_wider_than_a_line_is_broken_as_the_derived_ones_are(
 
     rows = {r["equation"]: r for r in equations.claim_equations(models.get("trebuchet"), models.claims("trebuchet"))}
     assert "&#958;" not in rows["(A.180)"]["printed"] and "&#958;" in rows["(A.180)"]["derived"]   # ξ: derived only
-    text = equations._claim_math(Claim("(9.9)", "eom", residual), residual)
+    text = equations.claim_math(Claim("(9.9)", "eom", residual), residual)
     _parses(text)
     assert text.count("<mtr>") > 2 and text.endswith('<mtd><mo>=</mo></mtd><mtd style="text-align:left"><mrow><mn>0</mn>'
                                                     "</mrow></mtd></mtr></mtable></math>")

@@ -117,10 +117,9 @@ def _terms(expr) -> list:
 def _entries(letter: str, matrix, superscript: str = "", vector: bool = False, name=None) -> tuple[list, str]:
     """A matrix too wide for a line as its entries ``letter_ij = …``, the equations
     :func:`~harness.report.mathml.broken` sets (each broken after its terms), and what the page says of the entries
-    not written: a symmetric matrix
-    (M) is written by its entries on and above the diagonal. ``name(index)``: each entry's left-hand side instead
-    (a printed equation's, :func:`_claim_math`), every entry written: a printed matrix is read entry by entry
-    against the derived one."""
+    not written: a symmetric matrix (M) is written by its entries on and above the diagonal. ``name(index)``: each
+    entry's left-hand side instead (a printed equation's, :func:`wide_math`), every entry written: a printed matrix
+    is read entry by entry against the derived one."""
     symmetric = name is None and matrix.is_square and matrix.rows > 1 and matrix == matrix.T
     written = []
     for i in range(matrix.rows):
@@ -268,7 +267,7 @@ def _claim_lhs(claim) -> str:
     return lhs or ""
 
 
-def _claim_math(claim, expr, named: bool = False) -> str:
+def claim_math(claim, expr, named: bool = False) -> str:
     """A printed equation, or the derived quantity it is compared with, as MathML (:func:`wide_math`): ``lhs = expr``
     with the claim's left-hand side, an equation of motion as its residuals ``… = 0``. ``named``: a derived form,
     never a printed one."""
@@ -325,14 +324,14 @@ def claim_equations(system, claims, budget: Budget | None = None) -> list[dict]:
     for claim in claims:
         row = {"equation": claim.equation, "quantity": claim.quantity,
                "description": f"{claim.description} ({claim.where})" if claim.where else claim.description,
-               "printed": _claim_math(claim, claim.printed), "derived": "", "note": ""}
+               "printed": claim_math(claim, claim.printed), "derived": "", "note": ""}
         if per_body:
             row["note"] = "derived per body as an expression graph: too large to print"
             out.append(row)
             continue
         try:
             derived = _derived(system, claim)
-            row["derived"] = _claim_math(claim, budget.simplify(derived), named=True)
+            row["derived"] = claim_math(claim, budget.simplify(derived), named=True)
         except Exception as exc:  # noqa: BLE001 - a claim whose quantity cannot be derived keeps its printed form
             row["note"] = f"derived form not available: {type(exc).__name__}: {exc}"
         out.append(row)

@@ -102,16 +102,15 @@ def finding(system, verdict, claims) -> dict:
     """The errata-sheet fields of a classified claim that does not simply hold."""
     from harness.compare import claims as claims_module
     from harness.compare.errata import ingredients_of
-
-    from harness.report.equations import _claim_math, wide_math
+    from harness.report.equations import claim_math, wide_math
 
     claim = verdict.claim
-    out: dict = {"printed_mathml": _claim_math(claim, claim.printed)}
+    out: dict = {"printed_mathml": claim_math(claim, claim.printed)}
     kind = claim.quantity.split(":")[0]
     if verdict.classification == "notation typo":
         renaming = {sp.Symbol(k, real=True): sp.Symbol(v, real=True) for k, v in verdict.renaming.items()}
         corrected = as_matrix(claim.printed).xreplace(renaming)
-        out["corrected_mathml"] = _claim_math(claim, corrected)
+        out["corrected_mathml"] = claim_math(claim, corrected)
         pairs = ", ".join(f"{k} → {v}" for k, v in verdict.renaming.items())
         names = ", ".join(verdict.renaming)
         verb = "is not a symbol" if len(verdict.renaming) == 1 else "are not symbols"
@@ -140,7 +139,7 @@ def finding(system, verdict, claims) -> dict:
     corrected = lecture_form(derived, keep, relations)
     if printed_shown.shape != corrected.shape and len(printed_shown) == len(corrected):
         printed_shown = printed_shown.reshape(*corrected.shape)
-    out["corrected_mathml"] = _claim_math(claim, corrected, named=True)
+    out["corrected_mathml"] = claim_math(claim, corrected, named=True)
     delta = lecture_form(derived - printed_model.reshape(*derived.shape), keep, relations)
     out["difference"] = str(delta if delta.shape != (1, 1) else delta[0])
     out["difference_mathml"] = wide_math(delta, "<mi>Δ</mi>", named=True)
