@@ -269,3 +269,19 @@ def test_a_printed_equation_wider_than_a_line_is_broken_as_the_derived_ones_are(
     _parses(text)
     assert text.count("<mtr>") > 2 and text.endswith('<mtd><mo>=</mo></mtd><mtd style="text-align:left"><mrow><mn>0</mn>'
                                                     "</mrow></mtd></mtr></mtable></math>")
+
+
+def test_a_long_sum_that_occurs_once_is_named_when_nothing_else_makes_it_fit():
+    """The errata sheet's corrected (5.109) of the planar manipulator had ``ξ₃ = d_e / (…)`` with a denominator of 40
+    terms on one line (2010 px at 1300): a sum that occurs once is no common subexpression. What still does not fit,
+    opened level after level, has its widest sum named until it fits; the names put back give it exactly."""
+    from harness.report.mathml import LINE_WIDTH, pieces
+
+    x, y, d = sp.symbols("x y d")
+    denominator = sp.Add(*(sp.sin(x) ** k * sp.cos(y) ** (k % 3) for k in range(1, 40)))
+    entry = d / denominator + sp.cos(x)
+    (named,), where = equations.abbreviated([sp.Matrix([entry])])
+    assert where and all(w <= LINE_WIDTH for w, _ in pieces(equations._terms(named[0])))
+    for name, value in reversed(where):
+        named = named.xreplace({name: value})
+    assert sp.simplify(named[0] - entry) == 0

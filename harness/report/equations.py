@@ -13,6 +13,7 @@ the page says how large it is instead.
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 from html import escape
 
@@ -167,7 +168,38 @@ def abbreviated(matrices: list) -> tuple[list, list[tuple[sp.Symbol, sp.Expr]]]:
     out = [sp.Matrix(m) for m in matrices]
     for (k, index), expr in zip(wide, reduced):
         out[k][index] = expr.xreplace(inline).xreplace(names)
-    return out, [(names[symbol], expr.xreplace(names)) for symbol, expr in kept]
+    where = [(names[symbol], expr.xreplace(names)) for symbol, expr in kept]
+    # what still does not fit, even opened level after level: its widest sum named, though it occurs once (a long
+    # denominator, a function's argument: a single term wider than a line), until it fits
+    fresh = (sp.Symbol(f"{letter}_{n}", real=True) for n in itertools.count(len(where) + 1))
+    todo = [("entry", k, index) for k, index in wide] + [("name", n, None) for n in range(len(where))]
+    while todo and len(where) < WIDE_SUMS_NAMED:
+        kind, k, index = todo.pop(0)
+        expr = out[k][index] if kind == "entry" else where[k][1]
+        if not _still_scrolls(expr):
+            continue
+        sums = [s for s in sp.preorder_traversal(expr) if isinstance(s, sp.Add) and s != expr
+                and width(s) >= ABBREVIATION_MIN_WIDTH]
+        if not sums:
+            continue
+        widest, name = max(sums, key=width), next(fresh)
+        if kind == "entry":
+            out[k][index] = expr.xreplace({widest: name})
+        else:
+            where[k] = (where[k][0], expr.xreplace({widest: name}))
+        where.append((name, widest))
+        todo += [(kind, k, index), ("name", len(where) - 1, None)]
+    return out, where
+
+
+WIDE_SUMS_NAMED = 40
+"""The most names :func:`abbreviated` gives in all (common subexpressions and single wide sums): past it an entry
+scrolls rather than send the reader through a longer list."""
+
+
+def _still_scrolls(expr) -> bool:
+    """Whether ``expr`` broken after its terms, opened level after level, still has a piece wider than a line."""
+    return any(w > LINE_WIDTH for w, _ in pieces(_terms(expr)))
 
 
 def _claim_labels(claims, quantity: str) -> str:
