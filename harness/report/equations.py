@@ -137,10 +137,15 @@ ABBREVIATION_MIN_WIDTH = 20
 wide (:func:`~harness.report.mathml.width`); a narrower one reads better in place than as a name to look up."""
 
 
-def _scrolls(expr) -> bool:
-    """Whether ``expr`` broken after its terms, its products opened one level (:func:`~harness.report.mathml.pieces`
-    not ``deep``), still has a piece wider than a line."""
-    return any(w > LINE_WIDTH for w, _ in pieces(_terms(expr), deep=False))
+WIDE_SUMS_NAMED = 40
+"""The most names :func:`abbreviated` gives in all (common subexpressions and single wide sums): past it an entry
+scrolls rather than send the reader through a longer list."""
+
+
+def _scrolls(expr, deep: bool = False) -> bool:
+    """Whether ``expr`` broken after its terms, its products opened one level (``deep``: level after level,
+    :func:`~harness.report.mathml.pieces`), still has a piece wider than a line."""
+    return any(w > LINE_WIDTH for w, _ in pieces(_terms(expr), deep=deep))
 
 
 def abbreviated(matrices: list) -> tuple[list, list[tuple[sp.Symbol, sp.Expr]]]:
@@ -149,7 +154,8 @@ def abbreviated(matrices: list) -> tuple[list, list[tuple[sp.Symbol, sp.Expr]]]:
     with what they stand for, in the order they are defined (a later one may use an earlier one), the way a
     derivation by hand writes ``with ξ₁ = …``. Other entries are left as they are. The trebuchet's map
     ``θ_sling = −θ + arccos(L (sin θ₀ − sin θ) / r)`` and its derivative recur in every entry of its M and C: its
-    ``M₁₁`` printed 616 characters wide, 36 with them named."""
+    ``M₁₁`` printed 616 characters wide, 36 with them named. What still does not fit once opened level after level
+    has its widest sum named too, though it occurs once (at most :data:`WIDE_SUMS_NAMED` names in all)."""
     wide = [(k, index) for k, m in enumerate(matrices) for index in range(len(m)) if _scrolls(m[index])]
     if not wide:
         return matrices, []
@@ -169,14 +175,20 @@ def abbreviated(matrices: list) -> tuple[list, list[tuple[sp.Symbol, sp.Expr]]]:
     for (k, index), expr in zip(wide, reduced):
         out[k][index] = expr.xreplace(inline).xreplace(names)
     where = [(names[symbol], expr.xreplace(names)) for symbol, expr in kept]
-    # what still does not fit, even opened level after level: its widest sum named, though it occurs once (a long
-    # denominator, a function's argument: a single term wider than a line), until it fits
+    _name_long_sums(out, where, wide, letter)
+    return out, where
+
+
+def _name_long_sums(out: list, where: list, wide: list, letter: str) -> None:
+    """What still does not fit, even opened level after level — an entry ``out[k][index]`` of ``wide`` or a name's
+    value in ``where`` — has its widest sum named (``letter`` numbered on), though it occurs once (a long denominator,
+    a function's argument: a single term wider than a line), until it fits; in place."""
     fresh = (sp.Symbol(f"{letter}_{n}", real=True) for n in itertools.count(len(where) + 1))
     todo = [("entry", k, index) for k, index in wide] + [("name", n, None) for n in range(len(where))]
     while todo and len(where) < WIDE_SUMS_NAMED:
         kind, k, index = todo.pop(0)
         expr = out[k][index] if kind == "entry" else where[k][1]
-        if not _still_scrolls(expr):
+        if not _scrolls(expr, deep=True):
             continue
         sums = [s for s in sp.preorder_traversal(expr) if isinstance(s, sp.Add) and s != expr
                 and width(s) >= ABBREVIATION_MIN_WIDTH]
@@ -189,17 +201,6 @@ def abbreviated(matrices: list) -> tuple[list, list[tuple[sp.Symbol, sp.Expr]]]:
             where[k] = (where[k][0], expr.xreplace({widest: name}))
         where.append((name, widest))
         todo += [(kind, k, index), ("name", len(where) - 1, None)]
-    return out, where
-
-
-WIDE_SUMS_NAMED = 40
-"""The most names :func:`abbreviated` gives in all (common subexpressions and single wide sums): past it an entry
-scrolls rather than send the reader through a longer list."""
-
-
-def _still_scrolls(expr) -> bool:
-    """Whether ``expr`` broken after its terms, opened level after level, still has a piece wider than a line."""
-    return any(w > LINE_WIDTH for w, _ in pieces(_terms(expr)))
 
 
 def _claim_labels(claims, quantity: str) -> str:
