@@ -24,7 +24,7 @@ from harness import profiling
 from harness.derivation.lambdified import lambdify
 from harness.derivation.derive import Derivation, derive, is_per_body, matrix_vector
 from harness.errors import ModelError, NotApplicable
-from harness.modeling.system import System
+from harness.modeling.system import System, drawn_parameters
 
 QUANTITIES = ("M", "C", "g", "g_gravity", "g_spring", "g_spring_terms", "f_np", "f_damper", "f_input", "T", "V", "M_dot",
               "phi", "J_phi", "J_phi_dot")
@@ -404,10 +404,8 @@ def regular_spectrum(w) -> bool:
 
 def _drawn(system: System, p) -> str:
     """The parameter values of ``p`` that are not the defaults, as an error names them (none: "")."""
-    if p is None:
-        return ""
-    changed = [f"{x.name} = {float(v):.6g}" for x, v in zip(system.parameters, p) if float(v) != float(x.default)]
-    return (f" with the parameters {', '.join(changed)} (positive ones are drawn in [default/2, 2 default]: a map "
+    changed = "" if p is None else drawn_parameters(system, p)
+    return (f" with the parameters {changed} (positive ones are drawn in [default/2, 2 default]: a map "
             "that closes a chain must be defined over that range)") if changed else ""
 
 

@@ -10,7 +10,8 @@ import sympy as sp
 
 from harness.derivation.lambdified import lambdify
 from harness.errors import ModelError
-from harness.modeling.system import Damper, JointDamper, JointInput, JointSpring, Point, Spring, System
+from harness.modeling.system import (Damper, JointDamper, JointInput, JointSpring, Point, Spring, System,
+                                     drawn_parameters)
 from harness.modeling.system import check_inertia  # noqa: F401  (re-exported: the physical-inertia check lives with the model)
 
 # MuJoCo refuses moving bodies whose mass or a principal inertia is below mjMINVAL = 1e-15 (its compiler
@@ -232,11 +233,10 @@ def _instantiate(system: System, params: dict[str, float]) -> NumericTree:
         try:
             check_inertia(f"{system.name}: link {link.name}", mass, inertia)
         except ModelError as exc:
-            drawn = [f"{x.name} = {params[x.name]:.6g}" for x in system.parameters
-                     if x.name in params and float(params[x.name]) != float(x.default)]
+            drawn = drawn_parameters(system, params)
             if not drawn:
                 raise
-            raise ModelError(f"{exc}, with the parameters {', '.join(drawn)} (drawn by the checks): an inertia "
+            raise ModelError(f"{exc}, with the parameters {drawn} (drawn by the checks): an inertia "
                              "built from parameters must be valid over their spans; give its six entries as "
                              "parameters (drawn as one valid tensor) or the parameters a range") from None
         links.append(NumericLink(link.name, mass, com, inertia))

@@ -174,6 +174,15 @@ def _parameter_range(name: str, default: float, span) -> tuple[float, float]:
     return lo, hi
 
 
+def drawn_parameters(system, values) -> str:
+    """The parameters of ``values`` (by name, or in the order of ``system.parameters``) that are not their defaults,
+    ``name = value, …``, as an error at drawn parameters names them ("" when all are the defaults)."""
+    if not isinstance(values, dict):
+        values = {x.name: v for x, v in zip(system.parameters, values)}
+    return ", ".join(f"{x.name} = {float(values[x.name]):.6g}" for x in system.parameters
+                     if x.name in values and float(values[x.name]) != float(x.default))
+
+
 def standard_gravity() -> Parameter:
     """The acceleration due to gravity ``g`` of every model: 9.81 m/s². A new declaration at each call, so that
     ``g`` takes its place in the order where the model declares it."""
