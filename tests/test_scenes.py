@@ -84,7 +84,79 @@ def test_a_stuck_mass_needs_no_integration_and_its_breakaway_is_the_guards_root(
     exact, scanned = h.breakaway(0.0, scene.horizon, q)
     assert calls == 3 and scanned > 40 and abs(affine - exact) < 1e-13   # 40 grid points to 0.31 s, then brentq
     assert abs(affine - stick_slip.predicted_breakaway(system, scene, scene.events[0])) < 1e-12
+    phases = stick_slip.sticking_phases(system, scene, scene.events[0], stick_slip.stick_slip(system, scene,
+                                                                                             scene.events[0],
+                                                                                             "symbolic"))
+    assert len(phases) == 4 and all(abs(found - predicted) < 1e-12 for _, found, predicted in phases)
     assert h.breakaway(0.5, scene.horizon, q) == (0.5, 1)   # |f_e(0.5)| = 3.53 N > mu_H f_N = 2.94 N
+
+
+def _friction_oscillator(cubic: float = 0.0):
+    """A block on a spring (k = 100 N/m) sliding on a rough floor (mu_H = 0.3, mu_C = 0.2; Den Hartog 1931's free
+    motion), released from rest at x_0 = 0.1 m; ``cubic``: a hardening term ``-k_3 x³`` added to the spring."""
+    from sympy import sign
+
+    from harness.modeling import (WORLD, Coordinate, Gravity, Joint, JointSpring, Link, Parameter, Point, PointForce,
+                                  Scene, StickSlip, System, standard_gravity)
+
+    m, k = Parameter("m", 1.0, "kg", "block"), Parameter("k", 100.0, "N/m", "spring")
+    k_3 = Parameter("k_3", cubic or 1.0, "N/m^3", "hardening of the spring")
+    mu_H, mu_C = Parameter("mu_H", 0.3, "1", "static friction"), Parameter("mu_C", 0.2, "1", "sliding friction")
+    g, x = standard_gravity(), Coordinate("x", "m", "position of the block")
+    contact = Point("block", (0, 0, 0), "contact")
+    forces = (JointSpring("spring", "x", k, 0),
+              PointForce("sliding_friction", contact, (-mu_C * m * g * sign(x.rate), 0, 0)))
+    if cubic:
+        forces += (PointForce("hardening", contact, (-k_3 * x**3, 0, 0)),)
+    system = System(name="friction_oscillator", title="friction oscillator", lecture="test", parameters=(mu_H,),
+                    coordinates=(x,), links=(Link("block", m),), joints=(Joint("x", "prismatic", WORLD, "block",
+                                                                                       axis="x"),),
+                    gravity=Gravity(g, (0, 0, -1)), forces=forces)
+    scene = Scene("decay", "", (0.1,), (0.0,), 1.5, {"springs", "friction", "external"},
+                  events=(StickSlip(x, mu_H, mu_C, m * g),))
+    return system, scene
+
+
+def test_a_spring_holds_the_block_where_its_pull_is_within_static_friction():
+    """Released at 0.1 m, the block slides back (its spring's 10 N beyond mu_H m g = 2.94 N), turns at
+    0.1 − 2 mu_C m g / k after half a period π sqrt(m/k), and stops for good a half period later at
+    0.1 − 4 mu_C m g / k = 0.0215 m, where the spring's 2.15 N lies between mu_C m g and mu_H m g. MuJoCo's own dry
+    friction sees the turn and the stop through the velocity's change of sign and its friction row's state (with
+    mu_C m g it crept on and stopped a half period late, at 0.94 s; with a velocity threshold alone, a hardening
+    spring's 1e-10 m/s of creep read as sliding) and stays within its derived first-order bound."""
+    from harness.scenes import simulate as sim
+    from harness.scenes.phenomena import stick_slip
+
+    system, scene = _friction_oscillator()
+    event = scene.events[0]
+    ref = stick_slip.stick_slip(system, scene, event, "symbolic")
+    half = np.pi * np.sqrt(1.0 / 100.0)
+    assert [(e.before, e.after) for e in ref.events] == [("slide -", "slide +"), ("slide +", "stick")]
+    assert abs(ref.events[0].time - half) < 1e-9 and abs(ref.events[1].time - 2 * half) < 1e-9
+    assert abs(ref.q[-1, 0] - (0.1 - 4 * 0.2 * 9.81 / 100.0)) < 1e-9
+    assert [(p, f) for _, f, p in stick_slip.sticking_phases(system, scene, event, ref)] == [(np.inf, np.inf)]
+    dt = scene.horizon / sim.grid_steps(scene, 4000)
+    run = stick_slip.mujoco_stick_slip(system, scene, event, dt)
+    assert [(e.before, e.after) for e in run.events] == [("slide", "slide"), ("slide", "stick")]
+    late = [(b.time - a.time) / dt for a, b in zip(ref.events, run.events)]
+    assert all(0 < d <= 1 for d in late), late
+    assert sim.max_error(run, ref) / dt <= stick_slip.frictionloss_bound(system, scene, event, ref)
+
+
+def test_the_frictionloss_bound_is_not_claimed_for_a_sliding_force_it_does_not_bound():
+    """The derived bound covers a sliding force of time alone or of a linear spring and damper, whose offsets never
+    grow; a hardening spring's stiffness changes along the motion: no bound, and the scene says why instead of a
+    check; MuJoCo's event times are still checked."""
+    from harness.scenes.phenomena import stick_slip
+
+    system, scene = _friction_oscillator(cubic=2000.0)
+    ref = stick_slip.stick_slip(system, scene, scene.events[0], "symbolic")
+    assert stick_slip.frictionloss_bound(system, scene, scene.events[0], ref) is None
+    result = run_scene(system, scene)
+    assert result.notes["MuJoCo frictionloss first-order constant"] == stick_slip.UNBOUNDED
+    names = {c.name for c in result.checks}
+    assert "MuJoCo frictionloss event times, s" in names and not any("first-order constant" in n for n in names)
+    assert all(c.passed for c in result.checks), [c for c in result.checks if not c.passed]
 
 
 def test_rolling_sphere_rolls_above_and_slips_below_the_threshold():

@@ -467,6 +467,13 @@ class MujocoModel(TreeEngine):
     def set_frictionloss(self, address: tuple[int, int], value: float) -> None:
         self.model.dof_frictionloss[address[1]] = value
 
+    def friction_holds(self, address: tuple[int, int]) -> bool:
+        """Whether the joint's dry friction held it over the last step: its ``frictionloss`` row's ``efc_state``
+        is ``mjCNSTRSTATE_QUADRATIC``, its force within ``frictionloss`` (sticking), not at it (sliding)."""
+        d = self.data
+        rows = (d.efc_type[:d.nefc] == mujoco.mjtConstraint.mjCNSTR_FRICTION_DOF) & (d.efc_id[:d.nefc] == address[1])
+        return bool(np.any(d.efc_state[:d.nefc][rows] == mujoco.mjtConstraintState.mjCNSTRSTATE_QUADRATIC))
+
     def forward(self) -> None:
         mujoco.mj_forward(self.model, self.data)
 

@@ -5,8 +5,8 @@ A mass on a rough surface sticks while the friction force it needs stays within 
 Pinocchio, MuJoCo forward dynamics) integrates the sliding branch, the model's own friction force evaluated with the
 branch's direction, and locates sticking where ``ẋ = 0`` with a ``solve_ivp`` event; stuck, the state is held and
 nothing is integrated: the breakaway, where ``|f_required| = mu_H f_N``, is the first root of that guard in time
-(:meth:`_StickSlipDynamics.breakaway`: a bound over the segment, else a scan and ``brentq``). The breakaway is
-checked against its prediction from the input alone.
+(:meth:`_StickSlipDynamics.breakaway`: a bound over the segment, else a scan and ``brentq``). Every breakaway is
+checked against its prediction from the force sticking needs at the held position (:func:`sticking_phases`).
 MuJoCo also simulates it with its own dry friction (joint ``frictionloss``, the flag switched on by the scene), its
 value switched between ``mu_H f_N`` (at rest) and ``mu_C f_N`` (sliding) before every step, as MuJoCo has one
 coefficient: a soft constraint solved once per step and stepped by a first-order method, its error first order in
@@ -17,6 +17,7 @@ Event tolerances shared with every switching motion: :mod:`harness.scenes.base`.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 
@@ -27,18 +28,22 @@ from scipy.optimize import brentq
 
 from harness.checks import Bound
 from harness.engines import simulating
+from harness.engines.base import evaluated_loads, load_functions
 from harness.engines.mujoco_engine import DryFriction, MujocoModel, Options
 from harness.errors import ModelError
 from harness.export.numeric import instantiate
 from harness.modeling.events import StickSlip
+from harness.modeling.system import BodyTorque, PointForce
 from harness.scenes import simulate as sim
 from harness.scenes.base import EVENT, MUJOCO_SOFT, MUJOCO_SOFT_TOL, SceneRun, event_error
 from harness.scenes.phenomena.switching import Switching
 
 STEP_EVENT = Bound("MuJoCo step event", 3.0, "an event of MuJoCo's own dry friction against the reference, in time "
                    "steps: a breakaway is seen ½ to 3/2 steps late (the input is held at the step's midpoint), a "
-                   "sticking 1 to 2 steps late (MuJoCo's velocity reaches 0 a step after the crossing), the "
-                   "trajectory's own error shifts them by ≤ 0.01 dt: δ ≤ 2 dt, and a third step of room",
+                   "sticking or a reversal at most 1 step late (seen at the step where the velocity reaches 0 or "
+                   "changes its sign): δ ≤ 3/2 dt, and 3/2 steps of room for the trajectory's own first-order "
+                   "error, which shifts a velocity zero (measured from dt to dt/8 on stick_slip and a friction "
+                   "oscillator: breakaways 0.72 to 1.44 steps late, stickings and reversals 0.18 early to 0.97 late)",
                    derived=True)
 FRICTIONLOSS = Bound("frictionloss first-order constant", 1.0, "error / dt of MuJoCo's dry friction at dt and dt/2 "
                      "against C, derived from the events' acceleration jumps and the step's quantization "
@@ -209,34 +214,83 @@ def _last(ts: list) -> float:
     return max((float(x[-1]) for x in ts if len(x)), default=-1.0)
 
 
-def predicted_breakaway(system, scene, event: StickSlip) -> float:
-    """The first time the applied force reaches ``mu_H f_N`` ((3.80a) with the applied input as the force
-    sticking needs), found by root-finding on the input signal alone."""
+def needed_force(system, scene):
+    """``f(q, u)``: the force sticking needs at ``q`` and the inputs ``u``, ``f_np − g`` at ``q̇ = 0`` (the balance
+    (5.93) with ``q̈ = 0``, the sliding friction 0 at ``q̇ = 0``) from the derived terms: the applied input ``f_e``
+    in the lecture's (3.80a), whatever else acts at rest (a spring, a slope) in another system."""
+    dyn = sim.Dynamics(system, scene, "symbolic")
+    zero = np.zeros(1)
+
+    def force(q, u) -> float:
+        _, _, g, f_np = dyn.c.terms(np.asarray(q, dtype=float), zero, dyn.p, u)
+        return float(f_np[0] - g[0])
+    return force
+
+
+def predicted_breakaway(system, scene, event: StickSlip, start: float = 0.0, q=None, force=None) -> float:
+    """The first time after ``start`` the force sticking needs at the held position ``q`` (the scene's start by
+    default; :func:`needed_force`) reaches ``mu_H f_N`` (3.80a), found on a grid of ``horizon / 20000`` and refined
+    by root-finding, apart from the simulation's own guard (:meth:`_StickSlipDynamics.breakaway`); inf: none."""
     params = {**system.default_parameters(), **scene.params}
     mu_H, _, f_N = event.values(params)
-    u = lambda t: float(np.max(np.abs(scene.u(t, system))))  # noqa: E731
+    force = needed_force(system, scene) if force is None else force
+    q = scene.q0 if q is None else q
+    excess = lambda t: abs(force(q, scene.u(t, system))) - mu_H * f_N  # noqa: E731
     grid = np.linspace(0.0, scene.horizon, 20001)
-    above = [t for t in grid if u(t) > mu_H * f_N]
-    if not above:
+    grid = np.concatenate([[start], grid[grid > start]])
+    above = next((k for k, t in enumerate(grid) if excess(t) > 0), None)
+    if above is None:
         return math.inf
-    k = int(np.searchsorted(grid, above[0]))
-    return brentq(lambda t: u(t) - mu_H * f_N, grid[k - 1], grid[k], xtol=1e-14)
+    return float(grid[0]) if above == 0 else brentq(excess, grid[above - 1], grid[above], xtol=1e-14)
 
 
-def frictionloss_bound(system, scene, event: StickSlip, ref: sim.HybridTrajectory) -> float:
+def sticking_phases(system, scene, event: StickSlip, ref: sim.HybridTrajectory) -> list[tuple[float, float, float]]:
+    """``(start, found, predicted)`` for each phase ``ref`` sticks in: from the start where it starts at rest with a
+    force within ``mu_H f_N``, and from each sticking; ``found`` the breakaway ``ref`` found (inf: none),
+    ``predicted`` :func:`predicted_breakaway` at the held position (a sample inside the phase, where the state is
+    held; a phase between two samples is not predicted)."""
+    params = {**system.default_parameters(), **scene.params}
+    mu_H, _, f_N = event.values(params)
+    force, starts = needed_force(system, scene), [e.time for e in ref.events if e.after == "stick"]
+    if scene.qd0[0] == 0 and abs(force(scene.q0, scene.u(0.0, system))) <= mu_H * f_N:
+        starts.insert(0, 0.0)
+    phases = []
+    for start in starts:
+        found = next((e.time for e in ref.events if e.time > start and e.before == "stick"), math.inf)
+        inside = (ref.t >= start) & (ref.t < found)
+        if inside.any():
+            held = ref.q[np.argmax(inside)]
+            phases.append((start, found, predicted_breakaway(system, scene, event, start, held, force)))
+    return phases
+
+
+UNBOUNDED = ("not checked: its bound (stick_slip.frictionloss_bound) is derived for a sliding force of time alone or "
+             "of a linear spring and damper (ẍ = a(t) − k x − c ẋ with constant k, c ≥ 0), whose offsets never grow; "
+             "along this reference ∂ẍ/∂x or ∂ẍ/∂ẋ is not such a constant")
+
+
+def frictionloss_bound(system, scene, event: StickSlip, ref: sim.HybridTrajectory) -> float | None:
     """``C`` of the first-order bound ``error ≤ C dt`` of MuJoCo's frictionloss run against the event-located
     reference ``ref`` (errors relative to each component's scale ``max(1, max|y|)``, as :func:`simulate.max_error`).
 
     MuJoCo's events are late by ``0 < δ ≤ 2 dt`` (the event falls anywhere within a step, and MuJoCo's velocity
     leaves or reaches 0 at most one step later; :mod:`harness.scenes.trajectories`). At an event the acceleration jumps
     by ``Δẍ = |ẍ_slide(t_e, x_e, 0)|`` (the sliding branch's acceleration at rest): a late event leaves the
-    velocity off by ``Δẍ δ`` — after a sticking only while MuJoCo still slides (``≤ δ``), after a breakaway for
-    the whole slide ``T`` that follows, which moves the position by ``Δẍ δ T`` (the sliding force depends on time
-    only, as in (3.80) with an applied force, so the offset neither grows nor decays). Semi-implicit Euler's own
-    position error adds ``dt max|ẋ|``; its velocity error is second order (the input is held at the step's
-    midpoint). So ``C = max(2 max Δẍ / s_v, (2 Σ_breakaways Δẍ T + max|ẋ|) / s_x)``, the positions' offsets summed
-    over the breakaways as if they never cancelled."""
+    velocity off by ``Δẍ δ`` — after a sticking only while MuJoCo still slides (``≤ δ``), after a breakaway or a
+    reversal for the whole slide ``T`` that follows, which moves the position by at most ``Δẍ δ T``: the sliding
+    branch is ``ẍ = a(t) − k x − c ẋ`` with constant ``k ≥ 0``, ``c ≥ 0`` (:func:`sliding_linearization`: a force of
+    time alone, as in (3.80) with an applied force, ``k = c = 0``, or a linear spring and damper), whose offsets
+    never grow (their energy ``δẋ²/2 + k δx²/2`` does not), so ``|δẋ| ≤ Δẍ δ`` and ``|δx| ≤ Δẍ δ T``.
+    Semi-implicit Euler's own position error adds ``dt max|ẋ|``; its velocity error is second order where
+    ``k = 0`` (the input is held at the step's midpoint), and with ``k > 0`` its invariant ellipse is tilted,
+    ``δẋ = dt k |x − x_eq| / 2 = dt |ẍ| / 2`` (its position error ``dt ω A / 2`` within ``dt max|ẋ|``). So
+    ``C = max((2 max Δẍ + [k > 0] max|ẍ| / 2) / s_v, (2 Σ Δẍ T + max|ẋ|) / s_x)``, the positions' offsets summed
+    over the breakaways and reversals as if they never cancelled. Another sliding branch (a stiffness that changes
+    or is negative, a pendulum's gravity) has no bound: None (:data:`UNBOUNDED`)."""
     h = _StickSlipDynamics(system, scene, event, "symbolic")
+    k, c = sliding_linearization(h, ref)
+    if k < 0 or c < 0:
+        return None
     ends = [e.time for e in ref.events[1:]] + [scene.horizon]
     jumps, drift = [0.0], 0.0
     for e, end in zip(ref.events, ends):
@@ -245,18 +299,80 @@ def frictionloss_bound(system, scene, event: StickSlip, ref: sim.HybridTrajector
         x = float(np.interp(e.time, ref.t, ref.q[:, 0]))
         jump = abs(float(h.sliding(s)(e.time, np.array([x, 0.0]))[1]))
         jumps.append(jump)
-        if e.before == "stick":
+        if e.after != "stick":  # a slide follows: a breakaway, or a reversal through rest
             drift += jump * (end - e.time)
+    tilt = 0.0
+    if k > 0:  # the largest sliding acceleration, each sample on its own branch
+        tilt = max(abs(float(h.sliding(int(np.sign(v)))(t, np.array([x, v]))[1]))
+                   for t, x, v in zip(ref.t, ref.q[:, 0], ref.qd[:, 0]) if v != 0) / 2
     s_x = max(1.0, float(np.max(np.abs(ref.q))))
     s_v = max(1.0, float(np.max(np.abs(ref.qd))))
-    return max(2 * max(jumps) / s_v, (2 * drift + float(np.max(np.abs(ref.qd)))) / s_x)
+    return max((2 * max(jumps) + tilt) / s_v, (2 * drift + float(np.max(np.abs(ref.qd)))) / s_x)
+
+
+def sliding_linearization(h: _StickSlipDynamics, ref: sim.HybridTrajectory) -> tuple[float, float]:
+    """``(k, c)`` of the sliding branches ``ẍ = a(t) − k x − c ẋ`` along ``ref`` (central differences at its
+    samples that slide, each on its own branch); ``(-1, -1)`` where they are not the same constants at every sample
+    (to ``1e-6`` of the largest, relative, and ``1e-9`` absolute)."""
+    ks, cs = [], []
+    for t, x, v in zip(ref.t, ref.q[:, 0], ref.qd[:, 0]):
+        if v == 0:
+            continue
+        rhs, dx, dv = h.sliding(int(np.sign(v))), 1e-6 * max(1.0, abs(x)), 1e-6 * abs(v)
+        ks.append(-(rhs(t, np.array([x + dx, v]))[1] - rhs(t, np.array([x - dx, v]))[1]) / (2 * dx))
+        cs.append(-(rhs(t, np.array([x, v + dv]))[1] - rhs(t, np.array([x, v - dv]))[1]) / (2 * dv))
+    out = []
+    for values in (ks, cs):
+        values = np.array(values or [0.0])
+        size = float(np.max(np.abs(values)))
+        out.append(float(np.median(values)) if np.ptp(values) <= max(1e-9, 1e-6 * size) else -1.0)
+    return out[0], out[1]
+
+
+class _Rest:
+    """Sticking and sliding of MuJoCo's run, read before each step, as (3.80) reads them: at rest where MuJoCo's dry
+    friction held the joint over the last step (:meth:`MujocoModel.friction_holds`: its force within the limit) or
+    the velocity changed its sign (the mass passed through rest within the step, as a mass whose spring pulls it
+    back with a force between ``mu_C f_N`` and ``mu_H f_N``: with ``mu_C f_N`` it would creep on), ``mu_H f_N`` for
+    the next step, where MuJoCo's friction either holds it (sticking) or does not (a reversal: the mass slides on the
+    other way). An event is recorded when seen: a sticking or a reversal at the step the mass was seen at rest, a
+    breakaway at the step it moves again; the mode after the first step is the initial one, as the reference takes
+    its mode at ``t = 0`` without an event."""
+
+    def __init__(self, moving: bool):
+        self.moving, self.velocity, self.passing = moving, 0.0, None
+
+    def step(self, k: int, t: float, velocity: float, holds: bool, events: list) -> None:
+        if k == 0:   # no step yet
+            return
+        moving = not holds
+        if self.passing is not None:  # seen at rest after a slide, under mu_H f_N over the last step: held or not
+            events.append(sim.Event(self.passing, "slide", "slide" if moving else "stick"))
+            self.passing = None
+        elif self.moving and (not moving or velocity * self.velocity < 0):
+            self.passing, moving = t, False   # at rest: the next step decides
+        elif moving and not self.moving and k > 1:
+            events.append(sim.Event(t, "stick", "slide"))
+        self.moving, self.velocity = moving, velocity
+
+
+def other_loads(system, event: StickSlip):
+    """The external loads of ``system`` (:func:`~harness.engines.base.load_functions`) but its sliding friction, the
+    force element(s) in whose expression ``mu_C`` appears (none where the scene leaves it out as idle), which
+    MuJoCo's own run replaces by ``frictionloss``."""
+    def friction(f) -> bool:
+        vector = f.force if isinstance(f, PointForce) else f.torque if isinstance(f, BodyTorque) else ()
+        return any(s.name == event.mu_C for s in sp.Matrix(vector).free_symbols)
+    return load_functions(dataclasses.replace(system, forces=tuple(f for f in system.forces if not friction(f))))
 
 
 def mujoco_stick_slip(system, scene, event: StickSlip, dt: float) -> sim.HybridTrajectory:
     """MuJoCo's own dry friction: joint ``frictionloss`` (flag on, stiff impedance), ``mu_H f_N`` at rest and
-    ``mu_C f_N`` sliding, implicitfast integration at ``dt``."""
+    ``mu_C f_N`` sliding, implicitfast integration at ``dt``; the model's other external loads (:func:`other_loads`)
+    applied at each step's kinematics."""
     dyn = sim.Dynamics(system, scene, "symbolic")
     mu_H, mu_C, f_N = event.values(dyn.params)
+    loads = other_loads(dyn.system, event)
     tree = instantiate(dyn.system, dyn.params)
     mm = MujocoModel(tree, transforms=[
         Options(timestep=dt, integrator="implicitfast", enable=("frictionloss", "constraint"), noslip_iterations=10),
@@ -265,18 +381,22 @@ def mujoco_stick_slip(system, scene, event: StickSlip, dt: float) -> sim.HybridT
     mm.set_joint(joint, scene.q0[0], scene.qd0[0])
     steps = int(round(scene.horizon / dt))
     every = max(1, steps // 200)
-    events, moving = [], [abs(scene.qd0[0]) > 0]
+    events, rest = [], _Rest(abs(scene.qd0[0]) > 0)
 
     def switch(k):  # MuJoCo has one dry friction coefficient: mu_H f_N at rest, mu_C f_N sliding
-        now_moving = abs(mm.joint_state(joint)[1]) > 1e-10
-        if now_moving != moving[0]:
-            events.append(sim.Event(mm.time, "slide" if moving[0] else "stick", "slide" if now_moving else "stick"))
-            moving[0] = now_moving
-        mm.set_frictionloss(joint, (mu_C if moving[0] else mu_H) * f_N)
+        rest.step(k, mm.time, mm.joint_state(joint)[1], mm.friction_holds(joint), events)
+        mm.set_frictionloss(joint, (mu_C if rest.moving else mu_H) * f_N)
         mm.set_inputs(sim.held_inputs(scene, mm.actuators, k, dt))
 
+    def between(k):  # the other loads at the step's kinematics, the inputs held over the step
+        x, v = mm.joint_state(joint)
+        u = np.array([sim.held_inputs(scene, [i.name for i in dyn.system.inputs], k, dt)[i.name]
+                      for i in dyn.system.inputs])
+        mm.apply_loads(evaluated_loads(loads, np.array([x]), np.array([v]), dyn.p, u))
+
     start = time.perf_counter()
-    out = np.array(mm.rollout(steps, every, lambda k: (mm.time, *mm.joint_state(joint)), before=switch))
+    out = np.array(mm.rollout(steps, every, lambda k: (mm.time, *mm.joint_state(joint)), before=switch,
+                              between=between if loads.entries else None))
     return sim.HybridTrajectory(f"mujoco (frictionloss, implicitfast, dt={dt:g})", out[:, 0], out[:, 1:2], out[:, 2:3],
                                 time.perf_counter() - start, steps, energy_of=dyn.energy, events=events)
 
@@ -296,26 +416,34 @@ class StickSlipMotion(Switching):
         return None     # a stick-slip system is one coordinate: no constrained tree
 
     def check(self, run: SceneRun) -> None:
-        """The checks of every switching motion, then (3.80)'s breakaway where |f_e| = mu_H f_N (none predicted: none
-        found), and MuJoCo's own dry friction: its first-order constant against ``C`` of the events' jumps, or,
-        without an event (``C = 0``: only round-off is left), its error within MuJoCo's soft-constraint tolerance."""
+        """The checks of every switching motion, then (3.80a)'s breakaway of each sticking phase where the force
+        sticking needs reaches mu_H f_N (none predicted: none found; :func:`sticking_phases`), and MuJoCo's own dry
+        friction: its first-order constant against ``C`` of the events' jumps and the sliding (a note where
+        :func:`frictionloss_bound` has none), or, held throughout (``C = 0``: only round-off is left), its error
+        within MuJoCo's soft-constraint tolerance."""
         super().check(run)
         system, scene, event, result, ref = run.system, run.scene, run.event, run.result, run.reference
-        predicted = predicted_breakaway(system, scene, event)
-        found = ref.events[0].time if ref.events else math.inf
-        result.add(EVENT.check("breakaway where |f_e| = mu_H f_N (3.80), s", "symbolic",
-                               0.0 if found == predicted == math.inf else abs(found - predicted),
-                               detail="none predicted, none found" if found == predicted == math.inf else ""))
+        phases = sticking_phases(system, scene, event, ref)
+        errors = [0.0 if found == predicted == math.inf else abs(found - predicted) for _, found, predicted in phases]
+        predicted = sum(p < math.inf for *_, p in phases)
+        result.add(EVENT.check("breakaways where |f| = mu_H f_N (3.80a), s", "symbolic", max(errors, default=0.0),
+                               detail=f"{len(phases)} sticking phases, {predicted} breakaways predicted from the "
+                                      "force sticking needs at the held position"))
         if simulating(run.engines, "dry friction"):
             dt = scene.horizon / sim.grid_steps(scene, 4000)
-            if ref.events:
+            if ref.events or np.any(ref.qd):  # C from the events' jumps and the sliding
                 bound = frictionloss_bound(system, scene, event, ref)
-                coarse, fine = (mujoco_stick_slip(system, scene, event, h) for h in (dt, dt / 2))
-                constant = max(sim.max_error(coarse, ref) / dt, sim.max_error(fine, ref) / (dt / 2))
-                result.add(FRICTIONLOSS.check("MuJoCo frictionloss first-order constant error / dt at dt, dt/2, 1/s",
-                                              "mujoco", constant, scale=bound, detail=f"C = {bound:.3g} 1/s"))
-                result.notes["MuJoCo frictionloss: dt where C dt = MUJOCO_SOFT_TOL"] = MUJOCO_SOFT_TOL / bound
-            else:  # no switching: the events' jumps give C = 0, MuJoCo must hold the reference to its soft tolerance
+                if bound is None:
+                    fine = mujoco_stick_slip(system, scene, event, dt / 2)
+                    result.notes["MuJoCo frictionloss first-order constant"] = UNBOUNDED
+                else:
+                    coarse, fine = (mujoco_stick_slip(system, scene, event, h) for h in (dt, dt / 2))
+                    constant = max(sim.max_error(coarse, ref) / dt, sim.max_error(fine, ref) / (dt / 2))
+                    result.add(FRICTIONLOSS.check("MuJoCo frictionloss first-order constant error / dt at dt, dt/2, "
+                                                  "1/s", "mujoco", constant, scale=bound,
+                                                  detail=f"C = {bound:.3g} 1/s"))
+                    result.notes["MuJoCo frictionloss: dt where C dt = MUJOCO_SOFT_TOL"] = MUJOCO_SOFT_TOL / bound
+            else:  # held throughout: no jump, no slide, C = 0: MuJoCo must hold the reference to its soft tolerance
                 fine = mujoco_stick_slip(system, scene, event, dt / 2)
                 result.add(MUJOCO_SOFT.check("MuJoCo frictionloss without a switch: error", "mujoco",
                                              sim.max_error(fine, ref), detail=f"dt={dt / 2:g}"))
