@@ -28,6 +28,33 @@ def test_every_constrained_map_is_couplings_and_closures(name):
     assert len(found) + len(system.closures) == len(system.joints) - len(system.coordinates)
 
 
+def test_a_map_the_engines_cannot_impose_is_said_and_its_dynamics_still_checked():
+    """A point on a circle written with two prismatic joints, ``x = R sin θ``, ``z = R cos θ``: no tree joint is θ
+    or an affine function of it, and a circle is not a closure's plane, so the engines cannot hold the tree to the
+    map. The scene says so, with the fix, and still checks every engine's mapped forward dynamics (it had failed
+    with "the map's affine rows do not determine the lecture coordinates")."""
+    from harness.errors import ModelError
+    from harness.modeling import WORLD, Coordinate, Gravity, Joint, Link, Parameter, System, standard_gravity
+    from harness.scenes.trajectories import run_scene
+
+    m, R = Parameter("m", 1.0, "kg", "particle"), Parameter("R", 1.0, "m", "radius of the circle")
+    theta = Coordinate("theta", "rad", "angle from the top", range=(-1.0, 1.0))
+    system = System(name="circle_xz", title="a particle on a circle", lecture="test", coordinates=(theta,),
+                    links=(Link("slider_x", 0), Link("particle", m)),
+                    joints=(Joint("x", "prismatic", WORLD, "slider_x", axis="x", phi=R * sp.sin(theta)),
+                            Joint("z", "prismatic", "slider_x", "particle", axis="z", phi=R * sp.cos(theta))),
+                    gravity=Gravity(standard_gravity(), (0, 0, -1)))
+    scene = Scene("slides", "from near the top", (0.1,), (0.0,), 0.5, {"gravity"})
+    dyn = sim.Dynamics(system, scene, "symbolic")
+    assert "make each lecture coordinate a tree joint" in constraints.not_imposable(system, dyn)
+    with pytest.raises(ModelError, match="affine rows do not determine the lecture coordinates"):
+        constraints.couplings(system, dyn)
+    result = run_scene(system, scene)
+    assert result.notes["constrained tree in the engines"].startswith("not simulated: the map's affine rows")
+    assert {c.source for c in result.checks if c.name.startswith("trajectory")} == {"pinocchio", "mujoco"}
+    assert all(c.passed for c in result.checks), [c for c in result.checks if not c.passed]
+
+
 def test_drive_train_coupling_is_the_gear_ratio():
     system = models.get("drive_train")
     dyn = sim.Dynamics(system, _scene(system), "symbolic")

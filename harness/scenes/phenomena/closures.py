@@ -85,7 +85,24 @@ def constrained(system) -> bool:
 
 
 def couplings(system, dyn: sim.Dynamics) -> list[Coupling]:
-    """The couplings of the map's affine rows; the nonlinear rows must be matched by ``system.closures``."""
+    """The couplings of the map's affine rows; the nonlinear rows must be matched by ``system.closures``
+    (a :class:`ModelError` saying why where the engines cannot impose the map: :func:`not_imposable`)."""
+    found, why = _couplings(system, dyn)
+    if why:
+        raise ModelError(f"{system.name}: {why}")
+    return found
+
+
+def not_imposable(system, dyn: sim.Dynamics) -> str | None:
+    """Why the engines cannot impose the map of ``system`` on its tree as couplings and closures (None: they can):
+    its lecture coordinates are not tree joints or affine functions of them, or a joint is an affine function of
+    several. The map's dynamics are checked all the same (every engine's forward dynamics mapped by (5.58)–(5.60));
+    only the tree simulated with the engines' own constraint rows is not. A nonlinear row without its
+    ``System.closures`` is an error of the model (:class:`ModelError`), not a reason."""
+    return _couplings(system, dyn)[1]
+
+
+def _couplings(system, dyn: sim.Dynamics) -> tuple[list[Coupling], str | None]:
     q = system.q
     zeros = np.zeros(len(q))
     u = np.zeros(len(system.inputs))
@@ -103,7 +120,11 @@ def couplings(system, dyn: sim.Dynamics) -> list[Coupling]:
         if len(chosen) == len(q):
             break
     if len(chosen) < len(q):
-        raise ModelError(f"{system.name}: the map's affine rows do not determine the lecture coordinates")
+        return [], (f"the map's affine rows do not determine the lecture coordinates ({', '.join(map(str, q))}) "
+                    f"among the tree's joints ({', '.join(names)}): the engines hold a tree to a map by couplings "
+                    "(a joint an affine function of another) and closures (System.closures: a point held on a "
+                    "plane); make each lecture coordinate a tree joint, or an affine function of one (a revolute "
+                    "joint and a massless link where a point moves on a circle)")
     inverse = np.linalg.inv(A[chosen])
     out, nonlinear = [], 0
     for k in range(len(names)):
@@ -115,14 +136,14 @@ def couplings(system, dyn: sim.Dynamics) -> list[Coupling]:
         row = A[k] @ inverse                       # θ_k = b_k + row (θ_I − b_I)
         nonzero = np.flatnonzero(np.abs(row) > 1e-14)
         if len(nonzero) != 1:
-            raise ModelError(f"{system.name}: joint {names[k]} depends on several joints; not a coupling")
+            return [], f"joint {names[k]} depends on several joints; not a coupling"
         i = chosen[int(nonzero[0])]
         ratio = float(row[nonzero[0]])
         out.append(Coupling(names[k], names[i], float(b[k] - ratio * b[i]), ratio))
-    if nonlinear != len(system.closures):
+    if nonlinear != len(system.closures):   # a closed chain the model does not declare: an error, not a note
         raise ModelError(f"{system.name}: {nonlinear} nonlinear map row(s) but {len(system.closures)} closure(s); "
                          "declare the closed chain with System.closures")
-    return out
+    return out, None
 
 
 def rows_of(system, scene) -> list[str]:
@@ -323,6 +344,11 @@ class Closures(Phenomenon):
 
     def check(self, run: SceneRun) -> None:
         system, scene, result, ref = run.system, run.scene, run.result, run.reference
+        dyn = sim.Dynamics(system, scene, "symbolic")
+        why = not_imposable(dyn.system, dyn)
+        if why:   # the map's own dynamics are checked by the motion; the tree under the engines' rows is not
+            result.notes["constrained tree in the engines"] = f"not simulated: {why}"
+            return
         horizon, mapping = run.motion.tree_view(run)
         if horizon is not None:
             result.notes["constrained tree simulated until"] = f"{horizon:.6f} s (the event that ends the constraint)"
