@@ -31,8 +31,8 @@ Checklist (delete an item when it is done; `docs/adding-a-system.md` explains ea
 3. [ ] Coordinates q: names, units, what they measure, and a ``range`` away from coordinate singularities;
        ``phi_1.rate`` and ``phi_1.accel`` are its velocity and acceleration.
 4. [ ] Links: mass, centre of mass in the link frame, inertia tensor about the centre of mass (``Inertia``,
-       ``Inertia.cuboid``; a point mass has none). Inertia must be positive definite and satisfy the triangle
-       inequality for the default parameters -- checked when the module is loaded.
+       ``Inertia.cuboid``, ``Inertia.cylinder``; a point mass has none). Inertia must be positive definite and
+       satisfy the triangle inequality for the default parameters -- checked when the module is loaded.
 5. [ ] Joints: parent -> child, axis, origin/rpy; ``phi=`` when the tree joint is not a lecture coordinate
        (``theta = phi(q)``: gear ratio, rope, absolute angles, closed chain).
 6. [ ] Gravity direction and force elements (Spring, Damper, JointSpring, JointDamper, JointInput,

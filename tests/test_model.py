@@ -4,6 +4,7 @@ import json
 import pickle
 
 import numpy as np
+from hypothesis import given, strategies as st
 import pytest
 import sympy as sp
 
@@ -325,6 +326,19 @@ def test_inertia_checks():
         check_inertia("x", 1.0, np.array([[1.0, 0.5, 0], [0, 1.0, 0], [0, 0, 1.0]]))
     cuboid = np.array(Inertia.cuboid(2.0, 0.1, 0.2, 0.3).matrix, dtype=float)
     check_inertia("cuboid", 2.0, cuboid)
+
+
+@given(st.floats(1e-3, 1e3), st.floats(1e-3, 10.0), st.floats(0.0, 10.0), st.sampled_from("xyz"))
+def test_a_cylinder_is_a_valid_inertia_for_any_dimensions(m, r, h, axis):
+    """``Inertia.cylinder``: ``m r²/2`` about its axis (3.122), ``m (3 r² + h²)/12`` about a diameter, valid for every
+    mass, radius and length a check may draw (a disc, h = 0, on the triangle inequality's edge)."""
+    inertia = np.array(Inertia.cylinder(m, r, h, axis).matrix, dtype=float)
+    check_inertia("cylinder", m, inertia)
+    k = "xyz".index(axis)
+    assert inertia[k, k] == pytest.approx(m * r**2 / 2, rel=1e-12)
+    assert [inertia[i, i] for i in range(3) if i != k] == pytest.approx([m * (3 * r**2 + h**2) / 12] * 2, rel=1e-12)
+    with pytest.raises(ModelError, match="give 'x', 'y' or 'z'"):
+        Inertia.cylinder(m, r, h, "w")
 
 
 def test_joint_loop_is_caught():

@@ -237,8 +237,10 @@ def _instantiate(system: System, params: dict[str, float]) -> NumericTree:
             if not drawn:
                 raise
             raise ModelError(f"{exc}, with the parameters {drawn} (drawn by the checks): an inertia "
-                             "built from parameters must be valid over their spans; give its six entries as "
-                             "parameters (drawn as one valid tensor) or the parameters a range") from None
+                             "built from parameters must be valid over their spans; build it from a solid's "
+                             "dimensions (Inertia.cuboid, Inertia.cylinder: valid for any positive ones), give its "
+                             "six entries as parameters (drawn as one valid tensor) or the parameters a range"
+                             ) from None
         links.append(NumericLink(link.name, mass, com, inertia))
     joints = tuple(NumericJoint(j.name, j.type, j.parent, j.child, np.array(j.axis, dtype=float),
                                 value.entries(j, "origin_vector"),

@@ -289,6 +289,18 @@ class Inertia:
         m, a, b, c = map(_sym, (m, a, b, c))
         return Inertia(m * (b**2 + c**2) / 12, m * (a**2 + c**2) / 12, m * (a**2 + b**2) / 12)
 
+    @staticmethod
+    def cylinder(m: Expr, r: Expr, h: Expr, axis: str = "z") -> "Inertia":
+        """Homogeneous solid cylinder (a disc where ``h`` is small) of mass ``m``, radius ``r`` and length ``h``
+        along ``axis``: ``m r²/2`` about it (3.122), ``m (3 r² + h²)/12`` about a diameter. Valid for any positive
+        ``m``, ``r``, ``h`` (the two diameters' sum exceeds the axle's by ``m h²/6``), drawn independently too."""
+        m, r, h = map(_sym, (m, r, h))
+        axle, diameter = m * r**2 / 2, m * (3 * r**2 + h**2) / 12
+        moments = {"x": (axle, diameter, diameter), "y": (diameter, axle, diameter), "z": (diameter, diameter, axle)}
+        if axis not in moments:
+            raise ModelError(f"Inertia.cylinder: axis {axis!r}; give 'x', 'y' or 'z'")
+        return Inertia(*moments[axis])
+
 
 def steiner(mass: Expr, r: sp.Matrix) -> sp.Matrix:
     """Steiner's term (3.126), (3.133): the inertia tensor of a mass ``mass`` at the offset ``r`` from the
