@@ -42,8 +42,10 @@ STEP_EVENT = Bound("MuJoCo step event", 3.0, "an event of MuJoCo's own dry frict
                    "steps: a breakaway is seen ½ to 3/2 steps late (the input is held at the step's midpoint), a "
                    "sticking or a reversal at most 1 step late (seen at the step where the velocity reaches 0 or "
                    "changes its sign): δ ≤ 3/2 dt, and 3/2 steps of room for the trajectory's own first-order "
-                   "error, which shifts a velocity zero (measured from dt to dt/8 on stick_slip and a friction "
-                   "oscillator: breakaways 0.72 to 1.44 steps late, stickings and reversals 0.18 early to 0.97 late)",
+                   "error, which shifts a velocity zero (measured from dt to dt/8 on stick_slip, friction "
+                   "oscillators with a linear, a hardening and a damped spring, one forced, one under a constant "
+                   "load, and a pendulum with bearing friction: breakaways 0.27 steps early to 1.44 late, stickings "
+                   "and reversals 0.18 early to 1.85 late)",
                    derived=True)
 FRICTIONLOSS = Bound("frictionloss first-order constant", 1.0, "error / dt of MuJoCo's dry friction at dt and dt/2 "
                      "against C, derived from the events' acceleration jumps and the step's quantization "
