@@ -536,7 +536,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_report)
 
     p = sub.add_parser("new", help="scaffold models/NAME.py for a new system")
-    p.add_argument("name", help="system name: a lower-case Python identifier, e.g. pendulum_rod")
+    p.add_argument("name", help="system name: a lower-case Python identifier, e.g. my_rod")
     p.add_argument("--dir", default=None, help="folder for the module (default: models/)")
     p.set_defaults(func=cmd_new)
 

@@ -95,7 +95,7 @@ def check_name(name: str, catalogue=None) -> None:
     """A new system's name: a lower-case identifier, not a Python keyword, not taken in ``catalogue``."""
     if not _NAME.match(name) or keyword.iskeyword(name):
         raise InputError(f"new: {name!r} is not a valid system name; use a lower-case Python identifier such as "
-                         f"pendulum_rod")
+                         f"my_rod")
     if catalogue is not None and name in catalogue:
         raise InputError(f"new: a system named {name!r} exists already ({catalogue.get(name).lecture})")
 
