@@ -39,8 +39,8 @@ lengths above 0.2 m (a spring of zero length has no direction).
 
 import sympy as sp
 
-from harness.modeling.system import (Coordinate, Damper, Gravity, Inertia, Joint, Link, Parameter, Point, Spring, System,
-                           WORLD)
+from harness.modeling.system import (WORLD, Coordinate, Damper, Gravity, Inertia, Joint, Link, Parameter, Point, Spring,
+                                     System, steiner)
 
 rho = Parameter("rho", 3000.0, "kg/m^3", "density of shaft, slider and rods")
 a = Parameter("a", 1.0, "m", "length of the shaft and of each rod")
@@ -65,13 +65,9 @@ m_rod = m_bar + _mP                        # rod and its point mass: one rigid b
 x_rod = (m_bar * _a / 2 + _mP * _a) / m_rod  # its centre of mass along the rod
 
 
-def _steiner(I_s: sp.Matrix, m, r: sp.Matrix) -> sp.Matrix:
-    """Inertia tensor about a point at ``-r`` from the centre of mass: ``I_s + m (r^T r E - r r^T)`` (3.133)."""
-    return I_s + m * ((r.T * r)[0] * sp.eye(3) - r * r.T)
-
-
-_I_rod = (_steiner(Inertia.cuboid(m_bar, _a, _w, _w).matrix, m_bar, sp.Matrix([_a / 2 - x_rod, 0, 0]))
-          + _steiner(sp.zeros(3), _mP, sp.Matrix([_a - x_rod, 0, 0])))
+# the rod and its point mass about their common centre of mass, by Steiner's term (3.126), (3.133)
+_I_rod = (Inertia.cuboid(m_bar, _a, _w, _w).matrix + steiner(m_bar, sp.Matrix([_a / 2 - x_rod, 0, 0]))
+          + steiner(_mP, sp.Matrix([_a - x_rod, 0, 0])))
 ROD_INERTIA = Inertia(sp.simplify(_I_rod[0, 0]), sp.simplify(_I_rod[1, 1]), sp.simplify(_I_rod[2, 2]))
 
 
