@@ -392,8 +392,7 @@ def mujoco_stick_slip(system, scene, event: StickSlip, dt: float) -> sim.HybridT
 
     def between(k):  # the other loads at the step's kinematics, the inputs held over the step
         x, v = mm.joint_state(joint)
-        u = np.array([sim.held_inputs(scene, [i.name for i in dyn.system.inputs], k, dt)[i.name]
-                      for i in dyn.system.inputs])
+        u = np.array(list(sim.held_inputs(scene, dyn.input_names, k, dt).values()))
         mm.apply_loads(evaluated_loads(loads, np.array([x]), np.array([v]), dyn.p, u))
 
     start = time.perf_counter()
