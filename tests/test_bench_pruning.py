@@ -187,43 +187,50 @@ def test_the_price_of_a_dop853_run_is_also_taken_per_call():
         assert c["calls"] == 500 and 0 < c["pruned_seconds"] < 1e-3 and 0 < c["idle_seconds"] < 1e-3
         assert c["ratio_low"] <= c["ratio"] <= c["ratio_high"]
     assert "per_call" not in row["sources"]["mujoco"]
-    bare = row["sources"]["mujoco"]["bare"]   # MuJoCo's bound: its run of the bare tree against the idle one
-    assert bare["ratio_low"] <= bare["ratio"] <= bare["ratio_high"]
+    acting = row["sources"]["mujoco"]["acting"]   # MuJoCo's bound: its run of the acting tree against the idle one
+    assert acting["ratio_low"] <= acting["ratio"] <= acting["ratio_high"]
     # 3 pairs, and 3 more at each look that was undecided against 1.3 × (pruning.paired): [min, max] of 3 often is
     from harness.scenes.phenomena.pruning import LOOKS, undecided
-    n = len(bare["idle_all"])
-    assert n == len(bare["pruned_all"]) and n in range(3, 3 * LOOKS + 1, 3)
-    assert all(undecided(1.3)(bare["pruned_all"][:k], bare["idle_all"][:k]) for k in range(3, n, 3))
-    assert n == 3 * LOOKS or not undecided(1.3)(bare["pruned_all"], bare["idle_all"])
+    n = len(acting["idle_all"])
+    assert n == len(acting["pruned_all"]) and n in range(3, 3 * LOOKS + 1, 3)
+    assert all(undecided(1.3)(acting["pruned_all"][:k], acting["idle_all"][:k]) for k in range(3, n, 3))
+    assert n == 3 * LOOKS or not undecided(1.3)(acting["pruned_all"], acting["idle_all"])
     line = next(x for x in report._pruning([row]) if x.startswith("| quarter_car/smooth_road"))
-    assert "; per call " in line and " µs)" in line and "; bare tree " in line
+    assert "; per call " in line and " µs)" in line and "; acting tree " in line
 
 
-def test_mujoco_pruned_leaves_out_the_elements_of_left_out_effects_and_the_bare_tree_everything():
+def test_mujoco_pruned_leaves_out_the_elements_of_left_out_effects_and_the_acting_tree_all_but_what_acts():
     """planar_manipulator/swing leaves out its inputs, springs and dampers: the pruned MJCF has their flags set and
     neither the actuators nor the tendon of the point spring and damper (MuJoCo computes a transmission and a
-    tendon's length and Jacobian whatever the flags); the bare tree has its bodies and joints alone and every
-    disable flag; the pruned run is the idle one's motion."""
+    tendon's length and Jacobian whatever the flags); its acting tree (gravity alone acts) has its bodies and joints
+    alone, every flag of what MuJoCo computes set but gravity's, and the flags of how it computes as the pruned
+    model has them; the pruned run is the idle one's motion, and so is the acting tree's."""
     import mujoco
 
     from harness.bench.workprecision import get_scene
     from harness.catalogue import repository
     from harness.scenes import simulate as sim
     from harness.scenes.effects import infer
+    from harness.engines.mujoco_engine import WHAT_FLAGS
     from harness.scenes.phenomena.pruning import MUJOCO_STEPS, MujocoStepper
 
     system, scene = get_scene(repository(), "planar_manipulator", "swing")
     found, dt = infer(system, scene), scene.horizon / sim.grid_steps(scene, MUJOCO_STEPS)
-    idle, lean, bare = (MujocoStepper(system, scene, m, dt, found) for m in ("idle", "pruned", "bare"))
-    full, pruned_, tree = idle.model.model, lean.model.model, bare.model.model
+    idle, lean, acting = (MujocoStepper(system, scene, m, dt, found) for m in ("idle", "pruned", "acting"))
+    full, pruned_, tree = idle.model.model, lean.model.model, acting.model.model
     assert full.nu == 2 and full.ntendon == 1 and pruned_.nu == 0 and pruned_.ntendon == 0
     assert {"motor_1", "motor_2", "spring_e", "damper_e"} <= set(lean.removed)
     assert pruned_.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_ACTUATION
     assert (tree.nbody, tree.njnt) == (full.nbody, full.njnt) and tree.ngeom == tree.nsite == tree.nu == 0
-    every = [int(b) for n, b in mujoco.mjtDisableBit.__members__.items() if n not in ("mjNDISABLE", "mjDSBL_AUTORESET")]
-    assert all(tree.opt.disableflags & b for b in every)
-    assert sim.max_error(idle.run(), lean.run()) < 1e-12
-    with pytest.raises(ValueError, match="one of idle, pruned, bare"):
+    assert found.simulated == {"gravity"}
+    what = {int(mujoco.mjtDisableBit.__members__[n]) for n in WHAT_FLAGS}
+    gravity = int(mujoco.mjtDisableBit.mjDSBL_GRAVITY)
+    assert all(tree.opt.disableflags & b for b in what - {gravity}) and not tree.opt.disableflags & gravity
+    how = sum(int(b) for n, b in mujoco.mjtDisableBit.__members__.items() if n != "mjNDISABLE") - sum(what)
+    assert tree.opt.disableflags & how == pruned_.opt.disableflags & how
+    run = lean.run()
+    assert sim.max_error(idle.run(), run) < 1e-12 and sim.max_error(run, acting.run()) < 1e-12
+    with pytest.raises(ValueError, match="one of idle, pruned, acting"):
         MujocoStepper(system, scene, "lean", dt, found)
 
 
@@ -283,11 +290,13 @@ def test_a_target_above_what_one_evaluation_saves_is_out_of_reach():
     assert attainable(m, 1.2) == ""                       # within the per-call interval: it may be met
     assert attainable({**m, "evaluations": [1172, 1180]}, 1.3) == ""
     assert attainable({k: v for k, v in m.items() if k != "per_call"}, 1.3) == ""
-    # MuJoCo's own stepping: no pruned model steps faster than the bare tree (its run against the idle one)
-    bare = {"ratio": 1.1, "idle_seconds": 11e-3, "pruned_seconds": 10e-3, "idle_all": pairs, "pruned_all": [1.0] * 21}
-    why = attainable({"ratio": 1.05, "evaluations": [2000, 2000], "bare": bare}, 1.3)
-    assert why.startswith("out of reach: the run of the bare tree") and "11.00 / 10.00 ms" in why
-    assert attainable({"ratio": 1.05, "evaluations": [2000, 2000], "bare": {**bare, "idle_all": [1.5] * 21}}, 1.3) == ""
+    # MuJoCo's own stepping: no pruned model steps faster than the acting tree (its run against the idle one)
+    acting = {"ratio": 1.1, "idle_seconds": 11e-3, "pruned_seconds": 10e-3, "idle_all": pairs,
+              "pruned_all": [1.0] * 21}
+    why = attainable({"ratio": 1.05, "evaluations": [2000, 2000], "acting": acting}, 1.3)
+    assert why.startswith("out of reach: the run of the acting tree") and "11.00 / 10.00 ms" in why
+    more = {**acting, "idle_all": [1.5] * 21}
+    assert attainable({"ratio": 1.05, "evaluations": [2000, 2000], "acting": more}, 1.3) == ""
 
 
 def test_an_undecided_scene_out_of_reach_is_not_met():
@@ -355,13 +364,14 @@ def test_mujocos_pruning_run_of_a_chain_whose_rows_act_is_its_constrained_tree()
     (the toggle press) that is not the scene's motion. There MuJoCo steps the closures plug-in's equality-constrained
     tree, its loads as site actuators (the idle ones' gears 0): the pruned run is the scene's motion (within the soft
     constraints' first-order error at this dt, 2.2e-3 against our derivation; the open tree does not keep the slide
-    on its axis), equal to the idle one, and the bare tree of its bound keeps the rows."""
+    on its axis), equal to the idle one, and the acting tree of its bound keeps the rows, the return spring's tendon
+    and the sites they join, and steps the same motion."""
     from harness.catalogue import repository
     from harness.modeling.scenes import with_idle_effects
     from harness.scenes import simulate as sim
     from harness.scenes.effects import infer
     from harness.scenes.phenomena import motion_of
-    from harness.scenes.phenomena.pruning import BARE_ROWS, constrained_runs, measure
+    from harness.scenes.phenomena.pruning import ACTING_ROWS, constrained_runs, measure
 
     catalogue = repository()
     system = catalogue.get("toggle_press")
@@ -372,11 +382,13 @@ def test_mujocos_pruning_run_of_a_chain_whose_rows_act_is_its_constrained_tree()
     assert "loads as site actuators" in out["method"] and out["error"] == 0.0   # pruned = idle, bit for bit
     found = infer(system, scene)
     lean_system, lean_scene = found.pruned(system, scene)
-    lean, _, _, (bare, what) = constrained_runs(lean_system, lean_scene, *with_idle_effects(system, scene), found)
+    lean, _, _, (acting, what) = constrained_runs(lean_system, lean_scene, *with_idle_effects(system, scene), found)
     reference = sim.integrate(lean_system, lean_scene, "symbolic", rtol=1e-10, atol=1e-10)
-    assert sim.max_error(reference, lean()) < 1e-2
-    run = bare()()
-    assert what == BARE_ROWS and "equality constraints" in run.source and run.evaluations == 4000
+    pruned_run = lean()
+    assert sim.max_error(reference, pruned_run) < 1e-2
+    run = acting()()
+    assert what == ACTING_ROWS and "equality constraints" in run.source and run.evaluations == 4000
+    assert found.simulated == {"gravity", "springs"} and sim.max_error(pruned_run, run) < 1e-12
 
 
 def test_loads_of_inputs_alone_are_mujocos_site_actuators():

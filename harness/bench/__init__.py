@@ -72,8 +72,8 @@ Schema of ``bench.json`` (``schema: 2``; times in seconds, errors relative to th
                                ratios), "ratio_low", "ratio_high" (its ≥ 99.5 % confidence interval), "pruned_all",
                                "idle_all" (every run's seconds), "error" (pruned vs idle trajectory),
                                "evaluations": [pruned, idle], "method", "per_call" (symbolic, Pinocchio:
-                               one call of the right-hand side, the same keys per call and "calls"), "bare" (MuJoCo:
-                               the bare tree's runs against the idle ones, the same keys: pruning.bare_tree)} |
+                               one call of the right-hand side, the same keys per call and "calls"), "acting" (MuJoCo:
+                               the acting tree's runs against the idle ones, the same keys: pruning.acting_tree)} |
                                {"skipped": why}},
                    "rows": {"left_out": [constraint row], "proof", "sources": {"pinocchio" | "mujoco": the same keys}}
                    (where the tree's constraint rows are proved inactive: the open tree against the constrained)}],

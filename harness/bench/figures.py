@@ -128,7 +128,7 @@ def pruning(entries: list[dict], goal: float, path: Path) -> None:
     """Effect pruning at a glance: one row per thing left out (a scene's effects, its constraint rows), per source
     its ratio idle / pruned (filled marker) with the interval the bench can tell (the bar: ≥ 99.5 % and the
     resolution, :func:`harness.scenes.phenomena.pruning.interval`) and the most the run's ratio can be (open marker
-    with its interval: one call of the right-hand side, or MuJoCo's bare tree; :func:`~harness.scenes.phenomena.
+    with its interval: one call of the right-hand side, or MuJoCo's acting tree; :func:`~harness.scenes.phenomena.
     pruning.bound`); lines at 1 × (slower pruned below) and at the ``goal``."""
     from harness.scenes.phenomena.pruning import bound, interval
 
@@ -168,7 +168,7 @@ def pruning(entries: list[dict], goal: float, path: Path) -> None:
     ax.xaxis.set_major_locator(matplotlib.ticker.FixedLocator([0.8, 1, 1.3, 2, 3, 5]))
     ax.xaxis.set_minor_locator(matplotlib.ticker.NullLocator())
     ax.xaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g} ×"))
-    ax.set_xlabel("idle / pruned (● the run, ○ the most it can be: one call, or MuJoCo's bare tree)", fontsize=8)
+    ax.set_xlabel("idle / pruned (● the run, ○ the most it can be: one call, or MuJoCo's acting tree)", fontsize=8)
     handles = [plt.Line2D([], [], color=colours[s], marker="o", ls="", label=s) for s in sources]
     handles += [plt.Line2D([], [], color="0.3", ls=":", label="1 × (below: slower pruned)"),
                 plt.Line2D([], [], color="0.3", ls="--", label=f"{goal:g} × (the goal)")]

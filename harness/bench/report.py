@@ -376,10 +376,10 @@ def _pruning(rows: list[dict]) -> list[str]:
              "`xfrc_applied` and held, MuJoCo stepping in its own loop; other loads at every stage); a closed chain "
              "whose constraint rows act (the toggle press) as the closures plug-in steps it, its equality-constrained "
              "tree by implicitfast, its loads as site actuators (world-axis gears, 0 in the idle model); also the "
-             "bare tree (bodies, joints and inertias alone, and such a chain's rows, every other disable flag set) "
-             "against the idle run, the same "
-             "pairs: no pruned model steps faster than the bare tree, so a target above its interval is **out of "
-             "reach** of MuJoCo on that scene. Ratio = idle / pruned: "
+             "acting tree (bodies, joints, inertias and the elements of the effects that act alone, and such a chain's "
+             "rows, every other effect's disable flag set, how MuJoCo computes a step as in the runs) against the "
+             "idle run, the same pairs: no pruned model that simulates the scene steps faster than the acting tree, "
+             "so a target above its interval is **out of reach** of MuJoCo on that scene. Ratio = idle / pruned: "
              f"the median of the ratios of {REPEATS} alternating pairs of runs ({MORE} against {PRUNING_GOAL:g} ×), "
              "in brackets its distribution-free ≥ 99.5 % "
              "confidence interval (sign test) widened by the bench's 5 % resolution (A/A runs: `python -m "
@@ -415,11 +415,11 @@ def _pruning(rows: list[dict]) -> list[str]:
                     errors.append(m["error"])
             else:
                 cells.append(_timed(m))
-                if bound(m):  # the most the run's ratio can be: one evaluation, or MuJoCo's bare tree
+                if bound(m):  # the most the run's ratio can be: one evaluation, or MuJoCo's acting tree
                     label, c = bound(m)
                     cells[-1] += (f"; per call {c['ratio']:.3f} ×{_noise(c)} ({c['idle_seconds'] * 1e6:.2f} / "
                                   f"{c['pruned_seconds'] * 1e6:.2f} µs)" if label == "per call" else
-                                  f"; bare tree {c['ratio']:.2f} ×{_noise(c)} ({_ms(c['idle_seconds'])} / "
+                                  f"; acting tree {c['ratio']:.2f} ×{_noise(c)} ({_ms(c['idle_seconds'])} / "
                                   f"{_ms(c['pruned_seconds'])} ms)")
                     if attainable(m, PRUNING_GOAL):
                         cells[-1] += f": {PRUNING_GOAL:g} × **out of reach**"
@@ -469,7 +469,7 @@ def _pruning_goals(rows: list[dict]) -> list[dict]:
                                    if v in verdicts)
                 labels = {bound(m)[0] for _, m in got if bound(m)}
                 bounded = ("one call of the right-hand side" if labels == {"per call"} else
-                           "the bare tree" if labels == {"bare tree"} else "its bound")
+                           "the acting tree" if labels == {"acting tree"} else "its bound")
                 summary = (f"≥ {target:g} × {counts} of {len(got)} scenes (undecided: the interval holds {target:g} ×"
                            + (f" and {bounded} could reach it)" if labels else ")"))
                 reach = [f"{r['system']}/{r['scene']}" for r, m in got if attainable(m, target)]
@@ -478,10 +478,10 @@ def _pruning_goals(rows: list[dict]) -> list[dict]:
                                 + ("one evaluation of the pruned right-hand side is less than "
                                    f"{target:g} × cheaper, and with the same evaluations no run can be"
                                    if labels == {"per call"} else
-                                   "the run of the bare tree (bodies, joints and inertias alone, and a closed "
-                                   "chain's constraint rows where they act, every other disable flag set) is less "
-                                   f"than {target:g} × faster than the idle run, and no pruned model "
-                                   "steps faster than it")
+                                   "the run of the acting tree (bodies, joints, inertias and the acting effects' "
+                                   "elements alone, and a closed chain's constraint rows where they act, every "
+                                   f"other effect's disable flag set) is less than {target:g} × faster than the "
+                                   "idle run, and no pruned model that simulates the scene steps faster than it")
                                 + " (harness.scenes.phenomena.pruning.attainable)")
             else:
                 summary = (f"slower pruned (the whole interval below 1 ×, a finding) on {verdicts.count('not met')} "

@@ -944,36 +944,64 @@ class VisualGeomsDropped:
                 spec.delete(geom)
 
 
-@dataclass(frozen=True)
-class BareTree:
-    """The tree alone: every element of the model but its bodies, joints and inertias deleted (actuators, sensors,
-    tendons, equalities, contact pairs and exclusions, geoms, sites) and every disable flag MuJoCo has set (what it
-    would compute for them with no element left: gravity, passive forces, constraints, …; ``autoreset`` excepted:
-    a run that went unstable is a failure, :func:`check_warnings`). What a step of this tree costs at the least: a
-    model with more elements or fewer flags computes the same stages and more, so no pruning of it steps faster
-    (:func:`harness.scenes.phenomena.pruning.attainable`). Its motion is not the scene's and is not read.
-    ``rows``: the tree with its constraint rows, which a closed chain whose rows act needs: its equalities kept, and
-    the sites they join, with the equality and constraint flags clear."""
+WHAT_FLAGS = ("mjDSBL_CONSTRAINT", "mjDSBL_EQUALITY", "mjDSBL_FRICTIONLOSS", "mjDSBL_LIMIT", "mjDSBL_CONTACT",
+              "mjDSBL_SPRING", "mjDSBL_DAMPER", "mjDSBL_GRAVITY", "mjDSBL_CLAMPCTRL", "mjDSBL_ACTUATION",
+              "mjDSBL_SENSOR")
+"""The disable flags that switch off what MuJoCo computes for a model's elements and effects. The others say how it
+computes a step (the solver's warm start, constraint islands, the collision phases, Euler's damping, the reference
+time's safety, the reset of an unstable run): a model pruned of elements computes them as before."""
 
+ELEMENTS = {"inputs": ("actuators",), "external": ("actuators",), "springs": ("tendons",), "dampers": ("tendons",),
+            "friction": ("tendons",), "contact": ("geoms", "pairs", "excludes")}
+"""The kinds of MjSpec element a scene effect may need: an input's or a load's actuator, a point spring's or
+damper's spatial tendon (a joint's is a coefficient of its joint), contact's geoms."""
+
+
+@dataclass(frozen=True)
+class ActingTree:
+    """The tree with what its acting effects need and no more: every element of the model but its bodies, joints and
+    inertias and the elements of the effects in ``acting`` (:data:`ELEMENTS`) deleted (actuators, sensors, tendons,
+    equalities, contact pairs and exclusions, geoms, and the sites no kept element joins), and every disable flag of
+    what MuJoCo computes (:data:`WHAT_FLAGS`) set but those of the acting effects (:func:`effect_flags`); how it
+    computes a step (the other flags) is left as the model has it. ``rows``: a closed chain's constraint rows act,
+    its equalities kept with the equality and constraint flags clear.
+
+    What a step of a model that simulates those effects costs at the least in MuJoCo's terms: a model of the same
+    tree with more elements or fewer of these flags set computes the same stages and more, and one without an
+    acting effect's elements does not simulate the scene, so no pruning of it steps faster
+    (:func:`harness.scenes.phenomena.pruning.attainable`). With no acting effect, the bare tree: bodies, joints and
+    inertias alone."""
+
+    acting: frozenset = frozenset()
     rows: bool = False
 
     def __call__(self, spec) -> None:
-        joined = {name for e in spec.equalities for name in (e.name1, e.name2)} if self.rows else set()
-        kinds = ("actuators", "sensors", "tendons", "pairs", "excludes", "geoms")
-        for kind in kinds + (() if self.rows else ("equalities",)):
-            for element in list(getattr(spec, kind)):
-                spec.delete(element)
+        kept = {kind for effect in self.acting for kind in ELEMENTS.get(effect, ())}
+        kept |= {"equalities"} if self.rows else set()
+        for kind in ("actuators", "sensors", "tendons", "equalities", "pairs", "excludes", "geoms"):
+            if kind not in kept:
+                for element in list(getattr(spec, kind)):
+                    spec.delete(element)
+        joined = _joined_sites(spec.compile())
         for site in list(spec.sites):
             if site.name not in joined:
                 spec.delete(site)
-        rows = ("mjDSBL_EQUALITY", "mjDSBL_CONSTRAINT") if self.rows else ()
-        bits = {name: int(bit) for name, bit in mujoco.mjtDisableBit.__members__.items()
-                if name not in ("mjNDISABLE", "mjDSBL_AUTORESET")}
-        for name, bit in bits.items():
-            if name in rows:
-                spec.option.disableflags &= ~bit
-            else:
-                spec.option.disableflags |= bit
+        clear = set(effect_flags(self.acting)) | ({"actuation"} if "actuators" in kept else set())
+        clear |= {"equality", "constraint"} if self.rows else set()
+        for name in WHAT_FLAGS:
+            spec.option.disableflags |= int(mujoco.mjtDisableBit.__members__[name])
+        for flag in clear:
+            spec.option.disableflags &= ~int(_FLAGS[flag])
+
+
+def _joined_sites(model: mujoco.MjModel) -> set[str]:
+    """The sites a tendon's path, an actuator's transmission or reference, or an equality joins."""
+    ids = {int(model.wrap_objid[i]) for i in range(model.nwrap) if model.wrap_type[i] == mujoco.mjtWrap.mjWRAP_SITE}
+    ids |= {int(i) for k in range(model.nu) if model.actuator_trntype[k] == mujoco.mjtTrn.mjTRN_SITE
+            for i in model.actuator_trnid[k]}
+    ids |= {int(i) for k in range(model.neq) if model.eq_objtype[k] == mujoco.mjtObj.mjOBJ_SITE
+            for i in (model.eq_obj1id[k], model.eq_obj2id[k])}
+    return {model.site(i).name for i in ids if i >= 0}
 
 
 LOADS_REFERENCE = "loads_reference"   # the world site the gear of a load applied as an actuator is in (LoadActuators)

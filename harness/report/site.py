@@ -134,7 +134,7 @@ def pruning_view(system: str, scene: dict, bench: dict | None) -> dict | None:
         m = ((measured or {}).get("sources") or {}).get(source) or {}
         if source in checked and isinstance(m.get("ratio"), (int, float)):
             shown = _ratio_shown(m)
-            if bound(m):  # one evaluation of the right-hand side, MuJoCo's bare tree: the most the ratio can be
+            if bound(m):  # one evaluation of the right-hand side, MuJoCo's acting tree: the most the ratio can be
                 label, c = bound(m)
                 low, high = interval(c)
                 shown += f"; {label} {c['ratio']:.3f} ×" + (f" [{low:.3g}, {high:.3g}]" if high > low else "")

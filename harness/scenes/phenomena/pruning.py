@@ -32,11 +32,11 @@ one checks that inference.
   own loop, and an idle load of that kind costs what MuJoCo pays for it, not a Python call per step (measured: the
   quarter car's road force at 0 had made the idle run 5 × the pruned one). The pruned MJCF also leaves out the
   visual geoms (:class:`~harness.engines.mujoco_engine.VisualGeomsDropped`), which a run does not read and MuJoCo
-  poses at every stage. With repeats, the idle run is also timed against the bare tree's (:func:`bare_tree`), which
-  no pruned model steps faster than: the bound of the ratio (:func:`attainable`). A scene whose motion switches at
-  events has
-  MuJoCo's own run in its event's plug-in (dry friction, contact): not measured here, except a friction held, where
-  that run (MuJoCo's ``frictionloss``) is the idle one and the pruned one has nothing to step.
+  poses at every stage. With repeats, the idle run is also timed against the acting tree's (:func:`acting_tree`:
+  the tree with the acting effects' elements alone), which no pruned model steps faster than: the bound of the ratio
+  (:func:`attainable`). A scene whose motion switches at events has MuJoCo's own run in its event's plug-in (dry
+  friction, contact): not measured here, except a friction held, where that run (MuJoCo's ``frictionloss``) is the
+  idle one and the pruned one has nothing to step.
 
 Constraint rows: where the tree's couplings and closures are proved inactive
 (:func:`~harness.scenes.effects.constraint_rows_idle`: the governor's mirrored arms), the engines' constrained tree
@@ -94,18 +94,18 @@ class MujocoStepper:
     ``"pruned"``: the left-out effects switched off by their disable flags and their force elements not in the
     MJCF (MuJoCo computes an actuator's transmission and a tendon's length and Jacobian at every step whatever the
     flags), nor the idle force elements (``found.idle_elements``: the flags are per effect type), and only the
-    called-for loads and inputs evaluated; ``"bare"``: the tree alone
-    (:class:`~harness.engines.mujoco_engine.BareTree`), what no pruning of it can step faster than
+    called-for loads and inputs evaluated; ``"acting"``: the pruned model stripped to what its acting effects need
+    (:class:`~harness.engines.mujoco_engine.ActingTree`), what no pruning of it can step faster than
     (:func:`attainable`). Loads that read no state and are constant ``xfrc_applied``
     (:meth:`~harness.engines.mujoco_engine.MujocoModel.holds`) are held between input changes; others are evaluated
     at every stage at the lecture state, as in :func:`~harness.scenes.simulate.mujoco_native` (both
     :func:`~harness.scenes.simulate.own_rollout`): identity or affine maps ``θ = φ(0) + J q``."""
 
-    MODELS = ("idle", "pruned", "bare")
+    MODELS = ("idle", "pruned", "acting")
 
     def __init__(self, system, scene, model: str, dt: float, found=None):
         from harness.derivation.compile import compiled
-        from harness.engines.mujoco_engine import BareTree, MujocoModel, Options, VisualGeomsDropped, effect_flags
+        from harness.engines.mujoco_engine import ActingTree, MujocoModel, Options, VisualGeomsDropped, effect_flags
         from harness.export.numeric import instantiate
 
         if model not in self.MODELS:
@@ -119,19 +119,19 @@ class MujocoStepper:
         prune = model != "idle"
         if prune:  # and the visual geoms, which no one reads in a run (VisualGeomsDropped)
             transforms += [Options(disable=effect_flags(left_out)), VisualGeomsDropped()]
-        if model == "bare":
-            transforms.append(BareTree())
+        if model == "acting":
+            transforms.append(ActingTree(found.simulated))
         without = found.idle_elements if prune else ()
         kept = pruned(idle_system, found.simulated, without) if prune else idle_system
         self.model = MujocoModel(instantiate(kept, params), transforms=transforms,
-                                 where="MjSpec.compile (pruning" + (", bare tree)" if model == "bare" else ")"))
+                                 where="MjSpec.compile (pruning" + (", acting tree)" if model == "acting" else ")"))
         self.flags = effect_flags(left_out) if prune else ()
         self.removed = sorted({f.name for f in idle_system.forces} - {f.name for f in kept.forces})
         self.c = compiled(idle_system)
         self.p = np.array([params[p.name] for p in idle_system.parameters])
         self.kept_p = np.array([params[p.name] for p in kept.parameters])
-        self.loads = load_functions(kept) if model != "bare" else []
-        self.inputs = [f.input for f in kept.forces if isinstance(f, JointInput)] if model != "bare" else []
+        self.loads = load_functions(kept)
+        self.inputs = [f.input for f in kept.forces if isinstance(f, JointInput)]
         self.kept_inputs = [i.name for i in kept.inputs]                             # the loads' arguments
         self.scene, self.dt = idle_scene, dt
         u0 = idle_scene.u(0.0, idle_system)
@@ -189,7 +189,7 @@ def measure(system, scene, motion, event, catalogue=None, sources=SOURCES, repea
             continue
         if runs is None:
             continue
-        lean_run, full_run, method, bare = runs
+        lean_run, full_run, method, acting = runs
         same = source != SYMBOLIC and same_force_elements(pruned(lean_system, lean_scene.effects),
                                                           pruned(idle_system, idle_scene.effects))
         if same:  # the proof, not a price
@@ -198,9 +198,9 @@ def measure(system, scene, motion, event, catalogue=None, sources=SOURCES, repea
                                       "method": method}
             continue
         out["sources"][source] = timed(lean_run, full_run, repeats, method)
-        if repeats > 1 and bare is not None:
-            bare_run, what = bare
-            out["sources"][source]["bare"] = bare_tree(bare_run(), full_run, repeats) | {"what": what}
+        if repeats > 1 and acting is not None:
+            acting_run, what = acting
+            out["sources"][source]["acting"] = acting_tree(acting_run(), full_run, repeats) | {"what": what}
         if repeats > 1 and not steps_itself(source) and len(set(out["sources"][source]["evaluations"])) == 1:
             out["sources"][source]["per_call"] = per_call(lean_system, lean_scene, idle_system, idle_scene, repeats,
                                                           source)
@@ -257,12 +257,13 @@ def _price_of(pruned_runs, idle_runs) -> dict:
 CALLS = 500   # right-hand-side calls per timing of :func:`per_call`
 
 
-def bare_tree(bare, idle, repeats: int) -> dict:
-    """Where MuJoCo's own run's time goes: its run of the bare tree (:class:`MujocoStepper` ``"bare"``: bodies,
-    joints and inertias alone, every disable flag set) against the idle one, ``repeats`` alternating pairs (more
-    while undecided against :data:`PRUNING_GOAL`, :func:`undecided`): their :func:`price`. What no pruning of the
-    tree can step faster than: the bound of the run's ratio (:func:`attainable`)."""
-    return _price_of(*paired(bare, idle, repeats, undecided(PRUNING_GOAL, runs=True)))
+def acting_tree(acting, idle, repeats: int) -> dict:
+    """Where MuJoCo's own run's time goes: its run of the acting tree (:class:`MujocoStepper` ``"acting"``: bodies,
+    joints, inertias and the acting effects' elements alone, every other effect's disable flag set) against the idle
+    one, ``repeats`` alternating pairs (more while undecided against :data:`PRUNING_GOAL`, :func:`undecided`): their
+    :func:`price`. What no pruning of the tree that simulates the scene can step faster than: the bound of the run's
+    ratio (:func:`attainable`)."""
+    return _price_of(*paired(acting, idle, repeats, undecided(PRUNING_GOAL, runs=True)))
 
 
 def per_call(system, scene, idle_system, idle_scene, repeats: int, source: str = SYMBOLIC) -> dict:
@@ -288,10 +289,10 @@ def per_call(system, scene, idle_system, idle_scene, repeats: int, source: str =
 
 
 def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalogue, given):
-    """``(pruned run, idle run, method, bare)`` of ``source``, each run a call returning a trajectory, ``bare`` a call
-    returning the run of the bare tree (MuJoCo's own stepping, :func:`bare_tree`; compiled only where timed) and what
-    that tree is (:data:`BARE`, :data:`BARE_ROWS`), or None: ``system``, ``scene`` the pruned ones, ``given`` the
-    scene's own ``(system, scene, found)``."""
+    """``(pruned run, idle run, method, acting)`` of ``source``, each run a call returning a trajectory, ``acting`` a
+    call returning the run of the acting tree (MuJoCo's own stepping, :func:`acting_tree`; compiled only where timed)
+    and what that tree is (:data:`ACTING`, :data:`ACTING_ROWS`), or None: ``system``, ``scene`` the pruned ones,
+    ``given`` the scene's own ``(system, scene, found)``."""
     if steps_itself(source):  # an engine that steps the scene itself: its flags
         held = next((e for e in scene.events if getattr(e, "held", False)), None)
         if held is not None and motion.mujoco_run is not None:  # its plug-in's own run against nothing to step
@@ -318,7 +319,7 @@ def _runs(system, scene, idle_system, idle_scene, motion, event, source, catalog
         if held:
             how.append(f"{' and '.join(held)} loads held as xfrc_applied between input changes")
         return (lean.run, full.run, f"mj_step RK4, dt={dt:g}, pruned: {'; '.join(how) or 'nothing'}",
-                (lambda: MujocoStepper(own_system, own_scene, "bare", dt, found).run, BARE))
+                (lambda: MujocoStepper(own_system, own_scene, "acting", dt, found).run, ACTING))
     if source != SYMBOLIC and ENGINES[source].applies(system):
         raise NotApplicable(ENGINES[source].applies(system))
 
@@ -347,10 +348,11 @@ def constrained_runs(system, scene, idle_system, idle_scene, found):
     actuators (:func:`~harness.scenes.simulate.load_actuators`, idle: zero gears), which MuJoCo computes in its own
     step, as it holds other scenes' loads (``xfrc_applied``) where a load evaluated in Python per step would price our
     call, not MuJoCo; the pruned system has none, its left-out effects' disable flags set and its visual geoms
-    dropped. Bound (:func:`attainable`): the constrained tree bare, its rows kept
-    (:class:`~harness.engines.mujoco_engine.BareTree` ``rows``), at the same integrator and ``dt``, which steps faster
-    than any model of it. ``(pruned run, idle run, method, bare)`` as :func:`_runs`."""
-    from harness.engines.mujoco_engine import BareTree, Options, VisualGeomsDropped, effect_flags
+    dropped. Bound (:func:`attainable`): the constrained tree with the acting effects' elements alone, its rows kept
+    (:class:`~harness.engines.mujoco_engine.ActingTree` ``rows``), at the same integrator and ``dt``, which steps
+    faster than any model of it that simulates the scene. ``(pruned run, idle run, method, acting)`` as
+    :func:`_runs`."""
+    from harness.engines.mujoco_engine import ActingTree, Options, VisualGeomsDropped, effect_flags
     from harness.scenes.phenomena.closures import mujoco_constrained
 
     left_out = (effects_of(idle_system) | set(idle_scene.effects)) - found.simulated
@@ -368,7 +370,9 @@ def constrained_runs(system, scene, idle_system, idle_scene, found):
             lambda: mujoco_constrained(idle_system, idle_scene, dt, load_actuators=actuated),
             f"equality-constrained tree (its rows act: {found.rows[1]}), implicitfast dt={dt:g}, loads as site "
             f"actuators, pruned: {'; '.join(how)}",
-            (lambda: lambda: mujoco_constrained(system, scene, dt, extra=[BareTree(rows=True)]), BARE_ROWS))
+            (lambda: lambda: mujoco_constrained(system, scene, dt, extra=[*lean_extra, ActingTree(found.simulated,
+                                                                                                    rows=True)]),
+             ACTING_ROWS))
 
 
 CONFIDENCE = 0.995  # of the interval of one time ratio (ratio_interval): a goal's verdict over up to 10 scenes
@@ -402,7 +406,7 @@ def undecided(target: float, runs: bool = False, at_most: bool = False):
     """The predicate on which :func:`paired` takes more pairs: their :func:`price` (of the runs' ``seconds`` where
     the calls return trajectories, ``runs``) undecided against ``target`` (:func:`against`); ``at_most``: a ratio
     that should be small, the first calls' over the second's (ours / an engine's, :func:`judged_at_most`). A ratio
-    and its bounds (:func:`per_call`, :func:`bare_tree`) each, so that a bound too proves a target out of reach."""
+    and its bounds (:func:`per_call`, :func:`acting_tree`) each, so that a bound too proves a target out of reach."""
     def holds(first, second) -> bool:
         if runs:
             first, second = [t.seconds for t in first], [t.seconds for t in second]
@@ -525,9 +529,10 @@ def attainable(m: dict, target: float) -> str:
       integrator's own work ``o`` per evaluation, the same in both. Then ``idle / pruned = (c_idle + o) / (c_pruned
       + o) ≤ c_idle / c_pruned`` (for ``c_idle ≥ c_pruned``, ``o ≥ 0``): no run can be faster pruned than its
       right-hand side is.
-    * MuJoCo's own run, with its ``bare`` (:func:`bare_tree`): the same steps of the same tree, and the pruned
-      model has every element of the bare tree and no more flags set, so each of its steps computes the bare
-      tree's stages and more: ``idle / pruned ≤ idle / bare``.
+    * MuJoCo's own run, with its ``acting`` (:func:`acting_tree`): the same steps of the same tree, and a pruned
+      model that simulates the scene has every element of the acting tree (those of the effects that act), no more
+      of the flags of what MuJoCo computes set and the same flags of how it computes, so each of its steps computes
+      the acting tree's stages and more: ``idle / pruned ≤ idle / acting``.
 
     Where the high end of the bound's interval (:func:`interval`) is below ``target``, the target is out of reach of
     this source on this scene: what is pruned is too small a part of the run."""
@@ -541,25 +546,26 @@ def attainable(m: dict, target: float) -> str:
         return (f"out of reach: one evaluation of the right-hand side is at most {high:.2f} × cheaper pruned "
                 f"({c['idle_seconds'] * 1e6:.2f} / {c['pruned_seconds'] * 1e6:.2f} µs), and with the same "
                 f"{m['evaluations'][0]} evaluations the run's ratio cannot exceed it")
-    return (f"out of reach: the run of the bare tree ({c.get('what', BARE)}) is at most {high:.2f} × faster than the "
-            f"idle run ({c['idle_seconds'] * 1e3:.2f} / "
+    return (f"out of reach: the run of the acting tree ({c.get('what', ACTING)}) is at most {high:.2f} × faster "
+            f"than the idle run ({c['idle_seconds'] * 1e3:.2f} / "
             f"{c['pruned_seconds'] * 1e3:.2f} ms over the same {m['evaluations'][0]} steps), and no pruned "
-            "model steps faster than the bare tree")
+            "model that simulates the scene steps faster than the acting tree")
 
 
-BARE = "bodies, joints and inertias alone, every disable flag set"   # what a bare tree is (BareTree)
-BARE_ROWS = ("bodies, joints, inertias and constraint rows alone (the equalities and the sites they join), every other "
-             "disable flag set")                                  # a closed chain's whose rows act (BareTree rows)
+ACTING = ("bodies, joints, inertias and the acting effects' elements alone, every other effect's disable flag "
+          "set")                                                   # what an acting tree is (ActingTree)
+ACTING_ROWS = ("bodies, joints, inertias, constraint rows (the equalities and the sites they join) and the acting "
+               "effects' elements alone, every other effect's disable flag set")   # a closed chain's (ActingTree rows)
 
 
 def bound(m: dict) -> tuple[str, dict] | None:
     """What bounds a measured ratio (:func:`measure`'s per-source entry) from above, as ``(label, its price)``:
-    ``("per call", …)`` for a run our code integrates (:func:`per_call`), ``("bare tree", …)`` for MuJoCo's own
-    (:func:`bare_tree`); None without (a single timing, an event's plug-in)."""
+    ``("per call", …)`` for a run our code integrates (:func:`per_call`), ``("acting tree", …)`` for MuJoCo's own
+    (:func:`acting_tree`); None without (a single timing, an event's plug-in)."""
     if m.get("per_call"):
         return "per call", m["per_call"]
-    if m.get("bare"):
-        return "bare tree", m["bare"]
+    if m.get("acting"):
+        return "acting tree", m["acting"]
     return None
 
 
