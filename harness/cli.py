@@ -569,8 +569,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--workers", type=JOBS, default=None, help="local processes (default: one per CPU)")
     p.add_argument("--systems", nargs="+", default=None)
     p.add_argument("--scenes", nargs="+", default=None, help="scene names (stiff variants: SCENE_PARAM_xFACTOR…)")
-    p.add_argument("--parts", nargs="+", default=["workprecision", "evaluation", "derivation", "pruning"],
-                   choices=["workprecision", "evaluation", "derivation", "pruning"])
+    parts = ["workprecision", "evaluation", "derivation", "pruning", "lightweight_robot"]   # harness.bench.RUNS
+    p.add_argument("--parts", nargs="+", default=parts, choices=parts)
     p.add_argument("--render", action="store_true", help="only redraw bench.md and the figures from bench.json")
     p.add_argument("--merge", default=None, metavar="BENCH_JSON",
                    help="take the parts another run measured (its bench.json) into OUT/bench.json, recorded")

@@ -136,6 +136,21 @@ def test_bad_input_is_one_line_and_writes_nothing(args, message, capsys, tmp_pat
     assert not list(tmp_path.iterdir())
 
 
+def test_a_run_measures_the_parts_asked_for_and_no_other(tmp_path, monkeypatch):
+    """``--parts`` chooses among :data:`harness.bench.RUNS`, the lightweight robot's study one of them: a run of
+    other parts (``--parts pruning``) does not measure it, so that merging that run does not replace it."""
+    from harness import bench
+
+    subparsers = next(a for a in cli.build_parser()._actions if a.dest == "command" or hasattr(a, "choices")
+                      and isinstance(a.choices, dict))
+    parts = next(a for a in subparsers.choices["bench"]._actions if "--parts" in a.option_strings)
+    assert tuple(parts.choices) == tuple(parts.default) == bench.RUNS
+    called = []
+    monkeypatch.setattr(bench.importlib, "import_module", lambda name: called.append(name))
+    doc = bench.run_bench(models.CATALOGUE, out=tmp_path, parts=(), workers=1)
+    assert "lightweight_robot" not in doc and not called
+
+
 def test_merge_takes_the_parts_another_run_measured(tmp_path):
     """``harness bench --merge``: the parts of a second run replace the first run's, and the merge is recorded."""
     import json
@@ -168,6 +183,57 @@ def test_merge_takes_the_parts_another_run_measured(tmp_path):
         merge(tmp_path, other)
     with pytest.raises(InputError, match="no such file"):
         merge(tmp_path, tmp_path / "missing.json")
+
+
+def test_a_run_of_some_systems_merges_their_rows_and_keeps_the_others(tmp_path, monkeypatch):
+    """``harness bench --systems my_rod --merge``: a run of some systems or scenes replaces their rows of the parts
+    measured per system or scene and keeps every other row (a system added is appended); the merge is recorded
+    with its selection, the bench page says whose rows, and a system page names the run that measured its row. A
+    run of another kind (quick against full, another grid) is refused and nothing is written."""
+    import json
+
+    from harness.bench import merge
+    from harness.errors import InputError
+    from harness.report.site import _bench_run
+
+    def doc(command, systems, value, selection=None, quick=False, grid=(1, 2)):
+        return {"schema": 2, "generated": "2026-01-01T00:00:00+00:00", "quick": quick, "command": command,
+                "seconds": 1.0, "versions": {}, "selection": selection,
+                "machine": {"cpus": 2, "loadavg_start": [0, 0, 0], "loadavg_end": [0, 0, 0]},
+                "workprecision": {"accuracy": 1e-6, "grid": {"rtols": list(grid)},
+                                  "scenes": [{"system": s, "scene": "swing", "value": value} for s in systems]},
+                "evaluation": {"states": 10_000, "systems": [{"system": s, "value": value} for s in systems]},
+                "pruning": [{"system": s, "scene": "swing", "nothing": "x", "value": value} for s in systems]}
+
+    from harness.bench import figures, report
+
+    (tmp_path / "bench.json").write_text(json.dumps(doc("first", ["pendulum", "cart", "my_rod"], 1)))
+    other = tmp_path / "other.json"
+    other.write_text(json.dumps(doc("second", ["my_rod", "new_one"], 2, {"systems": ["my_rod", "new_one"]})))
+    markdown = report.markdown
+    monkeypatch.setattr(report, "markdown", lambda doc: "")   # these rows are too bare to draw and tabulate
+    monkeypatch.setattr(figures, "draw_all", lambda doc, out: None)
+    merged = merge(tmp_path, other)
+    for rows in (merged["workprecision"]["scenes"], merged["evaluation"]["systems"], merged["pruning"]):
+        assert [(r["system"], r["value"]) for r in rows] == [("pendulum", 1), ("cart", 1), ("my_rod", 2),
+                                                             ("new_one", 2)]
+    assert merged["updates"][-1]["selection"] == {"systems": ["my_rod", "new_one"]}
+    assert merged["workprecision"]["grid"] == {"rtols": [1, 2]} and merged["evaluation"]["states"] == 10_000
+    text = markdown({k: v for k, v in merged.items() if k not in ("workprecision", "evaluation")})
+    assert "Re-measured and merged: workprecision, evaluation, pruning (the rows of systems my_rod, new_one)" in text
+    assert _bench_run(merged, "pruning", "my_rod", "swing")["command"] == "second"
+    assert _bench_run(merged, "pruning", "pendulum", "swing")["command"] == "first"
+    # a run of every system replaces the whole part, rows of systems no longer measured too
+    other.write_text(json.dumps(doc("third", ["pendulum"], 3)))
+    assert [r["system"] for r in merge(tmp_path, other)["pruning"]] == ["pendulum"]
+    before = (tmp_path / "bench.json").read_text()
+    for kind, message in ((doc("q", ["cart"], 4, {"systems": ["cart"]}, quick=True), "is a --quick run and"),
+                          (doc("g", ["cart"], 4, {"systems": ["cart"]}, grid=(1,)), "its workprecision has another "
+                                                                                   "grid")):
+        other.write_text(json.dumps(kind))
+        with pytest.raises(InputError, match=message):
+            merge(tmp_path, other)
+        assert (tmp_path / "bench.json").read_text() == before
 
 
 def test_a_sweep_task_that_raised_is_a_failed_run_not_the_end_of_the_sweep():

@@ -19,6 +19,7 @@ Schema of ``bench.json`` (``schema: 2``; times in seconds, errors relative to th
 
     {
       "schema": 2, "generated": ISO-8601 UTC, "quick": bool, "command": str, "seconds": total wall time,
+      "selection": {"systems": [str] | null, "scenes": [str] | null} (``--systems``, ``--scenes``; null: every one),
       "machine": {"cpus": int, "loadavg_start": [1, 5, 15 min], "loadavg_end": [...]},
       "versions": {package: version}, "runner": {"backend": "process pool" | "dask", "workers" | "scheduler"},
       "goals": [{"check": str, "source": "symbolic", "value": float | "nan" (not measured), "bound": float,
@@ -88,8 +89,9 @@ Schema of ``bench.json`` (``schema: 2``; times in seconds, errors relative to th
                          (harness.bench.contact_pruning: the robot's collision meshes, contact detection on /
                          mjDSBL_CONTACT, over the contact-free part of the scene),
       "lightweight_robot": {...} (when harness/bench/lightweight_robot.py exists),
-      "updates": [{"parts", "command", "generated", "seconds", "machine", "versions"}] (parts re-measured by a
-                 later run and merged, ``harness bench --merge``)
+      "updates": [{"parts", "command", "generated", "seconds", "machine", "versions", "selection" (a run of some
+                 systems or scenes: only their rows merged)}] (parts re-measured by a later run and merged,
+                 ``harness bench --merge``)
     }
 
 Non-finite numbers are the strings ``"inf"``, ``"-inf"``, ``"nan"`` (:func:`harness.checks.json_clean`).
@@ -139,6 +141,11 @@ def _versions() -> dict:
 QUICK_SCENES = (("pendulum", "swing"), ("planar_manipulator", "driven"), ("quarter_car", "bump"))
 
 
+RUNS = ("workprecision", "evaluation", "derivation", "pruning", "lightweight_robot")
+"""The parts ``harness bench --parts`` runs (every one by default; ``lightweight_robot`` where
+``harness/bench/lightweight_robot.py`` exists and the run covers that system)."""
+
+
 def _cases(catalogue, systems, scenes, quick: bool) -> list[tuple[str, str]]:
     """Every scene (``--systems``, ``--scenes`` filter); ``--quick`` without filters: :data:`QUICK_SCENES`;
     stiff variants only in the full run (or by ``--scenes``)."""
@@ -156,21 +163,21 @@ def _cases(catalogue, systems, scenes, quick: bool) -> list[tuple[str, str]]:
 
 
 def run_bench(catalogue, out="reports", quick: bool = False, scheduler: str | None = None, systems=None,
-              scenes=None, workers: int | None = None, parts=("workprecision", "evaluation", "derivation", "pruning"),
-              command: str = "harness bench") -> dict:
+              scenes=None, workers: int | None = None, parts=RUNS, command: str = "harness bench") -> dict:
     """Run the studies on the systems of ``catalogue``, write ``bench.json``, ``bench.md`` and the figures into
     ``out``; return the document."""
     from harness.bench import figures, report
 
     catalogue.require(systems)  # unknown names fail before any work
     allocator.steady()          # the parts run in this process too (harness.allocator: as every task's)
-    unknown = set(parts) - {"workprecision", "evaluation", "derivation", "pruning"}
+    unknown = set(parts) - set(RUNS)
     if unknown:
         raise InputError(f"unknown bench part(s) {sorted(unknown)}")
     out = Path(out)
     started = time.perf_counter()
     doc = {"schema": SCHEMA, "generated": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
-           "quick": quick, "command": command,
+           "quick": quick, "command": command, "selection": {"systems": list(systems or []) or None,
+                                                             "scenes": list(scenes or []) or None},
            "machine": {"cpus": os.cpu_count(), "platform": platform.platform(), "loadavg_start": os.getloadavg()},
            "versions": _versions(),
            "runner": {"backend": "dask", "scheduler": str(scheduler)} if scheduler else
@@ -214,7 +221,8 @@ def run_bench(catalogue, out="reports", quick: bool = False, scheduler: str | No
         _log("bench: derivation cost of n-link chains …")
         ns, timeout = (range(1, 3), 30.0) if quick else (range(1, 9), 120.0)
         doc["derivation"] = derivation.run(ns, timeout)
-    if Path(__file__).with_name("lightweight_robot.py").exists() and (not systems or "lightweight_robot" in systems):
+    if "lightweight_robot" in parts and Path(__file__).with_name("lightweight_robot.py").exists() and (
+            not systems or "lightweight_robot" in systems):
         _log("bench: lightweight_robot …")
         try:
             doc["lightweight_robot"] = importlib.import_module("harness.bench.lightweight_robot").run(catalogue,
@@ -233,21 +241,67 @@ def run_bench(catalogue, out="reports", quick: bool = False, scheduler: str | No
 
 
 PARTS = ("workprecision", "evaluation", "derivation", "pruning", "pruning_contact", "lightweight_robot")
+"""The parts of a bench.json: those a run measures (:data:`RUNS`) and the contact, which the pruning part
+measures where the lightweight robot's scene is among its cases."""
+
+
+ROWS = {"workprecision": ("scenes", ("accuracy", "grid")), "evaluation": ("systems", ("states",)),
+        "pruning": (None, ())}
+"""The parts measured per system or scene: where their rows are (None: the part is the list) and what a run's rows
+must share to sit in one table (the accuracy and grids, the states)."""
+
+
+def covers(selection: dict | None, row: dict) -> bool:
+    """Whether a run of ``selection`` (``harness bench --systems … --scenes …``; None: every system) measured the
+    row of a system, or of a system's scene."""
+    systems, scenes = (selection or {}).get("systems"), (selection or {}).get("scenes")
+    return (not systems or row.get("system") in systems) and (not scenes or "scene" not in row
+                                                              or row.get("scene") in scenes)
+
+
+def _merged_rows(base: list, new: list, selection: dict) -> list:
+    """``base``'s rows with those ``selection`` covers replaced by ``new``'s (in their place; a covered row the new
+    run did not measure, e.g. of a scene since removed, dropped), the new rows no base row had appended."""
+    key = lambda row: (row.get("system"), row.get("scene"))  # noqa: E731
+    fresh = {key(row): row for row in new}
+    out = [fresh.pop(key(row), None) if covers(selection, row) else row for row in base]
+    return [row for row in out if row is not None] + list(fresh.values())
 
 
 def merge(out="reports", other=None) -> dict:
-    """Take the parts another run measured (``other``: its ``bench.json``) into ``out/bench.json``, replacing
-    those parts; the merge is recorded under ``updates`` (which parts, that run's command, time, machine load)."""
+    """Take the parts another run measured (``other``: its ``bench.json``) into ``out/bench.json``; the merge is
+    recorded under ``updates`` (which parts, that run's command, time, machine load, its ``selection``). A run of
+    every system replaces those parts; a run of some systems or scenes (``harness bench --systems … --scenes …``)
+    replaces their rows of the parts measured per system or scene (:data:`ROWS`), keeping every other row. Runs of
+    another kind (``--quick`` against a full run, another accuracy, grid or number of states) are refused."""
     from harness.bench import figures, report
 
     base, new = _read(Path(out) / "bench.json"), _read(Path(other))
     parts = [k for k in PARTS if k in new]
     if not parts:
         raise InputError(f"{other}: measures none of {', '.join(PARTS)}")
+    if bool(new.get("quick")) != bool(base.get("quick")):
+        kinds = {True: "a --quick run", False: "a full run"}
+        raise InputError(f"{other} is {kinds[bool(new.get('quick'))]} and {Path(out) / 'bench.json'} "
+                         f"{kinds[bool(base.get('quick'))]}: their grids and scenes differ; merge a run of the same "
+                         "kind")
+    selection = new.get("selection") if any((new.get("selection") or {}).values()) else None
     for key in parts:
-        base[key] = new[key]
+        if selection is None or key not in ROWS or key not in base:
+            base[key] = new[key]
+            continue
+        rows, shared = ROWS[key]
+        differ = [field for field in shared if base[key].get(field) != new[key].get(field)]
+        if differ:
+            raise InputError(f"{other}: its {key} has another {', '.join(differ)} than {Path(out) / 'bench.json'}'s; "
+                             "its rows cannot join that table (run it with the same settings)")
+        if rows is None:
+            base[key] = _merged_rows(base[key], new[key], selection)
+        else:
+            base[key] = {**base[key], rows: _merged_rows(base[key][rows], new[key][rows], selection)}
     base.setdefault("updates", []).append({k: new.get(k) for k in ("command", "generated", "seconds", "machine",
-                                                                   "versions")} | {"parts": parts})
+                                                                   "versions")} | {"parts": parts}
+                                          | ({"selection": selection} if selection else {}))
     base["schema"], base["goals"] = SCHEMA, report.goals(base)
     figures.draw_all(base, Path(out))
     atomic_write_text(Path(out) / "bench.json", dumps(base))

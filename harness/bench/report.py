@@ -232,12 +232,15 @@ def markdown(doc: dict) -> str:
     updates = doc.get("updates", [])
     superseded = 0
     for k, u in enumerate(updates):
-        current = [p for p in u["parts"] if not any(p in later["parts"] for later in updates[k + 1:])]
+        current = [p for p in u["parts"] if not any(p in later["parts"] and later.get("selection") in (None, u.get(
+            "selection")) for later in updates[k + 1:])]
         if not current:  # every part it measured was measured again later: its numbers are no longer shown
             superseded += 1
             continue
         load = u.get("machine") or {}
-        lines += [f"Re-measured and merged: {', '.join(current)} by `{u['command']}` on {u['generated']} "
+        of = "; ".join(f"{kind} {', '.join(names)}" for kind, names in (u.get("selection") or {}).items() if names)
+        lines += [f"Re-measured and merged: {', '.join(current)}{f' (the rows of {of})' if of else ''} by "
+                  f"`{u['command']}` on {u['generated']} "
                   f"({u['seconds']:.0f} s; load average "
                   f"{' / '.join(f'{x:.2f}' for x in load.get('loadavg_start', []))} at its start).", ""]
     if superseded:

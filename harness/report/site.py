@@ -83,7 +83,7 @@ def work_precision(bench: dict | None, out: Path, system: str, scene: str) -> di
     fastest = [{"source": source, "configuration": row["configuration"], "error": _scalar(row["error"]),
                 "seconds": _scalar(row["seconds"]), "evaluations": row.get("evaluations", "")}
                for source, row in ((found.get("summary") or {}).get("fastest_at_accuracy") or {}).items() if row]
-    run = _bench_run(bench, "workprecision")
+    run = _bench_run(bench, "workprecision", system, scene)
     machine = run.get("machine") or {}
     return {"figure": figure if figure and _inside(out, figure) and (out / figure).is_file() else None,
             "fastest": fastest, "accuracy": study.get("accuracy"), "command": run.get("command", "harness bench"),
@@ -91,10 +91,14 @@ def work_precision(bench: dict | None, out: Path, system: str, scene: str) -> di
             "machine": f"{machine.get('cpus', '?')} CPUs, {machine.get('platform', '?')}"}
 
 
-def _bench_run(bench: dict, part: str) -> dict:
-    """The run of ``harness bench`` that measured ``part`` last: the latest merged update of it (``updates``: its
-    command, time and machine), else the bench's own run."""
-    runs = [u for u in bench.get("updates") or [] if part in (u.get("parts") or [])]
+def _bench_run(bench: dict, part: str, system: str, scene: str) -> dict:
+    """The run of ``harness bench`` that measured the scene's row of ``part`` last: the latest merged update of it
+    that covers the scene (``updates``: its command, time and machine; a run of some systems or scenes covers their
+    rows alone, :func:`harness.bench.covers`), else the bench's own run."""
+    from harness.bench import covers
+
+    row = {"system": system, "scene": scene}
+    runs = [u for u in bench.get("updates") or [] if part in (u.get("parts") or []) and covers(u.get("selection"), row)]
     return runs[-1] if runs else bench
 
 
@@ -122,7 +126,7 @@ def pruning_view(system: str, scene: dict, bench: dict | None) -> dict | None:
     view["disagreements"] = {k.split(": ", 1)[1]: v for k, v in notes.items() if k.startswith("effects disagreement")}
     measured = next((m for m in (bench or {}).get("pruning") or []
                      if m.get("system") == system and m.get("scene") == scene.get("scene")), None)
-    run = _bench_run(bench, "pruning") if bench else {}
+    run = _bench_run(bench, "pruning", system, scene.get("scene")) if bench else {}
     view["ratios"], view["repeats"] = [], (measured or {}).get("repeats")
     view["most_pairs"], view["goal"] = LOOKS * (view["repeats"] or 0), f"{PRUNING_GOAL:g}"
     view["measured"] = f"{run['command']} ({run.get('generated', '?')})" if run.get("command") else ""
