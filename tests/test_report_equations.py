@@ -217,6 +217,23 @@ def test_a_matrix_wider_than_a_line_is_written_entry_by_entry_each_broken_after_
     assert "<mi>1</mi>" in vector["math"] and "<mi>2</mi>" in vector["math"] and vector["note"] == ""
 
 
+def test_a_closing_bracket_never_begins_a_line_alone():
+    """An opened sum's ``)`` is set with its last term: where that term filled its line, the bracket had been put on
+    a line of its own (the toggle press's ξ₄ = L₁ cos q + L₂/2 (…), its ``)`` alone under the sum). Each line of
+    the sum, nested or raised to a power, begins with a term."""
+    from harness.report.mathml import LINE_WIDTH, lines, pieces
+
+    q, L = sp.symbols("q L")
+    xi = [sp.Symbol(f"xi_{k}") for k in range(1, 9)]
+    inner = sum(x * sp.cos(q + k) for k, x in enumerate(xi))
+    for term in (L / 2 * inner, L * (inner + L * sp.sin(q) * sp.Add(*xi)), (inner + L) ** 2):
+        for width_ in (LINE_WIDTH, 40, 25):
+            for line in lines([L * sp.cos(q), term], width_):
+                assert not line[0].startswith(("<mo>)", "<msup><mo>)")), line[0]
+    closing = [text for _, text in pieces([L / 2 * inner])][-1]
+    assert closing.endswith("<mo>)</mo>") and "&#958;" in closing   # ξ₈ cos(q + 7))
+
+
 def test_common_subexpressions_of_entries_that_would_scroll_are_named_and_stand_for_them_exactly():
     """The trebuchet's map ``θ_sling = −θ + arccos(L (sin θ₀ − sin θ) / r)`` and its derivative recur in every entry of
     its M and C: ``M₁₁`` printed 616 characters wide and ``C₁₁`` 2043, scrolling sideways in Chromium. The

@@ -164,8 +164,9 @@ def pieces(terms, deep: bool = True) -> list[tuple[float, str]]:
     """The sum of ``terms`` in their order as pieces to set on lines, ``(width, MathML)`` each, every term after its
     own sign (:func:`signed_terms`; the first without a ``+``). A term wider than a line that is a product with a
     sum among its factors (``φ̇₃ (…)``, a Christoffel entry grouped by the velocity) is opened: its other factors and
-    ``(`` as one piece, the sum's own pieces, ``)`` as the last, so that the sum is broken over lines too
-    (:func:`_opened`; ``deep``: also where the sum's own terms are opened in turn)."""
+    ``(`` as one piece, the sum's own pieces, the last of them with the ``)``, so that the sum is broken over lines
+    too and its bracket never begins a line alone (:func:`_opened`; ``deep``: also where the sum's own terms are
+    opened in turn)."""
     out = []
     for k, term in enumerate(terms):
         minus = not isinstance(term, sp.MatrixBase) and term.could_extract_minus_sign()   # a matrix: one piece
@@ -179,7 +180,8 @@ def pieces(terms, deep: bool = True) -> list[tuple[float, str]]:
         opening = sign + (body(factor) if factor != 1 else "") + "<mo>(</mo>"
         out.append((width(factor) * (factor != 1) + 2, opening))
         out += pieces(list(total.as_ordered_terms()), deep)
-        out.append((1, "<mo>)</mo>") if power is None else (2, f"<msup><mo>)</mo>{body(power)}</msup>"))
+        closing = (1, "<mo>)</mo>") if power is None else (2, f"<msup><mo>)</mo>{body(power)}</msup>")
+        out[-1] = (out[-1][0] + closing[0], out[-1][1] + closing[1])
     return out
 
 

@@ -141,7 +141,7 @@ def pruning_view(system: str, scene: dict, bench: dict | None) -> dict | None:
             if bound(m):  # one evaluation of the right-hand side, MuJoCo's acting tree: the most the ratio can be
                 label, c = bound(m)
                 low, high = interval(c)
-                shown += f"; {label} {c['ratio']:.3f} ×" + (f" [{low:.3g}, {high:.3g}]" if high > low else "")
+                shown += f"; {label} {c['ratio']:.3f} ×" + (f" [{low:.2f}, {high:.2f}]" if high > low else "")
                 if attainable(m, PRUNING_GOAL):
                     shown += f": {PRUNING_GOAL:g} × out of reach of this source"
         elif source in checked:
