@@ -315,3 +315,36 @@ def test_a_system_page_shows_constraint_rows_proved_inactive_and_their_price():
     notes = {"effects declared": "gravity", "constraint rows needed": "at q = [0.1] …"}
     needed = pruning_view("toggle_press", {"scene": "return", "notes": notes}, None)
     assert needed["rows_needed"] == "at q = [0.1] …" and not needed["rows_ratios"]
+
+
+def test_a_spring_between_points_is_drawn_as_a_line_in_the_picture(tmp_path):
+    """The spring-mass-damper's springs hang its masses from the bar: spatial tendons, which MuJoCo draws 3 mm wide,
+    under a pixel in a picture of the whole mechanism. They are drawn at a width relative to the picture's extent
+    (``render.TENDON_WIDTH``): hidden, hundreds of pixels fewer are drawn; the caption says what the lines are.
+    Rendered in a process of its own, as the report renders (its OpenGL backend chosen before MuJoCo is imported)."""
+    import subprocess
+    import sys
+
+    script = f"""
+import json
+from pathlib import Path
+from harness.report import render
+render.backend()
+import models
+system = models.CATALOGUE.get("spring_mass_damper")
+scenes = models.CATALOGUE.scenes("spring_mass_damper")
+scene = render.Scene3D(system, render.mjcf_text(system))
+scene.frame(render._states(system, scenes))
+drawn = int((scene.render() < 250).any(axis=2).sum())
+scene.option.tendongroup[:] = 0
+hidden = int((scene.render() < 250).any(axis=2).sum())
+scene.close()
+caption = render.picture(system, render.mjcf_text(system), Path({str(tmp_path / "smd.png")!r}), scenes)["caption"]
+print(json.dumps([drawn, hidden, caption]))
+"""
+    run = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=300,
+                         cwd=Path(models.__file__).parent.parent)
+    assert run.returncode == 0, run.stderr[-2000:]
+    drawn, hidden, caption = json.loads(run.stdout.strip().splitlines()[-1])
+    assert drawn - hidden > 300, (drawn, hidden)
+    assert "lines: its springs and dampers between points" in caption

@@ -28,6 +28,7 @@ _FONT = Path("/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf")
 _SOURCES = {"symbolic": (150, 150, 150), "pinocchio": (31, 119, 180), "mujoco": (214, 39, 40)}
 _WIDTHS = {"symbolic": 6, "pinocchio": 3, "mujoco": 1}
 _BACKENDS = ("egl", "osmesa")
+TENDON_WIDTH = 0.006   # of the picture's extent: a spatial tendon (a spring or damper between two points), 1-2 px
 
 
 def backend() -> str:
@@ -115,6 +116,7 @@ class Scene3D:
         self.camera.azimuth, self.camera.elevation = azimuth, elevation
         fovy = np.radians(self.model.vis.global_.fovy)
         self.camera.distance = 1.15 * (size / 2.0) / np.tan(fovy / 2.0)
+        self.model.tendon_width[:] = TENDON_WIDTH * size   # a point spring or damper as a line seen at this size
 
     def render(self) -> np.ndarray:
         """The image, on a white background (pixels no object covers, from a segmentation pass)."""
@@ -226,8 +228,9 @@ def picture(system, xml: str, path: Path, scenes=()) -> dict:
         scene.close()
     size = _png(image, path)
     where = "at the initial state of scene " + scenes[0].name if scenes else "at q = 0"
+    lines = "; lines: its springs and dampers between points (spatial tendons)" if scene.model.ntendon else ""
     return {"size": size, "caption": f"Rendered by MuJoCo ({backend()}) from urdf/{system.name}.xml {where}; "
-                                      "labels: the lecture coordinates each joint follows."}
+                                      f"labels: the lecture coordinates each joint follows{lines}."}
 
 
 def filmstrip(system, xml: str, series: dict, path: Path) -> dict:
