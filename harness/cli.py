@@ -475,7 +475,7 @@ def cmd_bench(args) -> int:
         run.bench_merge(args.out, args.merge)
         return 0
     run.bench(_catalogue(), out=args.out, quick=args.quick, scheduler=args.scheduler, systems=args.systems,
-              scenes=args.scenes, workers=args.workers, parts=tuple(args.parts),
+              scenes=args.scenes, workers=args.workers, parts=tuple(args.parts) if args.parts else None,
               command="harness bench " + " ".join(sys.argv[2:]))
     return 0
 
@@ -570,7 +570,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--systems", nargs="+", default=None)
     p.add_argument("--scenes", nargs="+", default=None, help="scene names (stiff variants: SCENE_PARAM_xFACTOR…)")
     parts = ["workprecision", "evaluation", "derivation", "pruning", "lightweight_robot"]   # harness.bench.RUNS
-    p.add_argument("--parts", nargs="+", default=parts, choices=parts)
+    p.add_argument("--parts", nargs="+", default=None, choices=parts,
+                   help="default: every part; with --systems or --scenes those measured per system or scene")
     p.add_argument("--render", action="store_true", help="only redraw bench.md and the figures from bench.json")
     p.add_argument("--merge", default=None, metavar="BENCH_JSON",
                    help="take the parts another run measured (its bench.json) into OUT/bench.json, recorded")

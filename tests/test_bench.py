@@ -138,13 +138,18 @@ def test_bad_input_is_one_line_and_writes_nothing(args, message, capsys, tmp_pat
 
 def test_a_run_measures_the_parts_asked_for_and_no_other(tmp_path, monkeypatch):
     """``--parts`` chooses among :data:`harness.bench.RUNS`, the lightweight robot's study one of them: a run of
-    other parts (``--parts pruning``) does not measure it, so that merging that run does not replace it."""
+    other parts (``--parts pruning``) does not measure it, so that merging that run does not replace it. Without
+    ``--parts`` a run measures every part, a run of some systems or scenes the parts of their rows."""
     from harness import bench
 
     subparsers = next(a for a in cli.build_parser()._actions if a.dest == "command" or hasattr(a, "choices")
                       and isinstance(a.choices, dict))
     parts = next(a for a in subparsers.choices["bench"]._actions if "--parts" in a.option_strings)
-    assert tuple(parts.choices) == tuple(parts.default) == bench.RUNS
+    assert tuple(parts.choices) == bench.RUNS == bench.default_parts() and parts.default is None
+    # a run of some systems: their rows, not the derivation of n-link chains, no system's
+    assert bench.default_parts(["my_rod"]) == ("workprecision", "evaluation", "pruning")
+    assert bench.default_parts(scenes=["swing"]) == bench.default_parts(["my_rod"])
+    assert bench.default_parts(["my_rod", "lightweight_robot"])[-1] == "lightweight_robot"
     called = []
     monkeypatch.setattr(bench.importlib, "import_module", lambda name: called.append(name))
     doc = bench.run_bench(models.CATALOGUE, out=tmp_path, parts=(), workers=1)

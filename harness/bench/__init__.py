@@ -146,6 +146,15 @@ RUNS = ("workprecision", "evaluation", "derivation", "pruning", "lightweight_rob
 ``harness/bench/lightweight_robot.py`` exists and the run covers that system)."""
 
 
+def default_parts(systems=None, scenes=None) -> tuple:
+    """What ``harness bench`` measures without ``--parts``: every part (:data:`RUNS`); a run of some systems or
+    scenes the parts measured per system or scene (:data:`ROWS`), and the lightweight robot's study where it is
+    among the systems (the derivation of n-link chains is no system's)."""
+    if not (systems or scenes):
+        return RUNS
+    return (*ROWS, *(["lightweight_robot"] if "lightweight_robot" in (systems or ()) else []))
+
+
 def _cases(catalogue, systems, scenes, quick: bool) -> list[tuple[str, str]]:
     """Every scene (``--systems``, ``--scenes`` filter); ``--quick`` without filters: :data:`QUICK_SCENES`;
     stiff variants only in the full run (or by ``--scenes``)."""
@@ -163,12 +172,14 @@ def _cases(catalogue, systems, scenes, quick: bool) -> list[tuple[str, str]]:
 
 
 def run_bench(catalogue, out="reports", quick: bool = False, scheduler: str | None = None, systems=None,
-              scenes=None, workers: int | None = None, parts=RUNS, command: str = "harness bench") -> dict:
+              scenes=None, workers: int | None = None, parts=None, command: str = "harness bench") -> dict:
     """Run the studies on the systems of ``catalogue``, write ``bench.json``, ``bench.md`` and the figures into
-    ``out``; return the document."""
+    ``out``; return the document. ``parts`` None: every part (:data:`RUNS`), or with ``systems`` or ``scenes`` those
+    measured per system or scene (:data:`ROWS`) and the lightweight robot's study where it is among the systems."""
     from harness.bench import figures, report
 
     catalogue.require(systems)  # unknown names fail before any work
+    parts = default_parts(systems, scenes) if parts is None else parts
     allocator.steady()          # the parts run in this process too (harness.allocator: as every task's)
     unknown = set(parts) - set(RUNS)
     if unknown:
