@@ -239,6 +239,10 @@ def test_a_run_of_some_systems_merges_their_rows_and_keeps_the_others(tmp_path, 
         with pytest.raises(InputError, match=message):
             merge(tmp_path, other)
         assert (tmp_path / "bench.json").read_text() == before
+    other.write_text(json.dumps(doc("s", ["cart"], 4, ["cart"])))
+    with pytest.raises(InputError, match="its selection is not"):
+        merge(tmp_path, other)
+    assert (tmp_path / "bench.json").read_text() == before
 
 
 def test_a_sweep_task_that_raised_is_a_failed_run_not_the_end_of_the_sweep():

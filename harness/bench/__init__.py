@@ -296,7 +296,11 @@ def merge(out="reports", other=None) -> dict:
         raise InputError(f"{other} is {kinds[bool(new.get('quick'))]} and {Path(out) / 'bench.json'} "
                          f"{kinds[bool(base.get('quick'))]}: their grids and scenes differ; merge a run of the same "
                          "kind")
-    selection = new.get("selection") if any((new.get("selection") or {}).values()) else None
+    selection = new.get("selection")
+    if selection is not None and not (isinstance(selection, dict) and all(
+            v is None or isinstance(v, list) and all(isinstance(x, str) for x in v) for v in selection.values())):
+        raise InputError(f"{other}: its selection is not {{\"systems\": [name] | null, \"scenes\": [name] | null}}")
+    selection = selection if selection and any(selection.values()) else None
     for key in parts:
         if selection is None or key not in ROWS or key not in base:
             base[key] = new[key]
