@@ -142,7 +142,7 @@ QUICK_SCENES = (("pendulum", "swing"), ("planar_manipulator", "driven"), ("quart
 
 
 RUNS = ("workprecision", "evaluation", "derivation", "pruning", "lightweight_robot")
-"""The parts ``harness bench --parts`` runs (every one by default; ``lightweight_robot`` where
+"""The parts ``harness bench --parts`` chooses among (:func:`default_parts` without it; ``lightweight_robot`` where
 ``harness/bench/lightweight_robot.py`` exists and the run covers that system)."""
 
 
