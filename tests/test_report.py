@@ -320,7 +320,8 @@ def test_a_system_page_shows_constraint_rows_proved_inactive_and_their_price():
 def test_a_spring_between_points_is_drawn_as_a_line_in_the_picture(tmp_path):
     """The spring-mass-damper's springs hang its masses from the bar: spatial tendons, which MuJoCo draws 3 mm wide,
     under a pixel in a picture of the whole mechanism. They are drawn at a width relative to the picture's extent
-    (``render.TENDON_WIDTH``): hidden, hundreds of pixels fewer are drawn; the caption says what the lines are.
+    (``render.TENDON_WIDTH``): hidden, hundreds of pixels fewer are drawn; the caption says what the lines are. A
+    scene's filmstrip shows those its effects call for (the planar manipulator's swing leaves out its spring).
     Rendered in a process of its own, as the report renders (its OpenGL backend chosen before MuJoCo is imported)."""
     import subprocess
     import sys
@@ -340,11 +341,17 @@ scene.option.tendongroup[:] = 0
 hidden = int((scene.render() < 250).any(axis=2).sum())
 scene.close()
 caption = render.picture(system, render.mjcf_text(system), Path({str(tmp_path / "smd.png")!r}), scenes)["caption"]
-print(json.dumps([drawn, hidden, caption]))
+arm = models.CATALOGUE.get("planar_manipulator")   # its spring and damper between points: one tendon
+series = {{"t": [0.0, 1.0], "sources": {{"symbolic": {{"q": [[0.1, 0.2], [0.3, 0.4]]}}}}}}
+folder = Path({str(tmp_path)!r})
+shown = [render.filmstrip(arm, render.mjcf_text(arm), series, folder / f"{{k}}.png", effects)["tendons"]
+         for k, effects in enumerate(({{"gravity"}}, {{"gravity", "springs"}}, None))]
+print(json.dumps([drawn, hidden, caption, shown]))
 """
     run = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=300,
                          cwd=Path(models.__file__).parent.parent)
     assert run.returncode == 0, run.stderr[-2000:]
-    drawn, hidden, caption = json.loads(run.stdout.strip().splitlines()[-1])
+    drawn, hidden, caption, shown = json.loads(run.stdout.strip().splitlines()[-1])
     assert drawn - hidden > 300, (drawn, hidden)
     assert "lines: its springs and dampers between points" in caption
+    assert shown == [0, 1, 1]   # a scene's filmstrip: only the springs and dampers it calls for

@@ -29,6 +29,7 @@ _SOURCES = {"symbolic": (150, 150, 150), "pinocchio": (31, 119, 180), "mujoco": 
 _WIDTHS = {"symbolic": 6, "pinocchio": 3, "mujoco": 1}
 _BACKENDS = ("egl", "osmesa")
 TENDON_WIDTH = 0.006   # of the picture's extent: a spatial tendon (a spring or damper between two points), 1-2 px
+HIDDEN_GROUP = 5       # a tendon group no picture shows (MjvOption.tendongroup: groups 0-2 are shown)
 
 
 def backend() -> str:
@@ -161,6 +162,17 @@ class Scene3D:
             marks.append((np.array(self.data.xanchor[jid]), ", ".join(_greek(u) for u in used)))
         return marks
 
+    def springs_and_dampers(self, effects=None) -> int:
+        """Show the spatial tendons (springs and dampers between points) of the scene ``effects`` call for, hide the
+        others (a tendon group no picture shows; None: every tendon); how many are shown."""
+        shown = 0
+        for i in range(self.model.ntendon):
+            acts = effects is None or ("springs" in effects and self.model.tendon_stiffness[i] > 0) or (
+                "dampers" in effects and self.model.tendon_damping[i] > 0)
+            self.model.tendon_group[i] = 0 if acts else HIDDEN_GROUP
+            shown += bool(acts)
+        return shown
+
     def tracked_point(self) -> np.ndarray:
         """The centre of mass of the body farthest down the tree (the end of the chain)."""
         return np.array(self.data.xipos[self.model.nbody - 1])
@@ -233,9 +245,10 @@ def picture(system, xml: str, path: Path, scenes=()) -> dict:
                                       f"labels: the lecture coordinates each joint follows{lines}."}
 
 
-def filmstrip(system, xml: str, series: dict, path: Path) -> dict:
+def filmstrip(system, xml: str, series: dict, path: Path, effects=None) -> dict:
     """A few frames of a scene's reference trajectory; on each, the path of the tracked point as every engine
-    computed it (grey symbolic, wide; blue Pinocchio; red MuJoCo, thin) up to that frame's time."""
+    computed it (grey symbolic, wide; blue Pinocchio; red MuJoCo, thin) up to that frame's time, and the springs
+    and dampers between points the scene's ``effects`` call for (:meth:`Scene3D.springs_and_dampers`)."""
     from PIL import Image, ImageDraw
 
     t = np.asarray(series["t"], dtype=float)
@@ -246,6 +259,7 @@ def filmstrip(system, xml: str, series: dict, path: Path) -> dict:
     reference = sources.get("symbolic", next(iter(sources.values())))
     scene = Scene3D(system, xml, *FRAME)
     try:
+        tendons = scene.springs_and_dampers(effects)
         step = max(1, len(t) // 200)
         paths = {}
         for name, q in sources.items():
@@ -273,7 +287,7 @@ def filmstrip(system, xml: str, series: dict, path: Path) -> dict:
     finally:
         scene.close()
     size = _png(strip, path)
-    return {"size": size, "sources": sorted(paths)}
+    return {"size": size, "sources": sorted(paths), "tendons": tendons}
 
 
 def mjcf_text(system) -> str:
@@ -325,12 +339,13 @@ def _render_system(job: dict, models: str, draw: bool = True) -> dict | None:
     except Exception as exc:  # noqa: BLE001 - reported on the page
         result["error"] = f"{type(exc).__name__}: {exc}"
         return result
+    effects = {sc.name: set(sc.effects) for sc in catalogue.scenes(system.name)}
     for scene, series in job["scenes"]:
         target = f"figures/{system.name}.{scene}.strip.png"
         try:
             text = (out / series).read_bytes()
             strip = drawn(out / target, key("filmstrip", system.name, models, backend(), xml, text),
-                          drawing(lambda path: filmstrip(system, xml, json.loads(text), path)))
+                          drawing(lambda path: filmstrip(system, xml, json.loads(text), path, effects.get(scene))))
             result["strips"][scene] = {"target": target, **strip}
         except _NotKept:
             return None

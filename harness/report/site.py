@@ -214,7 +214,7 @@ def system_view(record: dict, claims: list[dict], out: Path, figures: set, bench
                 "pruning": pruning_view(name, sc, bench),
                 "checks": [_check_view(c) for c in sc.get("checks", [])], "figure": None,
                 "figure_note": "", "series": sc.get("series"), "strip": None, "strip_size": (0, 0),
-                "strip_sources": [], "strip_note": "",
+                "strip_sources": [], "strip_tendons": 0, "strip_note": "",
                 "work_precision": work_precision(bench, out, name, sc.get("scene", "?"))}
         series = sc.get("series")
         if series and (out / series).is_file():
@@ -274,7 +274,8 @@ def _add_pictures(view: dict, rendered: dict | None, figures: set) -> None:
             sc["strip_note"] = f"filmstrip not rendered: {strip['error']}"
             continue
         figures.add(strip["target"])
-        sc.update(strip=strip["target"], strip_size=tuple(strip["size"]), strip_sources=strip["sources"])
+        sc.update(strip=strip["target"], strip_size=tuple(strip["size"]), strip_sources=strip["sources"],
+                  strip_tendons=strip.get("tendons", 0))
 
 
 # --------------------------------------------------------------------------- generic JSON (optional pages)
