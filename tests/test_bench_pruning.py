@@ -437,3 +437,32 @@ def test_loads_of_inputs_alone_are_mujocos_site_actuators():
             dataclasses.replace(e, force=force) if isinstance(e, PointForce) and e.name == "knee_force" else e
             for e in system.forces))
         assert sim.load_actuators(other, params) is None
+
+
+def test_every_acting_tree_steps_its_pruned_runs_motion():
+    """MuJoCo's bound, the acting tree, is a model that simulates the scene: on every scene with something to prune
+    that MuJoCo steps itself, its run is the pruned run's motion bit for bit (what it strips, the collision geoms,
+    sensors and sites nothing joins, and the flags of effects that do not act, changes no number). A stripped
+    element that acts would show here as a motion apart."""
+    from harness.bench import _cases
+    from harness.bench.workprecision import get_scene
+    from harness.catalogue import repository
+    from harness.modeling.scenes import with_idle_effects
+    from harness.scenes import simulate as sim
+    from harness.scenes.effects import infer
+    from harness.scenes.phenomena import motion_of
+    from harness.scenes.phenomena.pruning import _runs
+
+    catalogue, compared = repository(), []
+    for name, label in _cases(catalogue, None, None, quick=False):
+        system, scene = get_scene(catalogue, name, label)
+        found = infer(system, scene)
+        (idle_system, idle_scene), (lean_system, lean_scene) = with_idle_effects(system, scene), found.pruned(system,
+                                                                                                             scene)
+        if (idle_scene is scene and lean_scene is scene) or scene.events:
+            continue
+        lean, _, _, (acting, _) = _runs(lean_system, lean_scene, idle_system, idle_scene, *motion_of(scene), "mujoco",
+                                        catalogue, (system, scene, found))
+        assert sim.max_error(lean(), acting()()) == 0.0, f"{name}/{label}"
+        compared.append(f"{name}/{label}")
+    assert len(compared) >= 10 and "toggle_press/return" in compared

@@ -982,7 +982,9 @@ class ActingTree:
             if kind not in kept:
                 for element in list(getattr(spec, kind)):
                     spec.delete(element)
-        joined = _joined_sites(spec.compile())
+        with warnings.catch_warnings():   # a compile to read what joins the sites: the model's own compile says
+            warnings.simplefilter("ignore")   # its warnings (MujocoModel, check_warnings)
+            joined = _joined_sites(spec.compile())
         for site in list(spec.sites):
             if site.name not in joined:
                 spec.delete(site)
