@@ -206,9 +206,10 @@ class DrakeModel(TreeEngine):
         frame = np.eye(4)[:3] if joint is None else \
             joint.frame_on_child().GetFixedPoseInBodyFrame().inverse().GetAsMatrix34()
         com = body.default_com()
-        inertia = body.default_spatial_inertia().Shift(com).CalcRotationalInertia().CopyToFullMatrix3()
-        return {"joint": self._carrier(body), "frame": frame, "mass": body.default_mass(), "inertia": inertia,
-                "com": com}
+        kept = body.default_spatial_inertia()   # about the body origin (a unit inertia times the mass)
+        return {"joint": self._carrier(body), "frame": frame, "mass": body.default_mass(),
+                "inertia": kept.Shift(com).CalcRotationalInertia().CopyToFullMatrix3(), "com": com,
+                "inertia_about_origin": kept.CalcRotationalInertia().CopyToFullMatrix3()}
 
     def joint_as_loaded(self, name: str) -> dict | None:
         """A joint's parent joint, type, axis, placement in the parent link (``frame_on_parent``)."""
