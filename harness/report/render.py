@@ -241,7 +241,7 @@ def picture(system, xml: str, path: Path, scenes=()) -> dict:
     size = _png(image, path)
     where = "at the initial state of scene " + scenes[0].name if scenes else "at q = 0"
     lines = "; lines: its springs and dampers between points (spatial tendons)" if scene.model.ntendon else ""
-    return {"size": size, "caption": f"Rendered by MuJoCo ({backend()}) from urdf/{system.name}.xml {where}; "
+    return {"size": size, "caption": f"Rendered by MuJoCo ({backend()}) from {_mjcf_source(system)} {where}; "
                                       f"labels: the lecture coordinates each joint follows{lines}."}
 
 
@@ -290,12 +290,22 @@ def filmstrip(system, xml: str, series: dict, path: Path, effects=None) -> dict:
     return {"size": size, "sources": sorted(paths), "tendons": tendons}
 
 
+def _exported(system) -> Path:
+    """The system's exported MJCF, ``urdf/<system>.xml`` (a system outside the repository has none)."""
+    from harness.cli import PROJECT_ROOT
+
+    return PROJECT_ROOT / "urdf" / f"{system.name}.xml"
+
+
+def _mjcf_source(system) -> str:
+    """Where :func:`mjcf_text` takes a system's MJCF from, for a caption."""
+    return f"urdf/{system.name}.xml" if _exported(system).is_file() else "its MJCF (as `harness export` writes it)"
+
+
 def mjcf_text(system) -> str:
     """The MJCF the engines load at the default parameters: the exported ``urdf/<system>.xml`` (regenerated when
     the folder does not hold it)."""
-    from harness.cli import PROJECT_ROOT
-
-    path = PROJECT_ROOT / "urdf" / f"{system.name}.xml"
+    path = _exported(system)
     if path.is_file():
         return path.read_text()
     from harness.export.mjcf import mjcf_string
