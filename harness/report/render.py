@@ -299,7 +299,7 @@ def _exported(system) -> Path:
 
 def _mjcf_source(system) -> str:
     """Where :func:`mjcf_text` takes a system's MJCF from, for a caption."""
-    return f"urdf/{system.name}.xml" if _exported(system).is_file() else "its MJCF (as `harness export` writes it)"
+    return f"urdf/{system.name}.xml" if _exported(system).is_file() else "its MJCF as harness export writes it"
 
 
 def mjcf_text(system) -> str:
