@@ -159,6 +159,28 @@ def test_the_frictionloss_bound_is_not_claimed_for_a_sliding_force_it_does_not_b
     assert all(c.passed for c in result.checks), [c for c in result.checks if not c.passed]
 
 
+def test_the_lift_off_is_where_pinocchios_own_constraint_force_vanishes(monkeypatch):
+    """The trebuchet's lift-off is located where the normal force of the phase-2 projection vanishes
+    (``G^T λ = M₂ (q̈₂ − a₂)``); Pinocchio's constraint force, the multiplier of the ground's row in its KKT forward
+    dynamics, is the same force by another method: equal at the start (49.05 N, to round-off) and zero at the
+    reference's lift-off (its zero within 1.6e-16 s of it). A normal force 1 N off, in every source, still
+    switches consistently across them; only Pinocchio's own force finds it (both checks fail)."""
+    from harness.scenes.phenomena import lift_off
+
+    system, scene = models.get("trebuchet"), models.scenes("trebuchet")[0]
+    names = ("normal force at the start", "lift-offs where Pinocchio's constraint force")
+
+    def ours(result):
+        return [c for c in result.checks if c.name.startswith(names)]
+
+    right = ours(run_scene(system, scene, engines=("pinocchio",), catalogue=models.CATALOGUE))
+    assert [c.passed for c in right] == [True, True] and right[0].value < 1e-14 and right[1].value < 1e-12
+    normal_force = lift_off._LiftOffDynamics.normal_force
+    monkeypatch.setattr(lift_off._LiftOffDynamics, "normal_force", lambda self, t, y: normal_force(self, t, y) - 1.0)
+    wrong = ours(run_scene(system, scene, engines=("pinocchio",), catalogue=models.CATALOGUE))
+    assert [c.passed for c in wrong] == [False, False]
+
+
 def test_rolling_sphere_rolls_above_and_slips_below_the_threshold():
     """Exercise 3.17: MuJoCo's contact rolls at 1.01 x 2/7 tan(alpha) and slips at 0.99 x."""
     from harness.scenes.phenomena import rolling

@@ -20,7 +20,8 @@ from harness.derivation.lambdified import lambdify
 from harness.errors import ModelError
 from harness.modeling.events import LiftOff
 from harness.scenes import simulate as sim
-from harness.scenes.base import SceneRun
+from harness.compare.conformance import ROUND_OFF
+from harness.scenes.base import EVENT, SceneRun
 from harness.scenes.phenomena.switching import Switching
 
 
@@ -109,7 +110,31 @@ def lift_off(system, scene, event: LiftOff, source: str, method="DOP853", rtol=1
     tr = sim.HybridTrajectory(f"{source} ({method}, rtol={rtol:g}, lift-off)", np.array(ts), q, qd,
                               time.perf_counter() - start, nfev, energy_of=h.two.energy, events=events)
     tr.notes["coordinates"] = [c.name for c in h.free_system.coordinates]
+    if events:
+        tr.notes["lift-off state"] = one.y_events[0][0]   # phase 1's (q, q̇) where the normal force vanished
     return tr
+
+
+def constraint_force(system, scene):
+    """``λ(t, y)``: Pinocchio's own normal force at a phase-1 state ``y = (q, q̇)``, the multiplier of the ground's row
+    in its KKT forward dynamics (``M a + b = τ + Jᵀλ``, ``J a + γ = 0``; ``pin.forwardDynamics`` of
+    :class:`~harness.scenes.phenomena.closures.PinocchioConstrained`, no stabilization at a state on the
+    constraint): apart from the phase-2 projection the lift-off is located with
+    (:meth:`_LiftOffDynamics.normal_force`). None where phase 1 has more than its ground as a constraint row."""
+    from harness.scenes.phenomena.closures import PinocchioConstrained
+
+    pc = PinocchioConstrained(system, scene)
+    if len(pc.couplings) + len(pc.dyn.system.closures) != 1:
+        return None
+    n = len(system.coordinates)
+
+    def at(t: float, y) -> float:
+        q, qd, u = np.asarray(y[:n], dtype=float), np.asarray(y[n:], dtype=float), pc.dyn.inputs(t)
+        theta, J, _ = pc.dyn.c.map_at(q, qd, pc.dyn.p, u)
+        inputs = dict(zip(pc.dyn.input_names, u))
+        pc.constraints.forward_dynamics(theta, J @ qd, inputs, pc.dyn.loads(q, qd, u), 0.0)
+        return float(np.ravel(pc.pm.data.lambda_c)[0])
+    return at
 
 
 def in_free_coordinates(system, scene, event: LiftOff, tr: sim.Trajectory, catalogue=None) -> sim.Trajectory:
@@ -131,6 +156,36 @@ class LiftOffMotion(Switching):
 
     def branches(self, system, scene, event, source, **kw) -> sim.HybridTrajectory:
         return lift_off(system, scene, event, source, **kw)
+
+    def check(self, run: SceneRun) -> None:
+        """What every switching motion checks (:class:`Switching`), and the normal force the lift-off is located
+        with against Pinocchio's own (:func:`constraint_force`): equal at the start, and vanishing at the
+        reference's lift-off, as a time ``|λ / λ̇|`` there (the first-order offset of Pinocchio's zero from it)."""
+        super().check(run)
+        if "pinocchio" not in run.engines:
+            return
+        system, scene, result, ref = run.system, run.scene, run.result, run.reference
+        force = constraint_force(system, scene)
+        if force is None:
+            result.notes["lift-off against Pinocchio's constraint force"] = (
+                "not checked: phase 1 has more constraint rows than its ground")
+            return
+        h = _LiftOffDynamics(system, scene, run.event, "symbolic", run.catalogue)
+        y0 = np.concatenate([scene.q0, scene.qd0]).astype(float)
+        ours, pinocchio = h.normal_force(0.0, y0), force(0.0, y0)
+        result.add(ROUND_OFF.check("normal force at the start: the lift-off's (phase-2 projection) against "
+                                   "Pinocchio's constraint force (KKT multiplier)", "pinocchio",
+                                   abs(ours - pinocchio) / abs(pinocchio), detail=f"{ours:.6g} N, {pinocchio:.6g} N"))
+        if ref.events:
+            t1, y1 = ref.events[0].time, ref.notes["lift-off state"]
+            n = len(system.coordinates)
+            rate = np.concatenate([y1[n:], h.one(t1, y1[:n], y1[n:])])    # the phase-1 motion's ẏ there
+            step = 1e-7
+            slope = (force(t1, y1 + step * rate) - force(t1, y1 - step * rate)) / (2 * step)
+            result.add(EVENT.check("lift-offs where Pinocchio's constraint force (KKT multiplier) vanishes, s",
+                                   "pinocchio", abs(force(t1, y1) / slope),
+                                   detail=f"λ = {force(t1, y1):.3g} N at the reference's lift-off, λ̇ = "
+                                          f"{slope:.4g} N/s"))
 
     def tree_view(self, run: SceneRun):
         """Phase 1's constrained tree holds until the lift-off; compared in phase-2 coordinates."""
