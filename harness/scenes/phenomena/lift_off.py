@@ -182,10 +182,10 @@ class LiftOffMotion(Switching):
             rate = np.concatenate([y1[n:], h.one(t1, y1[:n], y1[n:])])    # the phase-1 motion's ẏ there
             step = 1e-7
             slope = (force(t1, y1 + step * rate) - force(t1, y1 - step * rate)) / (2 * step)
+            at_lift_off = force(t1, y1)
             result.add(EVENT.check("lift-offs where Pinocchio's constraint force (KKT multiplier) vanishes, s",
-                                   "pinocchio", abs(force(t1, y1) / slope),
-                                   detail=f"λ = {force(t1, y1):.3g} N at the reference's lift-off, λ̇ = "
-                                          f"{slope:.4g} N/s"))
+                                   "pinocchio", abs(at_lift_off / slope),
+                                   detail=f"λ = {at_lift_off:.3g} N at the reference's lift-off, λ̇ = {slope:.4g} N/s"))
 
     def tree_view(self, run: SceneRun):
         """Phase 1's constrained tree holds until the lift-off; compared in phase-2 coordinates."""
