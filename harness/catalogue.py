@@ -188,12 +188,17 @@ class Catalogue:
         self.get(name)
         return list(getattr(self._load_all()[0][name], "CLAIMS", []))
 
+    def from_lecture(self, name: str) -> bool:
+        """Whether system ``name`` is the lecture's: its module is in the package's own folder, not in an added
+        one (one's own model, a paper's system, names its source in ``System.lecture``)."""
+        self.get(name)
+        return Path(self._load_all()[0][name].__file__).resolve().parent == Path(self.path[0]).resolve()
+
     def lecture_claims(self) -> set[str]:
-        """The systems of the package's own folder (the lecture's catalogue, not the added folders) that list
-        printed equations: the systems whose claims decide which numbered equations have none."""
-        own = Path(self.path[0]).resolve()
+        """The systems of the lecture's catalogue (:meth:`from_lecture`) that list printed equations: the systems
+        whose claims decide which numbered equations have none."""
         return {name for name, module in self._load_all()[0].items()
-                if Path(module.__file__).resolve().parent == own and getattr(module, "CLAIMS", None)}
+                if self.from_lecture(name) and getattr(module, "CLAIMS", None)}
 
     def module(self, name: str) -> ModuleType:
         """The model module of system ``name`` (for what a model states beyond SYSTEM, CLAIMS, SCENES: e.g. the

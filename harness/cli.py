@@ -184,6 +184,8 @@ def cmd_claims(args, classified: dict | None = None) -> int:
     else:
         for r in result.records:
             print(f"{r['system']:22s} {r['equation']:30s} {r['quantity']:16s} {r['classification']}")
+            if r["classification"] != "confirmed" and r.get("sentence"):  # what is wrong, as the errata say it
+                print(f"{'':23s}{r['sentence']}")
     for reason in result.failed:
         print(f"FAILED {reason}", file=sys.stderr)
     return 0 if result.passed else 1

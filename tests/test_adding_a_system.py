@@ -50,6 +50,10 @@ def test_scaffold_fill_check_report(user_models, tmp_path, capsys):
     assert f'href="systems/{NAME}.html"' in (out / "index.html").read_text()
     page = (out / "systems" / f"{NAME}.html").read_text()
     assert "Pendulum rod" in page and "conformant" in page and "rho_S" in page and "kg/m^3" in page
+    # a model of one's own names its source, not the lecture (the lecture's own systems: "Lecture: ...")
+    assert "Source (a model from outside the lecture's catalogue): Example 3.15" in page
+    assert "Each equation as its source prints it" in page and "Lecture: " not in page
+    assert "Lecture: Example 3.15" in (ROOT / "reports" / "systems" / "pendulum_rod.html").read_text()
     assert (out / "figures" / f"{NAME}.swing.svg").is_file()
     # nothing left in the repository
     assert sorted(p.name for p in (ROOT / "models").iterdir()) == before

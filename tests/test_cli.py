@@ -151,6 +151,17 @@ def test_scenes_run_simulates_and_prints_each_check():
     assert len(verdicts) >= 5 and set(verdicts) == {"ok"}, proc.stdout
 
 
+def test_claims_say_under_an_erratum_what_is_wrong(capsys):
+    """``harness claims NAME``: an erratum's line is followed by its correction, as the errata sheet says it, so
+    that a reader of the terminal need not open the sheet; a confirmed equation has its line alone."""
+    assert cli.main(["claims", "cart_pendulum", "--examples", "5"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    k = next(i for i, line in enumerate(lines) if "Solution of Exc. 5.2 (m_S)" in line and line.endswith("erratum"))
+    assert lines[k + 1].strip() == "Solution of Exc. 5.2 (m_S): the factor g does not belong."
+    confirmed = next(i for i, line in enumerate(lines) if line.endswith(" confirmed"))
+    assert lines[confirmed + 1].startswith("cart_pendulum ")
+
+
 def test_the_main_job_runs_every_phase_as_its_command_and_exits_with_the_worst(monkeypatch, capsys, tmp_path):
     """`harness main` (the README's `make check`): export --check beside check, then claims, robots --symbolic
     and report, each given the same --jobs and --out (check and claims --profile); a failing phase does not stop the report; the exit code

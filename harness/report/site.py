@@ -474,6 +474,7 @@ def build_site(out: Path | str, catalogue=None, progress=None, jobs: int = 1) ->
                 model = model_view(system)
                 model["scene_names"] = [s.name for s in catalogue.scenes(name)]
                 view["title"] = system.title
+                view["outside"] = not catalogue.from_lecture(name)   # one's own model: it names its source
                 _add_equations(view, model, equations(name))
             else:
                 view["reason"] = view["reason"] or catalogue_error or f"{name} is not in the catalogue any more"

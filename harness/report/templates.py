@@ -70,7 +70,7 @@ up to {{ hypothesis.max_examples }} examples (states) per system{% if hypothesis
 <tr><th>system</th><th>lecture</th><th>verdict</th><th>checks</th><th>scenes</th><th>printed equations</th></tr>
 {% for s in systems %}
 <tr class="{{ 'ok' if s.passed else 'fail' }}"><td><a href="systems/{{ s.name }}.html">{{ s.name }}</a></td>
-<td>{{ s.lecture }}</td><td>{{ 'conformant' if s.passed else 'FAILED' }}{% if s.reason %}: {{ s.reason|truncate(160) }}{% endif %}</td>
+<td>{% if s.outside %}outside the catalogue: {% endif %}{{ s.lecture }}</td><td>{{ 'conformant' if s.passed else 'FAILED' }}{% if s.reason %}: {{ s.reason|truncate(160) }}{% endif %}</td>
 <td>{{ s.checks_passed }} / {{ s.checks|length }}</td>
 <td>{% if s.scenes %}{{ s.scenes_passed }} / {{ s.scenes|length }}{% else %}—{% endif %}</td>
 <td>{% if s.claims %}{{ s.claims_confirmed }} / {{ s.claims|length }} confirmed{% if s.claims_other %}; {{ s.claims_other }}{% endif %}{% else %}—{% endif %}</td></tr>
@@ -139,7 +139,7 @@ SYSTEM = """{% extends "base" %}
 {% block title %}{{ s.name }} — {{ s.title }}{% endblock %}
 {% block body %}
 <h1>{{ s.name }}{% if s.title %}: {{ s.title }}{% endif %}</h1>
-<p>Lecture: {{ s.lecture or "—" }}. Verdict: <b>{{ 'conformant' if s.passed else 'FAILED' }}</b>.</p>
+<p>{% if s.outside %}Source (a model from outside the lecture's catalogue){% else %}Lecture{% endif %}: {{ s.lecture or "—" }}. Verdict: <b>{{ 'conformant' if s.passed else 'FAILED' }}</b>.</p>
 {% if s.reason %}<p class="reason">{{ s.reason }}</p>{% endif %}
 {% if model %}
 <h2>Model</h2>
@@ -167,7 +167,7 @@ SYSTEM = """{% extends "base" %}
 <p>{{ model.gravity|safe }}</p>
 <h2 id="equations">Equations of motion, derived</h2>
 <p>By the lecture's procedure (chapter 5): M q̈ + C(q, q̇) q̇ + g(q) = f<sub>q</sub><sup>np</sup> (5.93). Equation
-numbers at the right: the lecture's general equation; where the lecture prints this system's quantity, its
+numbers at the right: the lecture's general equation; where {{ 'its source' if s.outside else 'the lecture' }} prints this system's quantity, its
 number follows (compared in <a href="#claims">Printed equations</a>).</p>
 {% include "equations" %}
 {% for n in model.equations.notes + model.equation_notes %}<p><small>{{ n }}</small></p>{% endfor %}
@@ -214,7 +214,7 @@ number follows (compared in <a href="#claims">Printed equations</a>).</p>
 {% endif %}
 {% else %}<p>No scene results in results.json{% if model and model.scene_names %} (declared scenes: {{ model.scene_names|join(", ") }}; they appear once <code>harness check</code> simulates them){% endif %}.</p>{% endfor %}
 <h2 id="claims">Printed equations</h2>
-{% if model and model.claims %}<p>Each equation as the lecture prints it, and under it the derived quantity it is compared with
+{% if model and model.claims %}<p>Each equation as {{ 'its source' if s.outside else 'the lecture' }} prints it, and under it the derived quantity it is compared with
 (equations of motion as residuals = 0).{% if not s.claims %} Not classified yet: run <code>harness claims --out</code>.{% endif %}</p>
 {% include "claims" %}
 {% elif s.claims %}<table><tr><th>equation</th><th>quantity</th><th>description</th><th>classification</th><th>printed</th><th>derived / counterexample</th></tr>
