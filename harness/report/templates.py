@@ -56,9 +56,9 @@ BASE = """<!DOCTYPE html>
 """
 
 INDEX = """{% extends "base" %}
-{% block title %}Lecture derivations vs. Pinocchio and MuJoCo{% endblock %}
+{% block title %}Lecture derivations vs. Pinocchio, MuJoCo and Drake{% endblock %}
 {% block body %}
-<h1>Lecture derivations vs. Pinocchio and MuJoCo</h1>
+<h1>Lecture derivations vs. Pinocchio, MuJoCo and Drake</h1>
 <p><b>{{ passed }} of {{ systems|length }} systems conformant.</b>
 Each cell: the largest relative error over all hypothesis examples (random states and parameters) per check and
 engine, with its tolerance; green within tolerance, red over it. One tolerance policy for every check
