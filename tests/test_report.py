@@ -321,7 +321,8 @@ def test_a_spring_between_points_is_drawn_as_a_line_in_the_picture(tmp_path):
     """The spring-mass-damper's springs hang its masses from the bar: spatial tendons, which MuJoCo draws 3 mm wide,
     under a pixel in a picture of the whole mechanism. They are drawn at a width relative to the picture's extent
     (``render.TENDON_WIDTH``): hidden, hundreds of pixels fewer are drawn; the caption says what the lines are. A
-    scene's filmstrip shows those its effects call for (the planar manipulator's swing leaves out its spring).
+    scene's filmstrip shows those its effects call for (the planar manipulator's swing leaves out its spring). Those
+    in joints (the quarter car's) have no points to draw between: the caption names them as not drawn.
     Rendered in a process of its own, as the report renders (its OpenGL backend chosen before MuJoCo is imported)."""
     import subprocess
     import sys
@@ -346,12 +347,17 @@ series = {{"t": [0.0, 1.0], "sources": {{"symbolic": {{"q": [[0.1, 0.2], [0.3, 0
 folder = Path({str(tmp_path)!r})
 shown = [render.filmstrip(arm, render.mjcf_text(arm), series, folder / f"{{k}}.png", effects)["tendons"]
          for k, effects in enumerate(({{"gravity"}}, {{"gravity", "springs"}}, None))]
-print(json.dumps([drawn, hidden, caption, shown]))
+in_joints = render._in_joints(models.CATALOGUE.get("quarter_car"))   # its springs and dampers: in joints
+print(json.dumps([drawn, hidden, caption, shown, in_joints]))
 """
     run = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=300,
                          cwd=Path(models.__file__).parent.parent)
     assert run.returncode == 0, run.stderr[-2000:]
-    drawn, hidden, caption, shown = json.loads(run.stdout.strip().splitlines()[-1])
+    drawn, hidden, caption, shown, in_joints = json.loads(run.stdout.strip().splitlines()[-1])
     assert drawn - hidden > 300, (drawn, hidden)
     assert "lines: its springs and dampers between points" in caption
     assert shown == [0, 1, 1]   # a scene's filmstrip: only the springs and dampers it calls for
+    assert "not drawn" not in caption   # the spring-mass-damper has no spring or damper in a joint
+    assert in_joints == ("; not drawn: the springs and dampers in joints (tyre_spring, tyre_damper, suspension_spring, "
+                         "suspension_damper), which act along their joint's own coordinate and have no points to draw a "
+                         "line between")

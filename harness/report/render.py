@@ -242,7 +242,17 @@ def picture(system, xml: str, path: Path, scenes=()) -> dict:
     where = "at the initial state of scene " + scenes[0].name if scenes else "at q = 0"
     lines = "; lines: its springs and dampers between points (spatial tendons)" if scene.model.ntendon else ""
     return {"size": size, "caption": f"Rendered by MuJoCo ({backend()}) from {_mjcf_source(system)} {where}; "
-                                      f"labels: the lecture coordinates each joint follows{lines}."}
+                                      f"labels: the lecture coordinates each joint follows{lines}{_in_joints(system)}."}
+
+
+def _in_joints(system) -> str:
+    """The caption's words on the springs and dampers in joints: a coefficient of a joint's own coordinate, at
+    rest where the joint is at 0, with no points of their own to draw a line between (empty where there are none)."""
+    from harness.modeling import JointDamper, JointSpring
+
+    names = [f.name for f in system.forces if isinstance(f, (JointSpring, JointDamper))]
+    return (f"; not drawn: the springs and dampers in joints ({', '.join(names)}), which act along their joint's "
+            "own coordinate and have no points to draw a line between") if names else ""
 
 
 def filmstrip(system, xml: str, series: dict, path: Path, effects=None) -> dict:
