@@ -358,6 +358,6 @@ print(json.dumps([drawn, hidden, caption, shown, in_joints]))
     assert "lines: its springs and dampers between points" in caption
     assert shown == [0, 1, 1]   # a scene's filmstrip: only the springs and dampers it calls for
     assert "not drawn" not in caption   # the spring-mass-damper has no spring or damper in a joint
-    assert in_joints == ("; not drawn: the springs and dampers in joints (tyre_spring, tyre_damper, suspension_spring, "
-                         "suspension_damper), which act along their joint's own coordinate and have no points to draw a "
-                         "line between")
+    assert in_joints == ("; not drawn: the springs and dampers in joints (tyre_spring, tyre_damper, "
+                         "suspension_spring, suspension_damper), which act along their joint's own coordinate and have "
+                         "no points to draw a line between")
