@@ -231,7 +231,8 @@ def system_view(record: dict, claims: list[dict], out: Path, figures: set, bench
         scenes.append(view)
     counts = Counter(c["classification"] for c in claims)
     confirmed = counts.pop("confirmed", 0)
-    return {"name": name, "title": "", "lecture": record.get("lecture", ""), "passed": bool(record.get("passed")),
+    return {"name": name, "title": "", "lecture": record.get("lecture", ""), "outside": False,
+            "passed": bool(record.get("passed")),
             "reason": record.get("failure") or "", "examples": record.get("examples", 0),
             "parameter_draws": record.get("parameter_draws"),
             "not_applicable": record.get("not_applicable") or {}, "checks": checks, "matrix": matrix,
@@ -494,7 +495,7 @@ def build_site(out: Path | str, catalogue=None, progress=None, jobs: int = 1) ->
         except Exception as exc:  # noqa: BLE001 - one system raising never loses the others' pages
             reason = f"{name}: page not built: {type(exc).__name__}: {exc}"
             failed[name] = reason
-            view = {"name": name, "title": "", "lecture": record.get("lecture", ""), "passed": False,
+            view = {"name": name, "title": "", "lecture": record.get("lecture", ""), "outside": False, "passed": False,
                     "reason": reason, "examples": 0, "not_applicable": {}, "checks": [], "matrix": {},
                     "checks_passed": 0, "scenes": [], "scenes_passed": 0, "claims": [], "claims_confirmed": 0,
                     "claims_other": "", **NO_PICTURE}
