@@ -45,7 +45,7 @@ from harness.io import atomic_write_text
 from harness.pool import ended, kept as kept_pool, processes, submitting
 from harness.report.results import (check_folder, load_results, read_claims, read_timings, write_claims,
                                     write_results, write_timings)
-from harness.settings import apply_seed, draws_from_seed_only, load_hypothesis_profile
+from harness.settings import draws_from_seed_only, load_hypothesis_profile, seeded
 
 if TYPE_CHECKING:  # the catalogue is handed in; importing it would load the modeling vocabulary (SymPy)
     from harness.catalogue import Catalogue
@@ -347,7 +347,8 @@ def run_job(job: Job) -> dict:
     result of :func:`classify_system` in the record's ``claims``)."""
     from harness.compare import evaluations
 
-    with evaluations.sharing():  # the numbers at the check's states, for the claims
+    # the run's seed for the check and the claims, the process's own after them; the numbers at the check's states
+    with seeded(job.seed), evaluations.sharing():
         record = _checked(job)
         if job.claims:
             record["claims"] = classify_system((job.catalogue, job.system, job.examples, job.profile))
@@ -360,7 +361,6 @@ def _checked(job: Job) -> dict:
         profiling.enable()
         profiling.reset()
         profiling.instrument_scenes()
-    apply_seed(job.seed)
     with draws_from_seed_only():
         try:
             with profiling.phase("load the model module"):
