@@ -159,7 +159,8 @@ def mjcf_roundtrip(tree: NumericTree, model) -> list[RoundTripError]:
     MuJoCo keeps a body's inertia as principal moments in a frame of their own; the adapter reads the full tensor
     in the body frame. A joint's anchor must be the body origin (our joint frame), and the body's placement in
     its parent is the joint's placement. Points are sites. A massless link is fused into its child's body
-    (:func:`~harness.export.mjcf.fused_links`): it has no body of its own, its joint is checked in the child's."""
+    (:func:`~harness.export.mjcf.fused_links`): it has no body of its own, its joint is checked in the child's, at
+    the anchor and along the axis the tree's placements put it there (:func:`_in_body`)."""
     E = model.name
     fused = fused_links(tree)
     child_of = {j.parent: j.child for j in tree.joints}
@@ -195,13 +196,14 @@ def mjcf_roundtrip(tree: NumericTree, model) -> list[RoundTripError]:
         parent = j.parent
         while parent in fused:  # the placement of a fused chain is the first joint's
             parent = next(k.parent for k in tree.joints if k.child == parent)
+        anchor, axis, (origin, rotation) = _in_body(tree, j, fused)
         out += [_names(E, f"{j.name} bodies", [body_of(parent), body_of(j.child)], loaded["bodies"]),
                 _names(E, f"{j.name} type", [j.type], [loaded["type"]]),
-                _numbers(E, f"{j.name} axis", j.axis, loaded["axis"]),
-                _numbers(E, f"{j.name} anchor", np.zeros(3), loaded["anchor"])]
+                _numbers(E, f"{j.name} axis", axis, loaded["axis"]),
+                _numbers(E, f"{j.name} anchor", anchor, loaded["anchor"])]
         if j.parent not in fused:
-            out += [_numbers(E, f"{j.name} origin", j.origin, loaded["origin"]),
-                    _numbers(E, f"{j.name} rotation", rpy_matrix(j.rpy), loaded["rotation"])]
+            out += [_numbers(E, f"{j.name} origin", origin, loaded["origin"]),
+                    _numbers(E, f"{j.name} rotation", rotation, loaded["rotation"])]
     for point in tree.points:
         loaded = model.point_as_loaded(point.name)
         if loaded is None:
@@ -210,6 +212,19 @@ def mjcf_roundtrip(tree: NumericTree, model) -> list[RoundTripError]:
         out += [_names(E, f"{point.name} link", [point.link], [loaded["link"]]),
                 _numbers(E, f"{point.name} position", point.position, loaded["position"])]
     return out
+
+
+def _in_body(tree: NumericTree, j, fused: set) -> tuple:
+    """``(anchor, axis, (origin, rotation))`` of joint ``j`` in the MuJoCo body that holds it, from the tree's
+    placements alone: the body is the first link after ``j`` that is not fused; with ``(t, R)`` the placement of
+    that body's frame in ``j``'s (the product of the fused joints' ``origin``, ``rpy`` after ``j``), the anchor is
+    ``Rᵀ (0 − t)`` and the axis ``Rᵀ e``, and the body sits at ``j``'s placement times ``(t, R)`` in its parent."""
+    t, R, child = np.zeros(3), np.eye(3), j.child
+    while child in fused:
+        k = next(k for k in tree.joints if k.parent == child)
+        t, R, child = t + R @ np.asarray(k.origin, dtype=float), R @ rpy_matrix(k.rpy), k.child
+    R_j = rpy_matrix(j.rpy)
+    return R.T @ -t, R.T @ np.asarray(j.axis, dtype=float), (np.asarray(j.origin, dtype=float) + R_j @ t, R_j @ R)
 
 
 READERS = {"URDF": urdf_roundtrip, "MJCF": mjcf_roundtrip}

@@ -231,6 +231,23 @@ def joint_space_balance(system: System) -> sp.Matrix:
     return rows - _applied_in_theta(system, poses, theta_dot)
 
 
+def gravity_in_theta(system: System) -> sp.Matrix:
+    """The weights' generalized forces on the tree joints, one row per ``θ``: ``Σ J_vᵀ m g e_g`` with the Jacobians
+    taken in ``θ`` (the weights' share of the tree's balance (3.104)), in ``q``. ``(∂φ/∂q)ᵀ`` of it is ``−g(q)``;
+    where the map constrains the tree, a row may be nonzero where ``g(q)`` is 0: the weights load the constraint
+    rows without working on a motion the coordinates allow (a piston's weight on its guide)."""
+    rows = sp.zeros(len(system.theta), 1)
+    if system.gravity is None:
+        return rows
+    poses = link_poses(system)
+    e_g, g = sp.Matrix(system.gravity.direction), sp.sympify(system.gravity.g)
+    for link in system.links:
+        if link.has_mass:
+            J_v = _material_jacobian(system, poses, link.name, Point(link.name, link.com))
+            rows += J_v.T * (sp.sympify(link.mass) * g * e_g)
+    return rows
+
+
 def rate(system: System, expr):
     """``d/dt`` of an expression (or matrix) in ``q, q̇`` along the motion, ``q̈`` as the coordinates' ``accel``
     (the chain rule of (5.69))."""

@@ -15,6 +15,7 @@ import mujoco
 import numpy as np
 from lxml import etree
 
+from harness.errors import ModelError
 from harness.export.kept import exported
 from harness.export.numeric import MUJOCO_POINT_MASS_INERTIA, NumericTree
 from harness.modeling.system import WORLD
@@ -41,21 +42,66 @@ def rpy_quat(rpy) -> np.ndarray:
 def fused_links(tree: NumericTree) -> set[str]:
     """Massless links MuJoCo cannot hold as bodies (moving bodies need mass and inertia > mjMINVAL): each is
     merged with its only child into one MuJoCo body carrying both joints in order. MuJoCo applies the joints
-    of a body in sequence, each about/along its axis in the frame moved by the previous ones, which is our
-    chain exactly when the child's joint sits at the massless link's origin (zero origin and rpy) and
-    nothing is attached to the massless link."""
+    of a body in sequence, each about/along its axis through its anchor (``pos``) in the frame moved by the
+    previous ones: our chain, with the massless link's joint written in the child's frame (:class:`_Carried`).
+    Nothing may be attached to the massless link (a site would move with the child's joint too)."""
     with_points = {p.link for p in tree.points}
     out = set()
     for link in tree.links:
         children = [j for j in tree.joints if j.parent == link.name]
-        if link.mass == 0 and link.name not in with_points and len(children) == 1 \
-                and not np.any(children[0].origin) and not np.any(children[0].rpy):
+        if link.mass == 0 and link.name not in with_points and len(children) == 1:
             out.add(link.name)
     return out
 
 
-def _add_joint(body, j, tree: NumericTree) -> None:
-    joint = body.add_joint(name=j.name, type=_JOINT_TYPE[j.type], axis=j.axis)
+def massless_bodies(tree: NumericTree) -> list[str]:
+    """Massless links that are neither merged (:func:`fused_links`) nor the world's: MuJoCo refuses them as moving
+    bodies. One clear message per link, with what to change, instead of MuJoCo's "mass and inertia of moving bodies
+    must be larger than mjMINVAL"."""
+    fused = fused_links(tree)
+    out = []
+    for link in tree.links:
+        if link.mass != 0 or link.name in fused:
+            continue
+        children = [j.child for j in tree.joints if j.parent == link.name]
+        points = sorted(p.name for p in tree.points if p.link == link.name)
+        if len(children) == 1:
+            why, fix = f"points are attached to it ({', '.join(points)})", "attach them to the link it carries"
+        else:
+            why = f"it carries {len(children)} links ({', '.join(children)})" if children else "it carries no link"
+            fix = "give it a mass"
+        out.append(f"link {link.name} is massless and MuJoCo cannot merge it with a child ({why}): {fix}")
+    return out
+
+
+class _Carried:
+    """The joints of merged massless links on their way to the body that holds them (:func:`fused_links`): the
+    placement ``pos``, ``quat`` of the current frame in the parent body, and each joint with its anchor and axis in
+    that frame. :meth:`moved` passes to the next link's frame (a joint's ``origin``, ``rpy``): an anchor ``a``
+    becomes ``Rᵀ (a − t)``, an axis ``Rᵀ e``; the placement ``pos + R_quat t``, ``quat ⊗ q(rpy)``."""
+
+    def __init__(self, parent, pos, quat, joints=()):
+        self.parent, self.pos, self.quat, self.joints = parent, pos, quat, list(joints)
+
+    def moved(self, j) -> "_Carried":
+        if not np.any(j.origin) and not np.any(j.rpy):  # the same frame: the same numbers, to the bit
+            return _Carried(self.parent, self.pos, self.quat, self.joints)
+        R, turn = np.zeros(9), rpy_quat(j.rpy)
+        mujoco.mju_quat2Mat(R, turn)
+        R = R.reshape(3, 3)
+        placement, quat = np.zeros(9), np.zeros(4)
+        mujoco.mju_quat2Mat(placement, np.asarray(self.quat, dtype=float))
+        mujoco.mju_mulQuat(quat, np.asarray(self.quat, dtype=float), turn)
+        joints = [(joint, R.T @ (anchor - j.origin), R.T @ axis) for joint, anchor, axis in self.joints]
+        return _Carried(self.parent, self.pos + placement.reshape(3, 3) @ j.origin, quat, joints)
+
+
+def _add_joint(body, j, tree: NumericTree, anchor=None, axis=None) -> None:
+    """Joint ``j`` in ``body``: at the body's origin along ``j.axis``, or a merged massless link's joint at
+    ``anchor`` along ``axis`` in the body's frame (:class:`_Carried`)."""
+    joint = body.add_joint(name=j.name, type=_JOINT_TYPE[j.type], axis=j.axis if axis is None else axis)
+    if anchor is not None and np.any(anchor):
+        joint.pos = anchor
     joint.limited = mujoco.mjtLimited.mjLIMITED_FALSE
     joint.armature = j.armature  # zero unless the model has rotor inertia
     if j.name in tree.joint_stiffness:
@@ -89,22 +135,27 @@ def mjcf_spec(tree: NumericTree) -> mujoco.MjSpec:
     spec.option.disableflags = int(flags)
 
     bodies = {WORLD: spec.worldbody}
-    carried = {}  # fused massless link -> (parent body, pos, quat, joints waiting for the child's body)
+    carried: dict[str, _Carried] = {}  # fused massless link -> its joints waiting for the child's body
     fused = fused_links(tree)
+    refused = massless_bodies(tree)
+    if refused:
+        raise ModelError(f"{tree.system}: {'; '.join(refused)}")
     links = {link.name: link for link in tree.links}
     pending = list(tree.joints)
     while pending:
         for j in list(pending):
             if j.parent in carried:
-                parent, pos, quat, joints = carried[j.parent]
+                here = carried[j.parent].moved(j)
             elif j.parent in bodies:
-                parent, pos, quat, joints = bodies[j.parent], j.origin, rpy_quat(j.rpy), []
+                here = _Carried(bodies[j.parent], j.origin, rpy_quat(j.rpy))
             else:
                 continue
             pending.remove(j)
             if j.child in fused:
-                carried[j.child] = (parent, pos, quat, joints + [j])
+                carried[j.child] = _Carried(here.parent, here.pos, here.quat,
+                                            here.joints + [(j, np.zeros(3), np.asarray(j.axis, dtype=float))])
                 continue
+            parent, pos, quat = here.parent, here.pos, here.quat
             link = links[j.child]
             body = parent.add_body(name=link.name, pos=pos, quat=quat)
             body.explicitinertial = True
@@ -118,8 +169,9 @@ def mjcf_spec(tree: NumericTree) -> mujoco.MjSpec:
             else:
                 body.fullinertia = [inertia[0, 0], inertia[1, 1], inertia[2, 2], inertia[0, 1], inertia[0, 2],
                                     inertia[1, 2]]
-            for joint in joints + [j]:
-                _add_joint(body, joint, tree)
+            for joint, anchor, axis in here.joints:
+                _add_joint(body, joint, tree, anchor, axis)
+            _add_joint(body, j, tree)
             bodies[j.child] = body
     for point in tree.points:
         bodies[point.link].add_site(name=point.name, pos=point.position)

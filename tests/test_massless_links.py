@@ -1,0 +1,75 @@
+"""A massless link in the middle of a chain (a slider-crank's connecting rod): MuJoCo refuses it as a moving body, so
+the export merges it with the link it carries, its joint written in that link's frame wherever the tree puts the
+child's joint (an offset, a turn); where it cannot (points on it), one line says why and what to change. And a weight
+that works on no motion the coordinates allow but loads a closed chain's rows is not pruned (MuJoCo's soft rows
+yield to it)."""
+
+from __future__ import annotations
+
+import pytest
+from sympy import asin, sin
+
+from harness.errors import ModelError
+from harness.export.mjcf import mjcf_spec
+from harness.export.numeric import instantiate
+from harness.modeling import (WORLD, Closure, Coordinate, Gravity, Inertia, Input, Joint, JointInput, Link, Parameter,
+                              Point, Scene, System, standard_gravity)
+from harness.scenes.effects import gravity_idle, infer
+
+r = Parameter("r", 0.05, "m", "crank radius", range=(0.03, 0.07))
+l = Parameter("l", 0.2, "m", "connecting rod", range=(0.15, 0.25))
+m_C = Parameter("m_C", 5.0, "kg", "mass of the crank disc")
+m_P = Parameter("m_P", 0.5, "kg", "mass of the piston")
+phi = Coordinate("phi", "rad", "crank angle from e_x")
+tau = Input("tau", "N m", "drive torque")
+beta = asin(r / l * sin(phi))
+TURN = 0.5   # the piston pin's frame turned by this about z at rest: the merged joint's axis and anchor turn with it
+
+
+def slider_crank(points_on_rod: bool = False) -> System:
+    """Crank (a disc), massless rod, piston (a cylinder kept from turning by its pin, guided on the x-axis)."""
+    guided = Point("rod", (l, 0, 0), "B") if points_on_rod else Point("piston", (0, 0, 0), "B")
+    return System(
+        name="slider_crank_test", title="Slider-crank", lecture="a piston engine",
+        coordinates=(phi,),
+        links=(Link("crank", m_C, (0, 0, 0), Inertia.cylinder(m_C, 0.1, 0.03)),
+               Link("rod", 0, (0, 0, 0), description="massless connecting rod"),
+               Link("piston", m_P, (0, 0, 0), Inertia.cylinder(m_P, 0.04, 0.05, axis="x"))),
+        joints=(Joint("phi", "revolute", WORLD, "crank", axis="z", phi=phi),
+                Joint("rod_angle", "revolute", "crank", "rod", axis="z", origin=(r, 0, 0), phi=-beta - phi),
+                Joint("piston_pin", "revolute", "rod", "piston", axis="z", origin=(l, 0, 0), rpy=(0, 0, TURN),
+                      phi=beta - TURN)),
+        gravity=Gravity(standard_gravity(), (0, -1, 0)),
+        forces=(JointInput("drive", "phi", tau),),
+        closures=(Closure("guide", guided, (0, 1, 0), 0),
+                  Closure("skirt", Point("piston", (0.04, 0, 0), "S"), (0, 1, 0), 0)),
+        doc="slider-crank")
+
+
+def test_a_massless_link_with_an_offset_and_turned_child_agrees_in_every_engine(harness_conformance):
+    """Every check of `harness check` (M, C, g, q̈ of Pinocchio, MuJoCo and Drake, the MJCF read back: the rod's
+    joint at its anchor and along its axis in the piston's turned frame) on the slider-crank."""
+    summary = harness_conformance(slider_crank())
+    assert summary.examples > 0
+
+
+def test_a_massless_link_that_cannot_be_merged_is_one_clear_error():
+    system = slider_crank(points_on_rod=True)
+    with pytest.raises(ModelError) as error:
+        mjcf_spec(instantiate(system, system.default_parameters()))
+    assert str(error.value) == ("slider_crank_test: link rod is massless and MuJoCo cannot merge it with a child "
+                                "(points are attached to it (B)): attach them to the link it carries")
+
+
+def test_a_weight_on_a_guide_is_not_pruned():
+    """The piston's weight works on no motion of the crank angle (g(q) ≡ 0) but loads the guide's row: gravity acts in
+    the engines' constrained trees, so it is inferred acting; a weight that loads no row (the block on the stick-slip
+    floor, no rows) stays idle."""
+    import models
+
+    system = slider_crank()
+    assert gravity_idle(system, system.default_parameters()) is None
+    scene = Scene("run_up", "driven", (0.3,), (0.0,), 1.0, {"gravity", "inputs"}, inputs={tau: 2.0})
+    assert "gravity" in infer(system, scene).acting
+    stick_slip = models.CATALOGUE.get("stick_slip")
+    assert gravity_idle(stick_slip, stick_slip.default_parameters()).startswith("∂V_gravity/∂q ≡ 0")
