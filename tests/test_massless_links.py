@@ -73,3 +73,23 @@ def test_a_weight_on_a_guide_is_not_pruned():
     assert "gravity" in infer(system, scene).acting
     stick_slip = models.CATALOGUE.get("stick_slip")
     assert gravity_idle(stick_slip, stick_slip.default_parameters()).startswith("∂V_gravity/∂q ≡ 0")
+
+
+def test_a_joint_that_moves_no_mass_is_named_when_mujoco_finds_its_matrix_singular():
+    """The piston a point mass on its pin: the pin turns nothing with mass or inertia, MuJoCo's tree mass matrix is
+    singular there and it warns with a dof index; the error names the joint and what to change."""
+    import dataclasses
+
+    import numpy as np
+
+    from harness.engines import engine
+    from harness.errors import EngineError
+
+    system = slider_crank()
+    point_mass = dataclasses.replace(system.links[2], inertia=Inertia.zero())
+    system = dataclasses.replace(system, links=(*system.links[:2], point_mass))
+    model = engine("mujoco")(instantiate(system, system.default_parameters()))
+    with pytest.raises(EngineError, match=r"joint piston_pin moves no mass or inertia of its own \(a point mass "
+                                          r"turning on a pin of its own: give its link an inertia, or leave the "
+                                          r"joint out\)"):
+        model.quantities(np.array([0.3, -0.4, 0.1]), np.zeros(3), {"tau": 0.0}, [])

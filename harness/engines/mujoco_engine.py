@@ -67,10 +67,22 @@ def check_warnings(model: mujoco.MjModel, data: mujoco.MjData, what: str) -> Non
     mujoco.mj_checkVel(model, data)
     if not data.warning.number[_COUNTERS].any():  # the clean case, at every step of a simulation: one array read
         return
-    found = [f"{text} ({data.warning[w].number}x, last index {data.warning[w].lastinfo})"
+    found = [f"{text} ({data.warning[w].number}x, last index {data.warning[w].lastinfo}){_which(model, w, data)}"
              for w, text in WARNINGS.items() if data.warning[w].number > 0]
     clear_warnings(data)  # counted once: the next evaluation with the same data starts clean
     raise EngineError(f"{what}: MuJoCo warning at t={data.time:g} s: " + "; ".join(found))
+
+
+def _which(model: mujoco.MjModel, warning, data: mujoco.MjData) -> str:
+    """What a warning's index names: for a singular inertia matrix, the joint of the dof whose pivot in the
+    factorization vanished (its motion moves no mass or inertia the other joints do not: a point mass turning on a
+    pin of its own); else nothing."""
+    dof = data.warning[warning].lastinfo
+    if warning != mujoco.mjtWarning.mjWARN_INERTIA or not 0 <= dof < model.nv:
+        return ""
+    joint = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_JOINT, model.dof_jntid[dof])
+    return (f": joint {joint} moves no mass or inertia of its own (a point mass turning on a pin of its own: give "
+            "its link an inertia, or leave the joint out)")
 
 
 _COUNTERS = [int(w) for w in WARNINGS]
