@@ -47,6 +47,15 @@ SYSTEM = dataclasses.replace(_S, name="{name}")
 CLAIMS = [Claim("(9.99)", "T", sp.Symbol("l_3", positive=True) * SYSTEM.qd[0] ** 2)]
 '''
 
+MISSHAPEN_CLAIM = '''
+import sympy as sp
+from models.pendulum import SYSTEM as _S
+import dataclasses
+from harness.compare.claims import Claim
+SYSTEM = dataclasses.replace(_S, name="{name}")
+CLAIMS = [Claim("(9.98)", "M", sp.Matrix([[1, 0]]))]
+'''
+
 
 def _one_line(capsys) -> str:
     err = [line for line in capsys.readouterr().err.strip().splitlines() if line]
@@ -114,6 +123,17 @@ def test_a_broken_module_is_a_failed_record_in_a_catalogue_run(user_models):
     by_name = {r["system"]: r for r in records}
     assert by_name["pendulum"]["passed"]
     assert not by_name["user_raises"]["passed"] and "RuntimeError: boom" in by_name["user_raises"]["failure"]
+
+
+def test_a_claim_of_another_shape_than_its_quantity_is_refused_when_the_module_loads(user_models, capsys):
+    """A printed M of 1 × 2 for a system of one coordinate: one line naming both shapes and how to claim a part (it
+    had failed the classification with NumPy's "cannot reshape array of size 1 into shape (1,2)")."""
+    (user_models / "user_shape.py").write_text(MISSHAPEN_CLAIM.format(name="user_shape"))
+    assert cli.main(["claims", "user_shape", "--examples", "2"]) == 2
+    line = _one_line(capsys)
+    assert line.endswith("user_shape.py: claim (9.98): the printed M is 1 × 2, user_shape's is 1 × 1 (1 "
+                         "coordinate(s)); give the whole quantity, or one entry with Claim(..., index=(i, j)) or one "
+                         "row with index=(i,)")
 
 
 def test_a_claim_with_an_undeclared_symbol_is_refused_when_the_module_loads(user_models, capsys):

@@ -130,6 +130,26 @@ def as_matrix(expr) -> sp.Matrix:
     return sp.Matrix(expr) if isinstance(expr, (sp.MatrixBase, list, tuple)) else sp.Matrix([expr])
 
 
+def _check_shape(system: System, claim: Claim) -> None:
+    """A claim of a whole quantity (no ``index``) has its shape: ``M``, ``C`` ``n × n``; ``Cqd``, ``g``, ``f_np``,
+    ``eom`` ``n`` entries; ``T``, ``V``, ``L`` one; a ``position:`` three. Otherwise :class:`ModelError` naming both
+    shapes, when the module loads (it had failed the classification with NumPy's "cannot reshape")."""
+    from harness.errors import ModelError
+
+    if claim.index is not None:
+        return
+    n, kind = len(system.coordinates), claim.quantity
+    expected = {"M": (n, n), "C": (n, n), "Cqd": (n, 1), "g": (n, 1), "f_np": (n, 1), "eom": (n, 1), "T": (1, 1),
+                "V": (1, 1), "L": (1, 1)}.get(kind, (3, 1) if kind.startswith("position:") else None)
+    if expected is None or not isinstance(claim.printed, (sp.MatrixBase, sp.Expr, list, tuple)):
+        return
+    shape = as_matrix(claim.printed).shape
+    if shape not in (expected, expected[::-1]):
+        raise ModelError(f"claim {claim.equation}: the printed {kind} is {shape[0]} × {shape[1]}, {system.name}'s is "
+                         f"{expected[0]} × {expected[1]} ({n} coordinate(s)); give the whole quantity, or one entry "
+                         "with Claim(..., index=(i, j)) or one row with index=(i,)")
+
+
 def validate_claims(system: System, claims) -> None:
     """Every symbol a claim uses is one the system declares (same name *and* assumptions): a coordinate, its
     rate or acceleration, a parameter or an input. Raises :class:`ModelError` naming the claim, the symbol and
@@ -149,6 +169,7 @@ def validate_claims(system: System, claims) -> None:
             if name in by_name:
                 raise ModelError(f"claim {claim.equation}: the printed symbol {name!r} is a symbol of {system.name}: "
                                  f"use the model's own")
+        _check_shape(system, claim)
         if claim.defines is not None and as_matrix(claim.defines).shape != as_matrix(claim.printed).shape:
             raise ModelError(f"claim {claim.equation}: defines has another shape than the printed expression")
         for equation in claim.ingredients:
