@@ -127,13 +127,22 @@ def test_a_broken_module_is_a_failed_record_in_a_catalogue_run(user_models):
 
 def test_a_claim_of_another_shape_than_its_quantity_is_refused_when_the_module_loads(user_models, capsys):
     """A printed M of 1 × 2 for a system of one coordinate: one line naming both shapes and how to claim a part (it
-    had failed the classification with NumPy's "cannot reshape array of size 1 into shape (1,2)")."""
+    had failed the classification with NumPy's "cannot reshape array of size 1 into shape (1,2)"); a position of a
+    point the system does not name, one line with the names it knows."""
     (user_models / "user_shape.py").write_text(MISSHAPEN_CLAIM.format(name="user_shape"))
     assert cli.main(["claims", "user_shape", "--examples", "2"]) == 2
     line = _one_line(capsys)
     assert line.endswith("user_shape.py: claim (9.98): the printed M is 1 × 2, user_shape's is 1 × 1 (1 "
                          "coordinate(s)); give the whole quantity, or one entry with Claim(..., index=(i, j)) or one "
                          "row with index=(i,)")
+    # a position of a point the system does not name: the names it knows
+    (user_models / "user_point.py").write_text(MISSHAPEN_CLAIM.replace('"M", sp.Matrix([[1, 0]])',
+                                                                       '"position:Q", sp.Matrix([0, 0, 0])')
+                                               .format(name="user_point"))
+    models.reload()
+    assert cli.main(["claims", "user_point", "--examples", "2"]) == 2
+    assert _one_line(capsys).endswith("user_point.py: claim (9.98): user_point: no point or link named 'Q' "
+                                      "(known: bob)")
 
 
 def test_a_claim_with_an_undeclared_symbol_is_refused_when_the_module_loads(user_models, capsys):

@@ -72,7 +72,7 @@ from harness.kept import keep, read_kept
 from harness.derivation import bodies
 from harness.derivation.bodies import element_force, element_generalized_force, point_in_q, rotational_jacobian
 from harness.modeling.claims import ENGINE_QUANTITIES, Claim, as_matrix as _as_matrix, symbols as _symbols
-from harness.modeling.system import WORLD, Point, System
+from harness.modeling.system import WORLD, System
 from harness.compare.strategies import (draws, hypothesis_examples, kept_path, state_from,
                                         state_record, states_seed, system_states)
 from harness.settings import property_test
@@ -277,14 +277,7 @@ def _steady_rest(system: System, claim: Claim) -> dict:
 
 
 def _point(system: System, name: str) -> sp.Matrix:
-    for f in system.forces:
-        for pt in (getattr(f, "a", None), getattr(f, "b", None), getattr(f, "point", None)):
-            if isinstance(pt, Point) and pt.name == name:
-                return point_in_q(system, pt)
-    for link in system.links:
-        if link.name == name:
-            return point_in_q(system, Point(link.name, link.com))
-    raise ValueError(f"{system.name}: no point or link named {name!r} for a position claim")
+    return point_in_q(system, system.point(name))
 
 
 def _select(m: sp.Matrix, index):

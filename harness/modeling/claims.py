@@ -131,11 +131,18 @@ def as_matrix(expr) -> sp.Matrix:
 
 
 def _check_shape(system: System, claim: Claim) -> None:
-    """A claim of a whole quantity (no ``index``) has its shape: ``M``, ``C`` ``n × n``; ``Cqd``, ``g``, ``f_np``,
+    """A claim of a point names one of the system (:meth:`System.point`); a claim of a whole quantity (no ``index``)
+    has its shape: ``M``, ``C`` ``n × n``; ``Cqd``, ``g``, ``f_np``,
     ``eom`` ``n`` entries; ``T``, ``V``, ``L`` one; a ``position:`` three. Otherwise :class:`ModelError` naming both
     shapes, when the module loads (it had failed the classification with NumPy's "cannot reshape")."""
     from harness.errors import ModelError
 
+    kind, _, name = claim.quantity.partition(":")
+    if kind in ("position", "v", "a", "v_squared", "J_v"):
+        try:
+            system.point(name)
+        except ModelError as exc:
+            raise ModelError(f"claim {claim.equation}: {exc}") from None
     if claim.index is not None:
         return
     n, kind = len(system.coordinates), claim.quantity

@@ -575,6 +575,20 @@ class System:
                 return link
         raise ModelError(f"{self.name}: no link named {name!r}")
 
+    def point(self, name: str) -> "Point":
+        """The point ``name``: one a force element or a closure names, else a link's centre of mass (a link's name)."""
+        named = [pt for f in self.forces for pt in (getattr(f, "a", None), getattr(f, "b", None),
+                                                     getattr(f, "point", None)) if isinstance(pt, Point)]
+        named += [c.point for c in self.closures]
+        for pt in named:
+            if pt.name == name:
+                return pt
+        for link in self.links:
+            if link.name == name:
+                return Point(link.name, link.com)
+        known = sorted({pt.name for pt in named} | {link.name for link in self.links})
+        raise ModelError(f"{self.name}: no point or link named {name!r} (known: {', '.join(known)})")
+
     def joint(self, name: str) -> Joint:
         for joint in self.joints:
             if joint.name == name:
