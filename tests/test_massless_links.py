@@ -93,3 +93,20 @@ def test_a_joint_that_moves_no_mass_is_named_when_mujoco_finds_its_matrix_singul
                                           r"turning on a pin of its own: give its link an inertia, or leave the "
                                           r"joint out\)"):
         model.quantities(np.array([0.3, -0.4, 0.1]), np.zeros(3), {"tau": 0.0}, [])
+
+
+def test_two_massless_frames_in_a_row_each_offset_and_turned_agree_in_every_engine(harness_conformance):
+    """The merge composes: both massless frames' joints in the body's frame, through two offsets and two turns."""
+    from harness.modeling import Coordinate as C
+
+    a, b, c = C("a", "rad", "first angle"), C("b", "rad", "second angle"), C("c", "m", "slide")
+    m = Parameter("m", 1.0, "kg", "mass of the body")
+    system = System(
+        name="gimbal_chain_test", title="Massless frames in a row", lecture="a test", coordinates=(a, b, c),
+        links=(Link("A", 0), Link("B", 0), Link("C", m, (0.05, -0.02, 0.1),
+                                               Inertia(0.02, 0.03, 0.015, 0.001, 0.002, -0.001))),
+        joints=(Joint("a", "revolute", WORLD, "A", axis="z"),
+                Joint("b", "revolute", "A", "B", axis="x", origin=(0.1, 0, 0), rpy=(0.3, 0, 0)),
+                Joint("c", "prismatic", "B", "C", axis="y", origin=(0, 0.2, 0.05), rpy=(0, 0.4, 0.1))),
+        gravity=Gravity(standard_gravity(), (0, 0, -1)), doc="two massless frames")
+    assert harness_conformance(system).examples > 0
