@@ -11,7 +11,6 @@ Profiles:
 
 from __future__ import annotations
 
-import contextlib
 import os
 from contextlib import contextmanager
 
@@ -53,7 +52,7 @@ _OWN_FORCED_SEED: list = []
 """The process's forced seed before :func:`apply_seed` first set one."""
 
 
-@contextlib.contextmanager
+@contextmanager
 def seeded(seed: int | None):
     """:func:`apply_seed` for the block, and the process's own seed and profile after it: a job's ``--seed`` does
     not reach what the process does next (found when a ``--seed`` check left its seed to the next test of its worker,

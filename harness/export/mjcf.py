@@ -54,7 +54,7 @@ def fused_links(tree: NumericTree) -> set[str]:
     return out
 
 
-def massless_bodies(tree: NumericTree) -> list[str]:
+def unmerged_massless_links(tree: NumericTree) -> list[str]:
     """Massless links that are neither merged (:func:`fused_links`) nor the world's: MuJoCo refuses them as moving
     bodies. One clear message per link, with what to change, instead of MuJoCo's "mass and inertia of moving bodies
     must be larger than mjMINVAL"."""
@@ -137,7 +137,7 @@ def mjcf_spec(tree: NumericTree) -> mujoco.MjSpec:
     bodies = {WORLD: spec.worldbody}
     carried: dict[str, _Carried] = {}  # fused massless link -> its joints waiting for the child's body
     fused = fused_links(tree)
-    refused = massless_bodies(tree)
+    refused = unmerged_massless_links(tree)
     if refused:
         raise ModelError(f"{tree.system}: {'; '.join(refused)}")
     links = {link.name: link for link in tree.links}

@@ -130,11 +130,9 @@ def as_matrix(expr) -> sp.Matrix:
     return sp.Matrix(expr) if isinstance(expr, (sp.MatrixBase, list, tuple)) else sp.Matrix([expr])
 
 
-def _check_shape(system: System, claim: Claim) -> None:
-    """A claim of a point names one of the system (:meth:`System.point`); a claim of a whole quantity (no ``index``)
-    has its shape: ``M``, ``C`` ``n × n``; ``Cqd``, ``g``, ``f_np``,
-    ``eom`` ``n`` entries; ``T``, ``V``, ``L`` one; a ``position:`` three. Otherwise :class:`ModelError` naming both
-    shapes, when the module loads (it had failed the classification with NumPy's "cannot reshape")."""
+def _check_point(system: System, claim: Claim) -> None:
+    """A claim of a point (``position:``, ``v:``, ``a:``, ``v_squared:``, ``J_v:``) names one of the system
+    (:meth:`System.point`); otherwise :class:`ModelError` with the names it knows, when the module loads."""
     from harness.errors import ModelError
 
     kind, _, name = claim.quantity.partition(":")
@@ -143,6 +141,14 @@ def _check_shape(system: System, claim: Claim) -> None:
             system.point(name)
         except ModelError as exc:
             raise ModelError(f"claim {claim.equation}: {exc}") from None
+
+
+def _check_shape(system: System, claim: Claim) -> None:
+    """A claim of a whole quantity (no ``index``) has its shape: ``M``, ``C`` ``n × n``; ``Cqd``, ``g``, ``f_np``,
+    ``eom`` ``n`` entries; ``T``, ``V``, ``L`` one; a ``position:`` three. Otherwise :class:`ModelError` naming both
+    shapes, when the module loads (it had failed the classification with NumPy's "cannot reshape")."""
+    from harness.errors import ModelError
+
     if claim.index is not None:
         return
     n, kind = len(system.coordinates), claim.quantity
@@ -176,6 +182,7 @@ def validate_claims(system: System, claims) -> None:
             if name in by_name:
                 raise ModelError(f"claim {claim.equation}: the printed symbol {name!r} is a symbol of {system.name}: "
                                  f"use the model's own")
+        _check_point(system, claim)
         _check_shape(system, claim)
         if claim.defines is not None and as_matrix(claim.defines).shape != as_matrix(claim.printed).shape:
             raise ModelError(f"claim {claim.equation}: defines has another shape than the printed expression")
