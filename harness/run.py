@@ -60,8 +60,14 @@ def _reason(exc: BaseException) -> str:
 
 # =========================================================================================== list, eval
 def listing(catalogue: Catalogue) -> list[tuple[str, str, str, str]]:
-    """``(system, dof, lecture, status)`` of every system, then of every module that does not load."""
-    rows = [(s.name, str(len(s.coordinates)), s.lecture, s.status) for s in catalogue.systems().values()]
+    """``(system, dof, lecture, status)`` of every system, then of every module that does not load; a system from
+    an added folder (:meth:`Catalogue.from_lecture`) says which, beside its status."""
+    def status(s) -> str:
+        if catalogue.from_lecture(s.name):
+            return s.status
+        return f"{s.status}, outside the lecture's catalogue: {Path(catalogue.module(s.name).__file__).parent}"
+
+    rows = [(s.name, str(len(s.coordinates)), s.lecture, status(s)) for s in catalogue.systems().values()]
     return rows + [(name, "?", "—", "does not load (harness check shows why)") for name in catalogue.failures()]
 
 

@@ -43,6 +43,11 @@ def test_scaffold_fill_check_report(user_models, tmp_path, capsys):
     models.reload()
     sys.modules.pop(f"models.{NAME}", None)
     assert models.get(NAME).title == "Pendulum rod"
+    capsys.readouterr()
+    assert cli.main(["list"]) == 0   # beside its status, the folder it comes from; the lecture's own say nothing
+    listed = {line.split()[0]: line for line in capsys.readouterr().out.splitlines()}
+    assert listed[NAME].endswith(f"modeled, outside the lecture's catalogue: {search_path}")
+    assert listed["pendulum_rod"].endswith("modeled")
     # 3. green check, 4. in the report
     out = tmp_path / "reports"
     assert cli.main(["check", NAME, "--examples", "10", "--out", str(out)]) == 0
