@@ -405,8 +405,9 @@ def regular_spectrum(w) -> bool:
 def _drawn(system: System, p) -> str:
     """The parameter values of ``p`` that are not the defaults, as an error names them (none: "")."""
     changed = "" if p is None else drawn_parameters(system, p)
-    return (f" with the parameters {changed} (positive ones are drawn in [default/2, 2 default]: a map "
-            "that closes a chain must be defined over that range)") if changed else ""
+    return (f" with the parameters {changed} (the checks draw each from its range=, a positive "
+            "one without a range from [default/2, 2 default]: a map that closes a chain must be defined over that "
+            "range)") if changed else ""
 
 
 def state_text(system: System, q) -> str:
