@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import dataclasses
 import hashlib
+import cmath
 import itertools
 import math
 from dataclasses import dataclass, field, fields
@@ -731,6 +732,7 @@ def validate(system: System) -> None:
         raise ModelError(f"{where}: map Jacobian has shape {jac.shape}")
     _check_map(system, phi, jac, where)
     _check_inertias(system, where)
+    _check_closures(system, phi, where)
     for f in system.forces:
         for attr in ("a", "b", "point"):
             pt = getattr(f, attr, None)
@@ -762,13 +764,50 @@ def validate(system: System) -> None:
         raise ModelError(f"{where}: no link has mass")
 
 
-def _generic_state(system: System) -> dict:
-    """Default parameters and a generic configuration inside each coordinate's range (no special angle)."""
+def _generic_state(system: System, at: float = 0.37) -> dict:
+    """Default parameters and a generic configuration inside each coordinate's range (no special angle): the
+    fraction ``at`` of the first coordinate's range, shifted by 0.11 for each next one."""
     subs = {p.symbol: p.default for p in system.parameters}
     for k, c in enumerate(system.coordinates):
         lo, hi = (float(v) for v in c.range) if c.range is not None else (-1.0, 1.0)
-        subs[c.symbol] = lo + (0.37 + 0.11 * k) % 1.0 * (hi - lo)
+        subs[c.symbol] = lo + (at + 0.11 * k) % 1.0 * (hi - lo)
     return subs
+
+
+CLOSURE_TOL = 1e-9   # relative to the point's distance from the origin (at least 1 m): round-off is ~1e-16
+
+
+def _check_closures(system: System, phi: sp.Matrix, where: str) -> None:
+    """Each :class:`Closure` holds on the map: ``nᵀ p_0(θ = φ(q)) = value`` at two generic configurations with the
+    default parameters. Else the engines' constrained trees, which impose the closure, simulate another chain than
+    the map describes, and the scenes fail on constraint drift alone."""
+    known = {WORLD, *(link.name for link in system.links)}
+    for c in system.closures:
+        if c.point.link not in known:
+            raise ModelError(f"{where}: closure {c.name} holds a point of unknown link {c.point.link!r}")
+    if not system.closures:
+        return
+    from harness.derivation.kinematics import link_poses, point_position   # derivation builds on modeling
+    poses = link_poses(system)
+    for at in (0.37, 0.71):
+        subs = {k: sp.Float(v) for k, v in _generic_state(system, at).items()}
+        try:
+            values = [complex(e.xreplace(subs).evalf()) for e in phi]
+        except (TypeError, ValueError):
+            continue
+        if not all(cmath.isfinite(v) and abs(v.imag) <= 1e-12 * max(1.0, abs(v.real)) for v in values):
+            continue   # the map is not real here (defined on part of the range only)
+        theta = {j.theta: sp.Float(v.real) for j, v in zip(system.joints, values)}
+        for c in system.closures:
+            p = [float(v) for v in point_position(poses, c.point).xreplace(theta).xreplace(subs)]
+            value = float(sp.sympify(c.value).xreplace(subs))
+            residual = sum(float(sp.sympify(n).xreplace(subs)) * v for n, v in zip(c.normal, p)) - value
+            if abs(residual) > CLOSURE_TOL * max(1.0, abs(value), *map(abs, p)):
+                state = ", ".join(f"{x.name} = {float(subs[x.symbol]):.6g}" for x in system.coordinates)
+                raise ModelError(f"{where}: closure {c.name} does not hold on the map theta = phi(q): n^T p - value = "
+                                 f"{residual:.3g} at {state} with the default parameters, p the point "
+                                 f"{c.point.name or c.point.link} of {c.point.link}; the map and the closure describe "
+                                 "different chains: check Joint.phi and the closure's point, normal and value")
 
 
 def _check_map(system: System, phi: sp.Matrix, jac: sp.Matrix, where: str) -> None:
