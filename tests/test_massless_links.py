@@ -65,8 +65,9 @@ def test_a_closure_the_map_does_not_keep_is_refused_when_the_model_loads():
     """The map keeps the pin B on the x-axis; a guide 1 cm off it describes another chain. Before, every static check
     passed and only the scenes failed, on the constrained trees' drift (5e5 × its bound, a four-bar whose ground
     pivot was off by 1 cm); now the load says which closure and by how much."""
-    with pytest.raises(ModelError, match=r"closure guide does not hold on the map theta = phi\(q\): n\^T p - value = "
-                                         r"-0\.01 at phi = -0\.26 with the default parameters, p the point B of piston"):
+    with pytest.raises(ModelError, match=r"closure guide does not hold on the map theta = phi\(q\): n\^T p - value "
+                                         r"= -0\.01 at phi = -0\.26 with the default parameters, p the point B of "
+                                         r"piston"):
         slider_crank(guide_at=0.01)
     slider_crank(guide_at=1e-12)   # within round-off of the chain's size: no finding
 
