@@ -21,7 +21,7 @@ Every case is a function ``case(catalogue, quick=False)``: it takes its systems 
 ``reports/hard.json`` (written atomically by :func:`write_report`)::
 
     {
-      "schema": "hard-cases/2",
+      "schema": "hard-cases/3",
       "quick": bool,                      # the shortened horizons of the test suite
       "passed": bool,                     # every check of every case
       "cases": [{
@@ -39,13 +39,19 @@ Every case is a function ``case(catalogue, quick=False)``: it takes its systems 
         "seconds": float,                 # wall time of the case
         "passed": bool
       }],
-      "pending": [{"id": str, "reason": str}]   # cases whose scenes do not exist yet
-    }
+      "pending": [{"id": str, "reason": str}],  # cases whose scenes do not exist yet
+      "bounds": {name: {"name": str, "value": float, "derived": bool, "reason": str}}
+    }                                     # the derived bounds the checks' bases name (harness.checks.Bound)
+
+A check whose ``basis`` names no derived bound is on a *margin* bound (round-off, integrator tolerance): as every
+check of the harness, it must stay at or below 0.1 of it (:data:`harness.checks.MARGIN`); the page says how many
+do not and on which kind of bound (:func:`harness.report.margins.rows`).
 
 Non-finite numbers are written as the strings ``"inf"``, ``"-inf"``, ``"nan"`` (JSON has no such numbers;
 :func:`harness.checks.json_clean`).
 
-Schema history: ``hard-cases/2`` — a check is the one check record of the harness (:class:`harness.checks.Check`:
+Schema history: ``hard-cases/3`` — ``bounds`` added, the derived bounds named by the checks' ``basis``;
+``hard-cases/2`` — a check is the one check record of the harness (:class:`harness.checks.Check`:
 ``ratio`` and ``basis`` added, the former ``reason`` is its ``detail``, present when not empty);
 ``hard-cases/1`` — checks ``{check, source, value, bound, reason, passed}``.
 """
@@ -58,7 +64,7 @@ import json
 import time
 from pathlib import Path
 
-from harness.checks import json_clean
+from harness.checks import BOUNDS, json_clean
 from harness.errors import InputError
 from harness.io import atomic_write_text
 from harness.report.markdown import hard_markdown
@@ -113,8 +119,9 @@ def write_report(results: list, out: Path, quick: bool, pending: list = ()) -> P
         records.append(r.record(path))
     pending = list(pending) + [{"id": rec["id"], "reason": rec["notes"][0]} for rec in records
                                if rec["strategy"] == "pending"]
-    report = {"schema": "hard-cases/2", "quick": quick, "passed": all(rec["passed"] for rec in records),
-              "cases": records, "pending": pending}
+    bases = sorted({c["basis"] for rec in records for c in rec["checks"]} & set(BOUNDS))
+    report = {"schema": "hard-cases/3", "quick": quick, "passed": all(rec["passed"] for rec in records),
+              "cases": records, "pending": pending, "bounds": {name: BOUNDS[name].record() for name in bases}}
     target = out / "hard.json"
     atomic_write_text(target, json.dumps(json_clean(report), indent=1, ensure_ascii=False, allow_nan=False) + "\n")
     atomic_write_text(out / "hard.md", hard_markdown(json_clean(report)))  # the page (harness report renders it)

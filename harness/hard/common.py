@@ -9,7 +9,7 @@ from functools import partial
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from harness.checks import Check, relative_error
+from harness.checks import Bound, Check, relative_error
 from harness.derivation.compile import compiled
 from harness.engines.base import to_lecture
 from harness.modeling.system import System
@@ -42,10 +42,14 @@ class CaseResult:
     figure: object = None         # a matplotlib Figure until written
     seconds: float = 0.0
 
-    def check(self, name, source, value, bound, reason="", basis=""):
+    def check(self, name, source, value, bound, reason="", derived: Bound | None = None):
         """``value <= bound`` (a :class:`harness.checks.Check`; ``reason``: how the bound or its scale was
-        chosen, its ``detail``)."""
-        self.checks.append(Check(name, source, float(value), float(bound), basis, reason))
+        chosen, its ``detail``). ``derived``: the :class:`~harness.checks.Bound` (``derived=True``) the bound follows
+        from, scaled to this check, its basis; without one the bound is a margin bound, which the check must stay
+        within 0.1 of (:data:`harness.checks.MARGIN`)."""
+        if derived is not None and not derived.derived:
+            raise ValueError(f"bound {derived.name!r} is not a derived bound")
+        self.checks.append(Check(name, source, float(value), float(bound), derived.name if derived else "", reason))
 
     @property
     def passed(self) -> bool:

@@ -19,23 +19,25 @@ def ratio_of(check: dict) -> float:
 
 def rows(doc: dict) -> list[dict]:
     """One row per check with a positive bound (flags excluded): where, check, source, value, bound, ratio,
-    basis, and whether its bound is derived."""
+    basis, and whether its bound is derived. ``doc``: a results document (``systems``, each with its checks and
+    its scenes') or the hard cases' (``cases``, :mod:`harness.hard`: the case as the system, no scene)."""
+    groups = [(r["system"], "—", r.get("checks", [])) for r in doc.get("systems", [])]
+    groups += [(r["system"], s.get("scene", "?"), s.get("checks", []))
+               for r in doc.get("systems", []) for s in r.get("scenes") or []]
+    groups += [(case["id"], "—", case.get("checks", [])) for case in doc.get("cases", [])]
     bounds = doc.get("bounds") or {}
     out = []
-    for r in doc.get("systems", []):
-        groups = [("—", r.get("checks", []))] + [(s.get("scene", "?"), s.get("checks", []))
-                                                 for s in r.get("scenes") or []]
-        for scene, checks in groups:
-            for c in checks:
-                bound = c.get("bound")
-                if not isinstance(bound, (int, float)) or bound <= 0:
-                    continue
-                basis = c.get("basis", "")
-                out.append({"system": r["system"], "scene": scene, "check": c.get("check", ""),
-                            "source": c.get("source", ""), "value": c.get("value"), "bound": bound,
-                            "ratio": ratio_of(c), "basis": basis,
-                            "derived": bool((bounds.get(basis) or {}).get("derived")),
-                            "reason": (bounds.get(basis) or {}).get("reason", "")})
+    for system, scene, checks in groups:
+        for c in checks:
+            bound = c.get("bound")
+            if not isinstance(bound, (int, float)) or bound <= 0:
+                continue
+            basis = c.get("basis", "")
+            out.append({"system": system, "scene": scene, "check": c.get("check", ""),
+                        "source": c.get("source", ""), "value": c.get("value"), "bound": bound,
+                        "ratio": ratio_of(c), "basis": basis,
+                        "derived": bool((bounds.get(basis) or {}).get("derived")),
+                        "reason": (bounds.get(basis) or {}).get("reason", "")})
     return sorted(out, key=lambda row: (-row["ratio"], row["system"], row["scene"], row["check"], row["source"]))
 
 

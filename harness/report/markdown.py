@@ -3,7 +3,7 @@
 
 from __future__ import annotations
 
-from harness.report.margins import ratio_of
+from harness.report import margins
 from harness.report.mdhtml import slug
 
 
@@ -75,8 +75,6 @@ def summary_markdown(doc: dict) -> str:
     if scenes:
         lines += ["", "## Scenes (trajectories)", ""]
         lines += _table(("system", "scene", "check", "source", *CHECK_HEADER), scenes)
-    from harness.report import margins
-
     high = margins.above(doc)
     lines += ["", "## Margins", "", margins.summary_line(doc) + "."]
     if high:
@@ -113,17 +111,23 @@ def hard_markdown(doc: dict) -> str:
     """``hard.md``: the hard cases (``hard.json``, :mod:`harness.hard`) as a reader takes them in: a table of the
     cases, then per case what goes wrong when done naively (with its number), what the harness does instead, its
     checks against their bounds, its figure and notes; the measured numbers stay in ``hard.json``."""
-    cases = doc.get("cases", [])
-    worst = {c["id"]: max(c["checks"], key=ratio_of, default=None) for c in cases}
+    cases, bounds = doc.get("cases", []), doc.get("bounds") or {}
+    on_margin = margins.rows(doc)
+    worst = {c["id"]: next((row for row in on_margin if row["system"] == c["id"] and not row["derived"]), None)
+             for c in cases}
     lines = ["# Hard cases: numerically hard, and stable", "",
              "Where a naive simulation goes wrong, what the harness does instead, and the bounds that hold "
              f"(`harness hard --out reports`{', shortened horizons' if doc.get('quick') else ''}; the numbers of "
              "each case: `hard.json`). "
-             f"{sum(c['passed'] for c in cases)} of {len(cases)} cases pass.", ""]
-    lines += _table(("case", "strategy", "naive", "checks", "largest share of a bound", "seconds", "verdict"),
+             f"{sum(c['passed'] for c in cases)} of {len(cases)} cases pass; {margins.summary_line(doc)}: a check on "
+             f"a margin bound (round-off, integrator tolerance) stays at or below {margins.MARGIN:g} of it, one on a "
+             "derived bound may come close to it by its nature (its reason is given beside it).", ""]
+    lines += [f"- thin margin: {row['system']}, {row['check']} ({row['source']}): {fmt_ratio(row['ratio'])} of its "
+              "bound" for row in margins.above(doc) if not row["derived"]]
+    lines += _table(("case", "strategy", "naive", "checks", "largest share of a margin bound", "seconds", "verdict"),
                     [(f"[{c['id']}](#{slug(_hard_heading(c))})", c["strategy"], _naive_value(c.get("naive") or {}),
                       len(c["checks"]), "—" if worst[c["id"]] is None else
-                      f"{fmt_ratio(worst[c['id']].get('ratio'))} ({worst[c['id']]['check']}, "
+                      f"{fmt_ratio(worst[c['id']]['ratio'])} ({worst[c['id']]['check']}, "
                       f"{worst[c['id']]['source']})", f"{c.get('seconds', 0):.1f}",
                       "ok" if c["passed"] else "FAIL") for c in cases])
     for c in cases:
@@ -137,8 +141,7 @@ def hard_markdown(doc: dict) -> str:
                           f"**{_naive_value(naive)}**."]
         lines += ["", f"**Instead:** {c['remedy']}", ""]
         lines += _table(("check", "source", *CHECK_HEADER, "why this bound"),
-                        [(k["check"], k["source"], *check_cells(k), k.get("detail") or k.get("basis") or "")
-                         for k in c["checks"]])
+                        [(k["check"], k["source"], *check_cells(k), _why(k, bounds)) for k in c["checks"]])
         if c.get("figure"):
             lines += ["", f"![{c['title']}]({c['figure']})"]
         if c.get("notes"):
@@ -146,6 +149,15 @@ def hard_markdown(doc: dict) -> str:
     if doc.get("pending"):
         lines += ["", "## Pending", ""] + [f"- `{p['id']}`: {p['reason']}" for p in doc["pending"]]
     return "\n".join(lines) + "\n"
+
+
+def _why(check: dict, bounds: dict) -> str:
+    """Why a hard case's check has its bound: its detail, and on a derived bound that bound's name and reason."""
+    derived = bounds.get(check.get("basis") or "")
+    detail = check.get("detail") or ""
+    if not derived or not derived.get("derived"):
+        return detail
+    return f"{detail + '; ' if detail else ''}derived bound ({derived['name']}): {derived['reason']}"
 
 
 def _hard_heading(case: dict) -> str:
