@@ -48,11 +48,19 @@ def search_path(environ=None) -> list[str]:
 
 
 def check_search_path(environ=None) -> None:
-    """Raise :class:`InputError` where ``HARNESS_MODELS_PATH`` names something that is not a folder: its systems
-    would be missing from every listing without a word (the entry points call this; importing ``models`` does
-    not fail on it)."""
+    """Raise :class:`InputError` where ``HARNESS_MODELS_PATH`` names something that is not a folder, or holds a module
+    whose name a folder searched before it (``models/`` first) already has: its systems would be missing from every
+    listing without a word (the entry points call this; importing ``models`` does not fail on it)."""
+    taken = {info.name: _path(info) for info in pkgutil.iter_modules([str(MODELS_DIR)])}
     for folder in search_path(environ):
         existing_folder(folder, MODELS_PATH_VARIABLE)
+        for info in sorted(pkgutil.iter_modules([folder]), key=lambda m: m.name):
+            if info.name.startswith("_"):
+                continue
+            if info.name in taken:   # Python imports the module found first: this one would be skipped unsaid
+                raise InputError(f"{MODELS_PATH_VARIABLE}: {_path(info)} has the module name of {taken[info.name]}, "
+                                 "which is searched first and loaded instead; rename the file (and its SYSTEM)")
+            taken[info.name] = _path(info)
 
 
 def _path(info: pkgutil.ModuleInfo) -> str:

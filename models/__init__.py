@@ -2,7 +2,8 @@
 
 A new system is one new module here; the catalogue, export, conformance tests and reports pick it up.
 ``HARNESS_MODELS_PATH`` (folders separated by ``os.pathsep``) adds folders searched after this one, so that a
-system can live outside the repository; a module there cannot shadow a module here. The loader is
+system can live outside the repository; a module there cannot shadow a module here (the entry points refuse
+one that tries: :func:`harness.catalogue.check_search_path`). The loader is
 :class:`harness.catalogue.Catalogue` (a module that does not load is that module's failure, one line naming its
 file); :data:`CATALOGUE` is this package's, and the functions below delegate to it.
 """

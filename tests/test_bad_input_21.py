@@ -382,3 +382,18 @@ def test_a_models_path_that_names_no_folder_is_refused(capfd, tmp_path, monkeypa
     (tmp_path / "afile").write_text("")
     monkeypatch.setenv("HARNESS_MODELS_PATH", str(tmp_path / where))
     fails(capfd, ["list"], f"HARNESS_MODELS_PATH {tmp_path / where}: {message}")
+
+
+@pytest.mark.parametrize("shadowed", ["pendulum", "mine"])
+def test_a_models_path_module_that_a_folder_before_it_names_is_refused(capfd, tmp_path, monkeypatch, shadowed):
+    """A copy of models/pendulum.py in an added folder, to be edited, was never loaded (Python imports the module of
+    that name found first), and nothing said so: the user's edits made no difference. Two added folders with one
+    module name: the same."""
+    first, second = tmp_path / "first", tmp_path / "second"
+    first.mkdir(), second.mkdir()
+    (first / "mine.py").write_text("")
+    (second / f"{shadowed}.py").write_text("")
+    monkeypatch.setenv("HARNESS_MODELS_PATH", os.pathsep.join([str(first), str(second)]))
+    before = "models/pendulum.py" if shadowed == "pendulum" else str(first / "mine.py")
+    fails(capfd, ["list"], f"HARNESS_MODELS_PATH: {second / (shadowed + '.py')} has the module name of {before}, "
+                           "which is searched first and loaded instead; rename the file (and its SYSTEM)")
