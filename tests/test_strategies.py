@@ -195,3 +195,25 @@ def test_a_map_undefined_at_drawn_parameters_names_them():
     with pytest.raises(ModelError, match=r"not finite at q = 0\.3 in toggle_press with the parameters L_1 = .* a "
                                          r"map that closes a chain must be defined over that range"):
         compiled(system).forward_dynamics(np.array([0.3]), np.array([0.0]), p, np.zeros(len(system.inputs)))
+
+
+def _within(span: str, value: float) -> bool:
+    """``value`` inside ``[lo, hi]`` as the system page prints it (4 significant digits)."""
+    lo, hi = (float(v) for v in span.split("]")[0].strip("[").split(","))
+    return lo - 1e-3 * abs(lo) <= value <= hi + 1e-3 * abs(hi)
+
+
+@settings(max_examples=20, suppress_health_check=[HealthCheck.large_base_example])  # every system at once
+@given(st.data())
+def test_the_system_page_states_the_spans_drawn(data):
+    """The page's "range drawn" said "default" for every coordinate and for a parameter without ``range=``; it now
+    gives the span each is drawn from (:func:`drawn_spans`), and every draw lies in it."""
+    from harness.compare.strategies import drawn_spans
+
+    for system in models.catalogue().values():
+        q_spans, p_spans, _ = drawn_spans(system)
+        params = data.draw(parameters(system))
+        for name, value in params.items():
+            assert p_spans[name].startswith("a valid inertia") or _within(p_spans[name], value), (system.name, name)
+        for state in data.draw(draws(system)):
+            assert all(_within(q_spans[c.name], x) for c, x in zip(system.coordinates, state.q)), system.name

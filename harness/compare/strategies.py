@@ -85,6 +85,38 @@ def _rotation(u1: float, u2: float, u3: float) -> np.ndarray:
                      [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
 
 
+def _span(lo: float, hi: float) -> str:
+    return f"[{lo:.4g}, {hi:.4g}]"
+
+
+def drawn_spans(system: System) -> tuple[dict[str, str], dict[str, str], str]:
+    """What the checks draw from, as the system page says it: each coordinate's span and each parameter's (the
+    spans of :class:`_Plan`, which draws them), and one sentence for the rates and inputs."""
+    groups = _inertia_groups(system)
+    grouped = {n for group in groups for n in group}
+    q = {c.name: _span(*c.range) if c.range else _span(-ANGLE, ANGLE) if c.unit == "rad" else _span(-LENGTH, LENGTH)
+         for c in system.coordinates}
+    p = {}
+    for x in system.parameters:
+        if x.name in grouped:
+            turned = any(x.name in group and len(group) == 6 for group in groups)
+            p[x.name] = ("a valid inertia tensor: second moments in [½, 2] × the default's, each at least 1e-3 × "
+                         "its largest principal moment (log-uniform)" + (", principal axes turned at random"
+                                                                          if turned else ""))
+        elif x.range:
+            p[x.name] = _span(*x.range)
+        elif x.assumption == "positive":
+            p[x.name] = _span(x.default / 2, 2 * x.default) + " (log-uniform)"
+        elif x.assumption == "real":
+            spread = max(abs(x.default), 0.5)
+            p[x.name] = _span(x.default - spread, x.default + spread)
+        else:
+            p[x.name] = _span(0, 2 * x.default)
+    inputs = f", inputs in {_span(-INPUT, INPUT)} (their units)" if system.inputs else ""
+    rest = f"rates q̇ in {_span(-RATE, RATE)} (the coordinate's unit per second){inputs}"
+    return q, p, rest
+
+
 class _Plan:
     """The strategies of one system's parameters and states, built once (not at every draw): building a mapped
     strategy, its validation, and the SymPy inertia matrices :func:`_inertia_groups` reads cost more than the draw.

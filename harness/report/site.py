@@ -44,17 +44,20 @@ def _read_json(path: Path):
 def model_view(system) -> dict:
     """Coordinates, parameters (units, defaults), bodies, joints with the map, force elements, engine notes, for
     a reader: the docstring rendered, symbols and laws as MathML (harness.report.model_text)."""
+    from harness.compare.strategies import drawn_spans
     from harness.report import model_text as mt
 
+    q_spans, p_spans, rest = drawn_spans(system)
     return {
         "status": system.status, "doc": mt.docstring_html(system.doc or ""),
         "not_in_engines": list(system.not_in_engines),
         "coordinates": [{"name": c.name, "symbol": mt.inline(c), "rate": mt.inline(c.rate), "unit": c.unit,
                          "description": c.description,
-                         "range": "default" if c.range is None else str(tuple(c.range))} for c in system.coordinates],
+                         "range": q_spans[c.name]} for c in system.coordinates],
+        "drawn_rest": rest,
         "parameters": [{"name": p.name, "symbol": mt.inline(p), "default": p.default, "unit": p.unit,
                         "description": p.description, "assumption": p.assumption,
-                        "range": "default" if p.range is None else str(tuple(p.range))} for p in system.parameters],
+                        "range": p_spans[p.name]} for p in system.parameters],
         "inputs": [{"name": i.name, "symbol": mt.inline(i), "unit": i.unit, "description": i.description}
                    for i in system.inputs],
         "links": mt.link_rows(system), "joints": mt.joint_rows(system), "forces": mt.force_rows(system),

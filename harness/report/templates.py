@@ -154,6 +154,7 @@ SYSTEM = """{% extends "base" %}
 <h3>Parameters</h3>
 <table><tr><th>symbol</th><th>default</th><th>unit</th><th>meaning</th><th>assumption</th><th>range drawn</th></tr>
 {% for p in model.parameters %}<tr><td title="{{ p.name }}">{{ p.symbol|safe }}</td><td class="num">{{ p.default }}</td><td>{{ p.unit }}</td><td>{{ p.description }}</td><td>{{ p.assumption }}</td><td>{{ p.range }}</td></tr>{% endfor %}</table>
+<p><small>The checks draw each coordinate and parameter uniformly from its range drawn (where the table says so, uniformly in its logarithm); {{ model.drawn_rest }}.</small></p>
 {% if model.inputs %}<h3>Inputs u</h3><table><tr><th>input</th><th>unit</th><th>meaning</th></tr>
 {% for i in model.inputs %}<tr><td title="{{ i.name }}">{{ i.symbol|safe }}</td><td>{{ i.unit }}</td><td>{{ i.description }}</td></tr>{% endfor %}</table>{% endif %}
 <h3>Bodies</h3>
