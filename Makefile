@@ -38,13 +38,14 @@ $(VENV)/.installed: pyproject.toml
 
 # main job: exported files current, conformance of every system against both engines, the lecture's
 # printed equations classified (errata report), every robot of example-robot-data in Pinocchio, MuJoCo and Drake,
-# and our derivation of every fixed-base tree up to 7 DoF (fails on a disagreement without a proven cause); results
-# written to reports/, readable from reports/index.html. `harness main` runs `export --check`, `check`, `claims`,
-# `robots --symbolic` and `report` as those commands do, on one pool of two worker processes kept for all of them
+# and our derivation of every fixed-base tree up to 7 DoF (fails on a disagreement without a proven cause), the hard
+# cases at their full horizons (fails where a bound does not hold); results written to reports/, readable from
+# reports/index.html. `harness main` runs `export --check`, `check`, `claims`, `robots --symbolic`, `hard` and
+# `report` as those commands do, on one pool of two worker processes kept for all of them
 # (harness.pool.workers_kept: no phase starts its own processes or loads and compiles again what the previous one
 # had); a system's printed equations are classified in the job that checks it, on the numbers its check computed,
-# and the robots' jobs follow in the pool while the claims are written. A failed check still gets its report built
-# (the report shows the failure); the job then exits non-zero.
+# and the robots' and hard cases' jobs follow in the pool while the claims are written. A failed check still gets
+# its report built (the report shows the failure); the job then exits non-zero.
 check: setup
 	$(VENV)/bin/harness main --jobs 2 --out reports
 

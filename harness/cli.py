@@ -243,16 +243,16 @@ def cmd_export(args) -> int:
 
 def cmd_main(args) -> int:
     """The main job (``make check``): ``export --check``, ``check --profile``, ``claims --profile``, ``robots
-    --symbolic``, ``report``, each as its own command would run it (the profiles: where the time went, on the
-    report's profile page), on one pool of ``--jobs`` processes kept for all of them
-    (:func:`harness.pool.workers_kept`); the exported files are compared by one of those processes while the check
-    starts. A check job also classifies its system's printed equations, on the states its conformance run evaluated
-    (their numbers kept: :mod:`harness.compare.evaluations`); the claims phase writes what they found, as ``harness
-    claims`` would. With more than one process the robots run beside them (:func:`_side_by_side`: the pool takes
-    their jobs after the check's, no worker waits for a phase's last job), the report after them. Each phase's
-    output follows a line naming its command, phase after phase; the last line says how each ended and took. A
-    phase that fails does not stop the later ones (the report shows the failure); the exit code is the largest of
-    the phases' (Ctrl-C stops at once, 130)."""
+    --symbolic``, ``hard`` (the hard cases at their full horizons), ``report``, each as its own command would run it
+    (the profiles: where the time went, on the report's profile page), on one pool of ``--jobs`` processes kept for
+    all of them (:func:`harness.pool.workers_kept`); the exported files are compared by one of those processes while
+    the check starts. A check job also classifies its system's printed equations, on the states its conformance run
+    evaluated (their numbers kept: :mod:`harness.compare.evaluations`); the claims phase writes what they found, as
+    ``harness claims`` would. With more than one process the robots and the hard cases run beside them
+    (:func:`_side_by_side`: the pool takes their jobs after the check's, no worker waits for a phase's last job),
+    the report after them. Each phase's output follows a line naming its command, phase after phase; the last line
+    says how each ended and took. A phase that fails does not stop the later ones (the report shows the failure);
+    the exit code is the largest of the phases' (Ctrl-C stops at once, 130)."""
     jobs, out, parser = str(args.jobs), args.out, build_parser()
     run.check_folder(out)   # bad input before any phase: one line, not one per phase
     _exported_folder(args.dir)
@@ -301,13 +301,16 @@ def cmd_main(args) -> int:
     def robots_phase():
         phase("robots", "--symbolic", "--jobs", jobs, "--out", out)
 
+    def hard_phase():
+        phase("hard", "--jobs", jobs, "--out", out)
+
     try:
         with pool.workers_kept(args.jobs) if args.jobs > 1 else contextlib.nullcontext():  # --jobs 1: all here
             comparing = pool.submit(run.stale_exports, _catalogue(), args.dir)
             if side_by_side:  # in the pool, the robots' jobs follow the check's; in the log, the claims do
-                _side_by_side([(check_phase, 0), (claims_phase, None), (robots_phase, 1)])
+                _side_by_side([(check_phase, 0), (claims_phase, None), (robots_phase, 1), (hard_phase, 2)])
             else:
-                for work in (check_phase, claims_phase, robots_phase):
+                for work in (check_phase, claims_phase, robots_phase, hard_phase):
                     if any(code == 130 for _, code, _ in ended):
                         break
                     work()
@@ -329,7 +332,7 @@ def cmd_main(args) -> int:
     return status
 
 
-ORDER = ["check", "export --check", "claims", "robots", "report"]
+ORDER = ["check", "export --check", "claims", "robots", "hard", "report"]
 """The main job's phases in the order its last line (and the profile page) lists them."""
 
 
@@ -485,7 +488,7 @@ def cmd_bench(args) -> int:
 def cmd_hard(args) -> int:
     """The hard cases (harness/hard/): reports/hard.json and reports/hard/*.svg; exit 1 if a bound fails."""
     doc = run.hard(_catalogue(), args.out, quick=args.quick, only=args.cases or None,
-                   echo=lambda line: print(line, file=sys.stderr))
+                   echo=lambda line: print(line, file=sys.stderr), jobs=args.jobs)
     print(f"wrote {Path(args.out) / 'hard.json'}", file=sys.stderr)
     return 0 if doc["passed"] else 1
 
@@ -580,7 +583,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_bench)
 
     p = sub.add_parser("main", help="the main job of `make check`: export --check, check, claims, robots "
-                       "--symbolic and report, on one pool of worker processes")
+                       "--symbolic, hard and report, on one pool of worker processes")
     p.add_argument("--out", default="reports", help="report folder (default: reports)")
     p.add_argument("--jobs", type=JOBS, default=os.cpu_count() or 1, help="worker processes for every phase")
     p.add_argument("--dir", default=str(PROJECT_ROOT / "urdf"), help="the exported files to compare")
@@ -617,6 +620,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("cases", nargs="*", help="default: the whole catalogue")
     p.add_argument("--out", default="reports", help="folder for hard.json and hard/*.svg")
     p.add_argument("--quick", action="store_true", help="the shortened horizons of the test suite")
+    p.add_argument("--jobs", type=JOBS, default=1, help="cases run at a time in worker processes")
     p.set_defaults(func=cmd_hard)
     return parser
 

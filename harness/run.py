@@ -720,11 +720,29 @@ def new(catalogue: Catalogue, name: str, folder=None) -> tuple[Path, bool]:
 
 
 # =========================================================================================== hard, bench, importer
-def hard(catalogue: Catalogue, out, quick: bool = False, only=None, echo=print) -> dict:
-    """The hard cases (:mod:`harness.hard`): ``out/hard.json`` and ``out/hard/*.svg``; the document."""
-    from harness.hard import run as run_cases
+def hard(catalogue: Catalogue, out, quick: bool = False, only=None, echo=print, jobs: int = 1) -> dict:
+    """The hard cases (:mod:`harness.hard`, or those ``only`` names), ``jobs`` at a time in worker processes, the
+    longest first by the ``hard.json`` already in ``out``: ``out/hard.json``, ``out/hard.md`` and ``out/hard/*.svg``;
+    the document. One line per case goes to ``echo`` as it finishes; on Ctrl-C nothing is written."""
+    from harness import hard as cases
 
-    return run_cases(catalogue, check_folder(out), quick=quick, only=only, echo=echo)
+    out = check_folder(out)
+    names = cases.selected(only)
+    try:
+        previous = {c["id"]: c.get("seconds") for c in json.loads((Path(out) / "hard.json").read_text())["cases"]}
+    except (OSError, ValueError, KeyError, TypeError):
+        previous = {}
+    todo = longest_first([(catalogue, name, quick) for name in names], lambda job: previous.get(job[1]))
+    finished: dict[str, dict] = {}
+
+    def done(entry):
+        finished[entry["record"]["id"]] = entry
+        echo(cases.line(entry))
+
+    if parallel(cases.case_entry, todo, jobs, done, cases.lost):
+        raise Interrupted(list(finished), len(todo))
+    target = cases.write_report([finished[name] for name in names], out, quick)
+    return json.loads(target.read_text())
 
 
 def bench(catalogue: Catalogue, **options) -> dict:

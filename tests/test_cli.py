@@ -163,13 +163,13 @@ def test_claims_say_under_an_erratum_what_is_wrong(capsys):
 
 
 def test_the_main_job_runs_every_phase_as_its_command_and_exits_with_the_worst(monkeypatch, capsys, tmp_path):
-    """`harness main` (the README's `make check`): export --check beside check, then claims, robots --symbolic
-    and report, each given the same --jobs and --out (check and claims --profile); a failing phase does not stop the report; the exit code
-    is the largest; Ctrl-C (130) stops the phases. The commands are recorded here: each runs for real in the
-    tests of its own (and `make check` runs this one in CI)."""
+    """`harness main` (the README's `make check`): export --check beside check, then claims, robots --symbolic,
+    hard and report, each given the same --jobs and --out (check and claims --profile); a failing phase does not stop
+    the report; the exit code is the largest; Ctrl-C (130) stops the phases. The commands are recorded here: each runs
+    for real in the tests of its own (and `make check` runs this one in CI)."""
     from harness import run as application
 
-    calls, codes = [], {"check": 1, "claims": 0, "robots": 0, "report": 0}
+    calls, codes = [], {"check": 1, "claims": 0, "robots": 0, "hard": 0, "report": 0}
 
     def command(name):
         def record(args, **extra):
@@ -185,7 +185,7 @@ def test_the_main_job_runs_every_phase_as_its_command_and_exits_with_the_worst(m
     out = str(tmp_path / "reports")
     assert cli.main(["main", "--jobs", "1", "--out", out]) == 1
     assert calls == [("check", 1, out, None, True), ("claims", 1, out, None, True), ("robots", 1, out, True, None),
-                     ("report", 1, out, None, None)]   # check and claims profiled: the report's profile page
+                     ("hard", 1, out, None, None), ("report", 1, out, None, None)]   # check and claims profiled
     err = capsys.readouterr().err
     assert "stale: " in err and f"== harness claims --jobs 1 --profile --out {out}" in err
     assert re.search(r"main job: check exit 1 \(\d+\.\d s\), export --check exit 1, claims ok \(\d+\.\d s\), .*"
@@ -193,7 +193,7 @@ def test_the_main_job_runs_every_phase_as_its_command_and_exits_with_the_worst(m
     # the profile page's overview, written before the report: each phase with its exit code, the figure below it
     main = json.loads((tmp_path / "reports" / "profile.json").read_text())["main"]
     assert [(s["phase"], s["exit"]) for s in main["steps"]] == [("check", 1), ("export --check", 1), ("claims", 0),
-                                                                 ("robots", 0)]
+                                                                 ("robots", 0), ("hard", 0)]
     page = (tmp_path / "reports" / "profile.md").read_text()
     assert page.startswith("# The main job (`harness main --jobs 1 --out") and "| check | " in page
     assert page.index("| robots | ") < page.index("](profile/time.svg)")
@@ -202,7 +202,7 @@ def test_the_main_job_runs_every_phase_as_its_command_and_exits_with_the_worst(m
     calls.clear()
     monkeypatch.setattr(application, "stale_exports", lambda catalogue, folder: [])
     codes.update(check=0, claims=2)
-    assert cli.main(["main", "--jobs", "1", "--out", out]) == 2 and len(calls) == 4
+    assert cli.main(["main", "--jobs", "1", "--out", out]) == 2 and len(calls) == 5
     page = (tmp_path / "reports" / "profile.md").read_text()
     assert "| phase | s | exit | before |" in page and "| claims | " in page  # the job before this one beside it
 

@@ -269,3 +269,19 @@ def test_catalogue_report(case, tmp_path):
         if record["figure"]:
             assert (tmp_path / record["figure"]).exists()
         assert f"## {record['id']}: {record['title']}" in (tmp_path / "hard.md").read_text()  # its page
+
+
+def test_cases_run_in_worker_processes_give_the_same_report(tmp_path):
+    """``harness hard --jobs 2`` (the main job runs the hard cases on its pool): each case in a worker process, its
+    figure and the derived bounds its checks name sent back (the writing process need not have imported the case's
+    module); the report is the one of the cases run here, in the catalogue's order."""
+    cases = ["trebuchet_mass_ratio", "double_pendulum_chaos"]
+    assert main(["hard", *cases, "--quick", "--jobs", "2", "--out", str(tmp_path / "two")]) == 0
+    assert main(["hard", *cases, "--quick", "--out", str(tmp_path / "one")]) == 0
+    two, one = (json.loads((tmp_path / name / "hard.json").read_text()) for name in ("two", "one"))
+    assert [c["id"] for c in two["cases"]] == ["double_pendulum_chaos", "trebuchet_mass_ratio"]
+    assert [[(k["check"], k["value"]) for k in c["checks"]] for c in two["cases"]] == \
+        [[(k["check"], k["value"]) for k in c["checks"]] for c in one["cases"]]
+    assert two["bounds"] == one["bounds"] and two["bounds"]["justified horizon"]["derived"]
+    assert (tmp_path / "two" / "hard" / "double_pendulum_chaos.svg").read_text() == \
+        (tmp_path / "one" / "hard" / "double_pendulum_chaos.svg").read_text()

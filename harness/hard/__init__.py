@@ -98,52 +98,82 @@ def run_case(catalogue, case_id: str, quick: bool = False):
     return result
 
 
-def write_report(results: list, out: Path, quick: bool, pending: list = ()) -> Path:
-    """``out/hard.json``, ``out/hard.md`` and ``out/hard/<id>.svg`` (atomic writes; figures first, then the JSON and
-    its page)."""
+def figure_svg(result) -> str | None:
+    """The case's figure as SVG text (the same figure, the same text), closed; None without one."""
+    if result.figure is None:
+        return None
     import matplotlib
     import matplotlib.pyplot as plt
 
+    buffer = io.StringIO()
+    with matplotlib.rc_context({"svg.hashsalt": "harness"}):
+        result.figure.savefig(buffer, format="svg", metadata={"Date": None, "Creator": None})
+    plt.close(result.figure)
+    return buffer.getvalue()
+
+
+def selected(only=None) -> list[str]:
+    """The cases ``only`` names (default: the whole catalogue), in the catalogue's order; an unknown one is one
+    error."""
+    unknown = [c for c in (only or ()) if c not in CASES]
+    if unknown:
+        raise InputError(f"unknown hard case {unknown[0]!r}; cases: {', '.join(CASES)}")
+    return [c for c in CASES if c in only] if only else list(CASES)
+
+
+def _entry(result, svg: str | None) -> dict:
+    record = result.record(f"hard/{result.id}.svg" if svg is not None else None)
+    bases = sorted({c["basis"] for c in record["checks"]} & set(BOUNDS))
+    return {"record": record, "svg": svg, "bounds": {name: BOUNDS[name].record() for name in bases}}
+
+
+def case_entry(job: tuple) -> dict:
+    """One case, where a worker process runs it (:func:`harness.run.hard`): ``job = (catalogue, case id, quick)``.
+    Returns its ``hard.json`` record, its figure as SVG text (``svg``, None without one) and the derived bounds its
+    checks name (``bounds``: declared in the case's module, which the writing process may not have imported). A case
+    that raises is a failed case in the report."""
+    catalogue, case_id, quick = job
+    try:
+        result = run_case(catalogue, case_id, quick)
+    except Exception as why:  # noqa: BLE001 - a case that cannot run is a failed case in the report
+        return lost(job, f"{type(why).__name__}: {why}"[:500])
+    return _entry(result, figure_svg(result))
+
+
+def lost(job: tuple, reason: str) -> dict:
+    """The entry of a case that did not run (it raised, or its worker process died): one failed check saying why."""
+    from harness.hard.common import CaseResult
+
+    result = CaseResult(job[1], job[1], [], "failed to run", "", "")
+    result.check("the case runs", "harness", float("inf"), 0.0, reason)
+    return _entry(result, None)
+
+
+def line(entry: dict) -> str:
+    """The log line of a finished case (and one per failed check)."""
+    rec = entry["record"]
+    failed = [c for c in rec["checks"] if not c["passed"]]
+    verdict = "ok  " if not failed else "FAIL"
+    return (f"{verdict} {rec['id']:28s} {len(rec['checks']):3d} checks  {rec['seconds']:7.1f} s"
+            + "".join(f"\n       failed: {c['source']}: {c['check']}: {c['value']:.3g} > {c['bound']:.3g}"
+                      for c in failed))
+
+
+def write_report(entries: list, out: Path, quick: bool, pending: list = ()) -> Path:
+    """``out/hard.json``, ``out/hard.md`` and ``out/hard/<id>.svg`` from the cases' entries (:func:`case_entry`),
+    atomic writes: the figures first, then the JSON and its page."""
     out = Path(out)
     (out / "hard").mkdir(parents=True, exist_ok=True)
-    records = []
-    for r in results:
-        path = None
-        if r.figure is not None:
-            buffer = io.StringIO()
-            with matplotlib.rc_context({"svg.hashsalt": "harness"}):  # the same figure, the same file
-                r.figure.savefig(buffer, format="svg", metadata={"Date": None, "Creator": None})
-            plt.close(r.figure)
-            atomic_write_text(out / "hard" / f"{r.id}.svg", buffer.getvalue())
-            path = f"hard/{r.id}.svg"
-        records.append(r.record(path))
+    for entry in entries:
+        if entry["svg"] is not None:
+            atomic_write_text(out / entry["record"]["figure"], entry["svg"])
+    records = [entry["record"] for entry in entries]
     pending = list(pending) + [{"id": rec["id"], "reason": rec["notes"][0]} for rec in records
                                if rec["strategy"] == "pending"]
-    bases = sorted({c["basis"] for rec in records for c in rec["checks"]} & set(BOUNDS))
+    bounds = {name: b for entry in entries for name, b in entry["bounds"].items()}
     report = {"schema": "hard-cases/3", "quick": quick, "passed": all(rec["passed"] for rec in records),
-              "cases": records, "pending": pending, "bounds": {name: BOUNDS[name].record() for name in bases}}
+              "cases": records, "pending": pending, "bounds": dict(sorted(bounds.items()))}
     target = out / "hard.json"
     atomic_write_text(target, json.dumps(json_clean(report), indent=1, ensure_ascii=False, allow_nan=False) + "\n")
     atomic_write_text(out / "hard.md", hard_markdown(json_clean(report)))  # the page (harness report renders it)
     return target
-
-
-def run(catalogue, out: Path, quick: bool = False, only=None, echo=print) -> dict:
-    """Run every case (or the cases ``only``) on the systems of ``catalogue``, write the report, return it."""
-    from harness.hard.common import CaseResult
-    unknown = [c for c in (only or ()) if c not in CASES]
-    if unknown:
-        raise InputError(f"unknown hard case {unknown[0]!r}; cases: {', '.join(CASES)}")
-    results = []
-    for case_id in (only or CASES):
-        try:
-            r = run_case(catalogue, case_id, quick)
-        except Exception as why:  # noqa: BLE001 - a case that cannot run is a failed case in the report
-            r = CaseResult(case_id, case_id, [], "failed to run", "", "")
-            r.check("the case runs", "harness", float("inf"), 0.0, f"{type(why).__name__}: {why}"[:500])
-        failed = [c for c in r.checks if not c.passed]
-        echo(f"{'ok  ' if not failed else 'FAIL'} {case_id:28s} {len(r.checks):3d} checks  {r.seconds:7.1f} s"
-             + "".join(f"\n       failed: {c.source}: {c.name}: {c.value:.3g} > {c.bound:.3g}" for c in failed))
-        results.append(r)
-    target = write_report(results, out, quick)
-    return json.loads(target.read_text())
