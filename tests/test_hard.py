@@ -274,10 +274,17 @@ def test_catalogue_report(case, tmp_path):
 def test_cases_run_in_worker_processes_give_the_same_report(tmp_path):
     """``harness hard --jobs 2`` (the main job runs the hard cases on its pool): each case in a worker process, its
     figure and the derived bounds its checks name sent back (the writing process need not have imported the case's
-    module); the report is the one of the cases run here, in the catalogue's order."""
+    module); the report is the one of the cases run here, in the catalogue's order, its figures too: a process that
+    drew the report's figures before (smaller fonts) drew them otherwise."""
+    import matplotlib
+
+    from harness.report.figures import _matplotlib
+
     cases = ["trebuchet_mass_ratio", "double_pendulum_chaos"]
     assert main(["hard", *cases, "--quick", "--jobs", "2", "--out", str(tmp_path / "two")]) == 0
-    assert main(["hard", *cases, "--quick", "--out", str(tmp_path / "one")]) == 0
+    with matplotlib.rc_context():
+        _matplotlib()   # this process drew the report's figures before (as the main job's workers do): the same page
+        assert main(["hard", *cases, "--quick", "--out", str(tmp_path / "one")]) == 0
     two, one = (json.loads((tmp_path / name / "hard.json").read_text()) for name in ("two", "one"))
     assert [c["id"] for c in two["cases"]] == ["double_pendulum_chaos", "trebuchet_mass_ratio"]
     assert [[(k["check"], k["value"]) for k in c["checks"]] for c in two["cases"]] == \

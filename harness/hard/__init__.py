@@ -131,13 +131,19 @@ def case_entry(job: tuple) -> dict:
     """One case, where a worker process runs it (:func:`harness.run.hard`): ``job = (catalogue, case id, quick)``.
     Returns its ``hard.json`` record, its figure as SVG text (``svg``, None without one) and the derived bounds its
     checks name (``bounds``: declared in the case's module, which the writing process may not have imported). A case
-    that raises is a failed case in the report."""
+    that raises is a failed case in the report. The figure is drawn with Matplotlib's defaults, whatever the process
+    drew before: in the main job's workers the report's figures had set a smaller font, and the page's figures
+    depended on which worker took the case."""
+    import matplotlib
+
     catalogue, case_id, quick = job
-    try:
-        result = run_case(catalogue, case_id, quick)
-    except Exception as why:  # noqa: BLE001 - a case that cannot run is a failed case in the report
-        return lost(job, f"{type(why).__name__}: {why}"[:500])
-    return _entry(result, figure_svg(result))
+    with matplotlib.rc_context():
+        matplotlib.rcdefaults()   # a worker that drew the report's figures (harness.report.figures) has its settings
+        try:
+            result = run_case(catalogue, case_id, quick)
+        except Exception as why:  # noqa: BLE001 - a case that cannot run is a failed case in the report
+            return lost(job, f"{type(why).__name__}: {why}"[:500])
+        return _entry(result, figure_svg(result))
 
 
 def lost(job: tuple, reason: str) -> dict:
