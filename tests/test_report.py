@@ -131,6 +131,13 @@ def test_the_hard_cases_page_reads_case_by_case(tmp_path):
             assert check["check"].replace("|", "\\|") in text
     html = markdown_html(text)
     assert html.count("<img") == sum(1 for c in doc["cases"] if c["figure"]) and "**" not in html
+    # the margins: every check on a margin bound within 0.1 of it, the derived ones counted and their reason given
+    assert "0 on a margin bound" in text and "- thin margin" not in text
+    assert "derived bound (justified horizon): T* is the first time" in text
+    # one margin check at half its bound: named above the table (a list the table does not swallow)
+    doc["cases"][0]["checks"][0]["ratio"] = 0.5
+    html = markdown_html(hard_markdown(doc))
+    assert "<li>thin margin: spherical_pendulum_pole, reference confirmed" in html and "<table>" in html
 
 
 def test_a_scene_shows_the_work_precision_the_bench_measured(tmp_path):

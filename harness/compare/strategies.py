@@ -54,9 +54,6 @@ def _positive(default: float):
     return _float(math.log(default / 2), math.log(default * 2)).map(math.exp)
 
 
-def _real(default: float):
-    span = max(abs(default), 0.5)
-    return _float(default - span, default + span)
 
 
 def _inertia_groups(system: System) -> list[tuple[str, ...]]:
@@ -89,32 +86,38 @@ def _span(lo: float, hi: float) -> str:
     return f"[{lo:.4g}, {hi:.4g}]"
 
 
+def _coordinate_span(c) -> tuple[float, float]:
+    """The span a coordinate is drawn from: its ``range``, else ``±ANGLE`` for an angle, ``±LENGTH`` otherwise."""
+    return tuple(c.range) if c.range else (-ANGLE, ANGLE) if c.unit == "rad" else (-LENGTH, LENGTH)
+
+
+def _parameter_draw(p) -> tuple:
+    """``(strategy, what it draws as the system page says it)`` of a parameter outside an inertia group: its
+    ``range``; a positive one log-uniform in ``[default/2, 2 default]``; a real one within ``max(|default|, 0.5)`` of
+    its default; a nonnegative one in ``[0, 2 default]``."""
+    if p.range:
+        return _float(*p.range), _span(*p.range)
+    if p.assumption == "positive":
+        return _positive(p.default), _span(p.default / 2, 2 * p.default) + " (log-uniform)"
+    if p.assumption == "real":
+        spread = max(abs(p.default), 0.5)
+        return _float(p.default - spread, p.default + spread), _span(p.default - spread, p.default + spread)
+    return _float(0, 2 * p.default), _span(0, 2 * p.default)
+
+
 def drawn_spans(system: System) -> tuple[dict[str, str], dict[str, str], str]:
-    """What the checks draw from, as the system page says it: each coordinate's span and each parameter's (the
-    spans of :class:`_Plan`, which draws them), and one sentence for the rates and inputs."""
+    """What the checks draw from, as the system page says it: each coordinate's span and each parameter's (those
+    :class:`_Plan` draws from), and one sentence for the rates and inputs."""
     groups = _inertia_groups(system)
-    grouped = {n for group in groups for n in group}
-    q = {c.name: _span(*c.range) if c.range else _span(-ANGLE, ANGLE) if c.unit == "rad" else _span(-LENGTH, LENGTH)
-         for c in system.coordinates}
     p = {}
     for x in system.parameters:
-        if x.name in grouped:
-            turned = any(x.name in group and len(group) == 6 for group in groups)
-            p[x.name] = ("a valid inertia tensor: second moments in [½, 2] × the default's, each at least 1e-3 × "
-                         "its largest principal moment (log-uniform)" + (", principal axes turned at random"
-                                                                          if turned else ""))
-        elif x.range:
-            p[x.name] = _span(*x.range)
-        elif x.assumption == "positive":
-            p[x.name] = _span(x.default / 2, 2 * x.default) + " (log-uniform)"
-        elif x.assumption == "real":
-            spread = max(abs(x.default), 0.5)
-            p[x.name] = _span(x.default - spread, x.default + spread)
-        else:
-            p[x.name] = _span(0, 2 * x.default)
+        group = next((g for g in groups if x.name in g), None)
+        p[x.name] = _parameter_draw(x)[1] if group is None else (
+            "a valid inertia tensor: second moments in [½, 2] × the default's, each at least 1e-3 × its largest "
+            "principal moment (log-uniform)" + (", principal axes turned at random" if len(group) == 6 else ""))
     inputs = f", inputs in {_span(-INPUT, INPUT)} (their units)" if system.inputs else ""
-    rest = f"rates q̇ in {_span(-RATE, RATE)} (the coordinate's unit per second){inputs}"
-    return q, p, rest
+    return ({c.name: _span(*_coordinate_span(c)) for c in system.coordinates}, p,
+            f"rates q̇ in {_span(-RATE, RATE)} (the coordinate's unit per second){inputs}")
 
 
 class _Plan:
@@ -137,11 +140,8 @@ class _Plan:
             turn = [_float(0.0, 1.0)] * 3 if len(group) == 6 else []
             self.groups.append((group, [_positive(max(m, 1e-3 * scale)) for m in (a0, b0, c0)] + turn))
         grouped = {n for group, _ in self.groups for n in group}
-        self.others = [(p.name, _float(*p.range) if p.range else _positive(p.default) if p.assumption == "positive"
-                        else _real(p.default) if p.assumption == "real" else _float(0, 2 * p.default))
-                       for p in system.parameters if p.name not in grouped]
-        self.q = [_float(*c.range) if c.range else _float(-ANGLE, ANGLE) if c.unit == "rad" else
-                  _float(-LENGTH, LENGTH) for c in system.coordinates]
+        self.others = [(p.name, _parameter_draw(p)[0]) for p in system.parameters if p.name not in grouped]
+        self.q = [_float(*_coordinate_span(c)) for c in system.coordinates]
         self.qd = [_float(-RATE, RATE) for _ in system.coordinates]
         self.u = [(i.name, _float(-INPUT, INPUT)) for i in system.inputs]
         self.parameters = _parameters(self)

@@ -122,8 +122,9 @@ def hard_markdown(doc: dict) -> str:
              f"{sum(c['passed'] for c in cases)} of {len(cases)} cases pass; {margins.summary_line(doc)}: a check on "
              f"a margin bound (round-off, integrator tolerance) stays at or below {margins.MARGIN:g} of it, one on a "
              "derived bound may come close to it by its nature (its reason is given beside it).", ""]
+    thin = [row for row in margins.above(doc) if not row["derived"]]
     lines += [f"- thin margin: {row['system']}, {row['check']} ({row['source']}): {fmt_ratio(row['ratio'])} of its "
-              "bound" for row in margins.above(doc) if not row["derived"]]
+              "bound" for row in thin] + ([""] if thin else [])
     lines += _table(("case", "strategy", "naive", "checks", "largest share of a margin bound", "seconds", "verdict"),
                     [(f"[{c['id']}](#{slug(_hard_heading(c))})", c["strategy"], _naive_value(c.get("naive") or {}),
                       len(c["checks"]), "—" if worst[c["id"]] is None else
