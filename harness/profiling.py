@@ -172,8 +172,8 @@ def main_markdown(doc: dict) -> str:
     lines = [f"# The main job (`harness {' '.join(doc.get('argv') or ['main'])}`, {doc['at']})", "",
              f"{doc['seconds']:.1f} s wall before the report, jobs {doc['jobs']}, {m['cpus']} CPUs, load average "
              f"{m['load_average']} then. The check's jobs classify each system's printed equations too"
-             + (", and the robots' jobs follow theirs on the same processes: the phases overlap, each line says when "
-                "it ended." if overlap else "; each line gives a phase's own seconds.")
+             + (", and the robots' and then the hard cases' jobs follow theirs on the same processes: the phases "
+                "overlap, each line says when it ended." if overlap else "; each line gives a phase's own seconds.")
              + " The report follows; the job's last log line gives its time."
              + (f" Before: the main job this folder held before, {_when(before)}." if before else ""), "",
              ("| phase | ended at s | exit |" if overlap else "| phase | s | exit |") + (" before |" if before else ""),
