@@ -194,7 +194,7 @@ def flyball_a05(catalogue=None, quick: bool = False) -> CaseResult:
                     break
             table[f"{source} {target:g}"] = found
             r.check(f"Radau reaches {target:g} in s(t)", source, found["error"] if found else np.inf, target,
-                    "the benchmark's precision level", derived=LEVEL)
+                    derived=LEVEL)
     r.numbers["CPU time to reach the target (Radau, loosest tolerance of the ladder)"] = table
     # naive: explicit, and MuJoCo's own RK4 at the harness's default step
     try:
