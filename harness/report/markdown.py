@@ -117,8 +117,8 @@ def hard_markdown(doc: dict) -> str:
              for c in cases}
     lines = ["# Hard cases: numerically hard, and stable", "",
              "Where a naive simulation goes wrong, what the harness does instead, and the bounds that hold "
-             f"(`harness hard --out reports`{', shortened horizons' if doc.get('quick') else ''}; the numbers of "
-             "each case: `hard.json`). "
+             f"(`harness hard --out reports`, which `make check` runs"
+             f"{', shortened horizons' if doc.get('quick') else ''}; the numbers of each case: `hard.json`). "
              f"{sum(c['passed'] for c in cases)} of {len(cases)} cases pass; {margins.summary_line(doc)}: a check on "
              f"a margin bound (round-off, integrator tolerance) stays at or below {margins.MARGIN:g} of it, one on a "
              "derived bound may come close to it by its nature (its reason is given beside it).", ""]
