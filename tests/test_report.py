@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import importlib
 import json
+import re
+import shutil
 from pathlib import Path
 
 import pytest
@@ -91,6 +93,22 @@ def test_a_system_page_that_fails_marks_only_that_system(two_runs, monkeypatch):
     page = (out / "systems" / "pendulum.html").read_text()
     assert "conformant" in page and "simulated crash" not in page
     assert "cart_pendulum" in (out / "index.html").read_text()
+
+
+def test_the_index_says_how_the_hard_cases_ended(two_runs):
+    """The index names the hard cases' verdict and margins (hard.json, which the main job writes before the report);
+    without a hard.json, nothing."""
+    from harness.report import site
+
+    out = two_runs[0]
+    site.build_site(out, models.CATALOGUE, progress=open("/dev/null", "w"))
+    assert "Hard cases</a>:" not in (out / "index.html").read_text()
+    shutil.copy(Path(__file__).parents[1] / "reports" / "hard.json", out / "hard.json")
+    cases = len(json.loads((out / "hard.json").read_text())["cases"])
+    site.build_site(out, models.CATALOGUE, progress=open("/dev/null", "w"))
+    index = (out / "index.html").read_text()
+    assert re.search(rf'<a href="hard.html">Hard cases</a>: {cases} of {cases} cases pass; margins: \d+ of \d+ checks '
+                     r"above 0.1 of their bound \(\d+ on a derived bound, 0 on a margin bound\)\.", index)
 
 
 def test_markdown_bold_and_italic_beside_links():
@@ -336,6 +354,8 @@ def test_a_spring_between_points_is_drawn_as_a_line_in_the_picture(tmp_path):
 
     script = f"""
 import json
+import re
+import shutil
 from pathlib import Path
 from harness.report import render
 render.backend()

@@ -514,13 +514,17 @@ def build_site(out: Path | str, catalogue=None, progress=None, jobs: int = 1) ->
         atomic_write_text(out / "figures" / "margins.svg", margin_figure)
         figures.add("figures/margins.svg")
     warnings = [{"system": r["system"], **w} for r in doc["systems"] for w in r.get("warnings") or []]
+    hard = _read_json(out / "hard.json")   # the hard cases (make check runs them before the report)
+    hard_line = (f"{sum(c['passed'] for c in hard['cases'])} of {len(hard['cases'])} cases pass"
+                 f"{', at shortened horizons' if hard.get('quick') else ''}; {margins.summary_line(hard)}"
+                 if hard and hard.get("cases") else None)
     index = env.get_template("index").render(
         systems=views, passed=sum(v["passed"] for v in views), check_names=check_names,
         hypothesis=doc.get("hypothesis"), policy=doc.get("tolerance_policy", ""), versions=versions, root="",
         margin_line=margins.summary_line(doc), margin_rows=margins.above(doc), margin_limit=margins.MARGIN,
         margin_figure="figures/margins.svg" if margin_figure else None, bounds=doc.get("bounds") or {},
         claim_margin_rows=margins.claim_rows(claims), claims_present=bool(claims),
-        warnings=warnings, **common)
+        warnings=warnings, hard_line=hard_line, **common)
     atomic_write_text(out / "index.html", index)
     written.append("index.html")
     if claims:

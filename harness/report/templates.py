@@ -63,6 +63,7 @@ INDEX = """{% extends "base" %}
 Each cell: the largest relative error over all hypothesis examples (random states and parameters) per check and
 engine, with its tolerance; green within tolerance, red over it. One tolerance policy for every check
 (<a href="#policy">below</a>).</p>
+{% if hard_line %}<p><a href="hard.html">Hard cases</a>: {{ hard_line }}.</p>{% endif %}
 {% if hypothesis %}<p>Hypothesis: profile <code>{{ hypothesis.profile }}</code>, {{ hypothesis.seeding }},
 up to {{ hypothesis.max_examples }} examples (states) per system{% if hypothesis.states_per_draw %}, {{ hypothesis.states_per_draw }} per parameter draw{% endif %}; example database: {{ hypothesis.database or "none" }}.</p>{% endif %}
 <h2>Systems</h2>
