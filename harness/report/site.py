@@ -40,6 +40,18 @@ def _read_json(path: Path):
         return None
 
 
+def _hard_line(doc) -> str | None:
+    """The index's line on the hard cases (``hard.json``, which the main job writes before the report): how many
+    pass, and their margins; None without a document of the hard cases' schema."""
+    from harness.report import margins
+
+    if not isinstance(doc, dict) or not str(doc.get("schema", "")).startswith("hard-cases/") or not doc.get("cases"):
+        return None
+    cases = doc["cases"]
+    return (f"{sum(bool(c.get('passed')) for c in cases)} of {len(cases)} cases pass"
+            f"{', at shortened horizons' if doc.get('quick') else ''}; {margins.summary_line(doc)}")
+
+
 # --------------------------------------------------------------------------- the model in the lecture's terms
 def model_view(system) -> dict:
     """Coordinates, parameters (units, defaults), bodies, joints with the map, force elements, engine notes, for
@@ -514,10 +526,7 @@ def build_site(out: Path | str, catalogue=None, progress=None, jobs: int = 1) ->
         atomic_write_text(out / "figures" / "margins.svg", margin_figure)
         figures.add("figures/margins.svg")
     warnings = [{"system": r["system"], **w} for r in doc["systems"] for w in r.get("warnings") or []]
-    hard = _read_json(out / "hard.json")   # the hard cases (make check runs them before the report)
-    hard_line = (f"{sum(c['passed'] for c in hard['cases'])} of {len(hard['cases'])} cases pass"
-                 f"{', at shortened horizons' if hard.get('quick') else ''}; {margins.summary_line(hard)}"
-                 if hard and hard.get("cases") else None)
+    hard_line = _hard_line(_read_json(out / "hard.json"))
     index = env.get_template("index").render(
         systems=views, passed=sum(v["passed"] for v in views), check_names=check_names,
         hypothesis=doc.get("hypothesis"), policy=doc.get("tolerance_policy", ""), versions=versions, root="",
