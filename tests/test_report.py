@@ -97,7 +97,8 @@ def test_a_system_page_that_fails_marks_only_that_system(two_runs, monkeypatch):
 
 def test_the_index_says_how_the_hard_cases_ended(two_runs):
     """The index names the hard cases' verdict and margins (hard.json, which the main job writes before the report);
-    without a hard.json of their schema, nothing (a file of another shape had stopped the report: the browser test's)."""
+    without a hard.json of their schema, nothing (a file of another shape had stopped the report: the browser
+    test's)."""
     from harness.report import site
 
     out = two_runs[0]
