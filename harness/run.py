@@ -290,6 +290,15 @@ def longest_first(jobs: list, seconds) -> list:
     return [job for _, job in sorted(zip(known, jobs), key=lambda pair: -math.inf if pair[0] is None else -pair[0])]
 
 
+def _seconds_before(path: Path, items: str, key: str) -> dict:
+    """``{record[key]: record["seconds"]}`` of the records ``items`` of the document at ``path`` (a previous run's,
+    for :func:`longest_first`); empty where there is none or it has another shape."""
+    try:
+        return {r[key]: r.get("seconds") for r in json.loads(path.read_text())[items]}
+    except (OSError, ValueError, KeyError, TypeError):
+        return {}
+
+
 def parallel(work, jobs: list, workers: int, done, lost, announce=None, scheduler=None) -> bool:
     """Run ``work(job)`` for every job, ``workers`` at a time in spawned processes (in this process with one
     worker), or with ``scheduler`` on that Dask cluster (:func:`harness.cluster.results`; ``workers`` unused),
@@ -728,10 +737,7 @@ def hard(catalogue: Catalogue, out, quick: bool = False, only=None, echo=print, 
 
     out = check_folder(out)
     names = cases.selected(only)
-    try:
-        previous = {c["id"]: c.get("seconds") for c in json.loads((Path(out) / "hard.json").read_text())["cases"]}
-    except (OSError, ValueError, KeyError, TypeError):
-        previous = {}
+    previous = _seconds_before(Path(out) / "hard.json", "cases", "id")
     todo = longest_first([(catalogue, name, quick) for name in names], lambda job: previous.get(job[1]))
     finished: dict[str, dict] = {}
 
@@ -801,11 +807,7 @@ def robots(names=None, out=None, states: int | None = None, seed: int = 0, jobs:
     states = sweep.STATES if states is None else states
     todo = [(name, str(path), states, seed, None, symbolic) for name, path in selected.items()]
     if out:  # started longest first by the previous robots.json (kinova, so101: 20 s each, cold)
-        try:
-            kept = json.loads((Path(out) / "robots.json").read_text())["robots"]
-            previous = {r["robot"]: r.get("seconds") for r in kept}
-        except (OSError, ValueError, KeyError, TypeError):
-            previous = {}
+        previous = _seconds_before(Path(out) / "robots.json", "robots", "robot")
         todo = longest_first(todo, lambda job: previous.get(job[0]))
     finished: dict[str, dict] = {}
     start = time.perf_counter()

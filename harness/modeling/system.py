@@ -788,7 +788,7 @@ def _check_closures(system: System, phi: sp.Matrix, where: str) -> None:
     if not system.closures:
         return
     from harness.derivation.kinematics import link_poses, point_position   # derivation builds on modeling
-    poses = link_poses(system)
+    poses, defaults = link_poses(system), system.default_parameters()
     for at in (0.37, 0.71):
         subs = {k: sp.Float(v) for k, v in _generic_state(system, at).items()}
         try:
@@ -800,8 +800,8 @@ def _check_closures(system: System, phi: sp.Matrix, where: str) -> None:
         theta = {j.theta: sp.Float(v.real) for j, v in zip(system.joints, values)}
         for c in system.closures:
             p = [float(v) for v in point_position(poses, c.point).xreplace(theta).xreplace(subs)]
-            value = float(sp.sympify(c.value).xreplace(subs))
-            residual = sum(float(sp.sympify(n).xreplace(subs)) * v for n, v in zip(c.normal, p)) - value
+            value = value_at(c.value, defaults)
+            residual = sum(value_at(n, defaults) * v for n, v in zip(c.normal, p)) - value
             if abs(residual) > CLOSURE_TOL * max(1.0, abs(value), *map(abs, p)):
                 state = ", ".join(f"{x.name} = {float(subs[x.symbol]):.6g}" for x in system.coordinates)
                 raise ModelError(f"{where}: closure {c.name} does not hold on the map theta = phi(q): n^T p - value = "
