@@ -55,6 +55,8 @@ def test_pruning_rows_goals_and_findings():
     low = 1.0 / goal["value"]
     assert goal["at_least"] == 3.0 and f"| ≥ 3 × | {low:.3g} × | **undecided** |" in text
     assert "slower pruned (the whole interval below 1 ×, a finding) on 1 of 2 scenes" in text
+    # what "undecided" means is said only where a scene is: here every pruning ratio is met or not met
+    assert "≥ 1.3 × not met on 2 of 2 scenes" in text and "(undecided: the interval holds 1.3" not in text
 
 
 def test_the_pruning_figure_draws_each_measured_ratio_and_writes_one_off_the_scale(tmp_path):

@@ -473,8 +473,10 @@ def _pruning_goals(rows: list[dict]) -> list[dict]:
                 labels = {bound(m)[0] for _, m in got if bound(m)}
                 bounded = ("one call of the right-hand side" if labels == {"per call"} else
                            "the acting tree" if labels == {"acting tree"} else "its bound")
-                summary = (f"≥ {target:g} × {counts} of {len(got)} scenes (undecided: the interval holds {target:g} ×"
-                           + (f" and {bounded} could reach it)" if labels else ")"))
+                summary = f"≥ {target:g} × {counts} of {len(got)} scenes"
+                if "undecided" in verdicts:  # what undecided means, where a scene is
+                    summary += (f" (undecided: the interval holds {target:g} ×"
+                                + (f" and {bounded} could reach it)" if labels else ")"))
                 reach = [f"{r['system']}/{r['scene']}" for r, m in got if attainable(m, target)]
                 if reach:
                     summary += (f"; out of reach of this source on {len(reach)} ({', '.join(reach)}): "
