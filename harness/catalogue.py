@@ -214,6 +214,12 @@ class Catalogue:
         self.get(name)
         return self._load_all()[0][name]
 
+    def added_folder(self, name: str) -> str | None:
+        """The folder added to the search path (``HARNESS_MODELS_PATH``) that holds system ``name``'s module; None for
+        a module of the package's own folder."""
+        folder = os.path.dirname(os.path.realpath(self.module(name).__file__))
+        return None if folder == os.path.realpath(self.path[0]) else folder
+
     def __contains__(self, name) -> bool:
         return name in self.systems()
 

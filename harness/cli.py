@@ -13,6 +13,7 @@ import re
 import sys
 import threading
 import time
+from collections import Counter
 from pathlib import Path
 
 import numpy as np
@@ -210,9 +211,9 @@ def cmd_scenes(args) -> int:
     return 1 if failed else 0
 
 
-def _stale(folder, stale: list[str]) -> int:
-    for name in stale:
-        print(f"stale: {Path(folder) / name} (run `harness export`)", file=sys.stderr)
+def _stale(stale: list[str]) -> int:
+    for path in stale:
+        print(f"stale: {path} (run `harness export`)", file=sys.stderr)
     return 1 if stale else 0
 
 
@@ -235,9 +236,10 @@ def cmd_export(args) -> int:
     catalogue = _catalogue()
     if args.check:
         _exported_folder(args.dir)
-        return max(_stale(args.dir, run.stale_exports(catalogue, args.dir)), _unloaded(catalogue))
+        return max(_stale(run.stale_exports(catalogue, args.dir)), _unloaded(catalogue))
     files, stale = run.export(catalogue, args.dir)
-    print(f"wrote {len(files)} files to {Path(args.dir)}/ ({len(stale)} changed)")
+    folders = Counter(path.parent for path in files)   # the repository's first, then each added folder's
+    print(f"wrote {', '.join(f'{n} files to {folder}/' for folder, n in folders.items())} ({len(stale)} changed)")
     return _unloaded(catalogue)
 
 
@@ -277,7 +279,7 @@ def cmd_main(args) -> int:
 
     def exported(future) -> None:
         try:
-            code = max(_stale(args.dir, future.result()), _unloaded(_catalogue()))
+            code = max(_stale(future.result()), _unloaded(_catalogue()))
         except Exception as exc:  # noqa: BLE001 - reported like the command's own failure; the phases go on
             print(f"error: export --check: {type(exc).__name__}: {exc}", file=sys.stderr)
             code = getattr(exc, "exit_code", 2 if isinstance(exc, HarnessError) else 1)

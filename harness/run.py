@@ -41,7 +41,7 @@ import numpy as np
 
 from harness import cluster, profiling
 from harness.errors import EngineError, HarnessError, InputError
-from harness.io import atomic_write_text
+from harness.io import atomic_write_text, writable_folder
 from harness.pool import ended, kept as kept_pool, processes, submitting
 from harness.report.results import (check_folder, load_results, read_claims, read_timings, write_claims,
                                     write_results, write_timings)
@@ -694,23 +694,39 @@ def run_scene(catalogue: Catalogue, system, scene):
 
 
 # =========================================================================================== export, new
+def export_folders(catalogue: Catalogue, folder) -> dict[str, Path]:
+    """Where each system's exported files live: ``folder`` (the repository's ``urdf/``, or ``--dir``) for a system of
+    the catalogue's own folder; ``<added folder>/urdf`` for one of a folder added by ``HARNESS_MODELS_PATH``, beside
+    its module (a user's models are exported with them, not into the repository, whose ``export --check`` they would
+    otherwise fail)."""
+    return {name: Path(folder) if (added := catalogue.added_folder(name)) is None else Path(added) / "urdf"
+            for name in catalogue.systems()}
+
+
 def export(catalogue: Catalogue, folder, check_only: bool = False) -> tuple[dict, list[str]]:
-    """The exported files of every system (URDF, MJCF, coordinate maps) and the names of those that differ
-    from ``folder``; unless ``check_only``, written there (atomically)."""
-    from harness.export.files import export_files
+    """The exported files of every system (URDF, MJCF, coordinate maps), by path (:func:`export_folders`), and the
+    paths of those that differ from what is there; unless ``check_only``, written there (atomically)."""
+    from harness.catalogue import MODELS_PATH_VARIABLE
+    from harness.export.files import system_files
 
     folder = Path(folder) if check_only else check_folder(folder, "--dir")
-    files = export_files(catalogue.systems().values())
-    stale = [name for name, text in files.items()
-             if not (folder / name).exists() or (folder / name).read_text() != text]
+    systems, folders = catalogue.systems(), export_folders(catalogue, folder)
+    files = {folders[name] / file: text for name, system in systems.items()
+             for file, text in system_files(system).items()}
+    stale = [str(path) for path, text in files.items() if not path.exists() or path.read_text() != text]
     if not check_only:
-        for name, text in files.items():
-            atomic_write_text(folder / name, text)
+        added = sorted(set(folders.values()) - {folder})
+        for where in added:  # every folder checked before the first file is written
+            writable_folder(where, f"{MODELS_PATH_VARIABLE}: exported files")
+        for where in added:
+            where.mkdir(exist_ok=True)
+        for path, text in files.items():
+            atomic_write_text(path, text)
     return files, stale
 
 
 def stale_exports(catalogue: Catalogue, folder) -> list[str]:
-    """The names of the exported files that differ from ``folder`` (``harness export --check``; a job of its own in
+    """The paths of the exported files that differ from what is there (``harness export --check``; a job of its own in
     the main job, whose process checks systems next: the warnings of building the files are left out, as the
     command's own process leaves them)."""
     from harness.engines import warnings_log

@@ -114,6 +114,26 @@ def test_an_export_names_a_module_that_does_not_load_and_fails(user_models, tmp_
     assert "user_raises.py does not load" in _one_line(capsys)
 
 
+def test_a_users_system_is_exported_beside_its_module_not_into_the_repository(user_models, tmp_path, capsys):
+    """A system of a folder added by HARNESS_MODELS_PATH has its files in that folder's urdf/: the repository's
+    exports (here ``--dir``) neither get them nor miss them, so ``export --check`` (the main job's) passes there
+    once they are written, and names them by their own path while they are not."""
+    (user_models / "user_rod.py").write_text("import dataclasses\nfrom models.pendulum import SYSTEM as _S\n"
+                                             "SYSTEM = dataclasses.replace(_S, name='user_rod')\n")
+    folder = tmp_path / "urdf"
+    assert cli.main(["export", "--dir", str(folder)]) == 0
+    ours = len(list(folder.iterdir()))   # 3 files of each catalogued system
+    assert capsys.readouterr().out == (f"wrote {ours} files to {folder}/, 3 files to {user_models / 'urdf'}/ "
+                                       f"({ours + 3} changed)\n")
+    assert sorted(p.name for p in (user_models / "urdf").iterdir()) == ["user_rod.map.json", "user_rod.urdf",
+                                                                       "user_rod.xml"]
+    assert (folder / "pendulum.urdf").is_file() and not list(folder.glob("user_rod.*"))
+    assert cli.main(["export", "--check", "--dir", str(folder)]) == 0
+    (user_models / "urdf" / "user_rod.xml").unlink()
+    assert cli.main(["export", "--check", "--dir", str(folder)]) == 1
+    assert capsys.readouterr().err == f"stale: {user_models / 'urdf' / 'user_rod.xml'} (run `harness export`)\n"
+
+
 def test_a_broken_module_is_a_failed_record_in_a_catalogue_run(user_models):
     from harness.run import run_checks
 
