@@ -12,7 +12,7 @@ import models
 from harness.compare.strategies import parameters
 from harness.compare.roundtrip import rpy_matrix
 from harness.errors import ModelError
-from harness.export.files import export_files
+from harness.export.files import system_files
 from harness.export.mjcf import equivalent_box
 from harness.export.numeric import instantiate
 from harness.modeling.system import Coordinate, Joint, Link, Parameter, System
@@ -21,7 +21,7 @@ URDF_DIR = Path(__file__).resolve().parent.parent / "urdf"
 
 
 def test_committed_exports_are_current():
-    files = export_files(models.catalogue().values())
+    files = {name: text for system in models.catalogue().values() for name, text in system_files(system).items()}
     stale = [name for name, text in files.items()
              if not (URDF_DIR / name).exists() or (URDF_DIR / name).read_text() != text]
     assert not stale, f"stale exports {stale}: run `harness export` and commit urdf/"

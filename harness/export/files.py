@@ -1,6 +1,7 @@
-"""Exports of every system into ``urdf/``: ``<system>.urdf`` (yourdfpy), ``<system>.xml`` (MJCF via
-MjSpec) and ``<system>.map.json`` (lecture coordinates and the map ``theta = phi(q)``), all with the
-default parameters."""
+"""The exported files of a system: ``<system>.urdf`` (yourdfpy), ``<system>.xml`` (MJCF via MjSpec) and
+``<system>.map.json`` (lecture coordinates and the map ``theta = phi(q)``), all with the default parameters;
+:func:`harness.run.export` writes them into ``urdf/``, or beside the module of a folder added by
+``HARNESS_MODELS_PATH``."""
 
 from __future__ import annotations
 
@@ -24,11 +25,3 @@ def system_files(system: System, tree=None) -> dict[str, str]:
     tree = instantiate(system, system.default_parameters()) if tree is None else tree
     return {f"{system.name}.urdf": urdf_string(tree), f"{system.name}.xml": mjcf_string(tree),
             f"{system.name}.map.json": coordinate_map(system)}
-
-
-def export_files(systems) -> dict[str, str]:
-    """The files of every system in ``systems`` (the catalogue's systems)."""
-    files = {}
-    for system in systems:
-        files.update(system_files(system))
-    return files
