@@ -150,8 +150,12 @@ def test_a_run_measures_the_parts_asked_for_and_no_other(tmp_path, monkeypatch):
     assert bench.default_parts(["my_rod"]) == ("workprecision", "evaluation", "pruning")
     assert bench.default_parts(scenes=["swing"]) == bench.default_parts(["my_rod"])
     assert bench.default_parts(["my_rod", "lightweight_robot"])[-1] == "lightweight_robot"
+    # the study's own entry point, not importlib.import_module: patching that for the process broke every later
+    # first import in the worker (matplotlib's version check read None and left it half-imported)
+    from harness.bench import lightweight_robot
+
     called = []
-    monkeypatch.setattr(bench.importlib, "import_module", lambda name: called.append(name))
+    monkeypatch.setattr(lightweight_robot, "run", lambda *args, **kwargs: called.append(args))
     doc = bench.run_bench(models.CATALOGUE, out=tmp_path, parts=(), workers=1)
     assert "lightweight_robot" not in doc and not called
 
