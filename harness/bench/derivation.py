@@ -60,7 +60,8 @@ def ours(n: int) -> dict:
     """Cold (empty cache) and cached derivation of the n-link chain (run in a fresh process)."""
     import sympy as sp
 
-    os.environ["HARNESS_CACHE_DIR"] = tempfile.mkdtemp(prefix="bench-derivation-")
+    # inside an empty folder: what else a run keeps goes beside the derivations (kept.path), not into /tmp itself
+    os.environ["HARNESS_CACHE_DIR"] = os.path.join(tempfile.mkdtemp(prefix="bench-derivation-"), "derivations")
     from harness.derivation import derive as derive_module
 
     simplify, spent = derive_module._simplify, [0.0]

@@ -94,7 +94,9 @@ def _derivation_in_child(catalogue, timeout: float) -> dict:
     """Derivation and compilation in a fresh process, which rebuilds ``catalogue`` from its description."""
     env = dict(os.environ)
     with tempfile.TemporaryDirectory() as cache:
-        env["HARNESS_CACHE_DIR"] = cache
+        # the derivations' folder inside the empty one: what else a run keeps goes beside it (its parent), where a
+        # folder of tempfile's own would find the generated code of the last run
+        env["HARNESS_CACHE_DIR"] = os.path.join(cache, "derivations")
         start = time.perf_counter()
         try:
             out = subprocess.run([sys.executable, "-c", _CHILD, json.dumps(catalogue.description())],

@@ -6,7 +6,8 @@ not parse or whose checksum does not match is not trusted: it is discarded and t
 A derivation whose expressions are small graphs but huge trees (the per-body derivation of
 :func:`harness.derivation.derive.derive`) is stored as a graph (``graph=True``): its common subexpressions as numbered
 replacements, each written once, and rebuilt in order with ``xreplace`` (``srepr`` of the trees would not end).
-Set ``HARNESS_CACHE_DIR`` to move the cache (default: ``.cache/derivations`` in the project).
+Set ``HARNESS_CACHE_DIR`` to move the cache (default: ``.cache/derivations`` in the project); what else a run keeps
+(:mod:`harness.kept`) goes beside it, into its parent folder: name a ``derivations`` folder inside an empty one.
 
 Nothing read from the cache can run code. The checksum detects damage, not tampering (anyone who can write an
 entry can recompute it), so an entry is read by a parser that accepts only what ``srepr`` writes: calls of SymPy
