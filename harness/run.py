@@ -805,7 +805,8 @@ def importer(catalogue: Catalogue, names=None, states: int = 20, seed: int = 0, 
         check_folder(out)
     catalogue.require(names)
     systems = [catalogue.get(n) for n in names] if names else list(catalogue.systems().values())
-    doc = study.run(systems, states=states, seed=seed)
+    folders = export_folders(catalogue, study.PROJECT_ROOT / "urdf")   # a user's system: its own folder's urdf/
+    doc = study.run(systems, states=states, seed=seed, folders=folders)
     return doc, (study.write(doc, Path(out)) if out else [])
 
 

@@ -132,6 +132,11 @@ def test_a_users_system_is_exported_beside_its_module_not_into_the_repository(us
     (user_models / "urdf" / "user_rod.xml").unlink()
     assert cli.main(["export", "--check", "--dir", str(folder)]) == 1
     assert capsys.readouterr().err == f"stale: {user_models / 'urdf' / 'user_rod.xml'} (run `harness export`)\n"
+    from harness import run   # the importer study names its files where they are (it had said urdf/user_rod.urdf)
+
+    (record,) = run.importer(models.CATALOGUE, ["user_rod"], states=2)[0]["models"][:1]
+    assert (record["urdf"], record["reference"]) == (str(user_models / "urdf" / "user_rod.urdf"),
+                                                      f"our MJCF {user_models / 'urdf' / 'user_rod.xml'}")
 
 
 def test_a_broken_module_is_a_failed_record_in_a_catalogue_run(user_models):

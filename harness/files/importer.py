@@ -436,19 +436,22 @@ def _finish(record: dict, checks: list[dict]) -> dict:
     return record
 
 
-def compare_system(system, states: int = STATES, seed: int = SEED) -> dict:
-    """MuJoCo's import of our ``<system>.urdf`` against our MJCF of the same system (default parameters)."""
+def compare_system(system, states: int = STATES, seed: int = SEED, folder: Path | None = None) -> dict:
+    """MuJoCo's import of our ``<system>.urdf`` against our MJCF of the same system (default parameters), both
+    named as exported in ``folder`` (the repository's ``urdf/`` unless given: :func:`harness.run.export_folders`)."""
     from harness.export.files import system_files
 
     tree, accepted = instantiate(system, system.default_parameters()), []  # the files' tree
     files = system_files(system, tree)
     urdf_text, mjcf_text = files[f"{system.name}.urdf"], files[f"{system.name}.xml"]
-    record = _record(system.name, "system", PROJECT_ROOT / "urdf" / f"{system.name}.urdf",
-                     f"our MJCF urdf/{system.name}.xml")
+    folder = PROJECT_ROOT / "urdf" if folder is None else Path(folder)
+    record = _record(system.name, "system", folder / f"{system.name}.urdf", "")
+    mjcf_name = str(Path(record["urdf"]).with_suffix(".xml"))
+    record["reference"] = f"our MJCF {mjcf_name}"
     try:
         joints = [j.name for j in system.joints]
         prismatic = {j.name for j in system.joints if j.type == "prismatic"}
-        ours = compile_text(mjcf_text, f"urdf/{system.name}.xml", tree=tree, accepted=accepted)
+        ours = compile_text(mjcf_text, mjcf_name, tree=tree, accepted=accepted)
         imported, bound = _load_import(urdf_text, record["urdf"], record, tree, accepted)
         for message, reason in dict.fromkeys(accepted):  # as the conformance run accepts them: explained
             record["adjustments"].append(f"MuJoCo warned while compiling ({message}), explained: {reason}")
@@ -551,10 +554,10 @@ def probes(fixture: Path = FIXTURES[0], states: int = STATES, seed: int = SEED) 
     return out
 
 
-def run(systems=(), fixtures=FIXTURES, states: int = STATES, seed: int = SEED) -> dict:
+def run(systems=(), fixtures=FIXTURES, states: int = STATES, seed: int = SEED, folders: dict | None = None) -> dict:
     """The ``importer.json`` document for ``systems`` (:class:`~harness.modeling.system.System`; the
-    application layer passes the catalogue's) and the fixtures."""
-    records = [compare_system(s, states, seed) for s in systems]
+    application layer passes the catalogue's, and ``folders``, where each is exported) and the fixtures."""
+    records = [compare_system(s, states, seed, (folders or {}).get(s.name)) for s in systems]
     records += [compare_urdf(p, p.read_text(), "fixture", states, seed) for p in fixtures]
     records += [compare_urdf(p, p.read_text(), "public", states, seed) for p in public_urdfs()]
     summary = {"models": len(records), "agree": sum(r["passed"] for r in records),
