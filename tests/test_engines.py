@@ -375,6 +375,11 @@ def test_simulation_through_a_map_gives_the_evaluations_qdd(name):
             t = adapter.quantities(state.theta, state.theta_dot, state.u, state.loads, christoffel=False)
             assert relative_error(M, t.M) < 1e-12
             assert relative_error(h, t.tau_input + t.f_damper - t.Cqd - t.g_gravity - t.g_spring) < 1e-9
+            # at an acceleration a (the map's J̇ q̇): h − M a (Pinocchio: its inverse dynamics pin.rnea at a)
+            a = np.linspace(-1.0, 1.0, len(state.theta))
+            M_a, h_a = adapter.mass_and_forces(state.theta, state.theta_dot, state.u, state.loads, a)
+            assert np.array_equal(M_a, M)
+            assert relative_error(h_a, h - M @ a) < 1e-9
 
 
 @pytest.mark.parametrize("name, label", [("planar_manipulator", "swing"), ("spherical_pendulum", "conical")])
@@ -498,3 +503,34 @@ def test_the_stand_in_inertia_mujoco_needs_is_not_in_what_it_is_compared_with(bu
     mujoco.mj_fullM(mm.model, mm.data, M)           # MuJoCo's own, at the state evaluate() left in its data
     assert abs(M[0, 0] - ref.M[0, 0] - MUJOCO_POINT_MASS_INERTIA) <= 1e-3 * MUJOCO_POINT_MASS_INERTIA
     assert abs(M[0, 0] - ref.M[0, 0]) > 100 * FLOAT64_RTOL * ref.M[0, 0]   # what the check would have failed on
+
+
+def test_a_tendon_evaluates_the_elements_it_has_zero_or_not():
+    """A tendon's spring or damper that is not in the model is None in the numeric tree and is not evaluated; one
+    the scene sets to 0 (the idle model's, :func:`~harness.modeling.scenes.with_idle_effects`) is a number and is
+    evaluated as any other: leaving it out is the pruned model's business, never the adapter's. Seen at a velocity
+    of nan: a damper evaluated at 0 gives nan, one not in the model nothing."""
+    import dataclasses
+
+    from harness.engines.base import spring_damper_forces
+    from harness.modeling.scenes import with_idle_effects
+
+    toggle = models.get("toggle_press")
+    (tendon,) = instantiate(toggle, toggle.default_parameters()).tendons
+    assert tendon[3:] == (500.0, 1.2, None)                      # spring_F: a spring alone
+    manipulator = models.get("planar_manipulator")
+    scene = next(s for s in models.CATALOGUE.scenes("planar_manipulator") if s.name == "detached")
+    idle, idle_scene = with_idle_effects(manipulator, scene)
+    (tendon,) = instantiate(idle, {**idle.default_parameters(), **idle_scene.params}).tendons
+    assert tendon[3] == 0.0 and tendon[5] == 0.0                 # spring_e, damper_e: c_e = d_e = 0, present
+    for tree, damper_evaluated in ((instantiate(toggle, toggle.default_parameters()), False),
+                                   (instantiate(idle, {**idle.default_parameters(), **idle_scene.params}), True)):
+        tree = dataclasses.replace(tree, joint_stiffness={}, joint_damping={})   # the tendon alone
+        nv = len(tree.joints)
+        a, b = tree.tendons[0][1:3]
+        position = {a: np.zeros(3), b: np.array([1.0, 0.5, 0.0])}.get
+        jacobian = {a: np.zeros((3, nv)), b: np.ones((3, nv))}.get
+        f_spring, f_damper = spring_damper_forces(tree, nv, np.zeros(nv), np.full(nv, np.nan), position, jacobian,
+                                                  {}, {})
+        assert np.isfinite(f_spring).all() and f_spring.any() == (tree.tendons[0][3] != 0.0)
+        assert np.isnan(f_damper).any() == damper_evaluated

@@ -331,11 +331,14 @@ class TreeEngine:
         """``θ̈`` alone, the call a simulation makes."""
         return self.quantities(theta, theta_dot, u, loads, christoffel=False).qdd
 
-    def mass_and_forces(self, theta, theta_dot, u: dict, loads=()) -> tuple[np.ndarray, np.ndarray]:
+    def mass_and_forces(self, theta, theta_dot, u: dict, loads=(), acceleration=None) -> tuple[np.ndarray, np.ndarray]:
         """``(M, h)`` of ``M θ̈ = h`` in tree coordinates, ``h = τ_input + f_damper − C θ̇ − g_gravity − g_spring``:
-        what a simulation through a map with more tree joints than lecture coordinates projects (5.58–5.60)."""
+        what a simulation through a map with more tree joints than lecture coordinates projects (5.58–5.60). With
+        ``acceleration`` ``a`` (the map's ``J̇ q̇``), ``h − M a``: the balance at ``θ̈ = J q̈ + a`` is
+        ``M J q̈ = h − M a``."""
         t = self.quantities(theta, theta_dot, u, loads, christoffel=False)
-        return t.M, t.tau_input + t.f_damper - t.Cqd - t.g_gravity - t.g_spring
+        h = t.tau_input + t.f_damper - t.Cqd - t.g_gravity - t.g_spring
+        return t.M, h if acceleration is None else h - t.M @ acceleration
 
     def evaluate(self, state: State) -> Evaluation:
         """The quantities at ``state`` in lecture coordinates (:func:`to_lecture`)."""
@@ -366,16 +369,18 @@ def spring_damper_forces(tree: NumericTree, nv: int, q, v, position, jacobian, q
     """Generalized forces ``(f_spring, f_damper)`` in an engine's own order: tendons (springs/dampers between
     points) ``Σ J_bᵀ f − J_aᵀ f`` from the engine's point positions ``position(point)`` (world) and
     translational Jacobians ``jacobian(point)`` (``3 x nv``), joint springs and dampers at the engine's
-    position and velocity indices of each joint."""
+    position and velocity indices of each joint. A tendon's spring or damper that is not in the model (None, a
+    spring alone between its points) is not evaluated; one of stiffness or damping 0 is, as any other."""
     f_spring = np.zeros(nv)
     f_damper = np.zeros(nv)
     for name, a, b, stiffness, rest, damping in tree.tendons:
         r = position(b) - position(a)
         length = math.sqrt(r @ r)                             # np.linalg.norm's own formula, without its checks
-        e = r / length
-        moment = e @ (jacobian(b) - jacobian(a))              # ∂length/∂θ = eᵀ (J_b − J_a): one product, not four
-        f_spring -= stiffness * (length - rest) * moment
-        f_damper -= damping * (moment @ v) * moment
+        moment = r @ (jacobian(b) - jacobian(a))              # length ∂length/∂θ = rᵀ (J_b − J_a): one product
+        if stiffness is not None:                             # f = −c (length − rest) ∂length/∂θ
+            f_spring -= (stiffness * (length - rest) / length) * moment
+        if damping is not None:                               # f = −d (∂length/∂θ θ̇) ∂length/∂θ
+            f_damper -= (damping * float(moment @ v) / (length * length)) * moment
     for joint, (stiffness, rest) in tree.joint_stiffness.items():
         f_spring[v_index[joint]] += -stiffness * (q[q_index[joint]] - rest)
     for joint, damping in tree.joint_damping.items():

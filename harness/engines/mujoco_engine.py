@@ -326,16 +326,18 @@ class MujocoModel(TreeEngine):
         check_state(self.model, self.data, self.tree.system)
         return self._pick(self._qacc(self.data) if self.stand_ins else self.data.qacc)
 
-    def mass_and_forces(self, theta, theta_dot, u: dict, loads=()) -> tuple[np.ndarray, np.ndarray]:
+    def mass_and_forces(self, theta, theta_dot, u: dict, loads=(), acceleration=None) -> tuple[np.ndarray, np.ndarray]:
         """``(M, h)`` from one ``mj_forward``: ``mj_fullM`` and ``h = qfrc_actuator + qfrc_applied + qfrc_spring +
         qfrc_damper − qfrc_bias`` (:meth:`quantities` takes a second forward to split gravity off ``qfrc_bias``; the
-        stand-in inertia's terms taken out, :meth:`_own`)."""
+        stand-in inertia's terms taken out, :meth:`_own`); with ``acceleration`` ``a``, ``h − M a``
+        (:meth:`TreeEngine.mass_and_forces`)."""
         m, d = self.model, self.data
         self._forward(d, theta, theta_dot, u, loads)
         check_state(m, d, self.tree.system)
         M, bias, _ = self._own(d)
         h = d.qfrc_actuator + d.qfrc_applied + d.qfrc_spring + d.qfrc_damper - bias
-        return M[np.ix_(self.dof_index, self.dof_index)], self._pick(h)
+        M, h = M[np.ix_(self.dof_index, self.dof_index)], self._pick(h)
+        return M, h if acceleration is None else h - M @ acceleration
 
     def _own(self, d) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``(M, qfrc_bias, qacc)`` of ``d``'s forward (``mj_fullM``), the stand-in inertia's terms taken out

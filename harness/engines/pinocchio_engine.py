@@ -1,7 +1,7 @@
 """Pinocchio, loading our URDF. Every number comes from a named Pinocchio call; springs, dampers and
-inputs are evaluated from Pinocchio's own frames and Jacobians (``framesForwardKinematics``,
-``computeFrameJacobian``), never from the symbolic model. Closed chains and couplings are rows of the constraint
-Jacobian of Pinocchio's KKT forward dynamics (:class:`Constraints`)."""
+inputs are evaluated from Pinocchio's own frames and Jacobians (``computeJointJacobians``,
+``updateFramePlacements``, ``getFrameJacobian``), never from the symbolic model. Closed chains and couplings are
+rows of the constraint Jacobian of Pinocchio's KKT forward dynamics (:class:`Constraints`)."""
 
 from __future__ import annotations
 
@@ -120,6 +120,8 @@ class PinocchioModel(TreeEngine):
     """The free-flyer joint of a floating base (:meth:`loaded` with ``free``), else None."""
     springs_or_dampers = False
     """Whether the tree has a spring or a damper (a tendon, a joint spring or damper) to evaluate."""
+    dampers = False
+    """Whether the tree has a damper (of a tendon, of a joint): without one ``f_damper`` stays 0, not added to ``τ``."""
     force_free = False
     """Whether the tree has no force element (spring, damper, input) to evaluate: ``τ`` is 0 without loads."""
 
@@ -139,6 +141,7 @@ class PinocchioModel(TreeEngine):
         self._fixed = {name: (_read_only(self.data.oMf[f].translation.copy()), _read_only(np.zeros((3, model.nv))))
                        for name, f in self.frames.items() if model.frames[f].parentJoint == 0}
         self.springs_or_dampers = bool(tree.tendons or tree.joint_stiffness or tree.joint_damping)
+        self.dampers = bool(tree.joint_damping) or any(t[5] is not None for t in tree.tendons)
         self.force_free = not (self.springs_or_dampers or tree.actuators)
 
     @classmethod
@@ -220,10 +223,10 @@ class PinocchioModel(TreeEngine):
 
     # ----- forces from Pinocchio's frames and Jacobians
     def _frames(self, q) -> None:
-        """The frames' placements and Jacobians at ``q`` (``computeJointJacobians``, ``framesForwardKinematics``):
-        what a force acting at a point needs, a tendon or an external load."""
+        """The frames' placements and Jacobians at ``q`` (``computeJointJacobians``, which places the joints, then
+        ``updateFramePlacements``): what a force acting at a point needs, a tendon or an external load."""
         pin.computeJointJacobians(self.model, self.data, q)
-        pin.framesForwardKinematics(self.model, self.data, q)
+        pin.updateFramePlacements(self.model, self.data)
 
     def point_forces(self, q, v):
         """Generalized forces of tendons (springs/dampers between points) and joint springs/dampers,
@@ -285,23 +288,28 @@ class PinocchioModel(TreeEngine):
 
     def _tau(self, f_spring, f_damper, tau_input):
         """``τ`` = inputs + springs + dampers; the inputs and loads alone, no sum of zeros formed, in a tree without
-        springs and dampers (:attr:`springs_or_dampers`: a pruned one; ``τ`` = 0 itself where :attr:`force_free`).
-        The same ``τ`` bit for bit (``x + 0 = x``)."""
-        return tau_input + f_spring + f_damper if self.springs_or_dampers else tau_input
+        springs and dampers (:attr:`springs_or_dampers`: a pruned one; ``τ`` = 0 itself where :attr:`force_free`),
+        no damper's where the tree has none (:attr:`dampers`). The same ``τ`` bit for bit (``x + 0 = x``)."""
+        if not self.springs_or_dampers:
+            return tau_input
+        return tau_input + f_spring + f_damper if self.dampers else tau_input + f_spring
 
     def forward_dynamics(self, theta, theta_dot, u: dict, loads=()) -> np.ndarray:
         """``θ̈`` alone, the call a simulation makes (:meth:`_aba`)."""
         return self.from_pin(self._aba(self.to_pin(theta), self.to_pin(theta_dot), u, loads)[0])
 
-    def mass_and_forces(self, theta, theta_dot, u: dict, loads=()) -> tuple[np.ndarray, np.ndarray]:
+    def mass_and_forces(self, theta, theta_dot, u: dict, loads=(), acceleration=None) -> tuple[np.ndarray, np.ndarray]:
         """``(M, h)``: ``pin.crba`` and ``h`` = inputs + springs + dampers − ``pin.nonLinearEffects`` (``C θ̇ + g``),
         the two calls a map with more tree joints than lecture coordinates needs (no ``pin.aba``, no gravity
-        apart)."""
+        apart); with ``acceleration`` ``a``, ``h − M a`` (:meth:`TreeEngine.mass_and_forces`) by ``pin.rnea``
+        (``M a + C θ̇ + g``) in place of ``pin.nonLinearEffects``. Both arrays are this call's own (no copy)."""
         q, v = self.to_pin(theta), self.to_pin(theta_dot)
         M = self._crba(q)
         f_spring, f_damper, tau_input = self._applied(q, v, u, loads)
-        h = self._tau(f_spring, f_damper, tau_input) - pin.nonLinearEffects(self.model, self.data, q, v)
-        return self.from_pin_matrix(M), self.from_pin(h)
+        bias = pin.nonLinearEffects(self.model, self.data, q, v) if acceleration is None else \
+            pin.rnea(self.model, self.data, q, v, self.to_pin(acceleration))
+        h = self._tau(f_spring, f_damper, tau_input) - bias
+        return (M, h) if self._in_order else (M[self._index_grid], h[self.index])
 
     def _crba(self, q) -> np.ndarray:
         """``pin.crba`` fills the upper triangle: the symmetric ``M`` in Pinocchio's order."""

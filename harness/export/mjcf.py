@@ -122,8 +122,8 @@ def mjcf_spec(tree: NumericTree) -> mujoco.MjSpec:
     disable = mujoco.mjtDisableBit
     flags = disable.mjDSBL_CONTACT | disable.mjDSBL_CONSTRAINT | disable.mjDSBL_FRICTIONLOSS | disable.mjDSBL_LIMIT \
         | disable.mjDSBL_EQUALITY
-    has_spring = bool(tree.joint_stiffness) or any(t[3] for t in tree.tendons)
-    has_damper = bool(tree.joint_damping) or any(t[5] for t in tree.tendons)
+    has_spring = bool(tree.joint_stiffness) or any(t[3] is not None for t in tree.tendons)   # in the model, 0 or not
+    has_damper = bool(tree.joint_damping) or any(t[5] is not None for t in tree.tendons)
     if not has_spring:
         flags |= disable.mjDSBL_SPRING
     if not has_damper:
@@ -177,6 +177,7 @@ def mjcf_spec(tree: NumericTree) -> mujoco.MjSpec:
         bodies[point.link].add_site(name=point.name, pos=point.position)
     add_visuals(tree, bodies, fused)
     for name, a, b, stiffness, rest, damping in tree.tendons:
+        stiffness, rest, damping = stiffness or 0.0, rest or 0.0, damping or 0.0   # None: no spring, no damper
         tendon = spec.add_tendon(name=name, stiffness=[stiffness, 0.0, 0.0], springlength=[rest, rest],
                                  damping=[damping, 0.0, 0.0])
         tendon.limited = mujoco.mjtLimited.mjLIMITED_FALSE

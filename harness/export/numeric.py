@@ -64,7 +64,7 @@ class NumericTree:
     gravity: np.ndarray
     joint_stiffness: dict      # joint -> (stiffness, rest)
     joint_damping: dict        # joint -> damping
-    tendons: tuple             # (name, point a, point b, stiffness, rest length, damping)
+    tendons: tuple             # (name, point a, point b, stiffness, rest length, damping); None: no such element
     actuators: tuple           # (input name, joint)
 
 
@@ -256,7 +256,7 @@ def _instantiate(system: System, params: dict[str, float]) -> NumericTree:
                                                       value.entries(pt, "vector"))
         if isinstance(f, (Spring, Damper)):
             key = (point_name(f.a), point_name(f.b))
-            entry = tendons.setdefault(key, [f.name, key[0], key[1], 0.0, 0.0, 0.0])
+            entry = tendons.setdefault(key, [f.name, key[0], key[1], None, None, None])  # a spring, a damper or both
             if isinstance(f, Spring):
                 entry[3], entry[4] = value(f.stiffness), value(f.rest_length)
             else:

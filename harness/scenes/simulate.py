@@ -134,9 +134,10 @@ class Dynamics:
             # only the engine's forward dynamics: θ̈ of the tree, then q̈ = J⁻¹ (θ̈ − J̇ q̇) (5.58)
             theta_dd = self.model.forward_dynamics(theta, J @ qd, inputs, self.loads(q, qd, u))
             return solve(J, theta_dd - J_dot @ qd)
-        # more tree joints than lecture coordinates: M_q q̈ = Jᵀ (h − M J̇ q̇) with M_q = Jᵀ M J (5.58–5.60)
-        M, h = self.model.mass_and_forces(theta, J @ qd, inputs, self.loads(q, qd, u))
-        return solve(J.T @ M @ J, J.T @ (h - M @ (J_dot @ qd)))
+        # more tree joints than lecture coordinates: M_q q̈ = Jᵀ (h − M J̇ q̇) with M_q = Jᵀ M J (5.58–5.60), the
+        # engine's h − M J̇ q̇ (its inverse dynamics at θ̈ = J̇ q̇)
+        M, h = self.model.mass_and_forces(theta, J @ qd, inputs, self.loads(q, qd, u), J_dot @ qd)
+        return solve(J.T @ M @ J, J.T @ h)
 
     def loads(self, q, qd, u) -> list[Load]:
         """The external loads (PointForce, BodyTorque) at one state, each engine turns them into forces."""

@@ -11,9 +11,9 @@ one checks that inference.
 * **symbolic**: the right-hand side derived and compiled from the pruned model against the one of the idle model,
   both integrated by odeint's LSODA at 1e-10 (:data:`RUN_METHOD`; DOP853 in an event's plug-in);
 * **pinocchio**: its forward dynamics (``pin.aba``; through a map with more tree joints than lecture coordinates
-  ``pin.crba`` and ``pin.nonLinearEffects``, projected) of the pruned URDF against the idle one's, integrated alike:
-  the pruned tree has no idle spring, damper, input or load to evaluate, and without a tendon or a load no frame
-  placements or Jacobians to compute; where the two have the same force elements (gravity alone left out)
+  ``pin.crba`` and ``pin.rnea`` at the map's ``J̇ q̇``, projected) of the pruned URDF against the idle one's,
+  integrated alike: the pruned tree has no idle spring, damper, input or load to evaluate, and without a tendon or a
+  load no frame placements or Jacobians to compute; where the two have the same force elements (gravity alone left out)
   nothing is pruned in this source and no ratio is measured;
 * **mujoco**: its own RK4 (``mj_step``), every effect present (its flags cleared) against the left-out effects'
   disable flags set (:class:`~harness.engines.mujoco_engine.Options` ``disable``,
