@@ -47,12 +47,15 @@ def search_path(environ=None) -> list[str]:
     return [os.path.abspath(p) for p in value.split(os.pathsep) if p]
 
 
-def check_search_path(environ=None) -> None:
+def check_search_path(environ=None, creating=None) -> None:
     """Raise :class:`InputError` where ``HARNESS_MODELS_PATH`` names something that is not a folder, or holds a module
     whose name a folder searched before it (``models/`` first) already has: its systems would be missing from every
-    listing without a word (the entry points call this; importing ``models`` does not fail on it)."""
+    listing without a word (the entry points call this; importing ``models`` does not fail on it). ``creating``: a
+    folder ``harness new --dir`` is about to create, which may be on the path before it exists."""
     taken = {info.name: _path(info) for info in pkgutil.iter_modules([str(MODELS_DIR)])}
     for folder in search_path(environ):
+        if creating is not None and folder == os.path.abspath(creating) and not os.path.exists(folder):
+            continue
         existing_folder(folder, MODELS_PATH_VARIABLE)
         for info in sorted(pkgutil.iter_modules([folder]), key=lambda m: m.name):
             if info.name.startswith("_"):

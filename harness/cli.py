@@ -64,12 +64,12 @@ def _assignments(items, what: str) -> dict[str, float]:
     return out
 
 
-def _catalogue():
+def _catalogue(creating=None):
     """The catalogue of ``models/`` and ``HARNESS_MODELS_PATH`` (:func:`harness.catalogue.repository`); the
-    library is handed it."""
+    library is handed it. ``creating``: the folder ``new --dir`` creates, on the path before it exists."""
     from harness.catalogue import check_search_path, repository
 
-    check_search_path()
+    check_search_path(creating=creating)
     return repository()
 
 
@@ -166,7 +166,7 @@ def cmd_new(args) -> int:
     """Scaffold ``models/NAME.py`` (harness.scaffold)."""
     from harness.catalogue import MODELS_PATH_VARIABLE
 
-    path, on_path = run.new(_catalogue(), args.name, args.dir)
+    path, on_path = run.new(_catalogue(creating=args.dir), args.name, args.dir)
     print(f"wrote {path}: follow the checklist in its docstring, then run `harness check {args.name}`")
     if not on_path:
         print(f"note: add {path.parent} to {MODELS_PATH_VARIABLE} so that the catalogue finds it", file=sys.stderr)
@@ -236,10 +236,14 @@ def cmd_export(args) -> int:
     catalogue = _catalogue()
     if args.check:
         _exported_folder(args.dir)
-        return max(_stale(run.stale_exports(catalogue, args.dir)), _unloaded(catalogue))
+        stale = run.stale_exports(catalogue, args.dir)
+        if not stale:
+            print(f"the exported files in {args.dir}/ (and beside added models) are current")
+        return max(_stale(stale), _unloaded(catalogue))
     files, stale = run.export(catalogue, args.dir)
     folders = Counter(path.parent for path in files)   # the repository's first, then each added folder's
-    print(f"wrote {', '.join(f'{n} files to {folder}/' for folder, n in folders.items())} ({len(stale)} changed)")
+    print(f"exported {', '.join(f'{n} files to {folder}/' for folder, n in folders.items())}: {len(stale)} changed "
+          f"and written, {len(files) - len(stale)} current and left as they are")
     return _unloaded(catalogue)
 
 

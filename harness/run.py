@@ -705,7 +705,8 @@ def export_folders(catalogue: Catalogue, folder) -> dict[str, Path]:
 
 def export(catalogue: Catalogue, folder, check_only: bool = False) -> tuple[dict, list[str]]:
     """The exported files of every system (URDF, MJCF, coordinate maps), by path (:func:`export_folders`), and the
-    paths of those that differ from what is there; unless ``check_only``, written there (atomically)."""
+    paths of those that differ from what is there; unless ``check_only``, those written there (atomically; a file
+    that is current is left as it is, its time of change too)."""
     from harness.catalogue import MODELS_PATH_VARIABLE
     from harness.export.files import system_files
 
@@ -720,8 +721,8 @@ def export(catalogue: Catalogue, folder, check_only: bool = False) -> tuple[dict
             writable_folder(where, f"{MODELS_PATH_VARIABLE}: exported files")
         for where in added:
             where.mkdir(exist_ok=True)
-        for path, text in files.items():
-            atomic_write_text(path, text)
+        for path in stale:
+            atomic_write_text(Path(path), files[Path(path)])
     return files, stale
 
 

@@ -9,10 +9,11 @@ from __future__ import annotations
 
 import keyword
 import re
+import shutil
 from pathlib import Path
 from string import Template
 
-from harness.errors import InputError
+from harness.errors import HarnessError, InputError, OutputError
 from harness.io import atomic_write_text, existing_folder
 
 _NAME = re.compile(r"[a-z][a-z0-9_]*\Z")
@@ -102,7 +103,8 @@ def check_name(name: str, catalogue=None) -> None:
 
 def scaffold(name: str, folder: str | Path | None = None, catalogue=None) -> Path:
     """Write ``<folder>/<name>.py`` (default: the catalogue's own folder, else ``models/``) from
-    :data:`TEMPLATE`; refuses to overwrite and refuses a name ``catalogue`` holds."""
+    :data:`TEMPLATE`, creating ``folder`` where it does not exist yet; refuses to overwrite and refuses a name
+    ``catalogue`` holds."""
     check_name(name, catalogue)
     if folder:
         path = Path(folder)
@@ -115,7 +117,27 @@ def scaffold(name: str, folder: str | Path | None = None, catalogue=None) -> Pat
     target = path / f"{name}.py"
     if target.exists():
         raise InputError(f"new: {target} exists already")
-    existing_folder(path, "new --dir")
-    atomic_write_text(target, TEMPLATE.substitute(name=name))
+    outermost = None if not folder else _outermost_missing(path)
+    if outermost is None:
+        existing_folder(path, "new --dir")
+    try:
+        path.mkdir(parents=True, exist_ok=True)   # a folder of your own models, created with its first module
+        atomic_write_text(target, TEMPLATE.substitute(name=name))
+    except BaseException as exc:
+        if outermost is not None:                 # nothing half-made is left: the folders this call created
+            shutil.rmtree(outermost, ignore_errors=True)
+        if isinstance(exc, OSError) and not isinstance(exc, HarnessError):
+            raise OutputError(f"new --dir {path}: {exc.strerror or exc}") from None
+        raise
     target.chmod(0o644)
     return target
+
+
+def _outermost_missing(path: Path) -> Path | None:
+    """The outermost folder of ``path`` that does not exist yet (None: ``path`` exists)."""
+    missing = None
+    for folder in [path, *path.parents]:
+        if folder.exists():
+            break
+        missing = folder
+    return missing

@@ -352,7 +352,6 @@ def test_a_valid_model_still_validates_in_the_child(capfd, tmp_path):
     (["validate", "{urdf}", "--root", "{afile}"], "--root {afile}: is not a folder"),
     (["validate", "{urdf}", "--root", "{missing}"], "--root {missing}: no such folder"),
     (["new", "my_system", "--dir", "{afile}"], "new --dir {afile}: is not a folder"),
-    (["new", "my_system", "--dir", "{missing}"], "new --dir {missing}: no such folder"),
     (["eval", "spring_mass_damper", "--q", "0.1", "0", "0", "--engine", "mujoco"],
      "g(q) (5.96) not finite at s_1 = 0.1, s_2 = 0, s_3 = 0 in spring_mass_damper: a force element is singular"),
 ])
@@ -368,6 +367,27 @@ def test_a_negative_number_a_folder_or_a_singular_force_gets_its_own_message(cap
     names["urdf"].write_text(urdf())
     fails(capfd, [a.format(**names) for a in args], message.format(**names))
     assert names["afile"].read_text() == "keep\n" and not names["missing"].exists()
+
+
+def test_new_creates_the_folder_of_your_own_models_and_leaves_nothing_when_it_fails(capfd, tmp_path, monkeypatch):
+    """`harness new NAME --dir FOLDER` for a folder not made yet (the first model of one's own, FOLDER already in
+    HARNESS_MODELS_PATH as the docs say): the folder was "no such folder" on its own, and with the variable set every
+    command, `new` too, stopped on it. Now `new` creates it with the module; a write that fails removes the folders
+    it made."""
+    import harness.scaffold
+    from harness.catalogue import check_search_path
+
+    folder = tmp_path / "mine" / "models"
+    monkeypatch.setenv("HARNESS_MODELS_PATH", str(folder))
+    monkeypatch.setattr(harness.scaffold, "atomic_write_text", lambda *a, **k: (_ for _ in ()).throw(
+        OSError(28, "No space left on device")))
+    fails(capfd, ["new", "my_first", "--dir", str(folder)], f"new --dir {folder}: No space left on device")
+    assert not (tmp_path / "mine").exists()
+    monkeypatch.undo()
+    monkeypatch.setenv("HARNESS_MODELS_PATH", str(folder))
+    assert cli.main(["new", "my_first", "--dir", str(folder)]) == 0
+    assert (folder / "my_first.py").is_file()
+    check_search_path()   # every other command, which had stopped on the missing folder, now finds it
 
 
 def test_a_negative_number_in_scientific_notation_is_a_value(capfd):

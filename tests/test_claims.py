@@ -111,12 +111,71 @@ def test_other_C_with_same_C_qd_is_not_an_erratum():
     assert classify(SYSTEM, Claim("(t3)", "C", other), examples=20).classification == "C differs, C·q̇ agrees"
 
 
+CLOCKWISE = {"phi_2 counted clockwise": {p2: -p2}}   # its rate and acceleration follow: -phi_2', -phi_2''
+S = sp.diag(1, -1)  # the Jacobian of that change, constant
+
+
 def test_convention_dependent_claim():
-    # printed with the angle of link 2 counted the other way round: holds after phi_2 -> -phi_2
-    flipped = sp.Matrix(CHRISTOFFEL).xreplace({p2: -p2, w2: -w2})
-    claim = Claim("(t4)", "C", flipped, conventions={"phi_2 counted clockwise": {p2: -p2, w2: -w2}})
+    """Printed with the angle of link 2 counted the other way round: the printed C holds once phi_2 -> -phi_2 is
+    substituted *and* C is taken to the model's coordinates as a matrix of coordinate pairs (Jᵀ C J). The same
+    text with the coordinates substituted alone, as if C were a scalar, is wrong in every coordinate system."""
+    claim = Claim("(t4)", "C", S * CHRISTOFFEL.xreplace({p2: -p2, w2: -w2}) * S, conventions=CLOCKWISE)
     verdict = classify(SYSTEM, claim, examples=20)
     assert verdict.classification == "convention-dependent" and verdict.convention == "phi_2 counted clockwise"
+    substituted_only = Claim("(t4b)", "C", CHRISTOFFEL.xreplace({p2: -p2, w2: -w2}), conventions=CLOCKWISE)
+    assert classify(SYSTEM, substituted_only, examples=20).classification == "erratum"
+
+
+def test_a_coordinate_convention_takes_each_kind_to_the_models_coordinates():
+    """M (Jᵀ M J), g and f_np (Jᵀ g), an entry of M (by J's diagonal), the equations of motion (Jᵀ R) and T (a
+    scalar: the substitution alone), each printed with phi_2 and tau_2 counted clockwise, are
+    convention-dependent; M's coupling entry had been an erratum, cos(-phi_2) = cos(phi_2) under the substitution."""
+    from harness.derivation.derive import derive
+
+    d = derive(SYSTEM)
+    accel = sp.Matrix([c.accel for c in SYSTEM.coordinates])
+    tau_2 = SYSTEM.u[1]
+    clockwise = {"phi_2 and tau_2 counted clockwise": {p2: -p2, tau_2: -tau_2}}
+    turned = {p2: -p2, w2: -w2, accel[1]: -accel[1], tau_2: -tau_2}   # the text's symbols in the model's
+    residual = d.M * accel + d.C * sp.Matrix(SYSTEM.qd) + d.g - d.f_np
+    printed = {"M": S * d.M.xreplace(turned) * S, "g": S * d.g.xreplace(turned), "f_np": S * d.f_np.xreplace(turned),
+               "eom": S * residual.xreplace(turned), "T": sp.Matrix([d.T.xreplace(turned)])}
+    for kind, value in printed.items():
+        verdict = classify(SYSTEM, Claim(f"(c-{kind})", kind, value, conventions=clockwise), examples=10)
+        assert verdict.classification == "convention-dependent", (kind, verdict.errors)
+    entry = Claim("(c-M12)", "M", printed["M"][0, 1], index=(0, 1), conventions=clockwise)
+    assert classify(SYSTEM, entry, examples=10).classification == "convention-dependent"
+
+
+@pytest.mark.parametrize("convention, message", [
+    ({p2: sp.sin(p2)}, "not affine"),
+    ({p2: p1 + p2, w2: w2}, "but its coordinates' map gives"),
+    ({w2: -w2}, "a rate or acceleration, and not its coordinate"),
+    ({p2: 0 * p2}, "singular"),
+])
+def test_a_coordinate_convention_that_cannot_be_taken_through_is_refused_when_the_module_loads(convention, message):
+    from harness.errors import ModelError
+    from harness.modeling.claims import validate_claims
+
+    with pytest.raises(ModelError, match=message):
+        validate_claims(SYSTEM, [Claim("(c1)", "M", sp.zeros(2, 2), conventions={"other": convention})])
+
+
+def test_a_convention_mixing_coordinates_needs_the_whole_quantity():
+    from harness.errors import ModelError
+    from harness.modeling.claims import validate_claims
+
+    from harness.derivation.derive import derive
+
+    absolute = {"absolute angles": {p2: p1 + p2}}   # the text's phi_2 is the model's phi_1 + phi_2: q_text = A q
+    A_inv = sp.Matrix([[1, 0], [1, 1]]).inv()
+    M_text = A_inv.T * derive(SYSTEM).M.xreplace({p2: p2 - p1}) * A_inv   # M in the text's coordinates
+    verdict = classify(SYSTEM, Claim("(c2)", "M", M_text, conventions=absolute), examples=10)
+    assert verdict.classification == "convention-dependent"   # the whole M: taken by Jᵀ M J
+    with pytest.raises(ModelError, match="claim the whole quantity"):
+        validate_claims(SYSTEM, [Claim("(c3)", "M", sp.S(0), index=(0, 1), conventions=absolute)])
+    with pytest.raises(ModelError, match="cannot be taken to other coordinates"):
+        validate_claims(SYSTEM, [Claim("(c4)", "steady:phi_2", sp.S(0), conventions=absolute)])
 
 
 def test_holding_force_is_checked_against_every_source():

@@ -123,8 +123,12 @@ def test_a_users_system_is_exported_beside_its_module_not_into_the_repository(us
     folder = tmp_path / "urdf"
     assert cli.main(["export", "--dir", str(folder)]) == 0
     ours = len(list(folder.iterdir()))   # 3 files of each catalogued system
-    assert capsys.readouterr().out == (f"wrote {ours} files to {folder}/, 3 files to {user_models / 'urdf'}/ "
-                                       f"({ours + 3} changed)\n")
+    assert capsys.readouterr().out == (f"exported {ours} files to {folder}/, 3 files to {user_models / 'urdf'}/: "
+                                       f"{ours + 3} changed and written, 0 current and left as they are\n")
+    written = {p: p.stat().st_mtime_ns for p in [*folder.iterdir(), *(user_models / "urdf").iterdir()]}
+    assert cli.main(["export", "--dir", str(folder)]) == 0   # again: nothing changed, nothing written
+    assert capsys.readouterr().out.endswith(f": 0 changed and written, {ours + 3} current and left as they are\n")
+    assert {p: p.stat().st_mtime_ns for p in written} == written
     assert sorted(p.name for p in (user_models / "urdf").iterdir()) == ["user_rod.map.json", "user_rod.urdf",
                                                                        "user_rod.xml"]
     assert (folder / "pendulum.urdf").is_file() and not list(folder.glob("user_rod.*"))

@@ -71,7 +71,8 @@ from harness.errors import HarnessError
 from harness.kept import keep, read_kept
 from harness.derivation import bodies
 from harness.derivation.bodies import element_force, element_generalized_force, point_in_q, rotational_jacobian
-from harness.modeling.claims import ENGINE_QUANTITIES, Claim, as_matrix as _as_matrix, symbols as _symbols
+from harness.modeling.claims import ENGINE_QUANTITIES, Claim, as_matrix as _as_matrix, coordinate_change, select
+from harness.modeling.claims import symbols as _symbols
 from harness.modeling.system import WORLD, System
 from harness.compare.strategies import (draws, hypothesis_examples, kept_path, state_from,
                                         state_record, states_seed, system_states)
@@ -224,7 +225,7 @@ def _derive_claimed(system: System, claim: Claim):
         expr = d.g.jacobian(system.q)
     else:
         expr = getattr(d, kind)
-    return _select(sp.Matrix(expr) if isinstance(expr, sp.MatrixBase) else sp.Matrix([expr]), claim.index)
+    return select(sp.Matrix(expr) if isinstance(expr, sp.MatrixBase) else sp.Matrix([expr]), claim.index)
 
 
 BODY_KINDS = {"R", "S", "omega", "I_0", "T_t", "T_r", "V"}
@@ -280,17 +281,9 @@ def _point(system: System, name: str) -> sp.Matrix:
     return point_in_q(system, system.point(name))
 
 
-def _select(m: sp.Matrix, index):
-    if index is None:
-        return m
-    if len(index) == 2:
-        return sp.Matrix([m[index]])
-    return m[index[0], :] if m.shape[0] > 1 and m.shape[1] > 1 else sp.Matrix([m[index[0]]])
-
-
 def _selected(values, index) -> np.ndarray:
-    """The entries of :func:`_select` taken from an engine's numbers, without building a SymPy matrix of them (280 µs
-    a state): a vector is a column, a single index counts row by row."""
+    """The entries of :func:`~harness.modeling.claims.select` taken from an engine's numbers, without building a
+    SymPy matrix of them (280 µs a state): a vector is a column, a single index counts row by row."""
     m = np.asarray(values, dtype=float)
     m = m.reshape(-1, 1) if m.ndim == 1 else m
     if index is None:
@@ -327,17 +320,25 @@ _PRINTED_TEXT: dict = {}
 _SYMBOLS_TEXT: dict = {}
 
 
-def _printed(claim: Claim, substitution: dict | None) -> sp.Matrix:
-    """The printed expression as a matrix with ``substitution`` made, once per claim and substitution."""
+def _printed(system: System, claim: Claim, substitution: dict | None) -> sp.Matrix:
+    """The printed expression as a matrix with ``substitution`` made, once per claim and substitution; under a
+    convention that counts coordinates otherwise (:func:`~harness.modeling.claims.coordinate_change`), the quantity
+    taken to the model's coordinates as its kind changes with them (``Jᵀ M J``, ``Jᵀ g``, …): substituting the
+    coordinates alone would keep, e.g., ``cos(−φ) = cos φ`` in an entry of ``M`` whose sign the change flips."""
     def make():
         printed = _as_matrix(claim.printed)
-        return printed.xreplace(substitution) if substitution else printed
-    return _once(_PRINTED, (claim, substitution), make)
+        if not substitution:
+            return printed
+        change = coordinate_change(system, substitution, f"claim {claim.equation}")
+        if change is None:
+            return printed.xreplace(substitution)
+        return change.quantity(claim.quantity.split(":")[0], printed.xreplace(change.substitution), claim.index)
+    return _once(_PRINTED, (system, claim, substitution), make)
 
 
-def printed_text(claim: Claim, substitution: dict | None) -> str:
+def printed_text(system: System, claim: Claim, substitution: dict | None) -> str:
     """``srepr`` of :func:`_printed` (what decides every function built from it), once per claim and substitution."""
-    return _once(_PRINTED_TEXT, (claim, substitution), lambda: sp.srepr(_printed(claim, substitution)))
+    return _once(_PRINTED_TEXT, (system, claim, substitution), lambda: sp.srepr(_printed(system, claim, substitution)))
 
 
 def derivation_of(system: System, claim: Claim) -> tuple[str, ...] | None:
@@ -453,9 +454,9 @@ def evaluate_claim(system: System, claim: Claim, state: State, engines=CLAIM_ENG
                    substitution: dict | None = None) -> dict[str, float]:
     """Relative error of the printed expression against each source at one state (relative to tolerance:
     a value ≤ 1 means 'agrees')."""
-    printed = _printed(claim, substitution)
+    printed = _printed(system, claim, substitution)
     fn = _lambdify(system, printed, key=("printed", id(system), id(claim), id(substitution)),
-                   recipe=lambda: ("claims: printed", printed_text(claim, substitution)))
+                   recipe=lambda: ("claims: printed", printed_text(system, claim, substitution)))
     kind = claim.quantity.split(":")[0]
     if kind == "equilibrium":
         n = len(system.coordinates)
@@ -500,14 +501,14 @@ def evaluate_claim(system: System, claim: Claim, state: State, engines=CLAIM_ENG
         if kind == "eom":
             # the residual's own q̈ coefficients ∂R/∂q̈ give its unit: M (a force row) or 1 (solved for q̈)
             key = (id(system), id(claim), id(substitution))
-            accel = _accel_coefficients(system, printed, key, lambda: printed_text(claim, substitution))
+            accel = _accel_coefficients(system, printed, key, lambda: printed_text(system, claim, substitution))
             coefficients = np.abs(np.asarray(accel(*args), dtype=float))
             terms = s["qdd"] * float(np.max(coefficients)) if np.any(coefficients) else \
                 max(s["qdd"] * float(np.max(np.abs(ev.M))), s["g"])
             # and at least the size of its own terms: a residual whose q̈ terms cancel (a balance its printed
             # ingredients satisfy identically) is round-off of those terms, not of its vanished coefficient
             terms = max(terms, _terms_size(system, lambda: printed, ("terms",) + key, args,
-                                           lambda: (printed_text(claim, substitution),)))
+                                           lambda: (printed_text(system, claim, substitution),)))
             residual = value
             out[source] = relative_error(residual, np.zeros_like(residual), terms) / (FLOAT64_RTOL * kappa)
             continue
@@ -532,7 +533,7 @@ def evaluate_claim(system: System, claim: Claim, state: State, engines=CLAIM_ENG
             # at least the size of the terms either side is the sum of: a value that cancels to 0 (a bearing
             # force's component) is compared at the round-off of its terms
             scale = max(scale, _terms_size(system, lambda: printed, ("terms", id(system), id(claim), id(substitution)),
-                                           args, lambda: (printed_text(claim, substitution),)),
+                                           args, lambda: (printed_text(system, claim, substitution),)),
                         _terms_size(system, lambda: _derived(system, claim), ("terms derived", id(system), id(claim)),
                                     args, _derived_recipe(system, claim)))
         else:
@@ -617,7 +618,7 @@ def _identity(check: str, system: System, claim: Claim, substitution: dict | Non
     kept counterexample (:func:`_minimal`) beside the code, the packages, the settings and the seed, called only
     where one is kept."""
     return lambda: (check, claim.equation, claim.quantity, repr(claim.index), claim.at,
-                    printed_text(claim, substitution), *_derived_recipe(system, claim)(), repr(tuple(engines)))
+                    printed_text(system, claim, substitution), *_derived_recipe(system, claim)(), repr(tuple(engines)))
 
 
 def _shrunk_against(failing: list[str], engines) -> tuple:

@@ -271,11 +271,9 @@ def _is_zero(matrix, seconds: float) -> bool:
 def difference(system: System, claim: Claim, subst: dict | None):
     """``printed − derived`` in the model's symbols (None for kinds compared only numerically), as the kind
     defines equality: V up to a constant (its gradient), C·q̇ for Cqd, eom rows up to a factor."""
-    from harness.compare.claims import _derived
+    from harness.compare.claims import _derived, _printed, at_rest, on_motion
 
-    from harness.compare.claims import at_rest, on_motion
-
-    printed = as_matrix(claim.printed).xreplace(subst or {})
+    printed = _printed(system, claim, subst or None)
     if claim.at:
         printed = printed.xreplace(at_rest(system, claim))
     kind = claim.quantity.split(":")[0]
@@ -329,7 +327,7 @@ def decide(system: System, claim: Claim, subst: dict | None) -> str:
     identity = derivation_of(system, claim)
     if identity is None:
         return _decide(system, claim, subst)
-    where = kept.path("decisions", system.name, *identity, printed_text(claim, subst or None))
+    where = kept.path("decisions", system.name, *identity, printed_text(system, claim, subst or None))
     doc = kept.read_kept(where)
     if doc in ("symbolic", "numeric only"):
         return doc

@@ -126,8 +126,115 @@ def symbols(system: System):
     return [system.q, system.qd, accel, system.p, system.u]
 
 
+# How a quantity of each kind changes with the coordinates, q_printed = φ(q) with a constant Jacobian J = ∂φ/∂q
+# (a coordinate counted the other way round, from another zero, or in other units): "both" Jᵀ P J (a matrix of
+# coordinate pairs), "rows" Jᵀ P (generalized forces and balances, (5.58)–(5.60)), "columns" P J (a Jacobian onto
+# world vectors). The kinds not named are scalars, world or parameter quantities: the substitution alone.
+COVARIANCE = {"M": "both", "C": "both", "K": "both", "Cqd": "rows", "g": "rows", "f_np": "rows", "eom": "rows",
+              "J_v": "columns", "J_omega": "columns"}
+# kinds whose printed value is itself a coordinate, an input or one coordinate's term: a coordinate convention on
+# them is refused when the module loads (write them in the model's coordinates)
+NOT_UNDER_COORDINATE_CHANGE = {"equilibrium", "steady", "holding", "constraint", "dL_dqd", "ddt_dL_dqd", "dL_dq"}
+
+
+@dataclass(frozen=True)
+class CoordinateChange:
+    """A convention that counts coordinates otherwise, ``q_printed = φ(q)``: the substitution completed with the
+    rates and accelerations ``q̇ → J q̇``, ``q̈ → J q̈``, and the constant Jacobian ``J = ∂φ/∂q``."""
+
+    substitution: dict
+    J: sp.Matrix
+
+    def quantity(self, kind: str, printed: sp.Matrix, index=None) -> sp.Matrix:
+        """The printed quantity of ``kind`` (``printed``, the substitution made) in the model's coordinates: Jᵀ P J,
+        Jᵀ P or P J (:data:`COVARIANCE`); one entry or row (``index``) by J's diagonal."""
+        how = COVARIANCE.get(kind)
+        if how is None:
+            return printed
+        J = self.J
+        if index is not None:  # J is diagonal (validate_claims): each entry scales by its coordinates' factors
+            n = J.shape[0]
+            full = sp.ones(*{"both": (n, n), "rows": (n, 1), "columns": (3, n)}[how])
+            factors = J.T * full * J if how == "both" else J.T * full if how == "rows" else full * J
+            return printed.multiply_elementwise(select(factors, index).reshape(*printed.shape))
+        if how == "both":
+            return J.T * printed * J
+        if how == "rows":
+            column = printed.reshape(len(printed), 1)
+            return (J.T * column).reshape(*printed.shape)
+        return printed * J
+
+
+def coordinate_change(system: System, substitution: dict | None, where: str = "") -> CoordinateChange | None:
+    """The coordinate change a convention's ``substitution`` makes (None: it renames no coordinate). Each coordinate
+    it maps, ``q_k → φ_k(q)``, must be affine in the coordinates (a constant Jacobian: the quantities then change
+    by it alone, :meth:`CoordinateChange.quantity`) with ``J`` regular; its rates and accelerations follow
+    (``q̇ → J q̇``), and a rate or acceleration given must be that one. Otherwise :class:`ModelError` (``where``
+    names the claim and convention)."""
+    from harness.errors import ModelError
+
+    if not substitution:
+        return None
+    q, qd = list(system.q), list(system.qd)
+    qdd = [c.accel for c in system.coordinates]
+    if not any(k in substitution for k in q):
+        for k in substitution:
+            if k in qd or k in qdd:
+                raise ModelError(f"{where}: it substitutes {k}, a rate or acceleration, and not its coordinate: give "
+                                 "the coordinate's substitution (its rate and acceleration follow from it)")
+        return None
+    phi = sp.Matrix([substitution.get(c, c) for c in q])
+    J = phi.jacobian(q)
+    state = set(q) | set(qd) | set(qdd)
+    if J.free_symbols & state:
+        raise ModelError(f"{where}: the coordinates are mapped by {list(phi)}, which is not affine in them (its "
+                         "Jacobian depends on the state): a convention may count a coordinate the other way round, "
+                         "from another zero or in other units, q -> a q + b")
+    if J.det() == 0:
+        raise ModelError(f"{where}: the coordinates are mapped by {list(phi)}, whose Jacobian is singular")
+    completed = dict(substitution)
+    for symbols, image in ((qd, J * sp.Matrix(qd)), (qdd, J * sp.Matrix(qdd))):
+        for symbol, value in zip(symbols, image):
+            given = substitution.get(symbol)
+            if given is not None and sp.simplify(given - value) != 0:
+                raise ModelError(f"{where}: it substitutes {symbol} -> {given}, but its coordinates' map gives "
+                                 f"{value}: leave it out (it follows from the coordinates)")
+            completed[symbol] = value
+    return CoordinateChange(completed, J)
+
+
+def _check_conventions(system: System, claim: Claim) -> None:
+    """Each convention of ``claim`` that counts coordinates otherwise (:func:`coordinate_change`) is one the
+    claim's kind can be taken through: not the value of a coordinate or input, nor one coordinate's term; one entry
+    or row only under a diagonal Jacobian (a convention mixing coordinates needs the whole quantity)."""
+    from harness.errors import ModelError
+
+    kind = claim.quantity.split(":")[0]
+    for name, substitution in claim.conventions.items():
+        where = f"claim {claim.equation}, convention {name!r}"
+        change = coordinate_change(system, substitution, where)
+        if change is None:
+            continue
+        if kind in NOT_UNDER_COORDINATE_CHANGE:
+            raise ModelError(f"{where}: a {kind} claim cannot be taken to other coordinates; write the printed "
+                             "expression in the model's coordinates and say so in note=")
+        if claim.index is not None and COVARIANCE.get(kind) and not change.J.is_diagonal():
+            raise ModelError(f"{where}: the convention mixes coordinates, so one entry of {kind} is not one entry "
+                             "of the model's; claim the whole quantity (no index)")
+
+
 def as_matrix(expr) -> sp.Matrix:
     return sp.Matrix(expr) if isinstance(expr, (sp.MatrixBase, list, tuple)) else sp.Matrix([expr])
+
+
+def select(m: sp.Matrix, index) -> sp.Matrix:
+    """What a claim's ``index`` takes of a quantity: all of it (None), one entry ``(i, j)``, or ``(i,)`` one row of a
+    matrix or one entry of a vector."""
+    if index is None:
+        return m
+    if len(index) == 2:
+        return sp.Matrix([m[index]])
+    return m[index[0], :] if m.shape[0] > 1 and m.shape[1] > 1 else sp.Matrix([m[index[0]]])
 
 
 def _check_point(system: System, claim: Claim) -> None:
@@ -184,6 +291,7 @@ def validate_claims(system: System, claims) -> None:
                                  f"use the model's own")
         _check_point(system, claim)
         _check_shape(system, claim)
+        _check_conventions(system, claim)
         if claim.defines is not None and as_matrix(claim.defines).shape != as_matrix(claim.printed).shape:
             raise ModelError(f"claim {claim.equation}: defines has another shape than the printed expression")
         for equation in claim.ingredients:

@@ -364,6 +364,9 @@ def _correction(r) -> str:
     return r.get("sentence") or ""
 
 
+NO_FINDINGS = "none: every printed equation checked holds as printed"
+
+
 def markdown(records, lecture: set[str] | None = None) -> str:
     """``errata.md``: the sheet in Markdown (``lecture``: see :func:`unclaimed`)."""
     counts = _counts(records)
@@ -379,7 +382,7 @@ def markdown(records, lecture: set[str] | None = None) -> str:
              "## Findings", "", "| equation | system | kind | correction |", "|---|---|---|---|"]
     findings = [r for r in records if r["classification"] in FINDINGS]
     lines += [f"| {r['equation']} | {r['system']} | {KIND.get(r['classification'], r['classification'])} | "
-              f"{_correction(r)} |" for r in findings]
+              f"{_correction(r)} |" for r in findings] or [f"| {NO_FINDINGS} | | | |"]
     lines += ["", "## All printed equations", "", "| system | equation | quantity | classification | decided by |",
               "|---|---|---|---|---|"]
     lines += [f"| {r['system']} | {r['equation']} | {r['quantity']} | {r['classification']} | "
@@ -456,7 +459,11 @@ def sheet(records, lecture: set[str] | None = None) -> str:
     body += [f"<tr><td><a href='#{_anchor(r)}'>{escape(r['equation'])}</a></td><td>{escape(r['system'])}</td>"
              f"<td>{escape(KIND.get(r['classification'], r['classification']))}</td>"
              f"<td>{escape(_correction(r))}</td></tr>" for r in findings]
+    if not findings:
+        body.append(f"<tr><td colspan='4'>{NO_FINDINGS}</td></tr>")
     body.append("</table><h2>Findings</h2>")
+    if not findings:
+        body.append(f"<p>{NO_FINDINGS}</p>")
     for r in findings:
         body.append(f"<section id='{_anchor(r)}'><h3>{escape(r['equation'])} ({escape(r['system'])}): "
                     f"{escape(r['classification'])}</h3>")

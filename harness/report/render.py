@@ -225,6 +225,12 @@ def _states(system, scenes) -> list:
     return out
 
 
+BODIES_DRAWN = ("each body drawn as the homogeneous cuboid of its mass and inertia tensor (a sphere where the tensor "
+                "is isotropic, a small sphere for a point mass), not as its shape: a slender rod of large inertia is "
+                "a long thin box; thin capsules join each link's joint to its centre of mass and to its children's "
+                "joints")
+
+
 def picture(system, xml: str, path: Path, scenes=()) -> dict:
     """The mechanism at its first scene's initial state (else q = 0), coordinates marked; writes ``path``."""
     from PIL import Image
@@ -242,7 +248,8 @@ def picture(system, xml: str, path: Path, scenes=()) -> dict:
     where = "at the initial state of scene " + scenes[0].name if scenes else "at q = 0"
     lines = "; lines: its springs and dampers between points (spatial tendons)" if scene.model.ntendon else ""
     return {"size": size, "caption": f"Rendered by MuJoCo ({backend()}) from {_mjcf_source(system)} {where}; "
-                                      f"labels: the lecture coordinates each joint follows{lines}{_in_joints(system)}."}
+                                      f"labels: the lecture coordinates each joint follows{lines}{_in_joints(system)}; "
+                                      f"{BODIES_DRAWN}."}
 
 
 def _in_joints(system) -> str:

@@ -416,7 +416,9 @@ def _common(out: Path, versions: dict, claims: bool) -> dict:
     extra_pages = [{"file": "errata.html", "title": "Errata"}] if claims else []
     extra_pages += [{"file": file, "title": title} for file, title, source, _, _ in OPTIONAL_PAGES
                     if (out / source).is_file()]
-    return {"extra_pages": extra_pages, "versions_line": ", ".join(f"{k} {v}" for k, v in versions.items())}
+    return {"extra_pages": extra_pages, "versions_line": ", ".join(f"{k} {v}" for k, v in versions.items()),
+            "bench_link": '<a href="../bench.html">Benchmarks</a>' if (out / "bench.json").is_file() else
+            "Benchmarks, not in this folder: <code>harness bench --out</code> it"}
 
 
 def write_errata(out: Path | str, claims: list[dict], lecture: set[str] | None, env=None, common=None) -> Path:
@@ -529,7 +531,8 @@ def build_site(out: Path | str, catalogue=None, progress=None, jobs: int = 1) ->
     hard_line = _hard_line(_read_json(out / "hard.json"))
     index = env.get_template("index").render(
         systems=views, passed=sum(v["passed"] for v in views), check_names=check_names,
-        hypothesis=doc.get("hypothesis"), policy=doc.get("tolerance_policy", ""), versions=versions, root="",
+        hypothesis=doc.get("hypothesis"), versions=versions, root="",
+        policy=markdown_html(doc.get("tolerance_policy", "").replace("``", "`")),  # a docstring: RST's code marks
         margin_line=margins.summary_line(doc), margin_rows=margins.above(doc), margin_limit=margins.MARGIN,
         margin_figure="figures/margins.svg" if margin_figure else None, bounds=doc.get("bounds") or {},
         claim_margin_rows=margins.claim_rows(claims), claims_present=bool(claims),

@@ -111,7 +111,7 @@ warning fails its system).</p>
 {% for w in warnings %}<tr class="{{ 'ok' if w.explained else 'fail' }}"><td>{{ w.system }}</td><td>{{ w.engine }}</td><td>{{ w.where }}</td><td>{{ w.message }}</td><td class="num">{{ w.count }}</td><td>{{ 'yes' if w.explained else 'NO' }}</td><td>{{ w.reason }}</td></tr>{% endfor %}</table>
 {% else %}<p>No engine raised a warning.</p>{% endif %}
 <h2 id="policy">Tolerance policy</h2>
-<pre>{{ policy }}</pre>
+{{ policy|safe }}
 <h2>Versions and platform</h2>
 <table>{% for k, v in versions.items() %}<tr><th>{{ k }}</th><td>{{ v }}</td></tr>{% endfor %}</table>
 {% endblock %}
@@ -200,7 +200,7 @@ number follows (compared in <a href="#claims">Printed equations</a>).</p>
 {% if pr.nothing %}<tr><td>idle / pruned</td><td>{{ pr.nothing }}</td></tr>
 {% else %}<tr><td>left out when pruned</td><td>{{ pr.left_out or "no effect" }}{% if pr.left_out_elements %}; force elements {{ pr.left_out_elements }}{% endif %}{% if pr.held %}; the friction on {{ pr.held }} held (it never switches: no breakaway looked for){% endif %}</td></tr>
 {% for r in pr.ratios %}<tr><td>time idle / pruned, {{ r.source }}</td><td class="measured">{{ r.ratio }}</td></tr>{% endfor %}{% endif %}</table>
-{% if not pr.nothing %}<p><small>Idle: every effect present, the left-out ones multiplied by 0; pruned: without them. The check proves pruned = idle from one run of each; the time ratios are the benchmark's (<a href="../bench.html">Benchmarks</a>: the median ratio of {{ pr.repeats or "N" }} alternating pairs of runs (up to {{ pr.most_pairs }} while its verdict against {{ pr.goal }} × is undecided), one worker, in brackets its ≥ 99.5 % confidence interval widened by the bench's 5 % resolution; {{ pr.measured or "not measured yet: harness bench --parts pruning" }}). The most a run's ratio can be: <i>per call</i>, one evaluation of the right-hand side, idle against pruned (a run our code integrates, by odeint's LSODA, takes the same steps in both); <i>acting tree</i>, MuJoCo's idle run against the tree with the elements of the effects that act alone (bodies, joints, inertias, an acting spring's tendon, an acting input's actuator; every other effect's disable flag set), which no pruned model that simulates the scene steps faster than. Where that bound's interval ends below {{ pr.goal }} ×, the target is out of reach of the source.</small></p>{% endif %}
+{% if not pr.nothing %}<p><small>Idle: every effect present, the left-out ones multiplied by 0; pruned: without them. The check proves pruned = idle from one run of each; the time ratios are the benchmark's ({{ bench_link|safe }}: the median ratio of {{ pr.repeats or "N" }} alternating pairs of runs (up to {{ pr.most_pairs }} while its verdict against {{ pr.goal }} × is undecided), one worker, in brackets its ≥ 99.5 % confidence interval widened by the bench's 5 % resolution; {{ pr.measured or "not measured yet: harness bench --parts pruning" }}). The most a run's ratio can be: <i>per call</i>, one evaluation of the right-hand side, idle against pruned (a run our code integrates, by odeint's LSODA, takes the same steps in both); <i>acting tree</i>, MuJoCo's idle run against the tree with the elements of the effects that act alone (bodies, joints, inertias, an acting spring's tendon, an acting input's actuator; every other effect's disable flag set), which no pruned model that simulates the scene steps faster than. Where that bound's interval ends below {{ pr.goal }} ×, the target is out of reach of the source.</small></p>{% endif %}
 {% endif %}
 {% if sc.notes %}<ul>{% for k, v in sc.notes.items() %}<li>{{ k }}: {{ v }}</li>{% endfor %}</ul>{% endif %}
 {% if sc.strip %}<figure class="strip"><img src="../{{ sc.strip }}" width="{{ sc.strip_size[0] }}" height="{{ sc.strip_size[1] }}" alt="filmstrip of {{ s.name }} {{ sc.scene }}">
@@ -212,7 +212,7 @@ number follows (compared in <a href="#claims">Printed equations</a>).</p>
 {% if wp.figure %}<p><img class="figure" src="../{{ wp.figure }}" alt="work-precision diagram of {{ s.name }} {{ sc.scene }}: error against wall time per configuration"></p>{% endif %}
 {% if wp.fastest %}<table><tr><th>source</th><th>fastest configuration with error ≤ {{ wp.accuracy }}</th><th>error</th><th>seconds</th><th>q̈ evaluations</th></tr>
 {% for row in wp.fastest %}<tr><td>{{ row.source }}</td><td>{{ row.configuration }}</td><td class="num">{{ row.error }}</td><td class="num">{{ row.seconds }}</td><td class="num">{{ row.evaluations }}</td></tr>{% endfor %}</table>{% endif %}
-<p><small>Measured by <code>{{ wp.command }}</code> on {{ wp.generated }} ({{ wp.machine }}); timings are of that machine, the errors of any (<a href="../bench.html">Benchmarks</a>).</small></p>
+<p><small>Measured by <code>{{ wp.command }}</code> on {{ wp.generated }} ({{ wp.machine }}); timings are of that machine, the errors of any ({{ bench_link|safe }}).</small></p>
 {% endif %}
 {% else %}<p>No scene results in results.json{% if model and model.scene_names %} (declared scenes: {{ model.scene_names|join(", ") }}; they appear once <code>harness check</code> simulates them){% endif %}.</p>{% endfor %}
 <h2 id="claims">Printed equations</h2>
