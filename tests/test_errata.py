@@ -153,3 +153,37 @@ def test_a_sheet_over_ones_own_models_is_not_titled_the_lectures_errata():
     assert errata.title(own, lecture) == "Errata of the printed equations"
     for text in (errata.sheet(own, lecture), errata.markdown(own, lecture)):
         assert "of the lecture" not in text and "from outside the lecture" in text and "furuta" in text
+
+
+def test_a_row_with_a_wrong_coupling_sign_blames_that_term_alone():
+    """An equation-of-motion row whose coupling term has the wrong sign: its difference from the derived row is
+    that term alone. The row's factor (a printed row may be divided through, or have the other sign) is taken from
+    its own coordinate's acceleration first; taken from the first coordinate's, the wrong coupling had made it −1 and
+    the correction blamed every other term of the row (found on a Furuta pendulum from a paper)."""
+    from harness.compare.errata import difference
+    from harness.derivation.derive import derive
+
+    d = derive(SYSTEM)
+    accel = sp.Matrix([c.accel for c in SYSTEM.coordinates])
+    row = (d.M * accel + d.C * sp.Matrix(SYSTEM.qd) + d.g - d.f_np)[1]
+    coupling = d.M[1, 0] * accel[0]
+    claim = Claim("(t-row)", "eom", row - 2 * coupling, index=(1,))
+    assert sp.simplify(difference(SYSTEM, claim, None)[0] + 2 * coupling) == 0
+    assert classify(SYSTEM, claim, examples=10).classification == "erratum"
+
+
+def test_a_verdict_resting_on_an_identity_is_the_same_on_a_slow_machine(monkeypatch):
+    """(5.110) writes out the damper's generalized force from the printed force (5.109), which is wrong: it follows
+    from that erratum. Whether it is exactly what (5.109) gives was decided by a reduction under a CPU budget: 2.01
+    CPU s of the 2 s cold on one machine ("erratum"), 1.5 s on another ("follows from erratum"). Decided at random
+    values, a machine on which no reduction finishes in time classifies it the same."""
+    from harness.catalogue import repository
+    from harness.compare import errata as decisions
+
+    monkeypatch.setattr(decisions, "_is_zero", lambda matrix, seconds: False)   # no reduction ever in time
+    monkeypatch.setattr(decisions, "is_zero", lambda matrix, seconds=0.0: False)
+    claims = repository().claims("planar_manipulator")
+    claim = next(c for c in claims if c.equation == "(5.110)")
+    verdict = classify(SYSTEM, claim, examples=10, claims=claims)
+    assert verdict.classification == "follows from erratum" and verdict.blame == ["(5.109)"]
+    assert verdict.decided_by == decisions.AT_RANDOM_VALUES

@@ -98,7 +98,7 @@ class Classification:
     examples: int = 0
     renaming: dict | None = None        # printed symbol -> model symbol under which a notation typo holds
     blame: list | None = None           # ingredient equations a "follows from erratum" claim fails through
-    decided_by: str | None = None       # "symbolic" or "numeric only"
+    decided_by: str | None = None       # "symbolic", "numeric only", "identity at random values", "counterexample"
     state: object = None                # the counterexample as a State
     substitution: dict | None = None    # what the verdict was reached with (ingredients, renaming)
 

@@ -15,6 +15,9 @@
   is ``decided_by: "symbolic"``, else ``"numeric only"``. The classification never depends on it. The answer is
   remembered on disk with the derivations (:func:`harness.derivation.cache.remembered`), keyed by the expression
   and this module's code: 35 of the 160 CPU s of a claims run were spent deciding again what the last run decided.
+  Where a classification itself rests on an identity (a generalized force written out from its printed force), it
+  is decided at random values to 30 digits (:func:`same_at_random_values`, ``decided_by: "identity at random
+  values"``), the same on every machine.
 
 Classifications: ``confirmed``, ``C differs, C·q̇ agrees``, ``convention-dependent``, ``notation typo``,
 ``follows from erratum``, ``erratum`` (substantive), ``engines disagree``.
@@ -24,6 +27,7 @@ from __future__ import annotations
 
 import difflib
 import itertools
+import random
 import time
 from pathlib import Path
 
@@ -37,6 +41,7 @@ from harness.modeling.claims import Claim, as_matrix
 from harness.modeling.system import Point, System
 
 HOLDS = ("confirmed", "C differs, C·q̇ agrees")
+AT_RANDOM_VALUES = "identity at random values"   # decided_by of a verdict that rests on same_at_random_values
 SYMBOLIC_BUDGET = 2.0      # CPU seconds of symbolic reduction per claim (the machine's load does not shorten it)
 SYMBOLIC_SIZE = 3000       # count_ops above which only expansion is tried
 RENAMINGS = 60             # at most this many renamings are tried per claim
@@ -146,7 +151,7 @@ def _classify(system, claim, engines, examples, claims):
                 return verdict
             if _follows_from_printed(system, claim, claims, printed):
                 verdict.classification, verdict.blame = "follows from erratum", wrong
-                verdict.decided_by = "symbolic"
+                verdict.decided_by = AT_RANDOM_VALUES
                 return verdict
             verdict = again  # its own mistake, judged with the corrected ingredients
             verdict.blame = wrong
@@ -165,7 +170,7 @@ def _follows_from_printed(system, claim, claims, printed) -> bool:
         if ingredient.quantity == f"force:{name}":
             force = as_matrix(ingredient.printed).xreplace(printed)
             expected = element_generalized_force(system, name, force)
-            return is_zero(as_matrix(claim.printed).xreplace(printed) - expected)
+            return same_at_random_values(as_matrix(claim.printed).xreplace(printed), expected)
     return False
 
 
@@ -246,6 +251,29 @@ def reduce(expr, seconds: float = SYMBOLIC_BUDGET):
     return best, False
 
 
+def same_at_random_values(a, b, points: int = 3, seed: int = 0) -> bool:
+    """Whether the expressions (or matrices) ``a`` and ``b`` agree at ``points`` random values in [0.3, 1.7] of
+    their symbols (seeded), evaluated to 30 digits: two forms of one expression then differ by about 1e-28 of
+    their size, two different ones by a part of it, so the bound 1e-20 has a margin of eight digits on either
+    side. A verdict that rests on an identity is decided so, not by a reduction under a CPU budget, whose answer
+    depends on the machine's speed: (5.110), a generalized force written out from its printed force, took 2.01 CPU
+    s of the 2 s budget cold on one machine (no: "erratum") and 1.5 s on another (yes: "follows from erratum")."""
+    a, b = as_matrix(a), as_matrix(b)
+    if a.shape != b.shape:
+        if len(a) != len(b):
+            return False
+        a = a.reshape(*b.shape)
+    symbols = sorted((a.free_symbols | b.free_symbols), key=str)
+    rng = random.Random(seed)
+    for _ in range(points):
+        at = {x: sp.Float(rng.uniform(0.3, 1.7), 30) for x in symbols}
+        for x, y in zip(a, b):
+            u, v = complex(x.xreplace(at).evalf(30)), complex(y.xreplace(at).evalf(30))
+            if abs(u - v) > 1e-20 * (abs(u) + abs(v)) + 1e-300:
+                return False
+    return True
+
+
 REDUCTION_CODE = (Path(__file__), Path(limits.__file__))
 """The modules whose code decides a reduction: part of the key under which its result is remembered."""
 
@@ -299,16 +327,27 @@ def difference(system: System, claim: Claim, subst: dict | None):
     if kind == "L":  # up to a constant, as V
         return (printed - derived).jacobian([*system.q, *system.qd])
     if kind == "eom":
-        return sp.Matrix([r - row_factor(system, r, e) * e for r, e in zip(printed, derived)])
+        return sp.Matrix([r - row_factor(system, r, e, own) * e
+                          for r, e, own in zip(printed, derived, rows(claim, len(derived)))])
     return printed - derived
 
 
-def row_factor(system: System, printed_row, derived_row):
+def rows(claim: Claim, n: int) -> list[int]:
+    """The coordinates whose equations of motion the ``n`` rows of an eom claim are: its ``index`` row, or all."""
+    return [claim.index[0]] if claim.index else list(range(n))
+
+
+def row_factor(system: System, printed_row, derived_row, own: int | None = None):
     """The factor a printed equation-of-motion row may carry against the derived row (divided through by a
     mass, or written with the other sign): the ratio of their q̈ coefficients when it is free of the state,
-    else 1."""
+    else 1. The row's ``own`` coordinate's acceleration first (its coefficient, an entry on M's diagonal, is never
+    0): a coupling term printed with the wrong sign would otherwise give the factor −1, and the correction would
+    blame every other term of the row."""
     state = set(system.q) | set(system.qd) | {c.accel for c in system.coordinates} | set(system.u)
-    for c in system.coordinates:
+    order = list(system.coordinates)
+    if own is not None and own < len(order):
+        order.insert(0, order.pop(own))
+    for c in order:
         de, dr = sp.diff(derived_row, c.accel), sp.diff(printed_row, c.accel)
         if de != 0 and dr != 0:
             factor = sp.cancel(dr / de)

@@ -129,7 +129,7 @@ def finding(system, verdict, claims) -> dict:
     if kind == "equilibrium":
         return out
     if kind == "eom":
-        derived = _scaled_like(printed_model, derived, system)
+        derived = _scaled_like(printed_model, derived, system, claim)
     ingredient_symbols = {s for c in ingredients_of(claim, claims) for s in c.defined}
     keep = set(as_matrix(claim.printed).free_symbols) | {s for s, _ in relations if s in ingredient_symbols}
     printed_shown = as_matrix(claim.printed)
@@ -149,20 +149,19 @@ def finding(system, verdict, claims) -> dict:
     return out
 
 
-def _scaled_like(printed, derived, system):
+def _scaled_like(printed, derived, system, claim):
     """A derived residual row scaled to the printed row's q̈ coefficients (a printed equation may be divided
     through)."""
-    from harness.compare.errata import row_factor
+    from harness.compare.errata import row_factor, rows
 
-    rows = [e * row_factor(system, r, e) for r, e in zip(printed, derived)]
-    return sp.Matrix(rows).reshape(*derived.shape)
+    scaled = [e * row_factor(system, r, e, own) for r, e, own in zip(printed, derived, rows(claim, len(derived)))]
+    return sp.Matrix(scaled).reshape(*derived.shape)
 
 
 def along_the_line(system, claim, printed, derived) -> str | None:
     """For the force of a spring or damper: the sentence when the derived force is the printed one's component
     along the element's line ``r`` (``r rᵀ f / rᵀ r``), tested at random values of every symbol."""
-    import random
-
+    from harness.compare.errata import same_at_random_values
     from harness.derivation.bodies import element_vector, point_element
 
     kind, _, name = claim.quantity.partition(":")
@@ -170,13 +169,8 @@ def along_the_line(system, claim, printed, derived) -> str | None:
         return None
     r, _ = element_vector(system, point_element(system, name))
     projected = r * (r.T * printed)[0] / (r.T * r)[0]
-    symbols = sorted((projected - derived).free_symbols, key=str)
-    rng = random.Random(0)
-    for _ in range(3):
-        at = {x: rng.uniform(0.3, 1.7) for x in symbols}
-        if any(abs(complex(e.xreplace(at).evalf())) > 1e-9 * (1 + abs(complex(d.xreplace(at).evalf())))
-               for e, d in zip(projected - derived, derived)):
-            return None
+    if not same_at_random_values(projected, derived):
+        return None
     return (f"{claim.equation}: a {type(point_element(system, name)).__name__.lower()} acts along its line: only the "
             f"component of the printed force along r (r rᵀ f / rᵀ r) is its force; the printed vector also has the "
             f"component across the line.")

@@ -418,7 +418,7 @@ def _common(out: Path, versions: dict, claims: bool) -> dict:
                     if (out / source).is_file()]
     return {"extra_pages": extra_pages, "versions_line": ", ".join(f"{k} {v}" for k, v in versions.items()),
             "bench_link": '<a href="../bench.html">Benchmarks</a>' if (out / "bench.json").is_file() else
-            "Benchmarks, not in this folder: <code>harness bench --out</code> it"}
+            "Benchmarks: no bench.json in this folder, <code>harness bench --out</code> writes it"}
 
 
 def write_errata(out: Path | str, claims: list[dict], lecture: set[str] | None, env=None, common=None) -> Path:
