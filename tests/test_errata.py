@@ -65,6 +65,28 @@ def test_decided_symbolically_or_numerically():
     assert not reduce(sp.sin(p1) - p1)[1]
 
 
+def test_the_zero_test_is_a_decision_on_the_circle_without_a_time_budget():
+    """identically_zero proves the identities of sines and cosines that decide the lecture's claims (sums and
+    multiples of angles, powers of s² + c²), exactly; it answers no for what is not zero, for an identity it
+    cannot see (a half angle beside the whole one), and for a numerator beyond its bound of terms: a bound counted
+    before expanding, the same on every machine. It replaced a cascade under a CPU budget whose answer a slower
+    machine could change."""
+    from harness.compare.errata import identically_zero
+
+    a, b = p1, p2
+    assert identically_zero(sp.sin(a + b) - sp.sin(a) * sp.cos(b) - sp.cos(a) * sp.sin(b))
+    assert identically_zero((sp.sin(a)**2 + sp.cos(a)**2)**3 - 1)
+    assert identically_zero(sp.cos(3 * a) - 4 * sp.cos(a)**3 + 3 * sp.cos(a))
+    assert identically_zero(sp.tan(a) * sp.cos(a) - sp.sin(a))
+    assert identically_zero(1 / (1 + sp.cos(a)) - (1 - sp.cos(a)) / sp.sin(a)**2)
+    assert identically_zero(sp.sqrt(l_1 + sp.sin(a)**2) - sp.sqrt(l_1 + 1 - sp.cos(a)**2))
+    assert not identically_zero(sp.sin(a)**2 + sp.cos(a)**2)
+    assert not identically_zero(sp.sin(a) - a)
+    assert not identically_zero(sp.sin(a) - 2 * sp.sin(a / 2) * sp.cos(a / 2))   # half angles: not seen, a no
+    big = sp.prod([sp.sin(x) + sp.cos(x) + 1 for x in sp.symbols("x0:6")])   # 3⁶ = 729 terms expanded
+    assert identically_zero(big - sp.expand(big)) and not identically_zero(big - sp.expand(big), limit=1000)
+
+
 def test_the_cascade_stops_within_its_budget():
     import time
 
@@ -180,10 +202,30 @@ def test_a_verdict_resting_on_an_identity_is_the_same_on_a_slow_machine(monkeypa
     from harness.catalogue import repository
     from harness.compare import errata as decisions
 
-    monkeypatch.setattr(decisions, "_is_zero", lambda matrix, seconds: False)   # no reduction ever in time
-    monkeypatch.setattr(decisions, "is_zero", lambda matrix, seconds=0.0: False)
+    monkeypatch.setattr(decisions, "identically_zero", lambda expr, limit=0: False)   # no zero test ever says yes
+    monkeypatch.setattr(decisions, "is_zero", lambda matrix: False)
     claims = repository().claims("planar_manipulator")
     claim = next(c for c in claims if c.equation == "(5.110)")
     verdict = classify(SYSTEM, claim, examples=10, claims=claims)
     assert verdict.classification == "follows from erratum" and verdict.blame == ["(5.109)"]
     assert verdict.decided_by == decisions.AT_RANDOM_VALUES
+
+
+def test_an_erratum_printed_under_a_convention_is_explained_in_its_coordinates():
+    """M printed with phi_2 counted clockwise (its coupling entries change sign, Jᵀ M J) and M₂₂ wrong: an erratum,
+    explained in the coordinates of its convention, where only M₂₂ differs. Read as printed, the coupling entries
+    also differed and were named (found on a Furuta pendulum from a paper). The corrected matrix is the derived one
+    read back there: the coupling entries as printed."""
+    from harness.derivation.derive import derive
+
+    S = sp.diag(1, -1)
+    M_text = S * derive(SYSTEM).M.xreplace({p2: -p2}) * S
+    M_text[1, 1] = 2 * M_text[1, 1]
+    claim = Claim("(t-conv)", "M", M_text, conventions={"phi_2 counted clockwise": {p2: -p2}})
+    verdict = classify(SYSTEM, claim, examples=10)
+    assert verdict.classification == "erratum"
+    out = errata.finding(SYSTEM, verdict, [claim])
+    assert "(2, 2)" in out["sentence"] and "(1, 2)" not in out["sentence"] and "(2, 1)" not in out["sentence"]
+    assert "phi_2 counted clockwise" in out["sentence"]
+    delta = sp.Matrix(sp.sympify(out["difference"]))
+    assert delta[0, 0] == 0 and delta[0, 1] == 0 and delta[1, 0] == 0 and delta[1, 1] != 0

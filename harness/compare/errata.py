@@ -9,15 +9,16 @@
   itself the finding. Every renaming of it to one of the model's own symbols of the same unit (parameters,
   coordinates, inputs) is tried; a renaming under which the claim holds makes it a *notation typo*
   ("holds after renaming l_e2 → l_2"), found here, never typed into the model.
-* **Decided.** Besides the hypothesis states, ``printed − derived`` is reduced symbolically by a cascade of cheap
-  steps (expand, trigonometric expansion, trigsimp, simplify) of bounded size under a budget of this process's CPU
-  time (so a loaded machine decides the same; a slower CPU may decide fewer): a claim the cascade reduces to zero
-  is ``decided_by: "symbolic"``, else ``"numeric only"``. The classification never depends on it. The answer is
-  remembered on disk with the derivations (:func:`harness.derivation.cache.remembered`), keyed by the expression
-  and this module's code: 35 of the 160 CPU s of a claims run were spent deciding again what the last run decided.
-  Where a classification itself rests on an identity (a generalized force written out from its printed force), it
-  is decided at random values to 30 digits (:func:`same_at_random_values`, ``decided_by: "identity at random
-  values"``), the same on every machine.
+* **Decided.** Besides the hypothesis states, ``printed − derived`` is tested for being identically zero by a
+  decision procedure whose answer is the same on every machine (:func:`identically_zero`: sines and cosines of each
+  angle as two variables on the circle, ``s² + c² = 1``, the numerator brought to its normal form; no CPU-time
+  budget, a bound on the number of terms instead): a claim it proves is ``decided_by: "symbolic"``, else ``"numeric
+  only"``. The classification never depends on it. It replaced a cascade of simplifications under a budget of 2 CPU
+  s, whose label a slower CPU could change: (A.174) reached zero after 2.14 CPU s on one run, within 2 s on
+  another. The answer is remembered on disk with the derivations (:func:`harness.derivation.cache.remembered`),
+  keyed by the expression and this module's code. Where a classification itself rests on an identity (a
+  generalized force written out from its printed force), it is decided at random values to 30 digits
+  (:func:`same_at_random_values`, ``decided_by: "identity at random values"``), the same on every machine.
 
 Classifications: ``confirmed``, ``C differs, C·q̇ agrees``, ``convention-dependent``, ``notation typo``,
 ``follows from erratum``, ``erratum`` (substantive), ``engines disagree``.
@@ -27,6 +28,7 @@ from __future__ import annotations
 
 import difflib
 import itertools
+import math
 import random
 import time
 from pathlib import Path
@@ -42,8 +44,10 @@ from harness.modeling.system import Point, System
 
 HOLDS = ("confirmed", "C differs, C·q̇ agrees")
 AT_RANDOM_VALUES = "identity at random values"   # decided_by of a verdict that rests on same_at_random_values
-SYMBOLIC_BUDGET = 2.0      # CPU seconds of symbolic reduction per claim (the machine's load does not shorten it)
+SYMBOLIC_BUDGET = 2.0      # CPU seconds of a display simplification (reduce; the machine's load does not shorten it)
 SYMBOLIC_SIZE = 3000       # count_ops above which only expansion is tried
+ZERO_TEST_TERMS = 100_000  # terms of a numerator's expansion (a bound, counted before expanding) above which
+#                            identically_zero answers no: 25 times the largest a lecture claim needs (4 044, (A.28))
 RENAMINGS = 60             # at most this many renamings are tried per claim
 SCREEN_EXAMPLES = 12       # states a renaming is screened on (derivation only) before the full check
 
@@ -278,22 +282,53 @@ REDUCTION_CODE = (Path(__file__), Path(limits.__file__))
 """The modules whose code decides a reduction: part of the key under which its result is remembered."""
 
 
-def is_zero(matrix, seconds: float = SYMBOLIC_BUDGET) -> bool:
-    """Whether every entry reduces to 0 within ``seconds`` of CPU for the whole matrix (a pool, not a share per
-    entry: one slow entry of a 3×3 matrix does not run out of a ninth of the budget). Remembered on disk
-    (:func:`harness.derivation.cache.remembered`): a later run reads the answer instead of reducing again."""
+def is_zero(matrix) -> bool:
+    """Whether every entry is identically zero (:func:`identically_zero`). Remembered on disk
+    (:func:`harness.derivation.cache.remembered`): a later run reads the answer instead of deciding again."""
     matrix = as_matrix(matrix)
-    return cache.remembered("is-zero", REDUCTION_CODE, (matrix, sp.Float(seconds)),
-                            lambda: sp.true if _is_zero(matrix, seconds) else sp.false) is sp.true
+    return cache.remembered("is-zero", REDUCTION_CODE, (matrix,),
+                            lambda: sp.true if all(identically_zero(e) for e in matrix) else sp.false) is sp.true
 
 
-def _is_zero(matrix, seconds: float) -> bool:
-    deadline = time.process_time() + seconds
-    for e in as_matrix(matrix):
-        left = deadline - time.process_time()
-        if left <= 0 or not reduce(e, left)[1]:
-            return False
-    return True
+def identically_zero(expr, limit: int = ZERO_TEST_TERMS) -> bool:
+    """Whether ``expr`` is zero for all values of its symbols, decided the same on every machine (no time budget):
+    tangents written as sines over cosines, sums and multiples of angles expanded (``sin(a + b)``, ``cos 3α``), each
+    angle's sine and cosine taken as two variables ``s, c`` on the circle, the numerator of the whole over one
+    denominator expanded and brought to its normal form modulo ``s² + c² − 1`` (each ``s^k``, ``k ≥ 2``, replaced by
+    ``s^(k mod 2) (1 − c²)^(k div 2)``; these relations are a Gröbner basis, their leading terms being coprime, so
+    the normal form is 0 exactly when the numerator vanishes on every angle). Any other function (a square root, an
+    absolute value, the sine of a half angle beside the whole one) is an independent variable: a yes is a proof, a no
+    may miss an identity among those. A numerator whose expansion could exceed ``limit`` terms (bounded before
+    expanding) is answered no."""
+    e = sp.sympify(expr)
+    if e == 0:
+        return True
+    e = e.replace(sp.tan, lambda a: sp.sin(a) / sp.cos(a)).replace(sp.cot, lambda a: sp.cos(a) / sp.sin(a))
+    e = sp.expand_trig(e)
+    angles = sorted({f.args[0] for f in e.atoms(sp.sin, sp.cos)}, key=sp.default_sort_key)
+    sines = [sp.Dummy(f"s{k}") for k in range(len(angles))]
+    cosine_of = dict(zip(sines, (sp.Dummy(f"c{k}") for k in range(len(angles)))))
+    e = e.xreplace({**{sp.sin(a): s for a, s in zip(angles, sines)},
+                    **{sp.cos(a): cosine_of[s] for a, s in zip(angles, sines)}})
+    numerator, _ = sp.fraction(sp.together(e))
+    if _terms_bound(numerator) > limit:
+        return False
+    normal = sp.expand(numerator).replace(
+        lambda x: x.is_Pow and x.base in cosine_of and x.exp.is_Integer and x.exp >= 2,
+        lambda x: x.base ** (x.exp % 2) * (1 - cosine_of[x.base] ** 2) ** (x.exp // 2))
+    return sp.expand(normal) == 0
+
+
+def _terms_bound(e) -> int:
+    """An upper bound on the number of terms of ``expand(e)``: sums add, products multiply, a power ``p^n`` of a
+    sum of ``t`` terms has at most C(t + n − 1, n)."""
+    if e.is_Add:
+        return sum(_terms_bound(a) for a in e.args)
+    if e.is_Mul:
+        return math.prod(_terms_bound(a) for a in e.args)
+    if e.is_Pow and e.exp.is_Integer and e.exp > 0:
+        return math.comb(_terms_bound(e.base) + int(e.exp) - 1, int(e.exp))
+    return 1
 
 
 def difference(system: System, claim: Claim, subst: dict | None):
@@ -357,7 +392,8 @@ def row_factor(system: System, printed_row, derived_row, own: int | None = None)
 
 @profiling.timed("symbolic decision")
 def decide(system: System, claim: Claim, subst: dict | None) -> str:
-    """"symbolic" where ``printed − derived`` (:func:`difference`) reduces to 0, else "numeric only". Kept for the
+    """"symbolic" where ``printed − derived`` (:func:`difference`) is identically zero (:func:`is_zero`), else
+    "numeric only". Kept for the
     next run (:mod:`harness.kept`, ``decisions/``) under our installation, what decides the derived expression
     (:func:`~harness.compare.claims.derivation_of`) and the printed one with ``subst`` made (its ``srepr``): a
     holding claim's warm run neither derives nor reduces it again. A parameter claim is decided every run."""

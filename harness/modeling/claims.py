@@ -164,6 +164,24 @@ class CoordinateChange:
             return (J.T * column).reshape(*printed.shape)
         return printed * J
 
+    def back(self, system: System, kind: str, value, index=None) -> sp.Matrix | None:
+        """``value``, a quantity of ``kind`` in the model's coordinates, read in the printed ones: the inverse of
+        :meth:`quantity` (``J⁻ᵀ P J⁻¹`` at ``q = J⁻¹(q_printed − b)``, an input mapped ``u → a u + b`` taken back
+        alike). None where a substitution of something other than a coordinate cannot be inverted so."""
+        q = sp.Matrix(system.q)
+        phi = q.xreplace(self.substitution)
+        inverse = dict(zip(system.q, self.J.inv() * (q - phi.xreplace({x: 0 for x in q}))))
+        state = set(system.q) | set(system.qd) | {c.accel for c in system.coordinates}
+        for symbol, image in self.substitution.items():
+            if symbol in state:
+                continue
+            a, b = sp.diff(image, symbol), image.xreplace({symbol: 0})
+            if not isinstance(symbol, sp.Symbol) or image.free_symbols - {symbol} or a.free_symbols or a == 0:
+                return None
+            inverse[symbol] = (symbol - b) / a
+        back = coordinate_change(system, inverse)
+        return back.quantity(kind, as_matrix(value).xreplace(back.substitution), index)
+
 
 def coordinate_change(system: System, substitution: dict | None, where: str = "") -> CoordinateChange | None:
     """The coordinate change a convention's ``substitution`` makes (None: it renames no coordinate). Each coordinate
