@@ -252,24 +252,6 @@ def test_bound_over_bounds_every_signal(kind, a, b, c):
     assert max(abs(signal(horizon * k / 2000)) for k in range(2001)) <= bound * (1 + 1e-12) + 1e-15
 
 
-def test_trig_identities_are_decided_exactly():
-    """The proof behind inactive constraint rows: a rational function of sines and cosines is 0 exactly when its
-    numerator reduces to 0 modulo sin² + cos² − 1; what it cannot decide is None, never True."""
-    import sympy as sp
-
-    from harness.scenes.effects import _trig_identity
-
-    a, b, x = sp.symbols("a b x", real=True)
-    assert _trig_identity(sp.sin(2 * a) - 2 * sp.sin(a) * sp.cos(a)) is True
-    assert _trig_identity((sp.sin(3 * a) * sp.cos(b) - 3 * sp.sin(a) * sp.cos(b) + 4 * sp.sin(a) ** 3 * sp.cos(b))
-                          / (2 + sp.cos(a))) is True
-    assert _trig_identity(sp.sin(a) ** 2 - sp.cos(a) ** 2) is False
-    # a term float arithmetic would round away (1 - 1e-30 is 1.0 in floats): made exact, it is not 0
-    tiny = sp.Add(x * (sp.sin(a) ** 2 + sp.cos(a) ** 2), -x, sp.Float(1e-30) * x, evaluate=False)
-    assert _trig_identity(tiny) is False
-    assert _trig_identity(sp.asin(sp.sin(a)) - a) is None
-
-
 def test_constraint_rows_are_inactive_only_where_the_open_tree_keeps_them():
     """The governor's coupling (arm 2 the mirror image of arm 1) needs no force: the tree's balance at the motion's
     q̈ is proved 0. Every other constrained tree of the catalogue needs its rows (a rope, a gear, a rolling

@@ -27,3 +27,57 @@ def test_output_is_well_formed_and_uses_the_lecture_letters():
 def test_override_renders_a_name_the_rule_cannot():
     text = mathml(sp.Symbol("I_zz_S"), names={"I_zz_S": ("I", ("zz",), ("S",))})
     assert "<msubsup>" in text
+
+
+def test_a_sum_negated_or_nested_keeps_its_parentheses():
+    """SymPy's printer takes the minus sign out of ``−(a + b)`` (a product of −1 and a sum, left so by
+    ``factor_terms``) and of a nested sum ``c − (a + b)``, and prints the sum without its parentheses: ``− a + b``.
+    The corrected Jacobian of (4.69) on the errata sheet read so, with the wrong sign on its second term."""
+    import re
+
+    from harness.report.mathml import body
+
+    a, b, c = sp.symbols("a b c")
+
+    def read(expr):
+        return " ".join(re.sub(r"<[^>]+>", " ", body(expr)).split())
+    assert read(sp.Mul(-1, a + b, evaluate=False)) == "- ( a + b )"
+    assert read(sp.Add(c, sp.Mul(-1, a + b, evaluate=False), evaluate=False)) == "c - ( a + b )"
+    assert read(sp.Add(c, sp.Add(-a, b, evaluate=False), evaluate=False)) == "c - ( a - b )"
+    assert read(sp.factor_terms(-a * sp.sin(b) - c * sp.sin(a + b))).startswith("- (")
+    assert read(c - a * b) == "- a &#8290; b + c" and read(-a + c * (a + b)) == "- a + c &#8290; ( a + b )"
+
+
+def _unevaluated_sums():
+    """Sums and products of symbols, sines and small integers built unevaluated, nested as ``factor_terms`` and
+    a derivation leave them (``−(a + b)``, ``c + (−a + b)``): the shapes whose signs a printer can lose."""
+    from hypothesis import strategies as st
+
+    a, b, c = sp.symbols("a b c")
+    leaves = st.sampled_from([a, b, c, sp.sin(a), sp.cos(b), 2 * a, 3 * b * c])   # numbers only as coefficients
+
+    def grow(children):
+        pairs = st.lists(children, min_size=2, max_size=3)
+        return st.one_of(pairs.map(lambda xs: sp.Add(*xs, evaluate=False)),
+                         pairs.map(lambda xs: sp.Mul(*xs, evaluate=False)),
+                         children.map(lambda x: sp.Mul(-1, x, evaluate=False)))
+    return st.recursive(leaves, grow, max_leaves=8)
+
+
+def test_the_page_reads_back_as_the_expression_it_shows():
+    """Each printed expression, read back from its MathML text (the tokens a reader sees), is the expression: no
+    sign is lost to a parenthesis left out (property-based over nested, unevaluated sums and products)."""
+    import re
+
+    from hypothesis import given
+    from sympy.parsing.sympy_parser import implicit_multiplication, parse_expr, standard_transformations
+
+    from harness.report.mathml import body
+
+    @given(_unevaluated_sums())
+    def check(expr):
+        text = " ".join(re.sub(r"<[^>]+>", " ", body(expr)).split()).replace("&#8290;", "*")   # (x)(y): a product
+        read = parse_expr(text, transformations=(*standard_transformations, implicit_multiplication))
+        at = dict(zip(sp.symbols("a b c"), (0.31, 0.73, 1.13)))   # the expression left unevaluated: at values
+        assert abs(float(read.subs(at)) - float(expr.subs(at))) < 1e-9, (sp.srepr(expr), text)
+    check()

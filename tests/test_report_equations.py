@@ -169,7 +169,7 @@ def test_a_sum_reads_each_term_with_its_own_sign_in_the_lecture_order():
 
     a, c, x, y = sp.symbols("a c x y")
     nested = sp.Add(a, -c * x + c * y, evaluate=False)
-    assert _tokens(body(nested)) == "a - c x - c y"          # SymPy's reading: the sign of c y is lost
+    assert _tokens(body(nested)) == "a - ( c x - c y )"      # SymPy's own reading, "a - c x - c y", lost c y's sign
     assert _tokens(signed_terms([a, -c * x, c * y])) == "a - c x + c y"
     assert _tokens(signed_terms([-a, c * x])) == "- a + c x"
     page = equations.page_equations(models.get("torsion_spring_body"), models.claims("torsion_spring_body"),

@@ -28,26 +28,20 @@ from __future__ import annotations
 
 import difflib
 import itertools
-import math
 import random
-import time
 from pathlib import Path
 
 import sympy as sp
 
-from harness import kept, limits, profiling
-from harness.derivation import cache
+from harness import kept, profiling
+from harness.derivation import cache, identities
 from harness.derivation.bodies import element_generalized_force
-from harness.limits import OutOfTime, cpu_budget
+from harness.derivation.identities import identically_zero
 from harness.modeling.claims import Claim, as_matrix
 from harness.modeling.system import Point, System
 
 HOLDS = ("confirmed", "C differs, C·q̇ agrees")
 AT_RANDOM_VALUES = "identity at random values"   # decided_by of a verdict that rests on same_at_random_values
-SYMBOLIC_BUDGET = 2.0      # CPU seconds of a display simplification (reduce; the machine's load does not shorten it)
-SYMBOLIC_SIZE = 3000       # count_ops above which only expansion is tried
-ZERO_TEST_TERMS = 100_000  # terms of a numerator's expansion (a bound, counted before expanding) above which
-#                            identically_zero answers no: 25 times the largest a lecture claim needs (4 044, (A.28))
 RENAMINGS = 60             # at most this many renamings are tried per claim
 SCREEN_EXAMPLES = 12       # states a renaming is screened on (derivation only) before the full check
 
@@ -230,31 +224,6 @@ def _renamed(system, claim, engines, examples, claims, printed, missing):
 
 
 # ----------------------------------------------------------------------------- symbolic decision
-def reduce(expr, seconds: float = SYMBOLIC_BUDGET):
-    """``expr`` reduced by the cascade; returns (reduced expression or None when out of budget, reached zero)."""
-    expr = sp.sympify(expr)
-    if expr == 0:
-        return expr, True
-    deadline = time.process_time() + seconds
-    best = expr
-    try:
-        with cpu_budget(seconds) as timed:
-            steps = [sp.expand, lambda e: sp.expand(sp.expand_trig(e)), sp.cancel]
-            if timed:
-                steps += [sp.trigsimp, sp.simplify]
-            for step in steps:
-                if time.process_time() > deadline or sp.count_ops(best) > SYMBOLIC_SIZE:
-                    break
-                candidate = step(best)
-                if candidate == 0:
-                    return candidate, True
-                if sp.count_ops(candidate) <= sp.count_ops(best):
-                    best = candidate
-    except (OutOfTime, RecursionError):
-        pass
-    return best, False
-
-
 def same_at_random_values(a, b, points: int = 3, seed: int = 0) -> bool:
     """Whether the expressions (or matrices) ``a`` and ``b`` agree at ``points`` random values in [0.3, 1.7] of
     their symbols (seeded), evaluated to 30 digits: two forms of one expression then differ by about 1e-28 of
@@ -278,57 +247,17 @@ def same_at_random_values(a, b, points: int = 3, seed: int = 0) -> bool:
     return True
 
 
-REDUCTION_CODE = (Path(__file__), Path(limits.__file__))
-"""The modules whose code decides a reduction: part of the key under which its result is remembered."""
+DECISION_CODE = (Path(__file__), Path(identities.__file__))
+"""The modules whose code decides a zero test: part of the key under which its answer is remembered."""
 
 
 def is_zero(matrix) -> bool:
     """Whether every entry is identically zero (:func:`identically_zero`). Remembered on disk
     (:func:`harness.derivation.cache.remembered`): a later run reads the answer instead of deciding again."""
     matrix = as_matrix(matrix)
-    return cache.remembered("is-zero", REDUCTION_CODE, (matrix,),
-                            lambda: sp.true if all(identically_zero(e) for e in matrix) else sp.false) is sp.true
-
-
-def identically_zero(expr, limit: int = ZERO_TEST_TERMS) -> bool:
-    """Whether ``expr`` is zero for all values of its symbols, decided the same on every machine (no time budget):
-    tangents written as sines over cosines, sums and multiples of angles expanded (``sin(a + b)``, ``cos 3α``), each
-    angle's sine and cosine taken as two variables ``s, c`` on the circle, the numerator of the whole over one
-    denominator expanded and brought to its normal form modulo ``s² + c² − 1`` (each ``s^k``, ``k ≥ 2``, replaced by
-    ``s^(k mod 2) (1 − c²)^(k div 2)``; these relations are a Gröbner basis, their leading terms being coprime, so
-    the normal form is 0 exactly when the numerator vanishes on every angle). Any other function (a square root, an
-    absolute value, the sine of a half angle beside the whole one) is an independent variable: a yes is a proof, a no
-    may miss an identity among those. A numerator whose expansion could exceed ``limit`` terms (bounded before
-    expanding) is answered no."""
-    e = sp.sympify(expr)
-    if e == 0:
-        return True
-    e = e.replace(sp.tan, lambda a: sp.sin(a) / sp.cos(a)).replace(sp.cot, lambda a: sp.cos(a) / sp.sin(a))
-    e = sp.expand_trig(e)
-    angles = sorted({f.args[0] for f in e.atoms(sp.sin, sp.cos)}, key=sp.default_sort_key)
-    sines = [sp.Dummy(f"s{k}") for k in range(len(angles))]
-    cosine_of = dict(zip(sines, (sp.Dummy(f"c{k}") for k in range(len(angles)))))
-    e = e.xreplace({**{sp.sin(a): s for a, s in zip(angles, sines)},
-                    **{sp.cos(a): cosine_of[s] for a, s in zip(angles, sines)}})
-    numerator, _ = sp.fraction(sp.together(e))
-    if _terms_bound(numerator) > limit:
-        return False
-    normal = sp.expand(numerator).replace(
-        lambda x: x.is_Pow and x.base in cosine_of and x.exp.is_Integer and x.exp >= 2,
-        lambda x: x.base ** (x.exp % 2) * (1 - cosine_of[x.base] ** 2) ** (x.exp // 2))
-    return sp.expand(normal) == 0
-
-
-def _terms_bound(e) -> int:
-    """An upper bound on the number of terms of ``expand(e)``: sums add, products multiply, a power ``p^n`` of a
-    sum of ``t`` terms has at most C(t + n − 1, n)."""
-    if e.is_Add:
-        return sum(_terms_bound(a) for a in e.args)
-    if e.is_Mul:
-        return math.prod(_terms_bound(a) for a in e.args)
-    if e.is_Pow and e.exp.is_Integer and e.exp > 0:
-        return math.comb(_terms_bound(e.base) + int(e.exp) - 1, int(e.exp))
-    return 1
+    def decide():
+        return sp.true if all(identically_zero(e) is True for e in matrix) else sp.false
+    return cache.remembered("is-zero", DECISION_CODE, (matrix,), decide) is sp.true
 
 
 def difference(system: System, claim: Claim, subst: dict | None):

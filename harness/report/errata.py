@@ -21,7 +21,6 @@ from harness.modeling.claims import as_matrix
 KIND = {"erratum": "substantive", "notation typo": "notation", "convention-dependent": "convention",
         "follows from erratum": "follows", "engines disagree": "engines"}
 UNCLAIMED = Path(__file__).resolve().parents[2] / "models" / "unclaimed.json"
-_SIMPLIFY_SECONDS = 1.0
 
 
 # ----------------------------------------------------------------------------- the lecture's symbols
@@ -38,18 +37,19 @@ def definitions(claims) -> list[tuple[sp.Symbol, sp.Expr]]:
 
 def lecture_form(expr, keep: set, relations) -> sp.Matrix:
     """``expr`` with the model's symbols that the printed equation does not use eliminated through the declared
-    relations (``rho_S → m_S/(l_S b_S h_S)``, then ``b_S² → 12 I_zz^S/m_S − l_S²``), simplified within a budget.
-    Which symbol each relation eliminates is searched: the choice that leaves fewest foreign symbols wins."""
-    from harness.compare.errata import REDUCTION_CODE, reduce
+    relations (``rho_S → m_S/(l_S b_S h_S)``, then ``b_S² → 12 I_zz^S/m_S − l_S²``), simplified for reading
+    (:func:`_tidy`). Which symbol each relation eliminates is searched: the choice that leaves fewest foreign symbols
+    wins."""
     from harness.derivation import cache
+    from harness.report import equations
 
     expr = as_matrix(expr)
     relations = [(s, sp.sympify(v)) for s, v in relations if s in keep]
 
     def compute():
         best = _eliminate(expr.applyfunc(sp.expand), keep, relations)
-        return best.applyfunc(lambda e: _tidy(e, reduce))
-    return cache.remembered("lecture-form", (Path(__file__), *REDUCTION_CODE),
+        return best.applyfunc(_tidy)
+    return cache.remembered("lecture-form", (Path(__file__), Path(equations.__file__)),
                             (expr, sorted(keep, key=sp.default_sort_key), relations), compute)
 
 
@@ -87,9 +87,13 @@ def _solve_power(value, symbol, x):
     return None
 
 
-def _tidy(e, reduce):
-    reduced, _ = reduce(e, _SIMPLIFY_SECONDS)
-    candidates = [e, reduced]
+def _tidy(e):
+    """The shortest of ``e``, its simplification for reading (:meth:`harness.report.equations.Budget.simplify`: by
+    size, not by time; a cascade under 1 CPU s had cut 4 of the lecture's corrections after 5-8 s of work, and one
+    of 0.5 s would have been cut on a machine half as fast) and its common factors taken out."""
+    from harness.report.equations import Budget
+
+    candidates = [e, Budget().simplify(e)]
     try:
         candidates.append(sp.factor_terms(sp.expand(e)))
     except Exception:  # noqa: BLE001 - tidying is cosmetic

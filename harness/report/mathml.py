@@ -16,6 +16,7 @@ from xml.sax.saxutils import escape
 import sympy as sp
 from sympy.printing.conventions import split_super_sub
 from sympy.printing.mathml import MathMLPresentationPrinter
+from sympy.printing.precedence import PRECEDENCE
 from sympy.printing.pretty.pretty_symbology import greek_unicode
 
 _ACCENTS = {"dot": "\u02d9", "ddot": "\u00a8"}  # ˙ and ¨ above the base letter
@@ -84,6 +85,31 @@ class LecturePrinter(MathMLPresentationPrinter):
         return node
 
     _print_Dummy = _print_Symbol
+
+    def _print_Mul(self, expr):
+        """SymPy prints ``−(a + b)``, a product of −1 and a sum that stays unevaluated (``factor_terms`` leaves it
+        so), as ``− a + b``: it takes the sign out and prints the sum that is left without its parentheses (the
+        corrected Jacobian of (4.69) on the errata sheet read ``− l₁ sin φ₁ + l_s2 sin(φ₁ + φ₂)``)."""
+        if expr.could_extract_minus_sign() and isinstance(-expr, sp.Add):
+            row = self.dom.createElement("mrow")
+            row.appendChild(self._text("mo", "-"))
+            row.appendChild(self.parenthesize(-expr, PRECEDENCE["Mul"]))
+            return row
+        return super()._print_Mul(expr)
+
+    def _print_Add(self, expr, order=None):
+        """A sum, each term after its sign, as SymPy prints it, but a term that is itself a sum (left unevaluated)
+        in parentheses, also where a minus sign is taken out of it: SymPy's printer reads ``a − (b + c)`` as
+        ``a − b + c``."""
+        row = self.dom.createElement("mrow")
+        for k, term in enumerate(self._as_ordered_terms(expr, order=order)):
+            minus = bool(k) and term.could_extract_minus_sign()
+            if k:
+                row.appendChild(self._text("mo", "-" if minus else "+"))
+            shown = -term if minus else term
+            nested = k and isinstance(shown, sp.Add)
+            row.appendChild(self.parenthesize(shown, PRECEDENCE["Add"]) if nested else self._print(shown))
+        return row
 
 
 def _numeric_entities(text: str) -> str:

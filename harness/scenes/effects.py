@@ -49,6 +49,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
+from harness.derivation.identities import identically_zero
 from harness.modeling.events import RollSlip, StickSlip
 from harness.modeling.scenes import _EFFECT_OF, EFFECTS, Bump, Constant, Scene, Sine, Step, effects_of, pruned
 from harness.modeling.system import Damper, JointDamper, JointInput, JointSpring, PointForce, Spring, System
@@ -275,42 +276,16 @@ def gravity_idle(system: System, params: dict, samples: int = 3, seed: int = 0) 
 
 def _weights_load_no_row(system: System, params: dict) -> bool:
     """Whether the weights' generalized forces on the tree joints (:func:`~harness.derivation.bodies.gravity_in_theta`)
-    vanish at every state, proved (:func:`_trig_identity`, the parameters as exact rationals). Where a closed chain's
-    rows carry a weight that does no work on the lecture coordinates (a piston's on its guide), gravity still acts in
-    an engine that simulates the constrained tree: MuJoCo's soft equality rows yield to the load, its motion moves
-    by the rows' compliance (6e-6 on a slider-crank, against the pruning check's 1e-6). Not proved: it acts."""
+    vanish at every state, proved (:func:`~harness.derivation.identities.identically_zero`, the parameters as exact
+    rationals). Where a closed chain's rows carry a weight that does no work on the lecture coordinates (a piston's
+    on its guide), gravity still acts in an engine that simulates the constrained tree: MuJoCo's soft equality rows
+    yield to the load, its motion moves by the rows' compliance (6e-6 on a slider-crank, against the pruning check's
+    1e-6). Not proved: it acts."""
     from harness.derivation.bodies import gravity_in_theta
 
     rows = gravity_in_theta(system)
     exact = {x: sp.Rational(repr(float(params[x.name]))) for x in rows.free_symbols if x.name in params}
-    return all(_trig_identity(e.xreplace(exact)) is True for e in rows)
-
-
-def _trig_identity(expr) -> bool | None:
-    """Whether ``expr``, a rational function of the sines and cosines of symbols (after ``expand_trig``), vanishes
-    identically: its numerator as a polynomial in ``s_x = sin x``, ``c_x = cos x`` and the other symbols reduced
-    modulo ``s_x² + c_x² − 1`` (a Gröbner basis: the leading terms ``c_x²`` are coprime) leaves 0. Exact: what is
-    left is ``A + Σ c_x B`` of degree at most 1 in each ``c_x``, and it vanishes on every circle only if it is 0.
-    None: other functions (an ``arcsin``, a ``sqrt``) or an argument that is not a symbol, which this does not
-    decide. Floats are made exact rationals first (their binary values): float arithmetic in the expansion would
-    round a small term away and prove what is not so."""
-    expr = sp.sympify(expr)
-    expr = sp.together(sp.expand_trig(expr.xreplace({f: sp.Rational(f) for f in expr.atoms(sp.Float)})))
-    numerator = sp.numer(expr)
-    angles = sorted({f.args[0] for f in numerator.atoms(sp.sin, sp.cos)}, key=sp.default_sort_key)
-    if any(not a.is_Symbol for a in angles):
-        return None
-    s = {a: sp.Dummy(f"s_{a}") for a in angles}
-    c = {a: sp.Dummy(f"c_{a}") for a in angles}
-    poly = sp.expand(numerator.xreplace({**{sp.sin(a): s[a] for a in angles}, **{sp.cos(a): c[a] for a in angles}}))
-    if poly.atoms(sp.Function) or poly.has(sp.Pow) and any(not e.exp.is_Integer for e in poly.atoms(sp.Pow)):
-        return None
-    if not angles:
-        return poly == 0
-    others = sorted(poly.free_symbols - set(s.values()) - set(c.values()), key=sp.default_sort_key)
-    _, rest = sp.reduced(poly, [s[a] ** 2 + c[a] ** 2 - 1 for a in angles], *c.values(), *s.values(), *others,
-                         order="lex")
-    return sp.expand(rest) == 0
+    return all(identically_zero(e.xreplace(exact)) is True for e in rows)
 
 
 _ROWS: dict = {}
@@ -325,8 +300,8 @@ def constraint_rows_idle(system: System, params: dict, samples: int = 3, seed: i
     open tree's vector field is tangent to the constraint manifold ``{c = 0, ċ = 0}``, and by uniqueness the open
     tree started on it stays on it (the governor's two arms, mirror images, stay mirrored without the coupling).
     Random states first (a balance far above round-off is a counterexample: the rows are needed), then the proof
-    with the parameters' values as exact rationals (:func:`_trig_identity`); not proved is needed (a bound, not a
-    guess)."""
+    with the parameters' values as exact rationals (:func:`~harness.derivation.identities.identically_zero`); not
+    proved is needed (a bound, not a guess)."""
     from harness.derivation.bodies import joint_space_balance
     from harness.derivation.compile import compiled
     from harness.derivation.derive import derive
@@ -365,7 +340,7 @@ def constraint_rows_idle(system: System, params: dict, samples: int = 3, seed: i
     qdd = d.M.LUsolve(d.f_np - d.C * sp.Matrix(system.qd) - d.g)
     exact = {x: sp.Rational(repr(float(params[x.name]))) for x in balance.free_symbols | set(qdd.free_symbols)
              if x.name in params}
-    proved = all(_trig_identity(e.xreplace(dict(zip(accels, qdd))).xreplace(exact)) is True for e in balance)
+    proved = all(identically_zero(e.xreplace(dict(zip(accels, qdd))).xreplace(exact)) is True for e in balance)
     _ROWS[key] = out = (proved, "the tree's balance (3.104) at the motion's q̈ is 0 at every state (proved), so "
                                 "the open tree's motion keeps the constraints without a force" if proved
                         else "not proved inactive: the tree's balance at the motion's q̈ is small at random states "

@@ -1,0 +1,62 @@
+"""Whether an expression of the mechanics is identically zero, decided exactly and the same on every machine.
+
+Both the printed equations' symbolic decision (:func:`harness.compare.errata.is_zero`) and the proof that a scene's
+constraint rows are idle (:mod:`harness.scenes.effects`) rest on it: a "yes" is a proof, never a guess, and no answer
+depends on a CPU-time budget."""
+
+from __future__ import annotations
+
+import math
+
+import sympy as sp
+
+TERMS = 100_000
+"""Terms of a numerator's expansion (a bound counted before expanding) above which :func:`identically_zero` does not
+decide: 25 times the largest a lecture claim needs (4 044, rotating_body's (A.28))."""
+
+
+def identically_zero(expr, limit: int = TERMS) -> bool | None:
+    """Whether ``expr`` vanishes for all values of its symbols: True (proved), False (proved not), None (not
+    decided). Floats made exact rationals (their binary values: float arithmetic in the expansion would round a
+    small term away and prove what is not so); tangents written as sines over cosines; sums and multiples of angles
+    expanded (``sin(a + b)``, ``cos 3α``); each angle's sine and cosine two variables ``s, c`` on the circle; the
+    numerator over one denominator expanded and brought to its normal form modulo ``s² + c² − 1`` (each ``s^k``,
+    ``k ≥ 2``, as ``s^(k mod 2) (1 − c²)^(k div 2)``; the relations are a Gröbner basis, their leading terms being
+    coprime, so the normal form is 0 exactly when the numerator vanishes on every circle). Any other function (a
+    square root, an absolute value, an arcsine, the sine of a half angle beside the whole one) is taken as a variable
+    of its own: a 0 then is still a proof, a remainder is not (None). A numerator whose expansion could exceed
+    ``limit`` terms is not decided."""
+    e = sp.sympify(expr)
+    e = e.xreplace({f: sp.Rational(f) for f in e.atoms(sp.Float)})
+    if e == 0:
+        return True
+    e = e.replace(sp.tan, lambda a: sp.sin(a) / sp.cos(a)).replace(sp.cot, lambda a: sp.cos(a) / sp.sin(a))
+    e = sp.expand_trig(e)
+    angles = sorted({f.args[0] for f in e.atoms(sp.sin, sp.cos)}, key=sp.default_sort_key)
+    sines = [sp.Dummy(f"s{k}") for k in range(len(angles))]
+    cosine_of = dict(zip(sines, (sp.Dummy(f"c{k}") for k in range(len(angles)))))
+    e = e.xreplace({**{sp.sin(a): s for a, s in zip(angles, sines)},
+                    **{sp.cos(a): cosine_of[s] for a, s in zip(angles, sines)}})
+    numerator, _ = sp.fraction(sp.together(e))
+    if terms_bound(numerator) > limit:
+        return None
+    normal = sp.expand(sp.expand(numerator).replace(
+        lambda x: x.is_Pow and x.base in cosine_of and x.exp.is_Integer and x.exp >= 2,
+        lambda x: x.base ** (x.exp % 2) * (1 - cosine_of[x.base] ** 2) ** (x.exp // 2)))
+    if normal == 0:
+        return True
+    polynomial = all(a.is_Symbol for a in angles) and not normal.atoms(sp.Function) and all(
+        p.exp.is_Integer for p in normal.atoms(sp.Pow))
+    return False if polynomial else None
+
+
+def terms_bound(e) -> int:
+    """An upper bound on the number of terms of ``expand(e)``: sums add, products multiply, a power ``p^n`` of a sum
+    of ``t`` terms has at most C(t + n − 1, n)."""
+    if e.is_Add:
+        return sum(terms_bound(a) for a in e.args)
+    if e.is_Mul:
+        return math.prod(terms_bound(a) for a in e.args)
+    if e.is_Pow and e.exp.is_Integer and e.exp > 0:
+        return math.comb(terms_bound(e.base) + int(e.exp) - 1, int(e.exp))
+    return 1
