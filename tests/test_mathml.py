@@ -70,14 +70,26 @@ def test_the_page_reads_back_as_the_expression_it_shows():
     import re
 
     from hypothesis import given
+    from hypothesis import strategies as st
     from sympy.parsing.sympy_parser import implicit_multiplication, parse_expr, standard_transformations
 
     from harness.report.mathml import body
 
-    @given(_unevaluated_sums())
-    def check(expr):
-        text = " ".join(re.sub(r"<[^>]+>", " ", body(expr)).split()).replace("&#8290;", "*")   # (x)(y): a product
+    from harness.report.mathml import pieces, signed_terms
+
+    def reads_as(mathml, expr):
+        text = " ".join(re.sub(r"<[^>]+>", " ", mathml).split()).replace("&#8290;", "*")   # (x)(y): a product
         read = parse_expr(text, transformations=(*standard_transformations, implicit_multiplication))
         at = dict(zip(sp.symbols("a b c"), (0.31, 0.73, 1.13)))   # the expression left unevaluated: at values
         assert abs(float(read.subs(at)) - float(expr.subs(at))) < 1e-9, (sp.srepr(expr), text)
+
+    @given(_unevaluated_sums())
+    def check(expr):
+        reads_as(body(expr), expr)
+
+    @given(st.lists(_unevaluated_sums(), min_size=1, max_size=4))
+    def check_terms(terms):   # an equation's terms in their order, each after its sign, whole or in pieces
+        reads_as(signed_terms(terms), sp.Add(*terms))
+        reads_as("".join(text for _, text in pieces(terms)), sp.Add(*terms))
     check()
+    check_terms()

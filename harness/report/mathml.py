@@ -143,12 +143,13 @@ def signed_terms(terms) -> str:
     systems on their report pages had a wrong sign so, e.g. torsion_spring_body's ``− c_F φ`` for ``+ c_F φ``)."""
     out = []
     for k, term in enumerate(terms):
-        if term.could_extract_minus_sign():
+        minus = term.could_extract_minus_sign()
+        if minus:
             out.append("<mo>-</mo>")
             term = -term
         elif k:
             out.append("<mo>+</mo>")
-        out.append(body(term))
+        out.append(f"<mo>(</mo>{body(term)}<mo>)</mo>" if minus and term.is_Add else body(term))   # −(a + b)
     return f"<mrow>{''.join(out)}</mrow>"
 
 
@@ -198,7 +199,7 @@ def pieces(terms, deep: bool = True) -> list[tuple[float, str]]:
         minus = not isinstance(term, sp.MatrixBase) and term.could_extract_minus_sign()   # a matrix: one piece
         term = -term if minus else term
         sign = "<mo>-</mo>" if minus else ("<mo>+</mo>" if k else "")
-        inner = _opened(term, deep)
+        inner = (sp.S.One, term, None) if minus and term.is_Add else _opened(term, deep)   # −(a + b): bracketed
         if inner is None:
             out.append((width(term) + bool(sign), sign + body(term)))
             continue
