@@ -88,8 +88,8 @@ class LecturePrinter(MathMLPresentationPrinter):
 
     def _print_Mul(self, expr):
         """SymPy prints ``−(a + b)``, a product of −1 and a sum that stays unevaluated (``factor_terms`` leaves it
-        so), as ``− a + b``: it takes the sign out and prints the sum that is left without its parentheses (the
-        corrected Jacobian of (4.69) on the errata sheet read ``− l₁ sin φ₁ + l_s2 sin(φ₁ + φ₂)``)."""
+        so), as ``− a + b``: it takes the sign out and prints the sum that is left without its parentheses
+        (planar_manipulator's page showed the derived ``J_v`` of link 2 as ``− l₁ sin φ₁ + l_s2 sin(φ₁ + φ₂)``)."""
         if expr.could_extract_minus_sign() and isinstance(-expr, sp.Add):
             row = self.dom.createElement("mrow")
             row.appendChild(self._text("mo", "-"))
