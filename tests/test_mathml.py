@@ -68,53 +68,23 @@ def _unevaluated_sums():
     return st.recursive(leaves, grow, max_leaves=8)
 
 
-def _read(mathml: str) -> sp.Expr:
-    """A reader's reading of the printer's presentation MathML: rows in order, an invisible times or two operands
-    side by side a product, a fraction, a root, a power, a function applied to the bracket after it."""
-    from xml.dom.minidom import parseString
-
-    functions = {"sin": "sin", "cos": "cos", "tan": "tan", "arccos": "acos", "arcsin": "asin", "arctan": "atan"}
-
-    def text(node) -> str:
-        if node.nodeType == node.TEXT_NODE:
-            return ""
-        tag, kids = node.tagName, [k for k in node.childNodes if k.nodeType != k.TEXT_NODE]
-        if tag in ("mi", "mn"):
-            name = node.firstChild.data
-            return functions.get(name, name) + (" " if name in functions else "")
-        if tag == "mo":
-            op = node.firstChild.data
-            return {"\u2062": "*", "-": "-", "+": "+", "(": "(", ")": ")", ",": ","}[op]
-        if tag == "mfrac":
-            return f"(({text(kids[0])})/({text(kids[1])}))"
-        if tag == "msqrt":
-            return f"sqrt({''.join(map(text, kids))})"
-        if tag == "msup":
-            return f"({text(kids[0])})**({text(kids[1])})"
-        pieces = [text(k) for k in kids]
-        out = ""
-        for piece in pieces:   # two operands side by side: a product
-            if out and piece and out[-1] not in "+-*(,/ " and piece[0] not in "+-*),/":
-                out += "*"
-            out += piece
-        return out
-    return sp.sympify(text(parseString(f"<math>{mathml}</math>").documentElement))
-
-
 def test_the_page_reads_back_as_the_expression_it_shows():
-    """Each printed expression, read back as a reader reads its MathML (:func:`_read`), is the expression: no sign
-    is lost to a bracket left out (property-based over nested, unevaluated sums, products, powers and quotients);
-    also an equation's terms, each after its sign, whole or broken into pieces over lines."""
+    """Each printed expression, read back as a reader reads its MathML (tests/mathml_reading.py), is the
+    expression: no sign is lost to a bracket left out (property-based over nested, unevaluated sums, products,
+    powers and quotients); also an equation's terms, each after its sign, whole or broken into pieces over lines."""
     from hypothesis import given
     from hypothesis import strategies as st
 
     from harness.report.mathml import body, pieces, signed_terms
 
+    from tests.mathml_reading import Reader
+
     at = dict(zip(sp.symbols("a b c"), (0.31, 0.73, 1.13)))   # the expressions are left unevaluated: at values
 
     def reads_as(mathml, expr):
-        read = _read(mathml)
-        assert abs(complex(read.subs(at)) - complex(expr.subs(at))) < 1e-9 * (1 + abs(complex(expr.subs(at)))), (
+        reader = Reader()
+        read = reader.expression(mathml).xreplace({reader.symbol(x): v for x, v in at.items()})
+        assert abs(complex(read) - complex(expr.subs(at))) < 1e-9 * (1 + abs(complex(expr.subs(at)))), (
             sp.srepr(expr), mathml)
 
     @given(_unevaluated_sums())

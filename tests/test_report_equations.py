@@ -302,3 +302,67 @@ def test_a_long_sum_that_occurs_once_is_named_when_nothing_else_makes_it_fit():
     for name, value in reversed(where):
         named = named.xreplace({name: value})
     assert sp.simplify(named[0] - entry) == 0
+
+
+def test_every_pages_equations_of_motion_read_back_as_derived():
+    """Each system page's M, C, g, f_np (as a matrix or entry by entry) and equations of motion, read as a reader
+    reads the page (tests/mathml_reading.py: every line, bracket and sign, the named subexpressions ``where ξ = …``
+    substituted), are the derived ones, ``M q̈ + C q̇ + g = f_np``, at random values. A long term opened over lines
+    whose other factor is a sum was set with that sum unbracketed before the opened one: rotating_body's first row
+    ``(…)² (2 b d l₂ ρ + … + m_m)`` read ``2 b d l₂ ρ + … + m_m (…)²``, tower_crane's M₁₅ and spring_mass_damper's
+    page alike."""
+    import random
+
+    from harness.derivation.derive import derive, is_per_body
+    from tests.mathml_reading import Reader
+
+    rows = 0
+    for name, system in models.CATALOGUE.systems().items():
+        if is_per_body(system):
+            continue
+        page = equations.page_equations(system, models.CATALOGUE.claims(name))["equations"]
+        reader = Reader()
+        where = {}
+        for q in page["quantities"]:
+            if q["title"] == "where":
+                where = reader.definitions(q["math"])
+        d = derive(system)
+        qdd = sp.Matrix([c.accel for c in system.coordinates])
+        residual = d.M * qdd + d.C * sp.Matrix(system.qd) + d.g - d.f_np
+        rng = random.Random(name)
+        values = {s: rng.uniform(0.3, 1.3) for s in sorted(residual.free_symbols, key=str)}
+        read_values = {reader.symbol(s): v for s, v in values.items()}
+        assert len(read_values) == len(values), f"{name}: two symbols set alike"
+
+        def value(expr):
+            for _ in range(len(where) + 1):
+                expr = expr.xreplace(where)
+            return complex(expr.xreplace(read_values))
+
+        for q, derived, letter, superscript, vector in zip(page["quantities"], (d.M, d.C, d.g, d.f_np), "MCgf",
+                                                           ("", "", "", "np"), (False, False, True, True)):
+            if not q["math"]:
+                continue
+            if q["math"].startswith('<math xmlns="http://www.w3.org/1998/Math/MathML" display="block"><mtable>'):
+                entries = reader.definitions(q["math"])   # entry by entry: M₁₁ = …, the upper triangle of M
+                for i in range(derived.rows):
+                    for j in range(derived.cols):
+                        index = str(i + 1) if vector else f"{i + 1}{j + 1}"
+                        left = sp.Symbol(reader.text(equations.bold(letter, subscript=index, superscript=superscript)))
+                        if left in entries:
+                            assert abs(value(entries[left]) - complex(derived[i, j].xreplace(values))) <= 1e-9 * (
+                                1 + abs(complex(derived[i, j].xreplace(values)))), (name, letter, index)
+                            rows += 1
+                continue
+            shown = reader.matrix(q["math"])
+            for a, b in zip(shown, derived):
+                assert abs(value(a) - complex(b.xreplace(values))) <= 1e-9 * (1 + abs(complex(b.xreplace(values)))), (
+                    name, letter)
+            rows += 1
+        for k, row in enumerate(page["eom"]):
+            if not row["math"]:
+                continue   # too large to print
+            shown, derived = value(reader.equation(row["math"])), complex(residual[k].xreplace(values))
+            assert abs(shown - derived) <= 1e-9 * (1 + abs(derived)), (name, k + 1, shown, derived)
+            rows += 1
+    assert rows >= 200, rows   # 242: 57 rows of equations of motion, 185 entries or matrices

@@ -204,8 +204,10 @@ def pieces(terms, deep: bool = True) -> list[tuple[float, str]]:
             out.append((width(term) + bool(sign), sign + body(term)))
             continue
         factor, total, power = inner
-        opening = sign + (body(factor) if factor != 1 else "") + "<mo>(</mo>"
-        out.append((width(factor) * (factor != 1) + 2, opening))
+        # the other factor may itself be a sum (rotating_body's M₁₁: (…)² (2 b d l₂ ρ + … + m_m)): bracketed, or the
+        # page read "2 b d l₂ ρ + … + m_m (…)²"
+        shown = "" if factor == 1 else f"<mo>(</mo>{body(factor)}<mo>)</mo>" if factor.is_Add else body(factor)
+        out.append((width(factor) * (factor != 1) + 2 + 2 * factor.is_Add, sign + shown + "<mo>(</mo>"))
         out += pieces(list(total.as_ordered_terms()), deep)
         closing = (1, "<mo>)</mo>") if power is None else (2, f"<msup><mo>)</mo>{body(power)}</msup>")
         out[-1] = (out[-1][0] + closing[0], out[-1][1] + closing[1])

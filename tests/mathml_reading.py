@@ -1,0 +1,107 @@
+"""A reader of the report's MathML, as a reader of the page reads it: rows in order, an invisible times or two
+operands side by side a product, a fraction, a root, a power (also a bracket raised, ``(…)²`` closing a sum opened
+over lines), ``|…|``, a function applied to the bracket after it, a table's rows one after the other. Each symbol
+as it is set (its letter with sub- and superscripts and accent) becomes a name of its own, so a page that sets two
+symbols alike reads them as one. Used by tests/test_mathml.py and tests/test_report_equations.py."""
+
+from __future__ import annotations
+
+from xml.dom.minidom import parseString
+
+import sympy as sp
+
+FUNCTIONS = {"sin": "sin", "cos": "cos", "tan": "tan", "arccos": "acos", "arcsin": "asin", "arctan": "atan",
+             "sign": "sign", "exp": "exp", "log": "log"}
+OPERATORS = {"\u2062": "*", "-": "-", "+": "+", "(": "(", ")": ")", ",": ",", "|": "|", "=": "="}
+
+
+class Reader:
+    """Reads MathML into SymPy; the symbols it met are :attr:`names` (their MathML → the name read)."""
+
+    def __init__(self):
+        self.names: dict[str, str] = {}
+
+    def expression(self, mathml: str) -> sp.Expr:
+        """One expression (no ``=``)."""
+        return sp.sympify(self.text(mathml).replace("\n", ""))
+
+    def equation(self, mathml: str) -> sp.Expr:
+        """``left − right`` of one equation, broken over a table's rows or not."""
+        left, _, right = self.text(mathml).replace("\n", "").partition("=")
+        return sp.sympify(left or "0") - sp.sympify(right or "0")
+
+    def definitions(self, mathml: str) -> dict:
+        """``name = …`` per table row, a row without ``=`` continuing the one before: name → expression."""
+        out, current = {}, None
+        for line in self.text(mathml).split("\n"):
+            head, eq, rest = line.partition("=")
+            if eq:
+                current = head
+                out[current] = rest
+            else:
+                out[current] += line
+        return {sp.Symbol(k): sp.sympify(v) for k, v in out.items()}
+
+    def matrix(self, mathml: str) -> sp.Matrix:
+        """The matrix ``[…]`` of ``left = [table]``: each cell read as an expression."""
+        root = parseString(mathml if mathml.startswith("<math") else f"<math>{mathml}</math>").documentElement
+        table = root.getElementsByTagName("mtable")[0]
+        rows = [[sp.sympify(self._text(cell)) for cell in row.getElementsByTagName("mtd")]
+                for row in table.getElementsByTagName("mtr")]
+        return sp.Matrix(rows)
+
+    def symbol(self, expr) -> sp.Symbol:
+        """The name a model symbol reads as where the page sets it (:func:`harness.report.mathml.body`)."""
+        from harness.report.mathml import body
+
+        return sp.Symbol(self.text(body(expr)))
+
+    def text(self, mathml: str) -> str:
+        root = parseString(mathml if mathml.startswith("<math") else f"<math>{mathml}</math>").documentElement
+        return self._text(root)
+
+    def _name(self, node) -> str:
+        return self.names.setdefault(node.toxml(), f"_s{len(self.names)}")
+
+    def _text(self, node) -> str:
+        tag = node.tagName
+        kids = [k for k in node.childNodes if k.nodeType == k.ELEMENT_NODE]
+        if tag == "mi":
+            name = node.firstChild.data
+            if name in ("\u2147", "e"):
+                return "E"
+            if name == "\u03c0":
+                return "pi"
+            return FUNCTIONS[name] + " " if name in FUNCTIONS else self._name(node)
+        if tag == "mn":
+            return node.firstChild.data
+        if tag == "mo":
+            return OPERATORS[node.firstChild.data]
+        if tag in ("msub", "msubsup", "mover"):
+            return self._name(node)
+        if tag == "msup":
+            if kids[1].tagName == "mi":    # a superscript of a name (I_zz^S)
+                return self._name(node)
+            if kids[0].tagName == "mo":    # the closing bracket of a sum opened over lines, raised: (…)²
+                return f"{self._text(kids[0])}**({self._text(kids[1])})"
+            return f"({self._text(kids[0])})**({self._text(kids[1])})"
+        if tag == "mfrac":
+            return f"(({self._text(kids[0])})/({self._text(kids[1])}))"
+        if tag == "msqrt":
+            return f"sqrt({self._row(kids)})"
+        if tag == "mtable":
+            return "\n".join(self._text(k) for k in kids)
+        return self._row(kids)
+
+    def _row(self, kids) -> str:
+        out, bars = "", 0
+        for kid in kids:
+            piece = self._text(kid)
+            if piece == "|":
+                piece = "Abs(" if bars % 2 == 0 else ")"
+                bars += 1
+            if out and piece and out[-1] not in "+-*(,/= " and piece[0] not in "+-*),/=" and \
+                    not out.endswith("Abs("):
+                out += "*"   # side by side: a product
+            out += piece
+        return out
