@@ -12,7 +12,8 @@ import sympy as sp
 
 FUNCTIONS = {"sin": "sin", "cos": "cos", "tan": "tan", "arccos": "acos", "arcsin": "asin", "arctan": "atan",
              "sign": "sign", "exp": "exp", "log": "log"}
-OPERATORS = {"\u2062": "*", "-": "-", "+": "+", "(": "(", ")": ")", ",": ",", "|": "|", "=": "="}
+OPERATORS = {"\u2062": "*", "-": "-", "+": "+", "(": "(", ")": ")", ",": ",", "|": "|", "=": "=",
+             "\u2202": "d"}   # ∂ of a left-hand side ∂L/∂q̇: read, never evaluated
 
 
 class Reader:
@@ -41,6 +42,28 @@ class Reader:
             else:
                 out[current] += line
         return {sp.Symbol(k): sp.sympify(v) for k, v in out.items()}
+
+    def statements(self, mathml: str) -> list[tuple[str, str]]:
+        """``(left, right)`` texts of the equations a table sets: a row ``x = …`` begins one and the rows after it
+        continue its right side; rows before a row ``= 0`` are the left side of a residual; an expression set alone
+        (no ``=``) is ``("", expression)``. A printed equation's named subexpressions follow it, ``ξ₁ = …``."""
+        out, pending = [], ""
+        for line in self.text(mathml).split("\n"):
+            if line.startswith("="):
+                out.append([pending, line[1:]])
+                pending = ""
+            elif "=" in line:
+                if pending:
+                    out.append(["", pending])
+                    pending = ""
+                out.append(line.split("=", 1))
+            elif out and not pending and out[-1][1] != "0":
+                out[-1][1] += line
+            else:
+                pending += line
+        if pending:
+            out.append(["", pending])
+        return [(left, right) for left, right in out]
 
     def matrix(self, mathml: str) -> sp.Matrix:
         """The matrix ``[…]`` of ``left = [table]``: each cell read as an expression."""
