@@ -32,16 +32,16 @@ class Reader:
         return sp.sympify(left or "0") - sp.sympify(right or "0")
 
     def definitions(self, mathml: str) -> dict:
-        """``name = …`` per table row, a row without ``=`` continuing the one before: name → expression."""
-        out, current = {}, None
-        for line in self.text(mathml).split("\n"):
-            head, eq, rest = line.partition("=")
-            if eq:
-                current = head
-                out[current] = rest
-            else:
-                out[current] += line
-        return {sp.Symbol(k): sp.sympify(v) for k, v in out.items()}
+        """``name = …`` per equation of a table (:meth:`statements`): name → expression."""
+        return {sp.Symbol(left): sp.sympify(right) for left, right in self.statements(mathml)}
+
+    def at(self, read: sp.Expr, values: dict, where: dict | None = None) -> complex:
+        """The value of an expression read from a page at ``values`` of the model's symbols (each as the page
+        sets it, :meth:`symbol`), its named subexpressions ``where`` (name → expression read) substituted first."""
+        where = where or {}
+        for _ in range(len(where) + 1):
+            read = read.xreplace(where)
+        return complex(read.xreplace({self.symbol(x): v for x, v in values.items()}))
 
     def statements(self, mathml: str) -> list[tuple[str, str]]:
         """``(left, right)`` texts of the equations a table sets: a row ``x = …`` begins one and the rows after it

@@ -28,7 +28,6 @@ from __future__ import annotations
 
 import difflib
 import itertools
-import random
 from pathlib import Path
 
 import sympy as sp
@@ -36,7 +35,7 @@ import sympy as sp
 from harness import kept, profiling
 from harness.derivation import cache, identities
 from harness.derivation.bodies import element_generalized_force
-from harness.derivation.identities import identically_zero
+from harness.derivation.identities import identically_zero, same_at_random_values
 from harness.modeling.claims import Claim, as_matrix
 from harness.modeling.system import Point, System
 
@@ -224,29 +223,6 @@ def _renamed(system, claim, engines, examples, claims, printed, missing):
 
 
 # ----------------------------------------------------------------------------- symbolic decision
-def same_at_random_values(a, b, points: int = 3, seed: int = 0) -> bool:
-    """Whether the expressions (or matrices) ``a`` and ``b`` agree at ``points`` random values in [0.3, 1.7] of
-    their symbols (seeded), evaluated to 30 digits: two forms of one expression then differ by about 1e-28 of
-    their size, two different ones by a part of it, so the bound 1e-20 has a margin of eight digits on either
-    side. A verdict that rests on an identity is decided so, not by a reduction under a CPU budget, whose answer
-    depends on the machine's speed: (5.110), a generalized force written out from its printed force, took 2.01 CPU
-    s of the 2 s budget cold on one machine (no: "erratum") and 1.5 s on another (yes: "follows from erratum")."""
-    a, b = as_matrix(a), as_matrix(b)
-    if a.shape != b.shape:
-        if len(a) != len(b):
-            return False
-        a = a.reshape(*b.shape)
-    symbols = sorted((a.free_symbols | b.free_symbols), key=str)
-    rng = random.Random(seed)
-    for _ in range(points):
-        at = {x: sp.Float(rng.uniform(0.3, 1.7), 30) for x in symbols}
-        for x, y in zip(a, b):
-            u, v = complex(x.xreplace(at).evalf(30)), complex(y.xreplace(at).evalf(30))
-            if abs(u - v) > 1e-20 * (abs(u) + abs(v)) + 1e-300:
-                return False
-    return True
-
-
 DECISION_CODE = (Path(__file__), Path(identities.__file__))
 """The modules whose code decides a zero test: part of the key under which its answer is remembered."""
 

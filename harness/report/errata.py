@@ -162,8 +162,8 @@ def closest_reading(system, claim, printed, derived) -> tuple[str | None, sp.Mat
     (:meth:`~harness.modeling.claims.CoordinateChange.back`); ``(None, derived)`` where none comes closer than the
     text as printed. A wrong entry of ``M`` printed with a coordinate counted the other way round is then explained
     alone, not with the coupling entries whose sign the convention accounts for. Entries are compared at random
-    values (:func:`~harness.compare.errata.same_at_random_values`)."""
-    from harness.compare.errata import same_at_random_values
+    values (:func:`~harness.derivation.identities.same_at_random_values`)."""
+    from harness.derivation.identities import same_at_random_values
     from harness.modeling.claims import coordinate_change
 
     kind = claim.quantity.split(":")[0]
@@ -179,8 +179,9 @@ def closest_reading(system, claim, printed, derived) -> tuple[str | None, sp.Mat
     for name, substitution in claim.conventions.items():
         change = coordinate_change(system, substitution)
         read = change.back(system, kind, derived, claim.index) if change is not None else None
-        if read is not None and differing(read) < best[0]:
-            best = (differing(read), name, read)
+        count = differing(read) if read is not None else best[0]
+        if count < best[0]:
+            best = (count, name, read)
     return best[1], best[2]
 
 
@@ -196,7 +197,7 @@ def _scaled_like(printed, derived, system, claim):
 def along_the_line(system, claim, printed, derived) -> str | None:
     """For the force of a spring or damper: the sentence when the derived force is the printed one's component
     along the element's line ``r`` (``r rᵀ f / rᵀ r``), tested at random values of every symbol."""
-    from harness.compare.errata import same_at_random_values
+    from harness.derivation.identities import same_at_random_values
     from harness.derivation.bodies import element_vector, point_element
 
     kind, _, name = claim.quantity.partition(":")
