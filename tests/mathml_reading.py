@@ -1,6 +1,7 @@
 """A reader of the report's MathML, as a reader of the page reads it: rows in order, an invisible times or two
 operands side by side a product, a fraction, a root, a power (also a bracket raised, ``(…)²`` closing a sum opened
-over lines), ``|…|``, a function applied to the bracket after it, a table's rows one after the other. Each symbol
+over lines), ``|…|``, a function applied to the bracket after it, a table's rows one after the other, a table in square brackets a
+matrix. Each symbol
 as it is set (its letter with sub- and superscripts and accent) becomes a name of its own, so a page that sets two
 symbols alike reads them as one. Used by tests/test_mathml.py and tests/test_report_equations.py."""
 
@@ -13,7 +14,8 @@ import sympy as sp
 FUNCTIONS = {"sin": "sin", "cos": "cos", "tan": "tan", "arccos": "acos", "arcsin": "asin", "arctan": "atan",
              "sign": "sign", "exp": "exp", "log": "log"}
 OPERATORS = {"\u2062": "*", "-": "-", "+": "+", "(": "(", ")": ")", ",": ",", "|": "|", "=": "=",
-             "\u2202": "d"}   # ∂ of a left-hand side ∂L/∂q̇: read, never evaluated
+             "\u2202": "d",   # ∂ of a left-hand side ∂L/∂q̇: read, never evaluated
+             ":": "="}   # "column j :" of a matrix set column by column
 
 
 class Reader:
@@ -65,13 +67,28 @@ class Reader:
             out.append(["", pending])
         return [(left, right) for left, right in out]
 
+    def claim(self, mathml: str, shape: tuple[int, int], residual: bool = False) -> tuple[sp.Matrix, dict]:
+        """A printed equation or its derived form as a page sets it (:func:`harness.report.equations.wide_math`):
+        the matrix of ``shape`` it shows (a residual's left side) and its named subexpressions ``ξ = …`` (name →
+        expression read). Set in a line, the value is one expression or a matrix in brackets; broken over lines, a
+        residual is its rows ``… = 0`` and a matrix its entries in row-major order (every entry), the names after
+        them; a matrix without a name is its columns ``column j : […]``."""
+        said = [(sp.sympify(left or "0"), sp.sympify(right)) for left, right in self.statements(mathml)]
+        shown = said[0][0] if residual else said[0][1]
+        columns = [right for left, right in said if str(left).startswith("column_")]
+        if columns:
+            value, rest = sp.Matrix.hstack(*columns), said[len(columns):]
+        elif isinstance(shown, sp.MatrixBase):   # in a line
+            value, rest = shown, said[1:]
+        else:
+            count = shape[0] * shape[1]
+            value = sp.Matrix(*shape, [left - right if residual else right for left, right in said[:count]])
+            rest = said[count:]
+        return value, dict(rest)
+
     def matrix(self, mathml: str) -> sp.Matrix:
         """The matrix ``[…]`` of ``left = [table]``: each cell read as an expression."""
-        root = parseString(mathml if mathml.startswith("<math") else f"<math>{mathml}</math>").documentElement
-        table = root.getElementsByTagName("mtable")[0]
-        rows = [[sp.sympify(self._text(cell)) for cell in row.getElementsByTagName("mtd")]
-                for row in table.getElementsByTagName("mtr")]
-        return sp.Matrix(rows)
+        return sp.sympify(self.statements(mathml)[0][1])
 
     def symbol(self, expr) -> sp.Symbol:
         """The name a model symbol reads as where the page sets it (:func:`harness.report.mathml.body`)."""
@@ -82,6 +99,17 @@ class Reader:
     def text(self, mathml: str) -> str:
         root = parseString(mathml if mathml.startswith("<math") else f"<math>{mathml}</math>").documentElement
         return self._text(root)
+
+    @staticmethod
+    def _is(node, tag: str, text: str) -> bool:
+        return node.tagName == tag and node.firstChild is not None and node.firstChild.nodeType == node.TEXT_NODE \
+            and node.firstChild.data == text
+
+    def _matrix(self, table) -> str:
+        """A table in square brackets: a matrix, its cells read as expressions."""
+        rows = [",".join(f"({self._text(cell)})" for cell in row.getElementsByTagName("mtd"))
+                for row in table.getElementsByTagName("mtr")]
+        return "Matrix([" + ",".join(f"[{row}]" for row in rows) + "])"
 
     def _name(self, node) -> str:
         return self.names.setdefault(node.toxml(), f"_s{len(self.names)}")
@@ -98,6 +126,8 @@ class Reader:
             return FUNCTIONS[name] + " " if name in FUNCTIONS else self._name(node)
         if tag == "mn":
             return node.firstChild.data
+        if tag == "mtext":   # "column j" of a matrix set column by column
+            return node.firstChild.data.replace(" ", "_")
         if tag == "mo":
             return OPERATORS[node.firstChild.data]
         if tag in ("msub", "msubsup", "mover"):
@@ -118,8 +148,13 @@ class Reader:
 
     def _row(self, kids) -> str:
         out, bars = "", 0
-        for kid in kids:
-            piece = self._text(kid)
+        for k, kid in enumerate(kids):
+            if self._is(kid, "mo", "[") or self._is(kid, "mo", "]"):
+                continue
+            if kid.tagName == "mtable" and k and self._is(kids[k - 1], "mo", "["):
+                piece = self._matrix(kid)
+            else:
+                piece = self._text(kid)
             if piece == "|":
                 piece = "Abs(" if bars % 2 == 0 else ")"
                 bars += 1

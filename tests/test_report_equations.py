@@ -366,19 +366,18 @@ def test_every_pages_equations_of_motion_read_back_as_derived():
 
 
 def test_every_pages_printed_equations_and_their_derived_forms_read_back_as_they_are():
-    """Each scalar printed equation on a system page, and the derived form beside it (its named subexpressions
-    substituted), read as a reader reads the page (tests/mathml_reading.py), is the claim's printed expression and
-    the derived quantity at random values: the transcription the page shows is the one the harness checks. (The
-    matrix-valued claims, set entry by entry or column by column, are not read here.)"""
+    """Each printed equation on a system page, and the derived form beside it (its named subexpressions
+    substituted), read as a reader reads the page (tests/mathml_reading.py, ``Reader.claim``: in a line, entry by
+    entry or row by row), is the claim's printed expression and the derived quantity at random values, entry by
+    entry: the transcription the page shows is the one the harness checks."""
     import random
-    import re
 
     from harness.compare.claims import _derived
     from harness.derivation.derive import is_per_body
     from harness.modeling.claims import as_matrix
     from tests.mathml_reading import Reader
 
-    read = 0
+    read = matrices = 0
     for name, system in models.CATALOGUE.systems().items():
         if is_per_body(system):
             continue
@@ -387,15 +386,16 @@ def test_every_pages_printed_equations_and_their_derived_forms_read_back_as_they
             residual = claim.quantity.split(":")[0] in ("eom", "equilibrium")
             derived = as_matrix(_derived(system, claim)) if row["derived"] else None
             for column, expr in (("printed", as_matrix(claim.printed)), ("derived", derived)):
-                if expr is None or expr.shape != (1, 1):
+                if expr is None:
                     continue
                 reader = Reader()
-                (left, right), *more = reader.statements(row[column])
-                shown = sp.sympify(left) - sp.sympify(right) if residual else sp.sympify(right)
-                where = {sp.Symbol(k): sp.sympify(v) for k, v in more if re.fullmatch(r"_s\d+", k)}
+                shown, where = reader.claim(row[column], expr.shape, residual)
+                assert shown.shape == expr.shape, (name, claim.equation, column, shown.shape)
                 rng = random.Random(f"{name} {claim.equation}")
-                values = {x: rng.uniform(0.3, 1.3) for x in sorted(expr[0].free_symbols, key=str)}
-                got, want = reader.at(shown, values, where), complex(expr[0].xreplace(values))
-                assert abs(got - want) <= 1e-9 * (1 + abs(want)), (name, claim.equation, column, got, want)
+                values = {x: rng.uniform(0.3, 1.3) for x in sorted(expr.free_symbols, key=str)}
+                for k, (a, b) in enumerate(zip(shown, expr)):
+                    got, want = reader.at(a, values, where), complex(b.xreplace(values))
+                    assert abs(got - want) <= 1e-9 * (1 + abs(want)), (name, claim.equation, column, k, got, want)
                 read += 1
-    assert read >= 300, read   # 347 printed and derived forms
+                matrices += expr.shape != (1, 1)
+    assert read >= 450 and matrices >= 100, (read, matrices)   # 347 scalar and 131 matrix-valued forms
