@@ -1,9 +1,9 @@
 """A reader of the report's MathML, as a reader of the page reads it: rows in order, an invisible times or two
 operands side by side a product, a fraction, a root, a power (also a bracket raised, ``(…)²`` closing a sum opened
-over lines), ``|…|``, a function applied to the bracket after it, a table's rows one after the other, a table in square brackets a
-matrix. Each symbol
-as it is set (its letter with sub- and superscripts and accent) becomes a name of its own, so a page that sets two
-symbols alike reads them as one. Used by tests/test_mathml.py and tests/test_report_equations.py."""
+over lines), ``|…|``, a function applied to the bracket after it, a table's rows one after the other, a table in
+square brackets a matrix. Each symbol as it is set (its letter with sub- and superscripts and accent) becomes a
+name of its own, so a page that sets two symbols alike reads them as one. Used by tests/test_mathml.py and
+tests/test_report_equations.py."""
 
 from __future__ import annotations
 
