@@ -163,3 +163,23 @@ class Reader:
                 out += "*"   # side by side: a product
             out += piece
         return out
+
+
+def misread(mathml: str, expr, residual: bool = False, seed: str = "") -> list[tuple[int, complex, complex]]:
+    """The entries of ``expr`` (an expression or a matrix) that ``mathml``, read as a page sets a printed equation or
+    a derived form (:meth:`Reader.claim`, its named subexpressions substituted), does not show: ``(index, read,
+    expr)`` at random values in [0.3, 1.3] (from ``seed``) of its symbols, beyond 1e-9 relative."""
+    import random
+
+    expr = sp.Matrix(expr) if isinstance(expr, (sp.MatrixBase, list, tuple)) else sp.Matrix([sp.sympify(expr)])
+    reader = Reader()
+    shown, where = reader.claim(mathml, expr.shape, residual)
+    assert shown.shape == expr.shape, (shown.shape, expr.shape)
+    rng = random.Random(seed)
+    values = {x: rng.uniform(0.3, 1.3) for x in sorted(expr.free_symbols, key=str)}
+    out = []
+    for k, (a, b) in enumerate(zip(shown, expr)):
+        got, want = reader.at(a, values, where), complex(b.xreplace(values))
+        if abs(got - want) > 1e-9 * (1 + abs(want)):
+            out.append((k, got, want))
+    return out

@@ -5,7 +5,7 @@ import pytest
 import sympy as sp
 
 import models
-from harness.compare.claims import Claim, classify
+from harness.compare.claims import Claim, classify, record_fields
 from harness.settings import property_test
 
 SYSTEM = models.get("planar_manipulator")
@@ -199,12 +199,30 @@ HEAVY_CLAIMS = {"planar_robot", "cart_pendulum", "planar_manipulator", "rotating
 
 @pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n in HEAVY_CLAIMS else n
                                   for n in models.catalogue()])
-def test_every_printed_equation_is_classified(name):
+def test_every_printed_equation_is_classified(name, monkeypatch):
+    """Every printed equation is classified without "engines disagree", and each finding's equations on the errata
+    sheet (the printed, the corrected and the difference Δ, :func:`harness.report.equations.wide_math`) read back,
+    as a reader reads them (tests/mathml_reading.py), as the expressions they were set from."""
+    from harness.report import equations
+    from tests.mathml_reading import misread
+
     system = models.get(name)
     printed = models.claims(name)
+    sheet, wide_math = [], equations.wide_math
+
+    def setting(expr, lhs="", residual=False, named=False):
+        sheet.append((expr, residual, wide_math(expr, lhs, residual, named)))
+        return sheet[-1][-1]
+
+    monkeypatch.setattr(equations, "wide_math", setting)
     for claim in printed:
         verdict = classify(system, claim, examples=20, claims=printed)
         assert verdict.classification != "engines disagree", (claim.equation, verdict.errors)
+        record_fields(system, verdict, printed)
+    for expr, residual, mathml in sheet:
+        if "<mo>…</mo>" not in mathml:   # too large to print
+            wrong = misread(mathml, expr, residual, name)
+            assert not wrong, (wrong, mathml)
 
 
 def test_per_body_energies_sum_to_the_derivation():

@@ -370,12 +370,10 @@ def test_every_pages_printed_equations_and_their_derived_forms_read_back_as_they
     substituted), read as a reader reads the page (tests/mathml_reading.py, ``Reader.claim``: in a line, entry by
     entry or row by row), is the claim's printed expression and the derived quantity at random values, entry by
     entry: the transcription the page shows is the one the harness checks."""
-    import random
-
     from harness.compare.claims import _derived
     from harness.derivation.derive import is_per_body
     from harness.modeling.claims import as_matrix
-    from tests.mathml_reading import Reader
+    from tests.mathml_reading import misread
 
     read = matrices = 0
     for name, system in models.CATALOGUE.systems().items():
@@ -386,16 +384,9 @@ def test_every_pages_printed_equations_and_their_derived_forms_read_back_as_they
             residual = claim.quantity.split(":")[0] in ("eom", "equilibrium")
             derived = as_matrix(_derived(system, claim)) if row["derived"] else None
             for column, expr in (("printed", as_matrix(claim.printed)), ("derived", derived)):
-                if expr is None:
-                    continue
-                reader = Reader()
-                shown, where = reader.claim(row[column], expr.shape, residual)
-                assert shown.shape == expr.shape, (name, claim.equation, column, shown.shape)
-                rng = random.Random(f"{name} {claim.equation}")
-                values = {x: rng.uniform(0.3, 1.3) for x in sorted(expr.free_symbols, key=str)}
-                for k, (a, b) in enumerate(zip(shown, expr)):
-                    got, want = reader.at(a, values, where), complex(b.xreplace(values))
-                    assert abs(got - want) <= 1e-9 * (1 + abs(want)), (name, claim.equation, column, k, got, want)
-                read += 1
-                matrices += expr.shape != (1, 1)
-    assert read >= 450 and matrices >= 100, (read, matrices)   # 347 scalar and 131 matrix-valued forms
+                if expr is not None:
+                    assert not misread(row[column], expr, residual, f"{name} {claim.equation}"), (
+                        name, claim.equation, column)
+                    read += 1
+                    matrices += expr.shape != (1, 1)
+    assert read >= 450 and matrices >= 200, (read, matrices)   # 610 forms, 263 of them matrices
