@@ -390,3 +390,33 @@ print(json.dumps([drawn, hidden, caption, shown, in_joints]))
     assert in_joints == ("; not drawn: the springs and dampers in joints (tyre_spring, tyre_damper, "
                          "suspension_spring, suspension_damper), which act along their joint's own coordinate and have "
                          "no points to draw a line between")
+
+
+def test_a_picture_looks_where_the_mechanism_s_links_show_whole():
+    """The camera looks square-on where that foreshortens the mechanism's most foreshortened link least (links: a
+    body's joint from its parent's, its centre of mass from its joint), obliquely where that shows it 1.5 times as
+    long: a planar mechanism from the side its plane faces; a Furuta pendulum (its arm along x, the pendulum
+    swinging across it) obliquely, not along its least extent, the arm (the arm would be a dot); a tower crane whose
+    large body's bounding sphere makes every extent equal from the side its tower, jib and rope show. Among views
+    alike, along the least extent, as before."""
+    import numpy as np
+
+    from harness.report.render import Scene3D, _axes
+
+    def looks_along(pts, links):
+        return tuple(np.round(_axes(*Scene3D.view(np.asarray(pts, float), np.asarray(links, float)))[2], 6))
+
+    rng = np.random.default_rng(0)
+    planar = np.column_stack([rng.uniform(-1, 1, (8, 2)), np.zeros(8)])
+    assert looks_along(planar, planar) == (0, 0, -1)
+    # the arm: the pendulum's joint 0.2 along x, its centre of mass at 0.1; the pendulum's centre of mass 0.15 below
+    # its joint at q = 0, and swung by 60° across the arm; the bodies' bounding spheres least along x
+    furuta = [[0.2, 0, 0], [0.1, 0, 0], [0, 0, -0.15], [0, 0.13, -0.075]]
+    reach = [[-0.1, -0.2, -0.25], [0.28, 0.21, 0.18]]
+    assert np.argmin(np.ptp(reach, axis=0)) == 0 and abs(looks_along(reach, furuta)[0]) < 0.9
+    assert abs(looks_along(reach, furuta)[2]) not in (0.0, 1.0)   # oblique
+    crane = [[0, 0, 3.0], [1.5, 0, 0], [0, 0, -2.0]]   # the tower, the jib to the trolley, the rope to the load
+    assert looks_along([[-2.2, -2.2, -0.7], [2.2, 2.2, 3.7]], crane) == (0, 1, 0)
+    line = [[1.0, 0, 0], [0.5, 0, 0]]   # a mechanism along x: seen across its least extent
+    assert looks_along([[0, 0, 0], [2, 1, 0.5]], line) == (0, 0, -1)
+    assert looks_along([[0, 0, 0], [2, 0.5, 1]], line) == (0, 1, 0)

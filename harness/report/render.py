@@ -52,6 +52,36 @@ def _greek(name: str) -> str:
 _SUBSCRIPT_DIGITS = str.maketrans("0123456789", "₀₁₂₃₄₅₆₇₈₉")
 
 
+AXIS_VIEWS = ((180.0, 0.0), (90.0, 0.0), (90.0, -90.0))
+"""Looking along -x (y to the right, z up), along +y (x to the right, z up), down -z (x to the right, y up)."""
+OBLIQUE = tuple((azimuth, -30.0) for azimuth in (45.0, 135.0, 225.0, 315.0))
+"""The oblique views: from above at 30°, from each quadrant."""
+OBLIQUE_GAIN = 1.5
+"""How much more of its most foreshortened link an oblique view must show than the square-on one to be taken: a
+planar mechanism keeps its square-on view (which shows every link whole)."""
+
+
+def _axes(azimuth: float, elevation: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """MuJoCo's free camera at ``azimuth``, ``elevation`` (degrees): the picture's right and up, and the direction
+    it looks along, in world coordinates."""
+    a, e = np.radians(azimuth), np.radians(elevation)
+    forward = np.round([np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)], 12) + 0.0   # an axis exactly
+    right = np.round([np.sin(a), -np.cos(a), 0.0], 12) + 0.0
+    return right, np.cross(right, forward), forward
+
+
+def _shown(links: np.ndarray, azimuth: float, elevation: float) -> float:
+    """The least fraction of its length any of ``links`` (vectors) shows in the view (1: every one seen square-on;
+    0: one seen end-on); links of no length are left out."""
+    length = np.linalg.norm(links, axis=1)
+    some = length > 1e-9 * np.max(length, initial=0.0)
+    if not some.any():
+        return 1.0
+    links, length = links[some], length[some]
+    right, up, _ = _axes(azimuth, elevation)
+    return float(np.min(np.linalg.norm(links @ np.column_stack([right, up]), axis=1) / length))
+
+
 class Scene3D:
     """One system's MJCF in MuJoCo with a camera chosen for it and a projection of world points to pixels."""
 
@@ -87,37 +117,59 @@ class Scene3D:
         self.engine.pose(theta)
 
     def points(self) -> np.ndarray:
-        """World positions that outline the mechanism: body origins, centres of mass, geoms, sites."""
+        """World positions that outline the mechanism: body origins, centres of mass, the corners of the cube around
+        each geom's bounding sphere, sites."""
         d, m = self.data, self.model
-        reach = m.geom_rbound[:, None] * np.array([[1, 1, 1]]) if m.ngeom else np.zeros((0, 3))
-        geoms = np.vstack([d.geom_xpos - reach, d.geom_xpos + reach]) if m.ngeom else np.zeros((0, 3))
+        corners = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)])   # of the cube around
+        geoms = (d.geom_xpos[:, None, :] + m.geom_rbound[:, None, None] * corners).reshape(-1, 3)   # each geom
         return np.vstack([d.xpos[1:], d.xipos[1:], geoms, d.site_xpos])
 
     # ----------------------------------------------------------------- camera
     def frame(self, states) -> None:
-        """Point the camera at the region the mechanism covers in ``states`` (lecture coordinates), looking along
-        the axis of least extent."""
-        pts = []
+        """Point the camera at the region the mechanism covers in ``states`` (lecture coordinates), from the view
+        that shows its links least foreshortened (:meth:`view`)."""
+        pts, links = [], []
         for q in states:
             self.set_q(q)
             pts.append(self.points())
-        pts = np.vstack(pts)
-        lo, hi = pts.min(axis=0), pts.max(axis=0)
-        extent = hi - lo
-        normal = int(np.argmin(extent + 1e-9 * np.arange(3)[::-1]))  # ties: prefer z, then y (a top/side view)
-        if normal == 0:       # looking along -x: y to the right, z up
-            azimuth, elevation = 180.0, 0.0
-        elif normal == 1:     # looking along +y: x to the right, z up
-            azimuth, elevation = 90.0, 0.0
-        else:                 # looking down -z: x to the right, y up
-            azimuth, elevation = 90.0, -90.0
-        size = float(max(np.max(extent), 0.2))
+            links.append(self.links())
+        pts, links = np.vstack(pts), np.vstack(links)
+        azimuth, elevation = self.view(pts, links)
+        right, up, forward = _axes(azimuth, elevation)
+        plane = np.column_stack([right, up])
+        seen = pts @ plane
+        size = float(max(np.max(np.ptp(seen, axis=0)), 0.2))
+        centre = (pts.min(axis=0) + pts.max(axis=0)) / 2.0   # moved within the picture's plane to what it shows
+        lookat = centre + plane @ ((seen.min(axis=0) + seen.max(axis=0)) / 2.0 - centre @ plane)
         self.camera.type = self.mujoco.mjtCamera.mjCAMERA_FREE
-        self.camera.lookat[:] = (lo + hi) / 2.0
+        self.camera.lookat[:] = lookat
         self.camera.azimuth, self.camera.elevation = azimuth, elevation
-        fovy = np.radians(self.model.vis.global_.fovy)
-        self.camera.distance = 1.15 * (size / 2.0) / np.tan(fovy / 2.0)
+        half = np.tan(np.radians(self.model.vis.global_.fovy) / 2.0) * np.array([self.width / self.height, 1.0])
+        # far enough that the points nearer the camera than the centre (a mechanism seen obliquely) fit as well
+        nearer, off = (lookat - pts) @ forward, np.abs((pts - lookat) @ plane)
+        fits = float(np.max(nearer + 1.05 * np.max(off / half, axis=1)))
+        self.camera.distance = max(1.15 * (size / 2.0) / half[1], fits)
         self.model.tendon_width[:] = TENDON_WIDTH * size   # a point spring or damper as a line seen at this size
+
+    def links(self) -> np.ndarray:
+        """The mechanism's links as vectors: from each body's parent's origin to its origin (a body carried by the
+        world excepted), and from its origin to its centre of mass."""
+        d, parent = self.data, self.model.body_parentid
+        carried = [b for b in range(1, self.model.nbody) if parent[b] != 0]
+        return np.vstack([d.xpos[carried] - d.xpos[parent[carried]], d.xipos[1:] - d.xpos[1:]])
+
+    @staticmethod
+    def view(pts: np.ndarray, links: np.ndarray) -> tuple[float, float]:
+        """``(azimuth, elevation)`` in degrees: the view square-on (:data:`AXIS_VIEWS`) that foreshortens the
+        most foreshortened of the ``links`` least (:func:`_shown`; a planar mechanism from the side its plane
+        faces), an oblique one (:data:`OBLIQUE`) where that shows it :data:`OBLIQUE_GAIN` times as long; among
+        views alike, along the least extent of ``pts``. The least extent alone is no guide where it hides a link
+        end-on (a Furuta pendulum's arm, seen along itself; a tower crane's tower, seen from above)."""
+        extent = np.ptp(pts, axis=0) + 1e-9 * np.arange(3)[::-1]   # ties: prefer z, then y
+        shown = {view: round(_shown(links, *view), 6) for view in AXIS_VIEWS + OBLIQUE}
+        square_on = max(AXIS_VIEWS, key=lambda view: (shown[view], -extent[AXIS_VIEWS.index(view)]))
+        oblique = max(OBLIQUE, key=shown.get)
+        return oblique if shown[oblique] > OBLIQUE_GAIN * shown[square_on] else square_on
 
     def render(self) -> np.ndarray:
         """The image, on a white background (pixels no object covers, from a segmentation pass)."""
