@@ -174,15 +174,22 @@ def test_more_pairs_are_taken_while_the_verdict_is_undecided():
     assert pruning_undecided(1.0, at_most=True)([0.98] * 21, [1.0] * 21)
     assert not pruning_undecided(1.0, at_most=True)([0.5] * 21, [1.0] * 21)
 
-def test_the_price_of_a_dop853_run_is_also_taken_per_call():
+def test_the_price_of_a_dop853_run_is_also_taken_per_call(monkeypatch):
     """With repeats, the entry of a source integrated by DOP853 (symbolic, Pinocchio) also times one call of the
     right-hand side of the pruned and of the idle model (what pruning saves per evaluation, without the integrator
-    around it): per-call seconds, the pairs' median ratio within its interval, and the bench table shows it.
-    MuJoCo's own stepping has no integrator of ours around it: no per-call entry."""
+    around it): per-call seconds, the pairs' median ratio within its interval, and the bench table shows it. The
+    symbolic runs are also timed in machine code (``machine_code``: its own test). MuJoCo's own stepping has no
+    integrator of ours around it: no per-call entry."""
     from harness.bench import report
     from harness.bench.workprecision import pruning_task
     from harness.catalogue import repository
+    from harness.errors import NotApplicable
+    from harness.scenes.phenomena import pruning
 
+    def not_here(*args):   # the runs in machine code compile two models (~30 s): their own test, marked slow
+        raise NotApplicable("compiled in test_the_runs_in_machine_code_…")
+
+    monkeypatch.setattr(pruning, "machine_code", not_here)
     row = pruning_task(repository(), "quarter_car", "smooth_road", repeats=3)
     for source in ("symbolic", "pinocchio"):
         c = row["sources"][source]["per_call"]
@@ -197,8 +204,33 @@ def test_the_price_of_a_dop853_run_is_also_taken_per_call():
     assert n == len(acting["pruned_all"]) and n in range(3, 3 * LOOKS + 1, 3)
     assert all(undecided(1.3)(acting["pruned_all"][:k], acting["idle_all"][:k]) for k in range(3, n, 3))
     assert n == 3 * LOOKS or not undecided(1.3)(acting["pruned_all"], acting["idle_all"])
+    assert row["sources"]["symbolic"]["machine_code"] == {"skipped": "compiled in test_the_runs_in_machine_code_…"}
+    assert "machine_code" not in row["sources"]["pinocchio"]
     line = next(x for x in report._pruning([row]) if x.startswith("| quarter_car/smooth_road"))
     assert "; per call " in line and " µs)" in line and "; acting tree " in line
+    assert "; in machine code not measured: compiled in test_the_runs_in_machine_code_…" in line
+
+
+@pytest.mark.slow   # two models compiled to machine code, ~15 s each
+def test_the_runs_in_machine_code_take_the_same_steps_pruned_and_idle():
+    """The symbolic runs in machine code (our ẏ and DOP853 stepping compiled together, no call through Python):
+    the pruned and the idle model take the same steps to the same motion, and their ratio is measured as the
+    others are; the bench table shows it beside the runs through Python."""
+    import models
+    from harness.modeling.scenes import with_idle_effects
+    from harness.scenes.effects import infer
+    from harness.scenes.phenomena import pruning
+
+    system = models.get("quarter_car")
+    scene = next(s for s in models.CATALOGUE.scenes("quarter_car") if s.name == "smooth_road")
+    idle_system, idle_scene = with_idle_effects(system, scene)
+    native = pruning.machine_code(*infer(system, scene).pruned(system, scene), idle_system, idle_scene, 3)
+    assert native["method"] == "DOP853 (machine code) 1e-10" and native["error"] == 0.0
+    assert native["evaluations"][0] == native["evaluations"][1] > 0
+    assert native["ratio_low"] <= native["ratio"] <= native["ratio_high"] and 0 < native["pruned_seconds"] < 1.0
+    row = _row("quarter_car", "smooth_road", {"symbolic": 1.0})
+    row["sources"]["symbolic"]["machine_code"] = native
+    assert "; in machine code " in next(x for x in report._pruning([row]) if x.startswith("| quarter_car/"))
 
 
 def test_mujoco_pruned_leaves_out_the_elements_of_left_out_effects_and_the_acting_tree_all_but_what_acts():

@@ -74,7 +74,9 @@ Schema of ``bench.json`` (``schema: 2``; times in seconds, errors relative to th
                                "idle_all" (every run's seconds), "error" (pruned vs idle trajectory),
                                "evaluations": [pruned, idle], "method", "per_call" (symbolic, Pinocchio:
                                one call of the right-hand side, the same keys per call and "calls"), "acting" (MuJoCo:
-                               the acting tree's runs against the idle ones, the same keys: pruning.acting_tree)} |
+                               the acting tree's runs against the idle ones, the same keys: pruning.acting_tree),
+                               "machine_code" (symbolic: the runs in machine code, the same keys, or {"skipped"}:
+                               pruning.machine_code)} |
                                {"skipped": why}},
                    "rows": {"left_out": [constraint row], "proof", "sources": {"pinocchio" | "mujoco": the same keys}}
                    (where the tree's constraint rows are proved inactive: the open tree against the constrained)}],

@@ -370,7 +370,8 @@ def _pruning(rows: list[dict]) -> list[str]:
              "what pruning saves per evaluation without the integrator around it, and the most the run's ratio can "
              "be: with the same evaluations and the same integrator work in both, idle / pruned of the run is at "
              "most that of one call; a target above the per-call interval is **out of reach** of the source on "
-             "that scene); "
+             "that scene; symbolic also in machine code: the same runs with our ẏ and DOP853 stepping compiled "
+             "together (numba), no call through Python, the same pairs, what pruning saves in our fastest path); "
              "MuJoCo: its own RK4 (`mj_step`), the left-out effects switched off by their disable flags and their "
              "elements left out of the MJCF, the idle force elements of acting effects left out too (a joint spring "
              "or damper is only a coefficient, 0 in the idle model too: nothing saved), the idle loads and inputs "
@@ -426,6 +427,11 @@ def _pruning(rows: list[dict]) -> list[str]:
                                   f"{_ms(c['pruned_seconds'])} ms)")
                     if attainable(m, PRUNING_GOAL):
                         cells[-1] += f": {PRUNING_GOAL:g} × **out of reach**"
+                native = m.get("machine_code")
+                if native:   # the same runs in machine code: what pruning saves with no call through Python
+                    cells[-1] += (f"; in machine code not measured: {native['skipped']}" if "skipped" in native else
+                                  f"; in machine code {_timed(native)}")
+                    errors.append(native.get("error", 0.0))
                 errors.append(m["error"])
         idle = "; ".join([f"{k}: {v}" for k, v in r.get("inferred_idle", {}).items()] +
                          [f"force element {k}: {v}" for k, v in r.get("idle_elements", {}).items()]) or "—"
