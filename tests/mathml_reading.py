@@ -45,6 +45,12 @@ class Reader:
             read = read.xreplace(where)
         return complex(read.xreplace({self.symbol(x): v for x, v in values.items()}))
 
+    def error(self, read: sp.Expr, expr, values: dict, where: dict | None = None) -> float:
+        """``|read − expr| / (1 + |expr|)`` at ``values`` (:meth:`at`): 0 but for rounding where the page shows
+        ``expr``, O(1) where it shows something else (a sign, a term, a bracket)."""
+        want = complex(sp.sympify(expr).xreplace(values))
+        return abs(self.at(read, values, where) - want) / (1 + abs(want))
+
     def statements(self, mathml: str) -> list[tuple[str, str]]:
         """``(left, right)`` texts of the equations a table sets: a row ``x = …`` begins one and the rows after it
         continue its right side; rows before a row ``= 0`` are the left side of a residual; an expression set alone
@@ -73,22 +79,25 @@ class Reader:
         expression read). Set in a line, the value is one expression or a matrix in brackets; broken over lines, a
         residual is its rows ``… = 0`` and a matrix its entries in row-major order (every entry), the names after
         them; a matrix without a name is its columns ``column j : […]``."""
-        said = [(sp.sympify(left or "0"), sp.sympify(right)) for left, right in self.statements(mathml)]
-        shown = said[0][0] if residual else said[0][1]
-        columns = [right for left, right in said if str(left).startswith("column_")]
+        said = self.statements(mathml)   # texts: a left side is read only where it is a value (a residual's)
+
+        def value_of(left: str, right: str):
+            if not residual:
+                return sp.sympify(right)
+            shown = sp.sympify(left or "0")
+            return shown if right.strip() == "0" else shown - sp.sympify(right)   # a matrix has no "- 0"
+
+        columns = [sp.sympify(right) for left, right in said if left.startswith("column_")]
+        first = value_of(*said[0])
         if columns:
             value, rest = sp.Matrix.hstack(*columns), said[len(columns):]
-        elif isinstance(shown, sp.MatrixBase):   # in a line
-            value, rest = shown, said[1:]
+        elif isinstance(first, sp.MatrixBase):   # in a line
+            value, rest = first, said[1:]
         else:
             count = shape[0] * shape[1]
-            value = sp.Matrix(*shape, [left - right if residual else right for left, right in said[:count]])
-            rest = said[count:]
+            value, rest = sp.Matrix(*shape, [value_of(*statement) for statement in said[:count]]), said[count:]
+        rest = [(sp.sympify(left), sp.sympify(right)) for left, right in rest]
         return value, dict(rest)
-
-    def matrix(self, mathml: str) -> sp.Matrix:
-        """The matrix ``[…]`` of ``left = [table]``: each cell read as an expression."""
-        return sp.sympify(self.statements(mathml)[0][1])
 
     def symbol(self, expr) -> sp.Symbol:
         """The name a model symbol reads as where the page sets it (:func:`harness.report.mathml.body`)."""
@@ -165,10 +174,15 @@ class Reader:
         return out
 
 
-def misread(mathml: str, expr, residual: bool = False, seed: str = "") -> list[tuple[int, complex, complex]]:
+READ_TOLERANCE = 1e-9
+"""What a page shows agrees with an expression where :meth:`Reader.error` is at most this: the values are drawn in
+[0.3, 1.3], so the rounding of a displayed expression's evaluation is ~1e-15, and a wrong sign or term is O(1)."""
+
+
+def misread(mathml: str, expr, residual: bool = False, seed: str = "") -> list[tuple[int, float]]:
     """The entries of ``expr`` (an expression or a matrix) that ``mathml``, read as a page sets a printed equation or
-    a derived form (:meth:`Reader.claim`, its named subexpressions substituted), does not show: ``(index, read,
-    expr)`` at random values in [0.3, 1.3] (from ``seed``) of its symbols, beyond 1e-9 relative."""
+    a derived form (:meth:`Reader.claim`, its named subexpressions substituted), does not show: ``(index, error)``
+    at random values in [0.3, 1.3] (from ``seed``) of its symbols, beyond :data:`READ_TOLERANCE`."""
     import random
 
     expr = sp.Matrix(expr) if isinstance(expr, (sp.MatrixBase, list, tuple)) else sp.Matrix([sp.sympify(expr)])
@@ -177,9 +191,5 @@ def misread(mathml: str, expr, residual: bool = False, seed: str = "") -> list[t
     assert shown.shape == expr.shape, (shown.shape, expr.shape)
     rng = random.Random(seed)
     values = {x: rng.uniform(0.3, 1.3) for x in sorted(expr.free_symbols, key=str)}
-    out = []
-    for k, (a, b) in enumerate(zip(shown, expr)):
-        got, want = reader.at(a, values, where), complex(b.xreplace(values))
-        if abs(got - want) > 1e-9 * (1 + abs(want)):
-            out.append((k, got, want))
-    return out
+    errors = [(k, reader.error(a, b, values, where)) for k, (a, b) in enumerate(zip(shown, expr))]
+    return [(k, e) for k, e in errors if e > READ_TOLERANCE]
