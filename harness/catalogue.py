@@ -8,9 +8,13 @@ functions to it.
 Search path: the package's own folder first, then the folders added to its ``__path__`` (a user's own models,
 a throwaway system in a test); a module there cannot shadow a module of the package's own folder.
 
+A system's module is named after it (``models/pendulum.py`` defines the system ``pendulum``), as in
+robot_descriptions: looking up one system (:meth:`Catalogue.get`, ``harness check pendulum``) loads that module
+alone; listing the catalogue loads every module.
+
 A module that does not load — it raises, has a syntax error, calls ``sys.exit``, defines an invalid model, a
 printed equation (claim) with a symbol the system does not declare, a scene whose initial state, inputs or
-parameter values do not fit the system, or a system name another module already uses — is that module's failure,
+parameter values do not fit the system, or a system not named after its module — is that module's failure,
 one line naming its file: :meth:`Catalogue.failures` lists them, :meth:`Catalogue.names` includes them (so that a
 run over the catalogue reports them), :meth:`Catalogue.get` raises it for that name only; every other system still
 loads.
@@ -79,6 +83,7 @@ class Catalogue:
     def __init__(self, package: ModuleType | str = "models"):
         self.package = package if isinstance(package, str) else package.__name__
         self._loaded: tuple[dict, dict] | None = None
+        self._tried: dict[str, ModuleType | ModelError | None] = {}  # module name -> its system's module, or why not
 
     # ------------------------------------------------------------------------------------------ description
     @property
@@ -97,9 +102,21 @@ class Catalogue:
         return f"Catalogue({self.package!r})"
 
     # ------------------------------------------------------------------------------------------ loading
-    def _load(self, info: pkgutil.ModuleInfo, path: str):
-        """Import ``<package>.<name>`` and check its claims and scenes; a module that does not load is one error naming
-        its file."""
+    def _load(self, info: pkgutil.ModuleInfo) -> ModuleType | None:
+        """Import ``<package>.<name>`` and check its system's name, claims and scenes: the module of a system, None for
+        a module that defines none (a helper); a module that does not load raises one error naming its file."""
+        if info.name in self._tried:
+            if isinstance(self._tried[info.name], ModelError):
+                raise self._tried[info.name]
+            return self._tried[info.name]
+        try:
+            module = self._tried[info.name] = self._import(info, _path(info))
+        except ModelError as exc:
+            self._tried[info.name] = exc
+            raise
+        return module
+
+    def _import(self, info: pkgutil.ModuleInfo, path: str) -> ModuleType | None:
         name = f"{self.package}.{info.name}"
         try:
             module = importlib.import_module(name)
@@ -111,49 +128,65 @@ class Catalogue:
             what = f"calls sys.exit({exc.code!r})" if isinstance(exc, SystemExit) else f"{type(exc).__name__}: {exc}"
             raise ModelError(f"{path} does not load{where}: {what}") from None
         system = getattr(module, "SYSTEM", None)
-        if isinstance(system, System):
-            from harness.modeling.claims import validate_claims
-            from harness.modeling.scenes import validate_scenes
+        if not isinstance(system, System):
+            return None
+        if system.name != info.name:  # a lookup by name loads the module of that name alone
+            raise ModelError(f"{path}: its SYSTEM is named {system.name!r}; a system's module is named after it: "
+                             f"rename the file to {system.name}.py or the system to {info.name!r}")
+        from harness.modeling.claims import validate_claims
+        from harness.modeling.scenes import validate_scenes
 
-            try:
-                validate_claims(system, getattr(module, "CLAIMS", []))
-                validate_scenes(system, getattr(module, "SCENES", []))
-            except HarnessError as exc:
-                raise ModelError(f"{path}: {exc}") from None
+        try:
+            validate_claims(system, getattr(module, "CLAIMS", []))
+            validate_scenes(system, getattr(module, "SCENES", []))
+        except HarnessError as exc:
+            raise ModelError(f"{path}: {exc}") from None
         return module
+
+    def _infos(self) -> list[pkgutil.ModuleInfo]:
+        """The model modules on the search path, in catalogue order: the package's own folder first (a user module
+        cannot take a catalogued name), then the added folders; each sorted by name."""
+        own, *others = self.path
+        infos = sorted(pkgutil.iter_modules([own]), key=lambda m: m.name)
+        seen = {info.name for info in infos}
+        infos += [info for info in sorted(pkgutil.iter_modules(others), key=lambda m: m.name) if info.name not in seen]
+        return [info for info in infos if not info.name.startswith("_")]
 
     def _load_all(self) -> tuple[dict, dict]:
         """``(modules by system name, failures by module name)``, in module order."""
         if self._loaded is not None:
             return self._loaded
-        modules, failures, where = {}, {}, {}
-        own, *others = self.path  # the package's own folder first: a user module cannot take a catalogued name
-        infos = sorted(pkgutil.iter_modules([own]), key=lambda m: m.name)
-        seen = {info.name for info in infos}
-        infos += [info for info in sorted(pkgutil.iter_modules(others), key=lambda m: m.name) if info.name not in seen]
-        for info in infos:
-            if info.name.startswith("_"):
-                continue
-            path = _path(info)
+        modules, failures = {}, {}
+        for info in self._infos():
             try:
-                module = self._load(info, path)
+                module = self._load(info)
             except ModelError as exc:
                 failures[info.name] = str(exc)
                 continue
-            system = getattr(module, "SYSTEM", None)
-            if not isinstance(system, System):
-                continue
-            if system.name in modules or system.name in failures:
-                failures[info.name] = (f"{path}: system name {system.name!r} is already used by "
-                                       f"{where.get(system.name, system.name)}; give SYSTEM a name of its own")
-                continue
-            modules[system.name], where[system.name] = module, path
+            if module is not None:
+                modules[info.name] = module
         self._loaded = modules, failures
         return self._loaded
+
+    def _module(self, name: str) -> ModuleType:
+        """The module of system ``name``, loading that module alone (its file is named after the system); a module
+        that does not load raises its failure, an unknown name an InputError naming every system."""
+        if self._loaded is None:
+            info = next((info for info in self._infos() if info.name == name), None)
+            module = None if info is None else self._load(info)
+            if module is not None:
+                return module
+        modules, failures = self._load_all()
+        if name in modules:
+            return modules[name]
+        if name in failures:
+            raise ModelError(failures[name])
+        raise InputError(f"unknown system {name!r}; known systems: {', '.join(self.names())}")
 
     def reload(self) -> None:
         """Forget what was loaded: the next lookup searches the path again (a folder added, a module written)."""
         self._loaded = None
+        self._tried.clear()
 
     # ------------------------------------------------------------------------------------------ lookups
     def systems(self) -> dict[str, System]:
@@ -171,18 +204,13 @@ class Catalogue:
         return [*systems, *(name for name in self.failures() if name not in systems)]
 
     def order(self) -> dict[str, int]:
-        """Position of each name in :meth:`names` (records are sorted by it; other names after)."""
-        return {name: k for k, name in enumerate(self.names())}
+        """Position of each system's (and failing module's) name in module order (records are sorted by it; other
+        names after); no module is loaded for it."""
+        return {info.name: k for k, info in enumerate(self._infos())}
 
     def get(self, name: str) -> System:
         """The system ``name``; a module that does not load raises its failure, an unknown name an InputError."""
-        systems = self.systems()
-        if name in systems:
-            return systems[name]
-        broken = self.failures()
-        if name in broken:
-            raise ModelError(broken[name])
-        raise InputError(f"unknown system {name!r}; known systems: {', '.join(self.names())}")
+        return self._module(name).SYSTEM
 
     def require(self, names) -> None:
         """Unknown or broken names given by a user fail before any work (one line)."""
@@ -191,19 +219,16 @@ class Catalogue:
 
     def scenes(self, name: str) -> list:
         """The scenes of system ``name`` (the module's ``SCENES``)."""
-        self.get(name)
-        return list(getattr(self._load_all()[0][name], "SCENES", []))
+        return list(getattr(self._module(name), "SCENES", []))
 
     def claims(self, name: str) -> list:
         """The lecture's printed equations for system ``name`` (the module's ``CLAIMS``)."""
-        self.get(name)
-        return list(getattr(self._load_all()[0][name], "CLAIMS", []))
+        return list(getattr(self._module(name), "CLAIMS", []))
 
     def from_lecture(self, name: str) -> bool:
         """Whether system ``name`` is the lecture's: its module is in the package's own folder, not in an added
         one (one's own model, a paper's system, names its source in ``System.lecture``)."""
-        self.get(name)
-        return Path(self._load_all()[0][name].__file__).resolve().parent == Path(self.path[0]).resolve()
+        return Path(self._module(name).__file__).resolve().parent == Path(self.path[0]).resolve()
 
     def lecture_claims(self) -> set[str]:
         """The systems of the lecture's catalogue (:meth:`from_lecture`) that list printed equations: the systems
@@ -214,8 +239,7 @@ class Catalogue:
     def module(self, name: str) -> ModuleType:
         """The model module of system ``name`` (for what a model states beyond SYSTEM, CLAIMS, SCENES: e.g. the
         lightweight robot's URDF file)."""
-        self.get(name)
-        return self._load_all()[0][name]
+        return self._module(name)
 
     def added_folder(self, name: str) -> str | None:
         """The folder added to the search path (``HARNESS_MODELS_PATH``) that holds system ``name``'s module; None for
@@ -224,7 +248,11 @@ class Catalogue:
         return None if folder == os.path.realpath(self.path[0]) else folder
 
     def __contains__(self, name) -> bool:
-        return name in self.systems()
+        try:
+            self._module(name)
+        except HarnessError:
+            return False
+        return True
 
 
 def _package(name: str, folder: str | Path | None = None) -> ModuleType:

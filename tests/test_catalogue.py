@@ -64,3 +64,26 @@ def test_the_lecture_systems_with_printed_equations_are_those_of_the_models_fold
     assert "user_pendulum" in models.names() and "user_pendulum" not in lecture
     assert lecture == {name for name in models.names() if name != "user_pendulum" and models.CATALOGUE.claims(name)}
     assert "pendulum" in lecture and "lightweight_robot" not in lecture   # the robot lists no printed equation
+
+
+def test_looking_up_one_system_loads_its_module_alone(user_models):
+    """A system's module is named after it, so ``harness check NAME`` imports that module and no other; listing
+    the catalogue imports every module; a module whose system has another name is that module's failure."""
+    (user_models / "user_one.py").write_text(
+        "import dataclasses\nfrom models.pendulum import SYSTEM as _S\n"
+        "SYSTEM = dataclasses.replace(_S, name='user_one')\n")
+    (user_models / "user_two.py").write_text(
+        "from pathlib import Path\n(Path(__file__).parent / 'user_two loaded').touch()\n"
+        "import dataclasses\nfrom models.pendulum import SYSTEM as _S\n"
+        "SYSTEM = dataclasses.replace(_S, name='user_three')\n")
+    catalogue = Catalogue(models)
+    assert catalogue.get("user_one").name == "user_one" and "user_one" in catalogue
+    assert catalogue.scenes("user_one") == [] and not catalogue.from_lecture("user_one")
+    assert not (user_models / "user_two loaded").exists()
+    assert catalogue.order()["user_two"] > catalogue.order()["user_one"] > catalogue.order()["pendulum"]
+    assert not (user_models / "user_two loaded").exists()
+    assert "user_two" in catalogue.names() and (user_models / "user_two loaded").exists()
+    assert "user_three" not in catalogue and "user_two" not in catalogue.systems()
+    assert catalogue.failures()["user_two"].endswith(
+        "user_two.py: its SYSTEM is named 'user_three'; a system's module is named after it: "
+        "rename the file to user_three.py or the system to 'user_two'")

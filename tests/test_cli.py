@@ -15,7 +15,7 @@ from harness.engines import ENGINES, SOURCES
 
 
 def run(*args):
-    return subprocess.run([sys.executable, "-m", "harness.cli", *args], capture_output=True, text=True, timeout=300)
+    return subprocess.run([sys.executable, "-m", "harness", *args], capture_output=True, text=True, timeout=300)
 
 
 def test_list_shows_every_system():

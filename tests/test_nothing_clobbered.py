@@ -18,9 +18,11 @@ BROKEN = {  # module name -> (its text, what the one-line failure says)
     "user_syntax": ("def (:\n", "does not load (line 1): SyntaxError"),
     "user_exits": ("import sys\nsys.exit(0)\n", "does not load: calls sys.exit(0)"),
     "user_shadow": ("from models.pendulum import SYSTEM as _S\nimport dataclasses\n"
-                    "SYSTEM = dataclasses.replace(_S, title='a fake')\n", "system name 'pendulum' is already used by"),
+                    "SYSTEM = dataclasses.replace(_S, title='a fake')\n",
+                    "its SYSTEM is named 'pendulum'; a system's module is named after it"),
     "aa_user_shadow": ("from models.pendulum import SYSTEM as _S\nimport dataclasses\n"  # sorts before pendulum
-                       "SYSTEM = dataclasses.replace(_S, title='a fake')\n", "system name 'pendulum' is already used"),
+                       "SYSTEM = dataclasses.replace(_S, title='a fake')\n",
+                       "rename the file to pendulum.py or the system to 'aa_user_shadow'"),
 }
 SCENE = ("import dataclasses\nfrom models.pendulum import SYSTEM as _S\nfrom harness.modeling import Constant, Scene\n"
          "SYSTEM = dataclasses.replace(_S, name='{module}')\nSCENES = [Scene('drop', '', {fields})]\n")
