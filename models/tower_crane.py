@@ -16,7 +16,9 @@ Bodies (Example 5.2): the tower is a solid cylinder (radius ``r_1``, height ``h_
 (5.31)); inertia tensors (5.32) from the formula collection. As the model has one rigid body per link, the
 tower is their union: mass ``m_Z + m_Q``, the common centre of mass ``p_1^{sT}`` and the inertia tensor about
 it by Steiner's theorem (the lecture's first approach). Only its ``z`` moment about the axis enters, which is
-``l_1x^2/4 m_Q + I_zz,1^{sZ} + I_zz,1^{sQ}`` as in (5.37); the height of the jib does not enter at all. The
+``l_1x^2/4 m_Q + I_zz,1^{sZ} + I_zz,1^{sQ}`` as in (5.37); the height of the jib does not enter at all. (5.31)
+puts the jib's centre at the height ``l_1z``, at the foot of the tower, while the trolley runs at ``h_1`` (Figure
+4.10 shows the jib at the top); the picture shows the two solids (``Link.solids``) where (5.31) puts them. The
 trolley (mass ``m_K``) has its centre of mass at the origin of frame 2 and a diagonal inertia tensor
 ``diag(I_xx2, I_yy2, I_zz2)`` (printed as ``diag(I_xx,2, I_xx,2, I_xx,2)``, used with ``I_zz,2`` in (5.39)). The
 load is a point mass ``m_L`` at the origin of frame 5 (``p_5^L = 0``). Gravity acts in ``e_g = [0, 0, -1]``
@@ -35,10 +37,11 @@ checks draw ``s_5`` in ``[0.3, 3] m`` (at least 0.3 m of rope) and ``phi_4`` in 
 
 from sympy import Matrix, cos, diag, pi, sin, zeros
 
-from harness.derivation.bodies import Cylinder, moment_of_inertia
+from harness.derivation.bodies import moment_of_inertia
 from harness.derivation.kinematics import link_poses
-from harness.modeling import (Printed, WORLD, Claim, Constant, Coordinate, Gravity, Inertia, Input, Joint, JointDamper,
-                              JointInput, Link, Parameter, Scene, Step, System, standard_gravity, steiner)
+from harness.modeling import (Printed, WORLD, Box, Claim, Constant, Coordinate, Cylinder, Gravity, Inertia, Input,
+                              Joint, JointDamper, JointInput, Link, Parameter, Scene, Step, System, standard_gravity,
+                              steiner)
 
 h_1 = Parameter("h_1", 3.0, "m", "height of the tower (cylinder); height of the trolley's rail")
 r_1 = Parameter("r_1", 0.1, "m", "radius of the tower (solid cylinder)")
@@ -87,7 +90,8 @@ SYSTEM = System(
     coordinates=(phi_1, s_2, phi_3, phi_4, s_5),
     links=(
         Link("tower", m_T, tuple(p_sT), Inertia(I_sT[0, 0], I_sT[1, 1], I_sT[2, 2], I_sT[0, 1], I_sT[0, 2], I_sT[1, 2]),
-             description="tower (solid cylinder) with jib (cuboid), one rigid body"),
+             description="tower (solid cylinder) with jib (cuboid), one rigid body",
+             solids=((Cylinder(r_1, h_1), rho_1), (Box.around(p_sQ, (l_1x, l_1y, l_1z)), rho_1))),
         Link("trolley", m_K, (0, 0, 0), Inertia(I_xx2, I_yy2, I_zz2)),
         Link("rope_3", description="massless frame 3, turned by phi_3 about y_2"),
         Link("rope_4", description="massless frame 4, turned by phi_4 about x_3"),

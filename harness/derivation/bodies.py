@@ -8,12 +8,12 @@ these kinds (``R:``, ``S:``, ``omega:``, ``I_0:``, ``T_t:``, ``T_r:``, ``V:``) a
 from __future__ import annotations
 
 import itertools
-from dataclasses import dataclass
 
 import numpy as np
 import sympy as sp
 
 from harness.derivation.kinematics import link_poses, point_position
+from harness.modeling.solids import Ball, Box, Cylinder
 from harness.modeling.system import (WORLD, BodyTorque, Damper, JointDamper, JointInput, JointSpring, Point,
                                     PointForce, Spring, System)
 
@@ -93,36 +93,6 @@ def gravity_potential(system: System, link: str) -> sp.Expr:
 
 
 # --------------------------------------------------------------------------- standard bodies by their volume integral
-@dataclass(frozen=True)
-class Box:
-    """A homogeneous cuboid ``x0 ≤ x ≤ x1``, ``y0 ≤ y ≤ y1``, ``z0 ≤ z ≤ z1`` in a body-fixed frame."""
-
-    x: tuple
-    y: tuple
-    z: tuple
-
-    @staticmethod
-    def around(centre, edges) -> "Box":
-        """The cuboid with edges ``(a, b, c)`` along x, y, z centred at ``centre``."""
-        return Box(*[(sp.sympify(c) - sp.sympify(e) / 2, sp.sympify(c) + sp.sympify(e) / 2)
-                     for c, e in zip(centre, edges)])
-
-
-@dataclass(frozen=True)
-class Cylinder:
-    """A homogeneous solid cylinder of ``radius`` about the frame's z axis, ``0 ≤ z ≤ length``."""
-
-    radius: object
-    length: object
-
-
-@dataclass(frozen=True)
-class Ball:
-    """A homogeneous solid ball of ``radius`` centred at the frame's origin."""
-
-    radius: object
-
-
 def moment_of_inertia(solid, density, axis=(0, 0, 1), about=(0, 0, 0)) -> sp.Expr:
     """``I = ∫ ρ (rᵀ r − (eᵀ r)²) dV`` (3.120) of a homogeneous solid about the axis ``e`` through ``about``: one
     entry of :func:`solid_inertia`, at the cost of one integral."""
@@ -130,28 +100,42 @@ def moment_of_inertia(solid, density, axis=(0, 0, 1), about=(0, 0, 0)) -> sp.Exp
     return (e.T * solid_inertia(solid, density, about, entries=[tuple(e)]) * e)[0]
 
 
-def solid_inertia(solid, density, about=(0, 0, 0), entries=None) -> sp.Matrix:
-    """``I = ∫ ρ (rᵀ r E − r rᵀ) dV`` (3.118), (3.120) of a homogeneous solid about the point ``about``, by its
-    volume integral in Cartesian, cylindrical or spherical coordinates (3.122), (3.123): independent of the formulas a
-    model builds its inertia from. ``entries``: only the diagonal entries of these coordinate axes (others 0)."""
+def _volume(solid):
+    """``(point r(u), Jacobian determinant, limits of u)`` of a solid's volume integral in Cartesian, cylindrical or
+    spherical coordinates (3.122), (3.123)."""
     x, y, z = sp.symbols("x y z", real=True)
     r_, t_, p_ = sp.symbols("r t p", nonnegative=True)
     if isinstance(solid, Box):
-        point, jacobian, limits = sp.Matrix([x, y, z]), 1, [(x, *solid.x), (y, *solid.y), (z, *solid.z)]
-    elif isinstance(solid, Cylinder):
+        return sp.Matrix([x, y, z]), 1, [(x, *solid.x), (y, *solid.y), (z, *solid.z)]
+    if isinstance(solid, Cylinder):
         point = sp.Matrix([r_ * sp.cos(t_), r_ * sp.sin(t_), z])
-        jacobian, limits = r_, [(r_, 0, solid.radius), (t_, 0, 2 * sp.pi), (z, 0, solid.length)]
-    elif isinstance(solid, Ball):
+        return point, r_, [(r_, 0, solid.radius), (t_, 0, 2 * sp.pi), (z, 0, solid.length)]
+    if isinstance(solid, Ball):
         point = sp.Matrix([r_ * sp.sin(t_) * sp.cos(p_), r_ * sp.sin(t_) * sp.sin(p_), r_ * sp.cos(t_)])
-        jacobian, limits = r_**2 * sp.sin(t_), [(r_, 0, solid.radius), (t_, 0, sp.pi), (p_, 0, 2 * sp.pi)]
-    else:
-        raise TypeError(f"no volume integral for {type(solid).__name__}")
+        return point, r_**2 * sp.sin(t_), [(r_, 0, solid.radius), (t_, 0, sp.pi), (p_, 0, 2 * sp.pi)]
+    raise TypeError(f"no volume integral for {type(solid).__name__}")
+
+
+def solid_inertia(solid, density, about=(0, 0, 0), entries=None) -> sp.Matrix:
+    """``I = ∫ ρ (rᵀ r E − r rᵀ) dV`` (3.118), (3.120) of a homogeneous solid about the point ``about``, by its
+    volume integral (:func:`_volume`): independent of the formulas a model builds its inertia from. ``entries``:
+    only the diagonal entries of these coordinate axes (others 0)."""
+    point, jacobian, limits = _volume(solid)
     r = point - sp.Matrix(about)
     integrand = sp.sympify(density) * ((r.T * r)[0] * sp.eye(3) - r * r.T) * jacobian
     wanted = None if entries is None else {[tuple(row) for row in sp.eye(3).tolist()].index(tuple(e))
                                            for e in entries}
     return sp.Matrix(3, 3, lambda i, j: _integral(integrand[i, j], limits)
                      if wanted is None or (i == j and i in wanted) else sp.Integer(0))
+
+
+def solid_mass(solid, density) -> tuple[sp.Expr, sp.Matrix]:
+    """``(m, m p_s)``: the mass ``∫ ρ dV`` and the first moment ``∫ ρ r dV`` (the mass times the centre of mass,
+    (3.115)) of a homogeneous solid, by their volume integrals."""
+    point, jacobian, limits = _volume(solid)
+    density = sp.sympify(density)
+    return (_integral(density * jacobian, limits),
+            sp.Matrix([_integral(density * entry * jacobian, limits) for entry in point]))
 
 
 def _integral(expr, limits) -> sp.Expr:

@@ -271,12 +271,17 @@ def _capsule(body, name: str, a: np.ndarray, b: np.ndarray, radius: float, rgba)
                   group=VISUAL_GROUP, mass=0.0)
 
 
+_SOLID_GEOMS = {"box": mujoco.mjtGeom.mjGEOM_BOX, "cylinder": mujoco.mjtGeom.mjGEOM_CYLINDER,
+                "ball": mujoco.mjtGeom.mjGEOM_SPHERE}
+
+
 def add_visuals(tree: NumericTree, bodies: dict, fused: set) -> None:
     """Visual-only geoms sized from the model (``contype = conaffinity = 0``, no mass; the inertia is explicit,
-    ``inertiafromgeom="false"``, so that the dynamics do not change): a rigid body as the cuboid of its mass and
-    inertia tensor (:func:`equivalent_box`), one with an isotropic tensor as the homogeneous sphere of it (the
-    rolling sphere, a ball, pulleys whose axial inertia alone matters), a point mass as a small sphere, and the link frame as capsules from its
-    origin to its centre of mass and to the joints of its children."""
+    ``inertiafromgeom="false"``, so that the dynamics do not change): a rigid body as the solids the model says it
+    is made of (:attr:`Link.solids`), else as the cuboid of its mass and inertia tensor (:func:`equivalent_box`),
+    one with an isotropic tensor as the homogeneous sphere of it (the rolling sphere, a ball, pulleys whose axial
+    inertia alone matters), a point mass as a small sphere, and the link frame as capsules from its origin to its
+    centre of mass and to the joints of its children."""
     scale = model_scale(tree)
     radius = 0.015 * scale
     for k, link in enumerate(tree.links):
@@ -290,6 +295,12 @@ def add_visuals(tree: NumericTree, bodies: dict, fused: set) -> None:
         for n, end in enumerate(ends):
             _capsule(body, f"visual_{link.name}_{n}", np.zeros(3), end, radius, rgba)
         if link.mass <= 0:
+            continue
+        if link.solids:
+            for n, solid in enumerate(link.solids):
+                body.add_geom(name=f"visual_{link.name}_solid_{n}", type=_SOLID_GEOMS[solid.kind], pos=solid.centre,
+                              size=[*solid.size, *[0.0] * (3 - len(solid.size))], rgba=rgba, contype=0,
+                              conaffinity=0, group=VISUAL_GROUP, mass=0.0)
             continue
         if not np.any(link.inertia):
             body.add_geom(name=f"visual_{link.name}_mass", type=mujoco.mjtGeom.mjGEOM_SPHERE, pos=link.com,

@@ -10,6 +10,7 @@ import sympy as sp
 
 from harness.derivation.lambdified import lambdify
 from harness.errors import ModelError
+from harness.modeling.solids import Box, Cylinder
 from harness.modeling.system import (Damper, JointDamper, JointInput, JointSpring, Point, Spring, System,
                                      drawn_parameters)
 from harness.modeling.system import check_inertia  # noqa: F401  (re-exported: the physical-inertia check lives with the model)
@@ -29,11 +30,22 @@ MUJOCO_POINT_MASS_INERTIA = 1e-15
 
 
 @dataclass(frozen=True)
+class NumericSolid:
+    """A solid of a link's body (:attr:`Link.solids`), for the pictures: ``kind`` box, cylinder or ball, its
+    ``centre`` in the link frame and ``size`` (half edges; radius and half length along z; radius)."""
+
+    kind: str
+    centre: np.ndarray
+    size: np.ndarray
+
+
+@dataclass(frozen=True)
 class NumericLink:
     name: str
     mass: float
     com: np.ndarray            # centre of mass in the link frame
     inertia: np.ndarray        # 3x3 about the centre of mass, link frame
+    solids: tuple = ()         # NumericSolid: what the body is made of, where the model says so
 
 
 @dataclass(frozen=True)
@@ -187,6 +199,17 @@ class _Values:
                              f"({type(exc).__name__}: {exc})") from None
 
 
+def _solid(value: "_Values", solid) -> NumericSolid:
+    if isinstance(solid, Box):
+        low, high = (np.array([value(b[k]) for b in (solid.x, solid.y, solid.z)]) for k in (0, 1))
+        return NumericSolid("box", (low + high) / 2.0, np.abs(high - low) / 2.0)
+    if isinstance(solid, Cylinder):
+        length = value(solid.length)
+        return NumericSolid("cylinder", np.array([0.0, 0.0, length / 2.0]),
+                            np.array([value(solid.radius), length / 2.0]))
+    return NumericSolid("ball", np.zeros(3), np.array([value(solid.radius)]))
+
+
 def _compiled(system: System, exprs: tuple) -> tuple[list, object]:
     """``(parameter symbols, function of their values returning the values of exprs)``; an expression in other
     symbols than the system's parameters is refused here."""
@@ -241,7 +264,8 @@ def _instantiate(system: System, params: dict[str, float]) -> NumericTree:
                              "dimensions (Inertia.cuboid, Inertia.cylinder: valid for any positive ones), give its "
                              "six entries as parameters (drawn as one valid tensor) or the parameters a range"
                              ) from None
-        links.append(NumericLink(link.name, mass, com, inertia))
+        solids = tuple(_solid(value, solid) for solid, _ in link.solids)
+        links.append(NumericLink(link.name, mass, com, inertia, solids))
     joints = tuple(NumericJoint(j.name, j.type, j.parent, j.child, np.array(j.axis, dtype=float),
                                 value.entries(j, "origin_vector"),
                                 value.entries(j, "rpy"), value(j.armature))

@@ -33,6 +33,7 @@ import numpy as np
 import sympy as sp
 
 from harness.errors import ModelError
+from harness.modeling.solids import SOLIDS
 
 WORLD = "world"
 
@@ -318,6 +319,16 @@ class Link:
     com: tuple = (0, 0, 0)
     inertia: Inertia = field(default_factory=Inertia.zero)
     description: str = ""
+    solids: tuple = ()
+    """The homogeneous solids the body is made of, as ``(solid, density)`` pairs in the link frame
+    (:mod:`harness.modeling.solids`): what the pictures show of it (else the cuboid of its inertia tensor); a test
+    finds the link's mass, centre of mass and inertia tensor by their volume integrals."""
+
+    def __post_init__(self):
+        for pair in self.solids:
+            if not (isinstance(pair, tuple) and len(pair) == 2 and isinstance(pair[0], SOLIDS)):
+                raise ModelError(f"link {self.name}: solids: give (solid, density) pairs, e.g. "
+                                 f"(Cylinder(r, h), rho); got {pair!r}")
 
     @property
     def com_vector(self) -> sp.Matrix:

@@ -283,6 +283,17 @@ BODIES_DRAWN = ("each body drawn as the homogeneous cuboid of its mass and inert
                 "joints")
 
 
+def _bodies_drawn(system) -> str:
+    """The caption's words on how bodies are drawn: the solids a link is made of where the model says so."""
+    made = [link.name for link in system.links if link.solids]
+    if not made:
+        return BODIES_DRAWN
+    solids = f"{', '.join(made)} drawn as the solids the model makes {'it' if len(made) == 1 else 'them'} of"
+    if len(made) == sum(link.has_mass for link in system.links):
+        return f"{solids}; thin capsules join each link's joint to its centre of mass and to its children's joints"
+    return f"{solids}, each other {BODIES_DRAWN.removeprefix('each ')}"
+
+
 def picture(system, xml: str, path: Path, scenes=()) -> dict:
     """The mechanism at its first scene's initial state (else q = 0), coordinates marked; writes ``path``."""
     from PIL import Image
@@ -301,7 +312,7 @@ def picture(system, xml: str, path: Path, scenes=()) -> dict:
     lines = "; lines: its springs and dampers between points (spatial tendons)" if scene.model.ntendon else ""
     return {"size": size, "caption": f"Rendered by MuJoCo ({backend()}) from {_mjcf_source(system)} {where}; "
                                       f"labels: the lecture coordinates each joint follows{lines}{_in_joints(system)}; "
-                                      f"{BODIES_DRAWN}."}
+                                      f"{_bodies_drawn(system)}."}
 
 
 def _in_joints(system) -> str:
