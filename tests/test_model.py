@@ -72,6 +72,41 @@ def test_cache_hit_and_corrupted_cache_is_rebuilt(tmp_path, monkeypatch):
     assert not derive(s).from_cache
 
 
+def _derive_slowly(name: str, start, cache: str) -> bool:
+    """In a worker process: derive ``name`` (slowed by 1 s, so that the other worker asks while it is computing)
+    once both workers are ready; whether this one computed it."""
+    import os
+    import time
+
+    from harness.derivation import derive as derive_module
+
+    os.environ["HARNESS_CACHE_DIR"] = cache
+    uncached = derive_module.derive_uncached
+
+    def slow(system):
+        time.sleep(1.0)
+        return uncached(system)
+
+    derive_module.derive_uncached = slow
+    system = models.get(name)
+    start.wait()
+    return not derive_module.derive(system).from_cache
+
+
+def test_two_processes_deriving_the_same_model_derive_it_once(tmp_path):
+    """Two test workers (or two commands at once) that need the same missing derivation: one derives it, the other
+    waits for it and reads what it stored (cache.once), instead of deriving it too."""
+    import multiprocessing
+
+    context = multiprocessing.get_context("spawn")
+    with context.Manager() as manager:
+        start = manager.Barrier(2)
+        with context.Pool(2) as pool:
+            computed = pool.starmap(_derive_slowly, [("pendulum", start, str(tmp_path))] * 2)
+    assert sorted(computed) == [False, True]
+    assert len(list(tmp_path.glob("pendulum-*.json"))) == 1 and not list(tmp_path.glob("*.lock"))
+
+
 @pytest.mark.parametrize("payload", [
     "__import__('os').system('touch {marker}')",                      # a call of a builtin
     "Add(Integer(1), Symbol('x').__class__)",                          # attribute access

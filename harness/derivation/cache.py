@@ -1,6 +1,9 @@
 """On-disk cache of symbolic derivations, keyed by a hash of the model, and of other symbolic results that are
 functions of their inputs (:func:`remembered`).
 
+An entry is computed once across processes (:func:`once`): two test workers, or two commands run at the same time,
+that need the same missing entry do not both compute it; the second waits for the first and reads what it stored.
+
 Entries are JSON files of ``srepr`` strings with a SHA-256 checksum of their content. An entry that does
 not parse or whose checksum does not match is not trusted: it is discarded and the derivation rebuilt.
 A derivation whose expressions are small graphs but huge trees (the per-body derivation of
@@ -26,8 +29,9 @@ import hashlib
 import json
 import os
 import re
+import threading
 from collections.abc import Mapping
-from contextlib import nullcontext
+from contextlib import contextmanager, nullcontext
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -53,6 +57,42 @@ def code_version() -> str:
 
 def cache_dir() -> Path:
     return Path(os.environ.get("HARNESS_CACHE_DIR", PROJECT_ROOT / ".cache" / "derivations"))
+
+
+_holding = threading.local()
+
+
+@contextmanager
+def once(key: str):
+    """Hold the lock of entry ``key`` (an advisory ``flock`` on ``<key>.lock`` beside it) while it is looked up
+    again and computed: a process that finds the entry missing and another that is computing it waits for that
+    one, then reads the entry. A process already computing an entry does not wait for another's lock (an entry
+    computed within another's computation is computed there without it), so two processes never wait for each
+    other; a cache folder that takes no lock file is used without one. The lock file is removed when the entry is
+    stored (a process that opens a new one after that finds the entry), so none are left behind."""
+    if getattr(_holding, "key", None) is not None:
+        yield
+        return
+    import fcntl
+
+    lock = cache_dir() / f"{key}.lock"
+    try:
+        cache_dir().mkdir(parents=True, exist_ok=True)
+        handle = os.open(lock, os.O_CREAT | os.O_RDWR, 0o644)
+    except OSError:
+        yield
+        return
+    try:
+        fcntl.flock(handle, fcntl.LOCK_EX)
+        _holding.key = key
+        yield
+    finally:
+        _holding.key = None
+        try:
+            lock.unlink(missing_ok=True)
+        except OSError:
+            pass
+        os.close(handle)   # releases the lock
 
 
 def checksum(entries: dict) -> str:
@@ -272,7 +312,10 @@ def remembered(kind: str, code: tuple[Path, ...], inputs: tuple, compute):
     key = f"{kind}-{digest.hexdigest()[:24]}"
     stored = load(key, as_computed=True)
     if stored is None:
-        stored, _ = store(key, {"value": compute()}, as_computed=True)
+        with once(key):
+            stored = load(key, as_computed=True)
+            if stored is None:
+                stored, _ = store(key, {"value": compute()}, as_computed=True)
     return stored["value"]
 
 

@@ -380,18 +380,30 @@ SYMBOLIC_FIELDS = [f.name for f in fields(Derivation) if f.name not in ("seconds
 
 def derive(system: System, use_cache: bool = True) -> Derivation:
     """Derive (or load from the on-disk cache keyed by the model's fingerprint)."""
+    if not use_cache:
+        return derive_uncached(system)
     key = f"{system.name}-{system.fingerprint()}-{cache.code_version()}"
-    if use_cache:
-        stored = cache.load_graph(key)
-        if stored is not None and sorted(stored[0]) == sorted(SYMBOLIC_FIELDS):
-            if stored[1] is not None:
-                return Derivation.stored(*stored)
-            return Derivation(**stored[0], from_cache=True)
-    derivation = derive_uncached(system)
-    if use_cache:  # a per-body or large derivation as a graph: srepr would write out its trees
+    loaded = _loaded(key)
+    if loaded is not None:
+        return loaded
+    with cache.once(key):   # another process deriving the same model: wait for it and read its entry
+        loaded = _loaded(key)
+        if loaded is not None:
+            return loaded
+        derivation = derive_uncached(system)
+        # a per-body or large derivation as a graph: srepr would write out its trees
         values, graph = cache.store(key, {name: getattr(derivation, name) for name in SYMBOLIC_FIELDS},
                                     graph=as_graph(system, derivation))
-        if graph is not None:  # as a cached run reads it
-            return Derivation.stored(values, graph, derivation.seconds, from_cache=False)
-        derivation = Derivation(**values, seconds=derivation.seconds)
-    return derivation
+    if graph is not None:  # as a cached run reads it
+        return Derivation.stored(values, graph, derivation.seconds, from_cache=False)
+    return Derivation(**values, seconds=derivation.seconds)
+
+
+def _loaded(key: str) -> Derivation | None:
+    """The derivation stored under ``key``, None when there is none (or it is not trusted)."""
+    stored = cache.load_graph(key)
+    if stored is None or sorted(stored[0]) != sorted(SYMBOLIC_FIELDS):
+        return None
+    if stored[1] is not None:
+        return Derivation.stored(*stored)
+    return Derivation(**stored[0], from_cache=True)
