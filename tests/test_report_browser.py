@@ -159,6 +159,9 @@ OVERFLOWING = """() => Array.from(document.querySelectorAll('.eq'))
   .map(e => [e.scrollWidth, e.clientWidth, e.textContent.slice(0, 60)])"""
 
 
+# one worker for the tests that read every page's equations: on a cold cache the first computes them, the others
+# read them (not each worker all of them again)
+@pytest.mark.xdist_group("page-equations")
 def test_no_equation_of_the_catalogue_scrolls_in_chromium():
     """Every derived and printed equation of every system page, laid out by Chromium at the report's 1300 px: none
     is wider than its row (an equation that scrolls sideways takes its equation numbers with it). 38 rows were in

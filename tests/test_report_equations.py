@@ -7,6 +7,7 @@ from __future__ import annotations
 import time
 from xml.dom.minidom import parseString
 
+import pytest
 import sympy as sp
 
 import models
@@ -304,6 +305,9 @@ def test_a_long_sum_that_occurs_once_is_named_when_nothing_else_makes_it_fit():
     assert sp.simplify(named[0] - entry) == 0
 
 
+# one worker for the tests that read every page's equations: on a cold cache the first computes them, the others
+# read them (not each worker all of them again)
+@pytest.mark.xdist_group("page-equations")
 def test_every_pages_equations_of_motion_read_back_as_derived():
     """Each system page's M, C, g, f_np (as a matrix or entry by entry) and equations of motion, read as a reader
     reads the page (tests/mathml_reading.py: every line, bracket and sign, the named subexpressions ``where ξ = …``
@@ -361,6 +365,9 @@ def test_every_pages_equations_of_motion_read_back_as_derived():
     assert rows >= 200, rows   # 242: 57 rows of equations of motion, 185 entries or matrices
 
 
+# one worker for the tests that read every page's equations: on a cold cache the first computes them, the others
+# read them (not each worker all of them again)
+@pytest.mark.xdist_group("page-equations")
 def test_every_pages_printed_equations_and_their_derived_forms_read_back_as_they_are():
     """Each printed equation on a system page, and the derived form beside it (its named subexpressions
     substituted), read as a reader reads the page (tests/mathml_reading.py, ``Reader.claim``: in a line, entry by

@@ -406,18 +406,28 @@ def page_equations(system, claims, use_cache: bool = True) -> dict:
     cached on disk (next to the derivation cache) by the model's fingerprint, its claims and this code."""
     import json
 
+    from harness.derivation.cache import once
     from harness.io import atomic_write_text
 
-    if use_cache and (page := cached_page_equations(system, claims)) is not None:
+    if not use_cache:
+        return _computed_page_equations(system, claims)
+    if (page := cached_page_equations(system, claims)) is not None:
         return page
-    budget = Budget()
-    out = {"equations": derived_equations(system, claims, budget), "claims": claim_equations(system, claims, budget)}
-    out["notes"] = budget.notes()
-    if use_cache:
+    with once(f"equations-{_cache_key(system, claims)}"):  # another process computing it: read what it stored
+        if (page := cached_page_equations(system, claims)) is not None:
+            return page
+        out = _computed_page_equations(system, claims)
         try:
             atomic_write_text(_page_path(system, claims), json.dumps(out))
         except OSError:
             pass  # a read-only cache folder costs the speed-up only
+    return out
+
+
+def _computed_page_equations(system, claims) -> dict:
+    budget = Budget()
+    out = {"equations": derived_equations(system, claims, budget), "claims": claim_equations(system, claims, budget)}
+    out["notes"] = budget.notes()
     return out
 
 
