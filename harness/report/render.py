@@ -52,6 +52,9 @@ def _greek(name: str) -> str:
 _SUBSCRIPT_DIGITS = str.maketrans("0123456789", "₀₁₂₃₄₅₆₇₈₉")
 
 
+FRAME_MARGIN = 1.15
+"""The picture is this much larger than what it frames (7.5 % free on each side of the mechanism's extent), also
+where perspective enlarges the parts nearer the camera."""
 AXIS_VIEWS = ((180.0, 0.0), (90.0, 0.0), (90.0, -90.0))
 """Looking along -x (y to the right, z up), along +y (x to the right, z up), down -z (x to the right, y up)."""
 OBLIQUE = tuple((azimuth, -30.0) for azimuth in (45.0, 135.0, 225.0, 315.0))
@@ -117,12 +120,17 @@ class Scene3D:
         self.engine.pose(theta)
 
     def points(self) -> np.ndarray:
-        """World positions that outline the mechanism: body origins, centres of mass, the corners of the cube around
-        each geom's bounding sphere, sites."""
+        """World positions that outline the mechanism: body origins, centres of mass, the 8 corners of each geom's
+        bounding box in its own axes (MuJoCo's ``geom_aabb``: a long thin box or capsule is framed as it is, not as
+        the cube around its bounding sphere; a sphere by that cube in world axes, which its turning does not
+        move), sites."""
         d, m = self.data, self.model
-        corners = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)])   # of the cube around
-        geoms = (d.geom_xpos[:, None, :] + m.geom_rbound[:, None, None] * corners).reshape(-1, 3)   # each geom
-        return np.vstack([d.xpos[1:], d.xipos[1:], geoms, d.site_xpos])
+        corners = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)])
+        local = m.geom_aabb[:, None, :3] + corners[None, :, :] * m.geom_aabb[:, None, 3:]   # (geoms, 8, 3)
+        boxes = d.geom_xpos[:, None, :] + np.einsum("gij,gkj->gki", d.geom_xmat.reshape(-1, 3, 3), local)
+        cubes = d.geom_xpos[:, None, :] + m.geom_rbound[:, None, None] * corners
+        sphere = (m.geom_type == self.mujoco.mjtGeom.mjGEOM_SPHERE)[:, None, None]
+        return np.vstack([d.xpos[1:], d.xipos[1:], np.where(sphere, cubes, boxes).reshape(-1, 3), d.site_xpos])
 
     # ----------------------------------------------------------------- camera
     def frame(self, states) -> None:
@@ -147,8 +155,8 @@ class Scene3D:
         half = np.tan(np.radians(self.model.vis.global_.fovy) / 2.0) * np.array([self.width / self.height, 1.0])
         # far enough that the points nearer the camera than the centre (a mechanism seen obliquely) fit as well
         nearer, off = (lookat - pts) @ forward, np.abs((pts - lookat) @ plane)
-        fits = float(np.max(nearer + 1.05 * np.max(off / half, axis=1)))
-        self.camera.distance = max(1.15 * (size / 2.0) / half[1], fits)
+        fits = float(np.max(nearer + FRAME_MARGIN * np.max(off / half, axis=1)))
+        self.camera.distance = max(FRAME_MARGIN * (size / 2.0) / half[1], fits)
         self.model.tendon_width[:] = TENDON_WIDTH * size   # a point spring or damper as a line seen at this size
 
     def links(self) -> np.ndarray:
