@@ -285,21 +285,22 @@ def _states(system, scenes) -> list:
     return out
 
 
-BODIES_DRAWN = ("each body drawn as the homogeneous cuboid of its mass and inertia tensor (a sphere where the tensor "
-                "is isotropic, a small sphere for a point mass), not as its shape: a slender rod of large inertia is "
-                "a long thin box; thin capsules join each link's joint to its centre of mass and to its children's "
-                "joints")
+CUBOIDS_DRAWN = ("body drawn as the homogeneous cuboid of its mass and inertia tensor (a sphere where the tensor is "
+                 "isotropic, a small sphere for a point mass), not as its shape: a slender rod of large inertia is a "
+                 "long thin box")
+CAPSULES_DRAWN = "thin capsules join each link's joint to its centre of mass and to its children's joints"
 
 
 def _bodies_drawn(system) -> str:
-    """The caption's words on how bodies are drawn: the solids a link is made of where the model says so."""
+    """The caption's words on how bodies are drawn: the solids a link is made of where the model says so
+    (:attr:`Link.solids`), every other body as its equivalent cuboid."""
     made = [link.name for link in system.links if link.solids]
     if not made:
-        return BODIES_DRAWN
+        return f"each {CUBOIDS_DRAWN}; {CAPSULES_DRAWN}"
     solids = f"{', '.join(made)} drawn as the solids the model makes {'it' if len(made) == 1 else 'them'} of"
     if len(made) == sum(link.has_mass for link in system.links):
-        return f"{solids}; thin capsules join each link's joint to its centre of mass and to its children's joints"
-    return f"{solids}, each other {BODIES_DRAWN.removeprefix('each ')}"
+        return f"{solids}; {CAPSULES_DRAWN}"
+    return f"{solids}, each other {CUBOIDS_DRAWN}; {CAPSULES_DRAWN}"
 
 
 def picture(system, xml: str, path: Path, scenes=()) -> dict:
