@@ -96,3 +96,23 @@ def test_the_page_reads_back_as_the_expression_it_shows():
         reads_as("".join(text for _, text in pieces(terms)), sp.Add(*terms))
     check()
     check_terms()
+
+
+def test_a_tree_joints_coordinate_carries_the_joints_name_as_its_subscript():
+    """The joint table's ``θ = φ(q)`` and the joint springs' and dampers' laws print a tree joint's coordinate as θ
+    with the joint's name, printed by the lecture's rule, as its one subscript: θ_{φ₁} for joint ``phi_1``, θ_{θ₂}
+    for a paper's joint ``theta_2`` (read as θ_{φ,1} and θ_{θ,2} before, as if θ had two indices)."""
+    import models
+    from harness.report.mathml import body
+    from harness.report.model_text import force_rows, joint_rows
+
+    theta, dot = "<mi>&#952;</mi>", '<mo>&#729;</mo>'
+    assert body(sp.Symbol("theta_theta_2"), joints=("theta_2",)) == f"<msub>{theta}{body(sp.Symbol('theta_2'))}</msub>"
+    assert body(sp.Symbol("theta_theta_2_dot"), joints=("theta_2",)) == (
+        f'<msub><mover accent="true">{theta}{dot}</mover>{body(sp.Symbol("theta_2"))}</msub>')
+    assert body(sp.Symbol("theta_theta_2")) == f"<msub>{theta}<mrow><mi>&#952;</mi><mo>,</mo><mi>2</mi></mrow></msub>"
+    system = models.get("planar_manipulator")
+    for joint, row in zip(system.joints, joint_rows(system)):
+        assert f"<msub>{theta}{body(sp.Symbol(joint.name))}</msub><mo>=</mo>" in row["phi"], row["phi"]
+    dampers = [r["sentence"] for s in map(models.get, models.names()) for r in force_rows(s) if r["kind"] == "joint damper"]
+    assert dampers and all("<mo>,</mo>" not in d for d in dampers), dampers

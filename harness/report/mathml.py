@@ -37,9 +37,10 @@ def lecture_parts(name: str) -> tuple[str, tuple[str, ...], tuple[str, ...], str
 class LecturePrinter(MathMLPresentationPrinter):
     """SymPy's presentation-MathML printer with the lecture's symbol rule (module docstring)."""
 
-    def __init__(self, names: dict[str, Override] | None = None, **settings):
+    def __init__(self, names: dict[str, Override] | None = None, joints=(), **settings):
         super().__init__(settings)
         self._names = dict(names or {})
+        self._joints = {f"theta_{j}": j for j in joints}
 
     def _text(self, tag: str, text: str):
         node = self.dom.createElement(tag)
@@ -56,7 +57,28 @@ class LecturePrinter(MathMLPresentationPrinter):
             row.appendChild(self._text("mi", item))
         return row
 
+    def _joint_coordinate(self, name: str):
+        """A tree joint's coordinate ``theta_<joint>`` (and its ``_dot``) as θ with the joint's name, printed by the
+        lecture's rule, as its subscript: θ_{φ₁} (read as θ_{φ,1} before, as if the joint had two indices)."""
+        accent = name.endswith("_dot") and name.removesuffix("_dot") in self._joints
+        joint = self._joints.get(name.removesuffix("_dot") if accent else name)
+        if joint is None:
+            return None
+        node = self._text("mi", greek_unicode["theta"])
+        if accent:
+            over = self.dom.createElement("mover")
+            over.setAttribute("accent", "true")
+            over.appendChild(node)
+            over.appendChild(self._text("mo", _ACCENTS["dot"]))
+            node = over
+        script = self.dom.createElement("msub")
+        script.appendChild(node)
+        script.appendChild(self._print_Symbol(sp.Symbol(joint)))
+        return script
+
     def _print_Symbol(self, sym, style="plain"):
+        if self._joints and (node := self._joint_coordinate(sym.name)) is not None:
+            return node
         base, subs, supers, accent = lecture_parts(sym.name)
         if sym.name in self._names:
             (base, subs, supers), accent = self._names[sym.name], None
@@ -130,10 +152,11 @@ def readable(expr, digits: int = 6):
     return expr.xreplace(floats) if floats else expr
 
 
-def body(expr, *, names: dict[str, Override] | None = None) -> str:
+def body(expr, *, names: dict[str, Override] | None = None, joints=()) -> str:
     """``expr`` as presentation MathML without the ``<math>`` element (to be composed with :func:`math`);
-    floating-point numbers rounded for reading (:func:`readable`)."""
-    return _numeric_entities(LecturePrinter(names, mat_delim="[").doprint(readable(expr)))
+    floating-point numbers rounded for reading (:func:`readable`); the coordinates of the tree joints ``joints``
+    as θ with the joint's name as subscript."""
+    return _numeric_entities(LecturePrinter(names, joints, mat_delim="[").doprint(readable(expr)))
 
 
 def signed_terms(terms) -> str:

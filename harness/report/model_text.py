@@ -23,9 +23,9 @@ def _marks(text: str) -> str:
     return _EMPHASIS.sub(r"<i>\1</i>", _STRONG.sub(r"<b>\1</b>", text))
 
 
-def inline(expr) -> str:
-    """An expression as inline MathML."""
-    return math(body(expr), display=False)
+def inline(expr, joints=()) -> str:
+    """An expression as inline MathML (the coordinates of the tree joints ``joints`` as θ_joint, :func:`body`)."""
+    return math(body(expr, joints=joints), display=False)
 
 
 def _symbol(text: str) -> str | None:
@@ -78,7 +78,7 @@ def _point(p) -> str:
 
 
 def _theta(system, joint: str) -> str:
-    return inline(system.joint(joint).theta)
+    return inline(system.joint(joint).theta, (joint,))
 
 
 def force_rows(system) -> list[dict]:
@@ -101,12 +101,12 @@ def force_rows(system) -> list[dict]:
         elif isinstance(f, m.JointSpring):
             th = system.joint(f.joint).theta
             law = sp.Eq(sp.Symbol("V"), f.stiffness / 2 * (th - f.rest) ** 2, evaluate=False)
-            text = f"a spring in joint <code>{html.escape(f.joint)}</code>: {inline(law)}"
+            text = f"a spring in joint <code>{html.escape(f.joint)}</code>: {inline(law, (f.joint,))}"
             kind = "joint spring"
         elif isinstance(f, m.JointDamper):
             th = sp.Symbol(f"{system.joint(f.joint).theta.name}_dot")
             text = (f"viscous friction in joint <code>{html.escape(f.joint)}</code>: the generalized force "
-                    f"{inline(-sp.sympify(f.damping) * th)} on its coordinate {_theta(system, f.joint)}")
+                    f"{inline(-sp.sympify(f.damping) * th, (f.joint,))} on its coordinate {_theta(system, f.joint)}")
             kind = "joint damper"
         elif isinstance(f, m.JointInput):
             joint = system.joint(f.joint)
@@ -152,7 +152,7 @@ def joint_rows(system) -> list[dict]:
     for j, expr in zip(system.joints, system.phi):
         rows.append({"name": j.name, "type": j.type, "parent": j.parent, "child": j.child,
                      "axis": inline(sp.Matrix(j.axis_vector).T), "origin": inline(sp.Matrix(j.origin_vector).T),
-                     "phi": math(body(j.theta), "<mo>=</mo>", body(expr), display=False)})
+                     "phi": math(body(j.theta, joints=(j.name,)), "<mo>=</mo>", body(expr), display=False)})
     return rows
 
 
