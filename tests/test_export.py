@@ -6,14 +6,14 @@ import mujoco
 import numpy as np
 import pytest
 import sympy as sp
-from hypothesis import given, settings, strategies as st
+from hypothesis import assume, given, settings, strategies as st
 
 import models
 from harness.compare.strategies import parameters
 from harness.compare.roundtrip import rpy_matrix
 from harness.errors import ModelError
 from harness.export.files import system_files
-from harness.export.mjcf import equivalent_box
+from harness.export.mjcf import equivalent_box, equivalent_cylinder
 from harness.export.numeric import instantiate
 from harness.modeling.system import Coordinate, Joint, Link, Parameter, System
 
@@ -52,6 +52,32 @@ def test_the_visual_box_has_the_body_s_mass_and_inertia(mass, half, rpy, diagona
     assert np.abs(Q @ np.diag(got_moments) @ Q.T - inertia).max() <= 1e-12 * moments.max()
     if diagonal:  # in the body's axes, no rotation written
         assert quat.tolist() == [1.0, 0.0, 0.0, 0.0]
+
+
+
+@settings(max_examples=200, deadline=None)
+@given(mass=st.floats(1e-3, 1e3), radius=st.floats(1e-3, 10.0), half=st.floats(0.0, 10.0), axis=st.integers(0, 2),
+       rpy=st.tuples(*[st.floats(-3.2, 3.2)] * 3), diagonal=st.booleans())
+def test_the_visual_cylinder_has_the_body_s_mass_and_inertia(mass, radius, half, axis, rpy, diagonal):
+    """``equivalent_cylinder``: the homogeneous cylinder (3.122) of a tensor with two equal principal moments, built
+    here from a cylinder (radius, half length, its axis along x, y or z, turned anyhow; a disc where the length is
+    0), gives that tensor back, its own axis (the geom's z) along the cylinder's; a tensor with three different
+    moments (a cuboid's) or three equal ones (a sphere's) has none. Bound as for the box (above)."""
+    along, across = mass * radius**2 / 2.0, mass * (3.0 * radius**2 + 4.0 * half**2) / 12.0
+    assume(abs(along - across) > 1e-6 * max(along, across))  # a cylinder whose tensor is a sphere's: drawn as one
+    moments = np.full(3, across)
+    moments[axis] = along
+    R = np.eye(3) if diagonal else rpy_matrix(np.array(rpy))
+    inertia = R @ np.diag(moments) @ R.T
+    got_radius, got_half, quat = equivalent_cylinder(mass, inertia)
+    got_along, got_across = mass * got_radius**2 / 2.0, mass * (3.0 * got_radius**2 + 4.0 * got_half**2) / 12.0
+    Q = np.zeros(9)
+    mujoco.mju_quat2Mat(Q, quat)
+    Q = Q.reshape(3, 3)
+    assert np.abs(Q @ np.diag([got_across, got_across, got_along]) @ Q.T - inertia).max() <= 1e-12 * moments.max()
+    assert abs(abs(Q[:, 2] @ R[:, axis]) - 1.0) <= 1e-12 * moments.max() / abs(along - across)  # its gap (Davis-Kahan)
+    assert equivalent_cylinder(mass, R @ np.diag([across, along, (across + along) * 0.7]) @ R.T) is None
+    assert equivalent_cylinder(mass, R @ np.diag([along] * 3) @ R.T) is None
 
 
 # ----------------------------------------------------------------------- the numeric tree (instantiate)

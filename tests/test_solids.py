@@ -12,7 +12,7 @@ import sympy as sp
 import models
 from harness.derivation.bodies import solid_inertia, solid_mass
 from harness.errors import ModelError
-from harness.export.mjcf import mjcf_spec
+from harness.export.mjcf import mjcf_spec, model_scale
 from harness.export.numeric import instantiate
 from harness.modeling import Box, Cylinder, Link
 
@@ -48,25 +48,86 @@ def test_mujoco_finds_the_links_inertia_from_the_solids_and_the_picture_shows_th
     exported = mjcf_spec(instantiate(system, values))
     geoms = [g for g in exported.geoms if g.name.startswith(f"visual_{link_name}_solid_")]
     assert len(geoms) == len(link.solids)
+    densities = [float(sp.sympify(density).subs({p.symbol: values[p.name] for p in system.parameters}))
+                 for _, density in system.link(link_name).solids]
+    mass, com, inertia = _mujoco_body(zip(geoms, densities))
+    assert abs(mass - link.mass) <= 1e-12 * link.mass
+    assert np.max(np.abs(com - link.com)) <= 1e-12 * max(1.0, np.max(np.abs(link.com)))
+    assert np.max(np.abs(inertia - link.inertia)) <= 1e-12 * np.max(np.abs(link.inertia))
 
+
+def _mujoco_body(geoms_and_densities) -> tuple[float, np.ndarray, np.ndarray]:
+    """Mass, centre of mass and inertia tensor (about it, in the body's axes) that MuJoCo's compiler computes for
+    one body made of these geoms (their type, position, orientation and size) with these densities."""
     spec = mujoco.MjSpec()
     spec.compiler.inertiafromgeom = mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_TRUE
     body = spec.worldbody.add_body(name="solids")
     body.add_freejoint()
-    for geom, (_, density) in zip(geoms, system.link(link_name).solids):
-        body.add_geom(type=geom.type, pos=geom.pos, size=geom.size, density=float(sp.sympify(density).subs(
-            {p.symbol: values[p.name] for p in system.parameters})))
+    for geom, density in geoms_and_densities:
+        body.add_geom(type=geom.type, pos=geom.pos, quat=geom.quat, size=geom.size, density=density)
     model = spec.compile()
     rotation = np.zeros(9)
     mujoco.mju_quat2Mat(rotation, model.body_iquat[1])
     rotation = rotation.reshape(3, 3)
-    inertia = rotation @ np.diag(model.body_inertia[1]) @ rotation.T
-    assert abs(model.body_mass[1] - link.mass) <= 1e-12 * link.mass
-    assert np.max(np.abs(model.body_ipos[1] - link.com)) <= 1e-12 * max(1.0, np.max(np.abs(link.com)))
-    assert np.max(np.abs(inertia - link.inertia)) <= 1e-12 * np.max(np.abs(link.inertia))
+    return model.body_mass[1], model.body_ipos[1], rotation @ np.diag(model.body_inertia[1]) @ rotation.T
 
 
 def test_solids_are_given_as_solid_and_density_pairs():
     with pytest.raises(ModelError, match=r"link tower: solids: give \(solid, density\) pairs"):
         Link("tower", 1.0, solids=(Cylinder(1, 2),))
     assert Link("tower", 1.0, solids=((Box.around((0, 0, 0), (1, 1, 1)), 2.0),)).solids
+
+
+_VOLUME = {mujoco.mjtGeom.mjGEOM_BOX: lambda s: 8.0 * s[0] * s[1] * s[2],
+           mujoco.mjtGeom.mjGEOM_CYLINDER: lambda s: 2.0 * np.pi * s[0] ** 2 * s[1],
+           mujoco.mjtGeom.mjGEOM_SPHERE: lambda s: 4.0 / 3.0 * np.pi * s[0] ** 3}
+
+
+def test_every_body_drawn_as_its_equivalent_solid_is_the_links_mass_centre_and_inertia():
+    """A link that does not say what it is made of is drawn as the homogeneous cuboid, cylinder (two equal principal
+    moments) or sphere (three) of its mass and inertia tensor (``harness.export.mjcf.add_visuals``). MuJoCo's
+    compiler, given that geom with the density that makes it the link's mass, finds the link's mass, centre of mass
+    and inertia tensor (float64 round-off: 1e-12 of its scale). Where the picture keeps a size visible (a slender
+    rod's or a plate's zero thickness, clipped to 1 % of the mechanism), the geom is not that body: those links
+    are counted apart, and a size of theirs is the clipped one. A cuboid built by ``Inertia.cuboid`` stays a
+    cuboid where its section is square (the cart pendulum's cart), although its tensor is a cylinder's too."""
+    kinds, clipped = {}, []
+    for name, system in models.catalogue().items():
+        values = {p.name: float(p.default) for p in system.parameters}
+        tree = instantiate(system, values)
+        geoms = {g.name: g for g in mjcf_spec(tree).geoms}
+        for link in tree.links:
+            geom = geoms.get(f"visual_{link.name}_body")
+            if geom is None or link.solids:
+                continue
+            kinds.setdefault(geom.type, []).append(f"{name}/{link.name}")
+            mass, com, inertia = _mujoco_body([(geom, link.mass / _VOLUME[geom.type](geom.size))])
+            assert abs(mass - link.mass) <= 1e-12 * link.mass
+            assert np.max(np.abs(com - link.com)) <= 1e-12 * max(1.0, np.max(np.abs(link.com)))
+            if np.max(np.abs(inertia - link.inertia)) > 1e-12 * np.max(np.abs(link.inertia)):
+                bounds = {0.01 * model_scale(tree), 2.0 * model_scale(tree)}
+                assert bounds & set(geom.size), f"{name}/{link.name}: not its body, and no size clipped {geom.size}"
+                clipped.append(f"{name}/{link.name}")
+    assert "cart_pendulum/cart" in kinds[mujoco.mjtGeom.mjGEOM_BOX]
+    assert {"drive_train/rotor", "two_mass_oscillator/body_1"} <= set(kinds[mujoco.mjtGeom.mjGEOM_CYLINDER])
+    assert "rolling_sphere/sphere" in kinds[mujoco.mjtGeom.mjGEOM_SPHERE]
+    assert sum(map(len, kinds.values())) - len(clipped) >= 30, (kinds, clipped)
+
+
+def test_how_a_body_is_drawn_is_not_part_of_the_models_fingerprint():
+    """``Link.solids`` and ``Inertia.shape`` say how a body is drawn, not what it is: an edit of them keeps the
+    fingerprint that keys the derivations (nothing is derived again), while the exported MJCF, keyed by the numeric
+    tree, draws the edit. The inertia's numbers are part of the fingerprint."""
+    import dataclasses
+
+    system = models.get("tower_crane")
+    tower = system.link("tower")
+    undrawn = dataclasses.replace(tower, solids=(), inertia=dataclasses.replace(tower.inertia, shape="cylinder"))
+    edited = dataclasses.replace(system, links=tuple(undrawn if k is tower else k for k in system.links))
+    assert edited.fingerprint() == system.fingerprint()
+    values = {p.name: float(p.default) for p in system.parameters}
+    assert ({g.name for g in mjcf_spec(instantiate(edited, values)).geoms}
+            != {g.name for g in mjcf_spec(instantiate(system, values)).geoms})
+    heavier = dataclasses.replace(tower, inertia=dataclasses.replace(tower.inertia, xx=2 * tower.inertia.xx))
+    assert dataclasses.replace(system, links=tuple(heavier if k is tower else k for k in system.links)
+                               ).fingerprint() != system.fingerprint()

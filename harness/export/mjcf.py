@@ -259,6 +259,34 @@ def equivalent_box(mass: float, inertia: np.ndarray) -> tuple[np.ndarray, np.nda
     return edges / 2.0, quat
 
 
+# Two principal moments closer than this, relative to the largest, are taken as equal: a body with such a tensor is
+# drawn as a sphere (all three) or a cylinder (two), not as a cuboid. mju_eig3's residual is below 1e-14 (above).
+EQUAL_MOMENTS = 1e-9
+
+# The turn that takes a cylinder's own axis (MuJoCo's geom z) to the principal axis x, y or z of its distinct moment.
+_AXIS_FROM_Z = (np.array([np.sqrt(0.5), 0.0, np.sqrt(0.5), 0.0]), np.array([np.sqrt(0.5), -np.sqrt(0.5), 0.0, 0.0]),
+                np.array([1.0, 0.0, 0.0, 0.0]))
+
+
+def equivalent_cylinder(mass: float, inertia: np.ndarray) -> tuple[float, float, np.ndarray] | None:
+    """Radius, half length and orientation (quaternion; the cylinder's axis is its z) of the homogeneous solid
+    cylinder with this mass and inertia tensor about its centre (3.122), where two principal moments ``A`` are equal
+    and the third, ``C``, is not: ``C = m r²/2`` about the axis and ``A = m (3 r² + h²)/12`` about a diameter, so
+    ``r² = 2 C / m`` and ``h² = (12 A − 6 C) / m`` (not negative where the triangle inequality ``2 A ≥ C`` holds).
+    None where no two moments are equal, or all three are (a sphere)."""
+    moments, quat = principal_axes(inertia)
+    equal = EQUAL_MOMENTS * moments.max()
+    for axis in range(3):
+        a, b = (moments[k] for k in range(3) if k != axis)
+        if abs(a - b) <= equal < abs(moments[axis] - (a + b) / 2):
+            across, along = (a + b) / 2, moments[axis]
+            turned = np.zeros(4)
+            mujoco.mju_mulQuat(turned, quat, _AXIS_FROM_Z[axis])
+            return (float(np.sqrt(max(2.0 * along / mass, 0.0))),
+                    float(np.sqrt(max((12.0 * across - 6.0 * along) / mass, 0.0))) / 2.0, turned)
+    return None
+
+
 def _capsule(body, name: str, a: np.ndarray, b: np.ndarray, radius: float, rgba) -> None:
     d = np.asarray(b, dtype=float) - np.asarray(a, dtype=float)
     length = _length(d)
@@ -280,8 +308,10 @@ def add_visuals(tree: NumericTree, bodies: dict, fused: set) -> None:
     ``inertiafromgeom="false"``, so that the dynamics do not change): a rigid body as the solids the model says it
     is made of (:attr:`Link.solids`), else as the cuboid of its mass and inertia tensor (:func:`equivalent_box`),
     one with an isotropic tensor as the homogeneous sphere of it (the rolling sphere, a ball, pulleys whose axial
-    inertia alone matters), a point mass as a small sphere, and the link frame as capsules from its origin to its
-    centre of mass and to the joints of its children."""
+    inertia alone matters), one with two equal principal moments as its cylinder (:func:`equivalent_cylinder`: a
+    wheel, a disc, a round rod; not one built by ``Inertia.cuboid``, a cuboid of square section), a point mass as a
+    small sphere, and the link frame as capsules from its origin to its centre of mass and to the joints of its
+    children."""
     scale = model_scale(tree)
     radius = 0.015 * scale
     for k, link in enumerate(tree.links):
@@ -308,10 +338,18 @@ def add_visuals(tree: NumericTree, bodies: dict, fused: set) -> None:
                           mass=0.0)
             continue
         moments, _ = principal_axes(link.inertia)
-        if moments.max() - moments.min() <= 1e-9 * moments.max():  # isotropic: the homogeneous sphere, I = 2/5 m r² (3.16)
+        if moments.max() - moments.min() <= EQUAL_MOMENTS * moments.max():  # the homogeneous sphere, 2/5 m r² (3.16)
             radius_s = float(np.clip(np.sqrt(2.5 * moments.min() / link.mass), 0.01 * scale, 2.0 * scale))
             body.add_geom(name=f"visual_{link.name}_body", type=mujoco.mjtGeom.mjGEOM_SPHERE, pos=link.com,
                           size=[radius_s, 0.0, 0.0], rgba=rgba, contype=0, conaffinity=0, group=VISUAL_GROUP, mass=0.0)
+            continue
+        cylinder = equivalent_cylinder(link.mass, link.inertia) if link.shape != "cuboid" else None
+        if cylinder is not None:  # a wheel, a disc, a round rod (a cuboid of square section stays one)
+            radius_c, half_length, quat = cylinder
+            size = np.clip([radius_c, half_length], 0.01 * scale, 2.0 * scale)
+            body.add_geom(name=f"visual_{link.name}_body", type=mujoco.mjtGeom.mjGEOM_CYLINDER, pos=link.com,
+                          quat=quat, size=[*size, 0.0], rgba=rgba, contype=0, conaffinity=0, group=VISUAL_GROUP,
+                          mass=0.0)
             continue
         half, quat = equivalent_box(link.mass, link.inertia)
         half = np.clip(half, 0.01 * scale, 2.0 * scale)

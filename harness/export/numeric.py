@@ -46,6 +46,7 @@ class NumericLink:
     com: np.ndarray            # centre of mass in the link frame
     inertia: np.ndarray        # 3x3 about the centre of mass, link frame
     solids: tuple = ()         # NumericSolid: what the body is made of, where the model says so
+    shape: str = ""            # the solid its inertia is built from (Inertia.shape): how it is drawn
 
 
 @dataclass(frozen=True)
@@ -265,7 +266,7 @@ def _instantiate(system: System, params: dict[str, float]) -> NumericTree:
                              "six entries as parameters (drawn as one valid tensor) or the parameters a range"
                              ) from None
         solids = tuple(_solid(value, solid) for solid, _ in link.solids)
-        links.append(NumericLink(link.name, mass, com, inertia, solids))
+        links.append(NumericLink(link.name, mass, com, inertia, solids, link.inertia.shape))
     joints = tuple(NumericJoint(j.name, j.type, j.parent, j.child, np.array(j.axis, dtype=float),
                                 value.entries(j, "origin_vector"),
                                 value.entries(j, "rpy"), value(j.armature))

@@ -265,9 +265,16 @@ def plain(value, found: list | None = None):
 
 
 # --------------------------------------------------------------------------- bodies and joints
+# A field that only says how a body is drawn: not part of the model's fingerprint (no derivation depends on it, so
+# an edit of it derives nothing again); the exported MJCF, which draws it, is keyed by the numeric tree.
+DRAWING = {"drawing": True}
+
+
 @dataclass(frozen=True)
 class Inertia:
-    """Inertia tensor about the centre of mass, in the body-fixed frame (5.13), symmetric."""
+    """Inertia tensor about the centre of mass, in the body-fixed frame (5.13), symmetric. ``shape`` is the solid
+    :meth:`cuboid` and :meth:`cylinder` build it from ("cuboid", "cylinder"): the pictures draw that, where the
+    tensor alone could not tell a square cuboid from a cylinder."""
 
     xx: Expr
     yy: Expr
@@ -275,6 +282,7 @@ class Inertia:
     xy: Expr = 0
     xz: Expr = 0
     yz: Expr = 0
+    shape: str = field(default="", compare=False, metadata=DRAWING)
 
     @property
     def matrix(self) -> sp.Matrix:
@@ -289,7 +297,7 @@ class Inertia:
     def cuboid(m: Expr, a: Expr, b: Expr, c: Expr) -> "Inertia":
         """Homogeneous cuboid of mass ``m`` with edges ``a``, ``b``, ``c`` along x, y, z (3.128)."""
         m, a, b, c = map(_sym, (m, a, b, c))
-        return Inertia(m * (b**2 + c**2) / 12, m * (a**2 + c**2) / 12, m * (a**2 + b**2) / 12)
+        return Inertia(m * (b**2 + c**2) / 12, m * (a**2 + c**2) / 12, m * (a**2 + b**2) / 12, shape="cuboid")
 
     @staticmethod
     def cylinder(m: Expr, r: Expr, h: Expr, axis: str = "z") -> "Inertia":
@@ -301,7 +309,7 @@ class Inertia:
         moments = {"x": (axle, diameter, diameter), "y": (diameter, axle, diameter), "z": (diameter, diameter, axle)}
         if axis not in moments:
             raise ModelError(f"Inertia.cylinder: axis {axis!r}; give 'x', 'y' or 'z'")
-        return Inertia(*moments[axis])
+        return Inertia(*moments[axis], shape="cylinder")
 
 
 def steiner(mass: Expr, r: sp.Matrix) -> sp.Matrix:
@@ -319,7 +327,7 @@ class Link:
     com: tuple = (0, 0, 0)
     inertia: Inertia = field(default_factory=Inertia.zero)
     description: str = ""
-    solids: tuple = ()
+    solids: tuple = field(default=(), metadata=DRAWING)
     """The homogeneous solids the body is made of, as ``(solid, density)`` pairs in the link frame
     (:mod:`harness.modeling.solids`): what the pictures show of it (else the cuboid of its inertia tensor); a test
     finds the link's mass, centre of mass and inertia tensor by their volume integrals."""
@@ -662,7 +670,8 @@ def _canonical(obj) -> str:
     if isinstance(obj, (list, tuple)):
         return "(" + ",".join(_canonical(o) for o in obj) + ")"
     if hasattr(obj, "__dataclass_fields__"):
-        inner = ",".join(f"{f.name}={_canonical(getattr(obj, f.name))}" for f in fields(obj))
+        inner = ",".join(f"{f.name}={_canonical(getattr(obj, f.name))}" for f in fields(obj)
+                         if not f.metadata.get("drawing"))
         return f"{type(obj).__name__}({inner})"
     return repr(obj)
 

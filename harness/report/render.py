@@ -285,9 +285,9 @@ def _states(system, scenes) -> list:
     return out
 
 
-CUBOIDS_DRAWN = ("body drawn as the homogeneous cuboid of its mass and inertia tensor (a sphere where the tensor is "
-                 "isotropic, a small sphere for a point mass), not as its shape: a slender rod of large inertia is a "
-                 "long thin box")
+CUBOIDS_DRAWN = ("body drawn as the homogeneous cuboid of its mass and inertia tensor (a cylinder where two of its "
+                 "principal moments are equal, a sphere where all three are, a small sphere for a point mass), not as "
+                 "its shape: a slender rod of large inertia is a long thin body")
 CAPSULES_DRAWN = "thin capsules join each link's joint to its centre of mass and to its children's joints"
 
 
