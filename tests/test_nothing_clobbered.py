@@ -182,3 +182,26 @@ def test_a_claim_with_an_undeclared_symbol_is_refused_when_the_module_loads(user
     line = _one_line(capsys)
     assert "user_claim.py" in line and "claim (9.99)" in line and "'l_3'" in line and "declare it" in line
     assert cli.main(["eval", "pendulum", "--q", "0.1"]) == 0
+
+
+def test_collecting_the_suite_derives_nothing_and_writes_nothing_to_the_project_cache(tmp_path):
+    """The tests' cache is a folder of their own (``tests/conftest.py``), set up when the session starts, after
+    collection: what a test module computes when it is imported would be written to the project's cache, and be
+    computed by the workers before their first test. ``test_engines.py`` had derived all 33 systems so, into the
+    developer's ``.cache/``, to learn which maps are not the identity, which the model says by itself
+    (``System.identity_map``): on a cold clone the first test started 63 s after pytest. Collected here against an
+    empty cache."""
+    import os
+    import subprocess
+    from pathlib import Path
+
+    cache = tmp_path / "cache" / "derivations"
+    env = {**os.environ, "HARNESS_CACHE_DIR": str(cache)}
+    root = Path(__file__).resolve().parent.parent
+    done = subprocess.run([sys.executable, "-m", "pytest", "--collect-only", "-q", "-p", "no:cacheprovider",
+                           "-p", "no:xdist", str(root / "tests")], cwd=root, env=env, capture_output=True, text=True,
+                          timeout=600)
+    assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-2000:]
+    assert "tests collected" in done.stdout
+    written = [str(p.relative_to(tmp_path)) for p in (tmp_path / "cache").rglob("*") if p.is_file()]
+    assert not written, written

@@ -87,8 +87,8 @@ class CompiledModel:
 
     @cached_property
     def identity_map(self) -> bool:
-        """Whether ``θ = q`` (the lecture coordinates are the engines' joint coordinates)."""
-        return list(self.derivation.phi) == list(self.system.q)
+        """Whether ``θ = q`` (:attr:`System.identity_map`)."""
+        return self.system.identity_map
 
     @cached_property
     def constant_map(self) -> bool:

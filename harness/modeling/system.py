@@ -589,6 +589,11 @@ class System:
         return sp.Matrix([sp.sympify(j.phi) if j.phi is not None else sp.Symbol(j.name, real=True)
                           for j in self.joints])
 
+    @property
+    def identity_map(self) -> bool:
+        """Whether ``θ = q``: the lecture coordinates are the engines' joint coordinates, in their order."""
+        return list(self.phi) == list(self.q)
+
     def link(self, name: str) -> Link:
         for link in self.links:
             if link.name == name:
