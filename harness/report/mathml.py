@@ -57,6 +57,17 @@ class LecturePrinter(MathMLPresentationPrinter):
             row.appendChild(self._text("mi", item))
         return row
 
+    def _letter(self, base: str, accent: str | None):
+        """The base letter (a Greek one by its name), under its accent where it has one."""
+        node = self._text("mi", greek_unicode.get(base, base))
+        if accent:
+            over = self.dom.createElement("mover")
+            over.setAttribute("accent", "true")
+            over.appendChild(node)
+            over.appendChild(self._text("mo", accent))
+            node = over
+        return node
+
     def _joint_coordinate(self, name: str):
         """A tree joint's coordinate ``theta_<joint>`` (and its ``_dot``) as θ with the joint's name, printed by the
         lecture's rule, as its subscript: θ_{φ₁} (read as θ_{φ,1} before, as if the joint had two indices)."""
@@ -64,15 +75,8 @@ class LecturePrinter(MathMLPresentationPrinter):
         joint = self._joints.get(name.removesuffix("_dot") if accent else name)
         if joint is None:
             return None
-        node = self._text("mi", greek_unicode["theta"])
-        if accent:
-            over = self.dom.createElement("mover")
-            over.setAttribute("accent", "true")
-            over.appendChild(node)
-            over.appendChild(self._text("mo", _ACCENTS["dot"]))
-            node = over
         script = self.dom.createElement("msub")
-        script.appendChild(node)
+        script.appendChild(self._letter("theta", _ACCENTS["dot"] if accent else None))
         script.appendChild(self._print_Symbol(sp.Symbol(joint)))
         return script
 
@@ -82,14 +86,7 @@ class LecturePrinter(MathMLPresentationPrinter):
         base, subs, supers, accent = lecture_parts(sym.name)
         if sym.name in self._names:
             (base, subs, supers), accent = self._names[sym.name], None
-        letter = greek_unicode.get(base, base)
-        node = self._text("mi", letter)
-        if accent:
-            over = self.dom.createElement("mover")
-            over.setAttribute("accent", "true")
-            over.appendChild(node)
-            over.appendChild(self._text("mo", accent))
-            node = over
+        node = self._letter(base, accent)
         subs = [greek_unicode.get(s, s) for s in subs]
         supers = [greek_unicode.get(s, s) for s in supers]
         if subs and supers:
