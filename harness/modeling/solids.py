@@ -1,7 +1,7 @@
 """Homogeneous solids in a body-fixed frame: the shapes the lecture builds its bodies from (3.118)-(3.128).
 
 A model may say which solids a link's body is made of (:attr:`harness.modeling.system.Link.solids`, pairs of a solid
-and its density): the pictures then show those solids instead of the cuboid equivalent to its inertia tensor, and a
+and its density): the pictures then show those solids instead of the solid equivalent to its inertia tensor, and a
 test integrates their mass, centre of mass and inertia tensor over their volumes
 (:func:`harness.derivation.bodies.solid_inertia`) and finds the link's. The integrals themselves live there.
 """

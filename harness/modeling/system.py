@@ -329,8 +329,8 @@ class Link:
     description: str = ""
     solids: tuple = field(default=(), metadata=DRAWING)
     """The homogeneous solids the body is made of, as ``(solid, density)`` pairs in the link frame
-    (:mod:`harness.modeling.solids`): what the pictures show of it (else the cuboid of its inertia tensor); a test
-    finds the link's mass, centre of mass and inertia tensor by their volume integrals."""
+    (:mod:`harness.modeling.solids`): what the pictures show of it (else the solid equivalent to its inertia
+    tensor); a test finds the link's mass, centre of mass and inertia tensor by their volume integrals."""
 
     def __post_init__(self):
         for pair in self.solids:

@@ -293,7 +293,8 @@ CAPSULES_DRAWN = "thin capsules join each link's joint to its centre of mass and
 
 def _bodies_drawn(system) -> str:
     """The caption's words on how bodies are drawn: the solids a link is made of where the model says so
-    (:attr:`Link.solids`), every other body as its equivalent cuboid."""
+    (:attr:`Link.solids`), every other body as the solid equivalent to its inertia tensor (a cuboid, a cylinder or a
+    sphere)."""
     made = [link.name for link in system.links if link.solids]
     if not made:
         return f"each {CUBOIDS_DRAWN}; {CAPSULES_DRAWN}"
