@@ -211,12 +211,16 @@ class CompiledModel:
         return values[:k], values[k:k + k * n].reshape(k, n), values[k + k * n:].reshape(k, n)
 
     def __call__(self, name: str, q, qd=None, p=None, u=None) -> np.ndarray:
-        """Evaluate quantity ``name`` (one of :data:`QUANTITIES`) at one state."""
-        s = self.system
-        qd = np.zeros(len(s.q)) if qd is None else qd
-        p = list(s.default_parameters().values()) if p is None else p
-        u = np.zeros(len(s.u)) if u is None else u
+        """Evaluate quantity ``name`` (one of :data:`QUANTITIES`) at one state; ``qd``, ``u`` zero and ``p`` the
+        defaults where not given."""
+        qd = np.zeros(self.dof) if qd is None else qd
+        p = self._default_parameters if p is None else p
+        u = np.zeros(len(self.system.inputs)) if u is None else u
         return np.asarray(self._functions[name](q, qd, p, u), dtype=float)
+
+    @cached_property
+    def _default_parameters(self) -> tuple:
+        return tuple(self.system.default_parameters().values())
 
     @cached_property
     def _batched_functions(self) -> dict:
