@@ -28,7 +28,9 @@ models must agree with each other, with (3.140)-(3.142) and with both engines.
 The lecture gives only the moments of inertia about the axes of rotation. The bodies' masses (centres of
 mass on their axes) and their transverse moments of inertia never enter the dynamics (the bodies only
 turn about ``z``); they are set to a stated mass and to ``3/4`` of the axial moment (a physical tensor: a
-solid cylinder of length ``√1.5`` times its radius).
+solid cylinder of length ``√1.5`` times its radius). Nor does where along the common axis each body sits: they
+are placed one after the other as on a shaft (:data:`BODY_1_AT`, :data:`SHAFT`), so that a picture seen across the
+axis shows each of them.
 
 The gear cut open (3.137) is the map's constraint: the torque ``tau_1`` on body 1 and ``tau_1^(m) = tau_1 / i_g``
 against the rotor, declared as one constraint force of magnitude ``tau_1``; (3.139) is claimed as it. Not claimed:
@@ -57,6 +59,12 @@ phi_1 = Coordinate("phi_1", "rad", "angle of body 1")
 phi_2 = Coordinate("phi_2", "rad", "angle of body 2")
 
 
+BODY_1_AT = (0, 0, 0.6)
+"""Where body 1's joint sits on the axis, from the rotor's (m): behind the gear."""
+SHAFT = (0, 0, 1.0)
+"""Where body 2's joint sits on the axis, from body 1's (m): the shaft with the torsion spring and the damper."""
+
+
 def disc_inertia(I):
     """Axial moment ``I`` about ``z``; transverse moments ``3/4 I`` (never enter, see the docstring)."""
     return Inertia(3 * I / 4, 3 * I / 4, I)
@@ -74,8 +82,8 @@ SYSTEM = System(
     ),
     joints=(
         Joint("phi_m", "revolute", WORLD, "rotor", axis="z", phi=i_g * phi_1),     # (3.136)
-        Joint("phi_1", "revolute", WORLD, "body_1", axis="z"),
-        Joint("phi_21", "revolute", "body_1", "body_2", axis="z", phi=phi_2 - phi_1),
+        Joint("phi_1", "revolute", WORLD, "body_1", axis="z", origin=BODY_1_AT),
+        Joint("phi_21", "revolute", "body_1", "body_2", axis="z", origin=SHAFT, phi=phi_2 - phi_1),
     ),
     forces=(
         JointSpring("spring_c", "phi_21", c),

@@ -21,14 +21,16 @@ the same ``M = diag(I_1 + i_g² I_m, I_2)``, ``C = 0``, ``K q``, ``D q̇`` and i
 
 The lecture gives only the moments of inertia about the axes of rotation. The bodies' masses (centres of
 mass on their axes) and their transverse moments of inertia never enter the dynamics; they are set to a
-stated mass and to ``3/4`` of the axial moment (a physical tensor), as in ``drive_train``.
+stated mass and to ``3/4`` of the axial moment (a physical tensor), and placed along the axis, as in
+``drive_train``.
 """
 
 from harness.modeling import WORLD, BodyTorque, Constant, Joint, JointDamper, JointSpring, Link, Scene, Step, System
 # the same parameters, inputs, coordinates, bodies and printed equations as the rotor-body model (one place):
 # both models must satisfy (3.140)-(3.142), one through the gear map, one through the engines' armature
 from models.drive_train import CLAIMS as _CLAIMS
-from models.drive_train import I_1, I_2, I_m, c, d, disc_inertia, i_g, m_1, m_2, phi_1, phi_2, tau_l, tau_m
+from models.drive_train import (BODY_1_AT, SHAFT, I_1, I_2, I_m, c, d, disc_inertia, i_g, m_1, m_2, phi_1, phi_2,
+                                tau_l, tau_m)
 
 # all but the gear: the map (3.136) (its reference is the rotor's tree joint phi_m) and the gear torque tau_1 (3.139)
 # with the balance (3.138b) it enters, the gear's constraint force: only drive_train has the gear
@@ -46,8 +48,8 @@ SYSTEM = System(
         Link("body_2", m_2, inertia=disc_inertia(I_2), description="body 2 carrying the load torque"),
     ),
     joints=(
-        Joint("phi_1", "revolute", WORLD, "body_1", axis="z", armature=i_g**2 * I_m),  # (3.140a)
-        Joint("phi_21", "revolute", "body_1", "body_2", axis="z", phi=phi_2 - phi_1),
+        Joint("phi_1", "revolute", WORLD, "body_1", axis="z", origin=BODY_1_AT, armature=i_g**2 * I_m),  # (3.140a)
+        Joint("phi_21", "revolute", "body_1", "body_2", axis="z", origin=SHAFT, phi=phi_2 - phi_1),
     ),
     forces=(
         JointSpring("spring_c", "phi_21", c),

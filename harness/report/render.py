@@ -133,16 +133,21 @@ class Scene3D:
         return np.vstack([d.xpos[1:], d.xipos[1:], np.where(sphere, cubes, boxes).reshape(-1, 3), d.site_xpos])
 
     # ----------------------------------------------------------------- camera
-    def frame(self, states) -> None:
-        """Point the camera at the region the mechanism covers in ``states`` (lecture coordinates), from the view
-        that shows its links least foreshortened (:meth:`view`)."""
+    def frame(self, states, shown=None) -> None:
+        """Point the camera at the region the mechanism covers in the states ``shown`` (lecture coordinates; None:
+        ``states``), from the view that shows its links least foreshortened over ``states`` (:meth:`view`)."""
         pts, links = [], []
         for q in states:
             self.set_q(q)
             pts.append(self.points())
             links.append(self.links())
-        pts, links = np.vstack(pts), np.vstack(links)
-        azimuth, elevation = self.view(pts, links)
+        azimuth, elevation = self.view(np.vstack(pts), np.vstack(links))
+        if shown is not None:
+            pts = []
+            for q in shown:
+                self.set_q(q)
+                pts.append(self.points())
+        pts = np.vstack(pts)
         right, up, forward = _axes(azimuth, elevation)
         plane = np.column_stack([right, up])
         seen = pts @ plane
@@ -210,16 +215,22 @@ class Scene3D:
 
     # ----------------------------------------------------------------- marks
     def joint_marks(self) -> list[tuple[np.ndarray, str]]:
-        """(world anchor, label) per tree joint: the lecture coordinates its θ depends on."""
+        """(world point, label) per tree joint: the lecture coordinates its θ depends on, at the joint's anchor; a
+        prismatic joint's at its anchor moved by θ along the axis, on the body it moves (MuJoCo's ``xanchor`` of a
+        slide joint is where θ = 0 puts it: a body that fell 39 km from it had its label at the ground)."""
         import sympy as sp
 
+        m, d = self.model, self.data
         marks = []
         for jid, expr in zip(self.engine.jids, self.system.phi):
             names = {s.name for s in sp.sympify(expr).free_symbols}
             used = [c.name for c in self.system.coordinates if c.name in names]
             if not used:
                 continue
-            marks.append((np.array(self.data.xanchor[jid]), ", ".join(_greek(u) for u in used)))
+            point = np.array(d.xanchor[jid])
+            if m.jnt_type[jid] == self.mujoco.mjtJoint.mjJNT_SLIDE:
+                point = point + d.qpos[m.jnt_qposadr[jid]] * np.array(d.xaxis[jid])
+            marks.append((point, ", ".join(_greek(u) for u in used)))
         return marks
 
     def springs_and_dampers(self, effects=None) -> int:
@@ -252,11 +263,14 @@ def _annotate(image, scene: Scene3D, labels: bool = True):
 
     draw = ImageDraw.Draw(image)
     font = _font(13)
-    placed = []
+    placed, marked = [], set()
     for anchor, text in scene.joint_marks() if labels else []:
         x, y = scene.project(anchor)[0]
         if not (0 <= x < scene.width and 0 <= y < scene.height):
             continue
+        if (round(x), round(y), text) in marked:   # two joints at one point following the same coordinates (a slide
+            continue                              # and a hinge rolling: one label says it)
+        marked.add((round(x), round(y), text))
         draw.ellipse([x - 3, y - 3, x + 3, y + 3], outline=(0, 0, 0), width=2)
         tx, ty = x + 6, y - 16
         while any(abs(tx - px) < 30 and abs(ty - py) < 14 for px, py in placed):
@@ -311,8 +325,8 @@ def picture(system, xml: str, path: Path, scenes=()) -> dict:
     scene = Scene3D(system, xml)
     try:
         states = _states(system, scenes)
-        scene.frame(states)
         q = states[1] if len(states) > 1 else states[0]
+        scene.frame(states, shown=[q])   # framed around q alone: the other states are not drawn
         scene.set_q(q)
         image = _annotate(Image.fromarray(scene.render()), scene)
     finally:
