@@ -14,7 +14,7 @@ the page says how large it is instead.
 from __future__ import annotations
 
 import itertools
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from html import escape
 
 import sympy as sp
@@ -46,6 +46,9 @@ class Budget:
     seconds: float = ENTRY_SECONDS
     timed_out: int = 0
     skipped_large: int = 0
+    done: dict = field(default_factory=dict)
+    """Entry → (what :meth:`simplify` returned, the count it added to): an entry met again (a printed equation's
+    derived form that is an entry of ``M``, ``C`` or ``g`` too) is not simplified twice, and counts as before."""
 
     def simplify(self, expr):
         """``expr`` simplified for reading (multiple angles expanded, expand, trigsimp, common factors), or as it
@@ -57,9 +60,16 @@ class Budget:
             return expr.applyfunc(self.simplify)
         if expr.is_number or expr.is_Symbol:
             return expr
+        if expr not in self.done:
+            self.done[expr] = self._simplified(expr)
+        out, counted = self.done[expr]
+        if counted:
+            setattr(self, counted, getattr(self, counted) + 1)
+        return out
+
+    def _simplified(self, expr) -> tuple:
         if sp.count_ops(expr) > SIMPLIFY_MAX_OPS:
-            self.skipped_large += 1
-            return expr
+            return expr, "skipped_large"
         try:
             with cpu_budget(self.seconds):  # multiple angles first: trigsimp does not see sin(3α) in sin(α)
                 out = sp.expand(sp.expand_trig(expr))
@@ -67,9 +77,8 @@ class Budget:
                     out = sp.trigsimp(out)
                 out = sp.factor_terms(out)
         except OutOfTime:
-            self.timed_out += 1
-            return expr
-        return out if sp.count_ops(out) <= sp.count_ops(expr) else expr
+            return expr, "timed_out"
+        return (out if sp.count_ops(out) <= sp.count_ops(expr) else expr), None
 
     def notes(self) -> list[str]:
         out = []
@@ -438,10 +447,11 @@ def _page_equations_of(job: tuple) -> dict:
 
 class PageEquationsAhead:
     """:func:`page_equations` of the systems ``names``: those the cache holds read once here, the others started in
-    ``jobs`` processes (a cold cache costs up to 4.2 s of SymPy a system, 30 s for the catalogue) while the caller builds
-    the rest of the pages. ``self(name)`` returns one system's, waiting for it if it is being computed (computed in
-    this process when it was not started, or its process failed, so that an error is raised where the page is
-    built); ``close()`` ends the processes. What is simplified does not depend on where (:data:`ENTRY_SECONDS`)."""
+    ``jobs`` processes (a cold cache costs up to 11 s of SymPy a system, 67 s for the catalogue, measured with the
+    derivations kept) while the caller builds the rest of the pages. ``self(name)`` returns one system's, waiting for
+    it if it is being computed (computed in this process when it was not started, or its process failed, so that an
+    error is raised where the page is built); ``close()`` ends the processes. What is simplified does not depend on
+    where (:data:`ENTRY_SECONDS`)."""
 
     def __init__(self, catalogue, names: list[str], jobs: int):
         from concurrent.futures import ProcessPoolExecutor
