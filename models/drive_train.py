@@ -29,8 +29,8 @@ The lecture gives only the moments of inertia about the axes of rotation. The bo
 mass on their axes) and their transverse moments of inertia never enter the dynamics (the bodies only
 turn about ``z``); they are set to a stated mass and to ``3/4`` of the axial moment (a physical tensor: a
 solid cylinder of length ``√1.5`` times its radius). Nor does where along the common axis each body sits: they
-are placed one after the other as on a shaft (:data:`BODY_1_AT`, :data:`SHAFT`), so that a picture seen across the
-axis shows each of them.
+are placed one after the other as on a shaft (body 1 0.6 m from the rotor, body 2 1 m beyond body 1), so that a
+picture seen across the axis shows each of them.
 
 The gear cut open (3.137) is the map's constraint: the torque ``tau_1`` on body 1 and ``tau_1^(m) = tau_1 / i_g``
 against the rotor, declared as one constraint force of magnitude ``tau_1``; (3.139) is claimed as it. Not claimed:

@@ -4,6 +4,7 @@ numbers, the simplification budget, no Python reprs."""
 
 from __future__ import annotations
 
+import re
 import time
 from xml.dom.minidom import parseString
 
@@ -110,6 +111,18 @@ def test_model_section_has_no_reprs():
         for value in row.values():
             if isinstance(value, str) and value.startswith("<math"):
                 _parses(value)
+
+
+def test_no_model_docstring_shows_a_cross_reference_role_on_its_page():
+    """A docstring's Sphinx cross-reference (``:func:`harness.files.from_urdf.from_urdf```) is a name in the code:
+    its page sets the name as code. lightweight_robot's page had shown three such roles as typed."""
+    html = model_text.docstring_html("Built by :func:`harness.files.from_urdf.from_urdf` (why: :mod:`~harness.files`),"
+                                     " with ``phi_1``.")
+    assert "<code>harness.files.from_urdf.from_urdf</code>" in html and "<code>harness.files</code>" in html
+    assert "<msub><mi>&#966;</mi><mi>1</mi></msub>" in html   # a literal symbol name is still set as the symbol
+    for name in models.names():
+        page = model_text.docstring_html(models.get(name).doc or "")
+        assert not re.search(r":\w+:`", page), (name, re.search(r".{40}:\w+:`.{40}", page))
 
 
 def test_large_per_body_derivation_is_not_printed(monkeypatch):

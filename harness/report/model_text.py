@@ -13,7 +13,8 @@ import sympy as sp
 from harness.report.mathml import body, bold, math
 
 _NAME = re.compile(r"^[A-Za-z]+[0-9]*(?:_[A-Za-z0-9]+)*(?:\^\{?[A-Za-z0-9]+\}?)?$")
-_LITERAL = re.compile(r"``(.+?)``")
+_LITERAL = re.compile(r"``(.+?)``|:(?:func|mod|data|class|meth|attr|obj):`~?([^`]+)`")
+"""A literal, or a cross-reference of Sphinx's Python roles (a name in the code: set as code, not as a symbol)."""
 _STRONG = re.compile(r"\*\*(.+?)\*\*")
 _EMPHASIS = re.compile(r"(?<![*\w])\*([^*\s][^*]*?)\*(?![*\w])")
 
@@ -41,7 +42,8 @@ def _inline_text(text: str) -> str:
     for match in _LITERAL.finditer(text):
         out.append(_marks(html.escape(text[last:match.start()])))
         inner = match.group(1)
-        out.append(_symbol(inner) or f"<code>{html.escape(inner)}</code>")
+        out.append(f"<code>{html.escape(match.group(2))}</code>" if inner is None else
+                   _symbol(inner) or f"<code>{html.escape(inner)}</code>")
         last = match.end()
     out.append(_marks(html.escape(text[last:])))
     return "".join(out)
