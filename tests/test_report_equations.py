@@ -115,11 +115,14 @@ def test_model_section_has_no_reprs():
 
 def test_no_model_docstring_shows_a_cross_reference_role_on_its_page():
     """A docstring's Sphinx cross-reference (``:func:`harness.files.from_urdf.from_urdf```) is a name in the code:
-    its page sets the name as code. lightweight_robot's page had shown three such roles as typed."""
+    its page sets the name as code. lightweight_robot's page had shown three such roles as typed. A literal is a
+    symbol where its base is a letter or a Greek letter's name, code where it is a word: drive_train's page had set
+    ``drive_train_armature`` as a symbol "drive" with the subscripts "train, armature"."""
     html = model_text.docstring_html("Built by :func:`harness.files.from_urdf.from_urdf` (why: :mod:`~harness.files`),"
-                                     " with ``phi_1``.")
+                                     " with ``phi_1``, ``I_zz^{sK}``, ``Delta_z_2``, ``drive_train`` and ``mj_applyFT``.")
     assert "<code>harness.files.from_urdf.from_urdf</code>" in html and "<code>harness.files</code>" in html
     assert "<msub><mi>&#966;</mi><mi>1</mi></msub>" in html   # a literal symbol name is still set as the symbol
+    assert html.count("<math") == 3 and "<code>drive_train</code>" in html and "<code>mj_applyFT</code>" in html
     for name in models.names():
         page = model_text.docstring_html(models.get(name).doc or "")
         assert not re.search(r":\w+:`", page), (name, re.search(r".{40}:\w+:`.{40}", page))

@@ -30,8 +30,13 @@ def inline(expr, joints=()) -> str:
 
 
 def _symbol(text: str) -> str | None:
-    """A symbol name such as ``phi_1``, ``I_zz^{sK}``, ``r_dot`` as inline MathML; None for other text."""
-    if not _NAME.match(text) or len(text) > 24:
+    """A symbol name such as ``phi_1``, ``I_zz^{sK}``, ``r_dot`` as inline MathML; None for other text. A symbol's
+    base is one letter or a Greek letter's name, as every coordinate, parameter and input of the catalogue: a word
+    (``drive_train_armature``, ``frictionloss``, ``mj_applyFT``) is code, not a letter with subscripts."""
+    from sympy.printing.pretty.pretty_symbology import greek_unicode
+
+    base = re.split(r"[_^]", text, maxsplit=1)[0]
+    if not _NAME.match(text) or len(text) > 24 or (len(base) > 1 and base not in greek_unicode):
         return None
     name = text.replace("{", "").replace("}", "")
     return math(body(sp.Symbol(name)), display=False)
