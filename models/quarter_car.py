@@ -7,8 +7,7 @@ and the wheel (A.38).
 
 Tree: the wheel slides on a prismatic joint from the world (``theta = x_R``), the body on a prismatic joint
 from the wheel (``theta = x_A - x_R``: a linear map). The suspension spring and damper are a joint spring and
-damper of that relative joint, whose origin sits ``BODY_ABOVE_WHEEL`` above the wheel (where along ``e_z`` does
-not enter the dynamics: ``V`` gains a constant; the picture shows the body above the wheel). The road moves: with the inputs ``x_U`` and ``v_U = ẋ_U`` the tyre force
+damper of that relative joint. The road moves: with the inputs ``x_U`` and ``v_U = ẋ_U`` the tyre force
 ``c_R (x_U - x_R) + d_R (v_U - ẋ_R)`` splits exactly into a spring ``c_R`` and a damper ``d_R`` on the wheel's
 joint (the parts in ``x_R``, ``ẋ_R``) and an external force ``c_R x_U + d_R v_U`` on the wheel (the road's part),
 which each engine applies through its own Jacobian.
@@ -30,10 +29,6 @@ c_R = Parameter("c_R", 2.0e5, "N/m", "tyre stiffness")
 d_R = Parameter("d_R", 1.0e2, "N s/m", "tyre damping")
 g = standard_gravity()
 
-BODY_ABOVE_WHEEL = 0.5
-"""Height of the body's joint above the wheel's (m), in the picture only: the heights ``x_A``, ``x_R`` are counted
-from where the springs are unstretched."""
-
 x_U = Input("x_U", "m", "road displacement x_U(t)")
 v_U = Input("v_U", "m/s", "road velocity dx_U/dt")
 x_R = Coordinate("x_R", "m", "height of the wheel")
@@ -46,8 +41,7 @@ SYSTEM = System(
     coordinates=(x_R, x_A),
     links=(Link("wheel", m_R, description="lumped wheel mass"), Link("body", m_A, description="lumped body mass")),
     joints=(Joint("wheel_z", "prismatic", WORLD, "wheel", axis="z", phi=x_R),
-            Joint("suspension", "prismatic", "wheel", "body", axis="z", origin=(0, 0, BODY_ABOVE_WHEEL),
-                  phi=x_A - x_R)),
+            Joint("suspension", "prismatic", "wheel", "body", axis="z", phi=x_A - x_R)),
     gravity=Gravity(g, (0, 0, -1)),
     forces=(
         JointSpring("tyre_spring", "wheel_z", c_R),
