@@ -9,6 +9,7 @@ import html
 import re
 
 import sympy as sp
+from sympy.printing.pretty.pretty_symbology import greek_unicode
 
 from harness.report.mathml import body, bold, math
 
@@ -33,8 +34,6 @@ def _symbol(text: str) -> str | None:
     """A symbol name such as ``phi_1``, ``I_zz^{sK}``, ``r_dot`` as inline MathML; None for other text. A symbol's
     base is one letter or a Greek letter's name, as every coordinate, parameter and input of the catalogue: a word
     (``drive_train_armature``, ``frictionloss``, ``mj_applyFT``) is code, not a letter with subscripts."""
-    from sympy.printing.pretty.pretty_symbology import greek_unicode
-
     base = re.split(r"[_^]", text, maxsplit=1)[0]
     if not _NAME.match(text) or len(text) > 24 or (len(base) > 1 and base not in greek_unicode):
         return None

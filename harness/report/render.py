@@ -136,18 +136,9 @@ class Scene3D:
     def frame(self, states, shown=None) -> None:
         """Point the camera at the region the mechanism covers in the states ``shown`` (lecture coordinates; None:
         ``states``), from the view that shows its links least foreshortened over ``states`` (:meth:`view`)."""
-        pts, links = [], []
-        for q in states:
-            self.set_q(q)
-            pts.append(self.points())
-            links.append(self.links())
-        azimuth, elevation = self.view(np.vstack(pts), np.vstack(links))
-        if shown is not None:
-            pts = []
-            for q in shown:
-                self.set_q(q)
-                pts.append(self.points())
-        pts = np.vstack(pts)
+        posed = [self._posed(q) for q in states]
+        azimuth, elevation = self.view(np.vstack([p for p, _ in posed]), np.vstack([lk for _, lk in posed]))
+        pts = np.vstack([p for p, _ in (posed if shown is None else map(self._posed, shown))])
         right, up, forward = _axes(azimuth, elevation)
         plane = np.column_stack([right, up])
         seen = pts @ plane
@@ -163,6 +154,11 @@ class Scene3D:
         fits = float(np.max(nearer + FRAME_MARGIN * np.max(off / half, axis=1)))
         self.camera.distance = max(FRAME_MARGIN * (size / 2.0) / half[1], fits)
         self.model.tendon_width[:] = TENDON_WIDTH * size   # a point spring or damper as a line seen at this size
+
+    def _posed(self, q) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`points` and :meth:`links` of the mechanism posed at ``q``."""
+        self.set_q(q)
+        return self.points(), self.links()
 
     def links(self) -> np.ndarray:
         """The mechanism's links as vectors: from each body's parent's origin to its origin (a body carried by the
