@@ -14,6 +14,9 @@ which each engine applies through its own Jacobian.
 
 The lecture allows a velocity-dependent suspension damping ``d_A(v_RA)``; the model uses a constant ``d_A``
 (the engines' joint damping is linear). A nonlinear damper law belongs to the scenes.
+
+The heights put the body 0.2 m below the wheel at rest (A.42); the picture draws it 0.5 m higher, above the wheel
+as in Figure A.8 (``drawn_at``: the picture's offset only, the model is unchanged).
 """
 
 from sympy import Matrix
@@ -39,7 +42,8 @@ SYSTEM = System(
     title="Quarter-car vertical model",
     lecture="Exercise A.4; (A.38)-(A.42)",
     coordinates=(x_R, x_A),
-    links=(Link("wheel", m_R, description="lumped wheel mass"), Link("body", m_A, description="lumped body mass")),
+    links=(Link("wheel", m_R, description="lumped wheel mass"),
+           Link("body", m_A, description="lumped body mass", drawn_at=(0, 0, 0.5))),
     joints=(Joint("wheel_z", "prismatic", WORLD, "wheel", axis="z", phi=x_R),
             Joint("suspension", "prismatic", "wheel", "body", axis="z", phi=x_A - x_R)),
     gravity=Gravity(g, (0, 0, -1)),

@@ -427,8 +427,9 @@ def test_a_picture_frames_the_state_it_shows_and_marks_a_slide_on_the_body_it_mo
     still chosen over every scene's state): free_fall_drag's body at 39 km had been framed with the ground, a
     speck in an empty picture. A prismatic joint's label sits on the body it moves (MuJoCo's ``xanchor`` of a slide
     is where θ = 0 puts it: that label had stood at the ground). drive_train's bodies sit along their common axis
-    and are seen across it, apart (they had all been at one point, the largest disc hiding the others). Rendered in
-    a process of its own, as the report renders."""
+    and are seen across it, apart (they had all been at one point, the largest disc hiding the others). The quarter
+    car's body is drawn above its wheel (``Link.drawn_at``; its height x_A puts it 0.2 m below at rest), its label
+    with it, and the caption says so. Rendered in a process of its own, as the report renders."""
     import subprocess
     import sys
 
@@ -443,10 +444,10 @@ from harness.report import render
 render.backend()
 import models
 out = {{}}
-for name in ("free_fall_drag", "drive_train"):
+for name in ("free_fall_drag", "drive_train", "quarter_car"):
     system, scenes = models.CATALOGUE.get(name), models.CATALOGUE.scenes(name)
     path = Path({str(tmp_path)!r}) / f"{{name}}.png"
-    render.picture(system, render.mjcf_text(system), path, scenes)
+    caption = render.picture(system, render.mjcf_text(system), path, scenes)["caption"]
     drawn = float((np.asarray(Image.open(path).convert("RGB")) < 250).any(axis=2).mean())
     scene = render.Scene3D(system, render.mjcf_text(system))
     q = np.asarray(scenes[0].q0, dtype=float)
@@ -454,7 +455,7 @@ for name in ("free_fall_drag", "drive_train"):
     scene.set_q(q)
     scene.render()
     marks = [scene.project(point)[0].tolist() for point, _ in scene.joint_marks()]
-    out[name] = [drawn, marks, scene.project(scene.data.xpos[1:]).tolist()]
+    out[name] = [drawn, marks, scene.project(scene.data.xpos[1:]).tolist(), caption]
     scene.close()
 print(json.dumps(out))
 """
@@ -462,11 +463,15 @@ print(json.dumps(out))
                          cwd=Path(models.__file__).parent.parent)
     assert run.returncode == 0, run.stderr[-2000:]
     out = json.loads(run.stdout.strip().splitlines()[-1])
-    drawn, marks, bodies = out["free_fall_drag"]
+    drawn, marks, bodies, _ = out["free_fall_drag"]
     assert drawn > 0.05, drawn   # 0.0007 when framed with the ground
     assert np.allclose(marks, bodies, atol=1.0), (marks, bodies)   # h on the falling body
-    drawn, marks, bodies = out["drive_train"]
+    drawn, marks, bodies, _ = out["drive_train"]
     assert drawn > 0.05, drawn
     gaps = [np.hypot(*np.subtract(a, b)) for k, a in enumerate(bodies) for b in bodies[k + 1:]]
     assert min(gaps) > 30, bodies   # the rotor, body 1 and body 2 seen apart, in pixels
     assert np.allclose(marks, bodies, atol=1.0), (marks, bodies)   # each joint's label on its body
+    _, marks, (wheel, body), caption = out["quarter_car"]
+    assert body[1] < wheel[1] - 30, (wheel, body)   # above it in the picture (pixel rows count down)
+    assert np.allclose(marks, [wheel, body], atol=1.0), (marks, wheel, body)
+    assert "for the picture only: body by (0, 0, 0.5) m" in caption, caption

@@ -12,7 +12,7 @@ import sympy as sp
 import models
 from harness.derivation.bodies import solid_inertia, solid_mass
 from harness.errors import ModelError
-from harness.export.mjcf import mjcf_spec, model_scale
+from harness.export.mjcf import mjcf_spec, mjcf_string, model_scale
 from harness.export.numeric import instantiate
 from harness.modeling import Box, Cylinder, Link
 
@@ -72,10 +72,13 @@ def _mujoco_body(geoms_and_densities) -> tuple[float, np.ndarray, np.ndarray]:
     return model.body_mass[1], model.body_ipos[1], rotation @ np.diag(model.body_inertia[1]) @ rotation.T
 
 
-def test_solids_are_given_as_solid_and_density_pairs():
+def test_solids_are_given_as_solid_and_density_pairs_and_a_drawing_offset_as_three_numbers():
     with pytest.raises(ModelError, match=r"link tower: solids: give \(solid, density\) pairs"):
         Link("tower", 1.0, solids=(Cylinder(1, 2),))
     assert Link("tower", 1.0, solids=((Box.around((0, 0, 0), (1, 1, 1)), 2.0),)).solids
+    for where in ((0, 0.5), "up", (0, 0, sp.Symbol("h"))):
+        with pytest.raises(ModelError, match=r"link body: drawn_at: give three numbers in metres"):
+            Link("body", 1.0, drawn_at=where)
 
 
 _VOLUME = {mujoco.mjtGeom.mjGEOM_BOX: lambda s: 8.0 * s[0] * s[1] * s[2],
@@ -115,9 +118,10 @@ def test_every_body_drawn_as_its_equivalent_solid_is_the_links_mass_centre_and_i
 
 
 def test_how_a_body_is_drawn_is_not_part_of_the_models_fingerprint():
-    """``Link.solids`` and ``Inertia.shape`` say how a body is drawn, not what it is: an edit of them keeps the
-    fingerprint that keys the derivations (nothing is derived again), while the exported MJCF, keyed by the numeric
-    tree, draws the edit. The inertia's numbers are part of the fingerprint."""
+    """``Link.solids``, ``Link.drawn_at`` and ``Inertia.shape`` say how a body is drawn, not what it is: an edit of
+    them keeps the fingerprint that keys the derivations (nothing is derived again), while the exported MJCF, keyed
+    by the numeric tree, draws the solids (a picture alone moves a link drawn elsewhere: the MJCF keeps it where the
+    model puts it). The inertia's numbers are part of the fingerprint."""
     import dataclasses
 
     system = models.get("tower_crane")
@@ -128,6 +132,10 @@ def test_how_a_body_is_drawn_is_not_part_of_the_models_fingerprint():
     values = {p.name: float(p.default) for p in system.parameters}
     assert ({g.name for g in mjcf_spec(instantiate(edited, values)).geoms}
             != {g.name for g in mjcf_spec(instantiate(system, values)).geoms})
+    moved = dataclasses.replace(tower, drawn_at=(0.0, 0.0, 1.0))
+    elsewhere = dataclasses.replace(system, links=tuple(moved if k is tower else k for k in system.links))
+    assert elsewhere.fingerprint() == system.fingerprint()
+    assert mjcf_string(instantiate(elsewhere, values)) == mjcf_string(instantiate(system, values))
     heavier = dataclasses.replace(tower, inertia=dataclasses.replace(tower.inertia, xx=2 * tower.inertia.xx))
     assert dataclasses.replace(system, links=tuple(heavier if k is tower else k for k in system.links)
                                ).fingerprint() != system.fingerprint()

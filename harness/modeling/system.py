@@ -331,8 +331,16 @@ class Link:
     """The homogeneous solids the body is made of, as ``(solid, density)`` pairs in the link frame
     (:mod:`harness.modeling.solids`): what the pictures show of it (else the solid equivalent to its inertia
     tensor); a test finds the link's mass, centre of mass and inertia tensor by their volume integrals."""
+    drawn_at: tuple = field(default=(0, 0, 0), metadata=DRAWING)
+    """How far from where the model puts it the pictures draw the link, with all it carries (in its parent's frame,
+    in metres): for coordinates that put bodies at one point which a reader sees apart (the quarter car's heights
+    are counted from the unstretched springs: at rest its body sits below its wheel). The dynamics, the exported
+    files and every check see the model as it is; the picture's caption names the link drawn elsewhere."""
 
     def __post_init__(self):
+        if not (isinstance(self.drawn_at, tuple) and len(self.drawn_at) == 3
+                and all(isinstance(v, (int, float)) for v in self.drawn_at)):
+            raise ModelError(f"link {self.name}: drawn_at: give three numbers in metres, got {self.drawn_at!r}")
         for pair in self.solids:
             if not (isinstance(pair, tuple) and len(pair) == 2 and isinstance(pair[0], SOLIDS)):
                 raise ModelError(f"link {self.name}: solids: give (solid, density) pairs, e.g. "

@@ -100,6 +100,10 @@ class Scene3D:
         self.params = system.default_parameters()
         self.engine = MujocoModel(instantiate(system, self.params), xml=xml)   # the kinematics: the adapter's
         self.model, self.data = self.engine.model, self.engine.data
+        for link in system.links:   # where the model says to draw a link elsewhere (Link.drawn_at): this copy only
+            if any(link.drawn_at):
+                self.model.body_pos[mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_BODY, link.name)] += \
+                    np.asarray(link.drawn_at, dtype=float)
         self.compiled = compiled(system)
         self.p = [self.params[s.name] for s in system.p]
         self.width, self.height = width, height
@@ -332,7 +336,16 @@ def picture(system, xml: str, path: Path, scenes=()) -> dict:
     lines = "; lines: its springs and dampers between points (spatial tendons)" if scene.model.ntendon else ""
     return {"size": size, "caption": f"Rendered by MuJoCo ({backend()}) from {_mjcf_source(system)} {where}; "
                                       f"labels: the lecture coordinates each joint follows{lines}{_in_joints(system)}; "
-                                      f"{_bodies_drawn(system)}."}
+                                      f"{_bodies_drawn(system)}{_drawn_elsewhere(system)}."}
+
+
+def _drawn_elsewhere(system) -> str:
+    """The caption's words on the links drawn away from where the model puts them (:attr:`Link.drawn_at`; empty
+    where there are none)."""
+    moved = [f"{link.name} by ({', '.join(f'{v:g}' for v in link.drawn_at)}) m"
+             for link in system.links if any(link.drawn_at)]
+    return f"; drawn moved from where the coordinates put them, for the picture only: {', '.join(moved)}" \
+        if moved else ""
 
 
 def _in_joints(system) -> str:
