@@ -1,6 +1,10 @@
 """Test configuration: hypothesis runs the fixed-seed ``ci`` profile unless HYPOTHESIS_PROFILE says otherwise,
 and the derivation cache lives in a per-run folder, seeded with a copy of the project's, so tests never write to a
-developer's cache."""
+developer's cache.
+
+The tests that compile to machine code (numba: ``native=True``, :mod:`harness.scenes.native`) share the xdist group
+``machine-code``: numba compiles a system's functions once per process (generated code, no cache on disk), and its
+first compilation in a process costs ~9 s more; in one worker each is paid once."""
 
 import pytest
 

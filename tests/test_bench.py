@@ -34,6 +34,7 @@ def test_batched_equals_per_state(name):
     assert np.allclose(c.batched_forward_dynamics(Q, QD, p, U), qdd, rtol=1e-12, atol=1e-12 * np.max(np.abs(qdd)))
 
 
+@pytest.mark.xdist_group("machine-code")   # numba's compilations shared in one process (conftest.py)
 @pytest.mark.parametrize("name", ["planar_manipulator", "tower_crane", "spring_mass_damper"])
 def test_one_function_of_all_terms_equals_the_numpy_functions(name):
     """``CompiledModel.terms`` (Python floats, and its numba machine code) returns the per-quantity NumPy

@@ -26,6 +26,7 @@ from harness.scenes.simulate import Dynamics
 
 ENGINE_TOL = 1e-6
 INVARIANT_TOL = 1e-8
+MACHINE_CODE = pytest.mark.xdist_group("machine-code")   # numba's compilations shared in one process (conftest.py)
 
 
 def _p(system, **over):
@@ -38,7 +39,7 @@ def _p(system, **over):
     ("governor", [0.2, 0.0], "coordinate singularity at phi = 0.2, alpha = 0 in governor"),
     ("tower_crane", [0.0, 1.5, 0.3, 0.1, 0.0], "s_5 = 0 in tower_crane"),
 ])
-@pytest.mark.parametrize("native", [False, True], ids=["python", "numba"])
+@pytest.mark.parametrize("native", [False, pytest.param(True, marks=MACHINE_CODE)], ids=["python", "numba"])
 def test_singular_mass_matrix_is_a_clear_error(name, q, expect, native):
     system = models.get(name)
     c = compiled(system)
@@ -87,7 +88,7 @@ def test_the_cholesky_bound_proves_only_what_the_eigenvalues_confirm(M):
         assert proved
 
 
-@pytest.mark.parametrize("native", [False, True], ids=["python", "numba"])
+@pytest.mark.parametrize("native", [False, pytest.param(True, marks=MACHINE_CODE)], ids=["python", "numba"])
 def test_outside_the_map_is_a_clear_error_not_nan(native):
     system = models.get("toggle_press")
     c = compiled(system)

@@ -15,6 +15,8 @@ from harness.scenes import native, simulate as sim
 # run (measured: at most 3.6e-12 of the state's scale over six scenes at rtol 1e-6 and 1e-9)
 SAME_STEPS_TOL = 1e-10
 
+pytestmark = pytest.mark.xdist_group("machine-code")   # numba's compilations shared in one process (conftest.py)
+
 
 def _runs(name: str, label: str, rtol: float, scene=None):
     system, sc = wp.get_scene(models.CATALOGUE, name, label)
