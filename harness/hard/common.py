@@ -77,10 +77,8 @@ class Terms(Dynamics):
     def terms(self, t, q, qd):
         u = self.scene.u(t, self.system)
         args = (q, qd, self.p, u)
-        if self.source == "symbolic":
-            c = self.c
-            return c.mass_matrix(q, self.p), c.coriolis_matrix(q, qd, self.p) @ qd, c.potential_forces(q, self.p), \
-                c.generalized_forces(q, qd, self.p, u)
+        if self.source == "symbolic":   # one generated function of all four (CompiledModel.terms)
+            return self.c.terms(q, qd, self.p, u)
         theta = self.c("phi", *args).ravel()
         J, J_dot = self.c("J_phi", *args), self.c("J_phi_dot", *args)
         loads = self.loads(q, qd, u)
