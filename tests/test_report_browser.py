@@ -168,18 +168,25 @@ def test_no_equation_of_the_catalogue_scrolls_in_chromium():
     the report of f55748a: the trebuchet's M and C, the rotating body's and planar manipulator's entries before
     their common subexpressions were named (:func:`harness.report.equations.abbreviated`), the printed equations
     and their derived forms before they were broken over lines, the tower crane's printed Jacobian (4.73) before it
-    was written column by column (:func:`harness.report.equations.wide_math`)."""
+    was written column by column (:func:`harness.report.equations.wide_math`). No table of bodies is wider than the
+    page either: the tower crane's and the rotating body's inertia tensors had made theirs three and four screens wide
+    before they were written below it, entry by entry (:func:`harness.report.model_text.link_rows`)."""
     import models
     from playwright.sync_api import sync_playwright
 
     from harness.report.equations import page_equations
+    from harness.report.model_text import link_rows
     from harness.report.templates import CSS, environment
 
     derived, printed = environment().get_template("equations"), environment().get_template("claims")
-    rows = ""
+    bodies = environment().get_template("bodies")
+    rows, below = "", 0
     for name in models.names():
         page = page_equations(models.get(name), models.claims(name))
-        rows += f"<h2>{name}</h2>" + derived.render(model={"equations": page["equations"]})
+        links = link_rows(models.get(name))
+        below += sum(len(link["below"]) for link in links)
+        rows += f"<h2>{name}</h2>" + bodies.render(model={"links": links})
+        rows += derived.render(model={"equations": page["equations"]})
         rows += printed.render(model={"claims": [{**c, "record": None} for c in page["claims"]]})
     html = f'<!DOCTYPE html><html><head><meta charset="utf-8"><style>{CSS}</style></head><body>{rows}</body></html>'
     with sync_playwright() as p:
@@ -187,7 +194,10 @@ def test_no_equation_of_the_catalogue_scrolls_in_chromium():
         page = browser.new_page(viewport={"width": 1300, "height": 900})
         page.set_content(html)
         wide = page.evaluate(OVERFLOWING)
+        tables = page.evaluate("""() => Array.from(document.querySelectorAll('div.wide'))
+          .filter(e => e.scrollWidth > e.clientWidth + 1).map(e => [e.scrollWidth, e.textContent.slice(0, 60)])""")
         shown = page.evaluate("document.querySelectorAll('.eq').length")
         browser.close()
-    assert shown > 700
+    assert shown > 700 and below == 2   # the tower crane's and the rotating body's inertia tensors
     assert not wide, wide
+    assert not tables, tables

@@ -353,6 +353,17 @@ def wide_math(expr, lhs: str = "", residual: bool = False, named: bool = False) 
     return broken(written + [(body(name), "<mo>=</mo>", _terms(value)) for name, value in where])
 
 
+def entry_by_entry(letter: str, matrix, superscript: str = "") -> str:
+    """A matrix too wide for a table's cell as the derived equations write one wider than a line: ``letter`` with
+    its indices and ``superscript`` entry by entry, a symmetric one on and above its diagonal (:func:`_entries`),
+    each broken after its terms, common subexpressions named after them (:func:`abbreviated`). The bodies' table
+    sets a body's inertia tensor so (the tower crane's tower, by Steiner's theorem from its solids: 477 characters
+    wide in one row; the rotating body's three bars and point mass: 692)."""
+    (matrix,), where = abbreviated([sp.Matrix(matrix)])
+    written, _ = _entries(letter, matrix, superscript)
+    return broken(written + [(body(name), "<mo>=</mo>", _terms(value)) for name, value in where])
+
+
 def claim_equations(system, claims, budget: Budget | None = None) -> list[dict]:
     """Per printed equation: ``{"equation", "quantity", "description", "printed", "derived", "note"}`` with the
     printed form and the derived quantity it is compared with as MathML (the derived one simplified within the

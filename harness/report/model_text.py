@@ -11,7 +11,7 @@ import re
 import sympy as sp
 from sympy.printing.pretty.pretty_symbology import greek_unicode
 
-from harness.report.mathml import body, bold, math
+from harness.report.mathml import LINE_WIDTH, body, bold, math, width
 
 _NAME = re.compile(r"^[A-Za-z]+[0-9]*(?:_[A-Za-z0-9]+)*(?:\^\{?[A-Za-z0-9]+\}?)?$")
 _LITERAL = re.compile(r"``(.+?)``|:(?:func|mod|data|class|meth|attr|obj):`~?([^`]+)`")
@@ -138,17 +138,28 @@ def force_rows(system) -> list[dict]:
 
 
 def link_rows(system) -> list[dict]:
-    """Per link: mass, centre of mass, inertia about it as inline MathML."""
+    """Per link: mass, centre of mass, inertia about it as inline MathML; an inertia tensor or centre of mass wider
+    than a line (:data:`~harness.report.mathml.LINE_WIDTH`) is written below the table instead, entry by entry
+    (``below``: ``[(title, MathML)]``, :func:`~harness.report.equations.entry_by_entry`): in its cell it had made
+    the table four screens wide."""
+    from harness.report.equations import entry_by_entry
+
     rows = []
     for k in system.links:
-        if not k.has_mass:
-            inertia = "—"
-        elif k.is_point_mass:
-            inertia = "point mass"
-        else:
-            inertia = inline(k.inertia.matrix)
-        rows.append({"name": k.name, "mass": inline(k.mass), "com": inline(sp.Matrix(k.com_vector)),
-                     "inertia": inertia, "description": k.description})
+        row = {"name": k.name, "mass": inline(k.mass), "description": k.description, "below": []}
+        for key, letter, value, what in (("com", "r", sp.Matrix(k.com_vector), "centre of mass (link frame)"),
+                                         ("inertia", "I", k.inertia.matrix, "inertia about the centre of mass "
+                                          "(symmetric: its entries on and above the diagonal)")):
+            if key == "inertia" and not k.has_mass:
+                row[key] = "—"
+            elif key == "inertia" and k.is_point_mass:
+                row[key] = "point mass"
+            elif width(value) > LINE_WIDTH:
+                row[key] = "written below the table (too wide for it)"
+                row["below"].append((f"{k.name}: {what}", entry_by_entry(letter, value, k.name)))
+            else:
+                row[key] = inline(value)
+        rows.append(row)
     return rows
 
 

@@ -136,6 +136,13 @@ CLAIMS = """{% for c in model.claims %}{% set r = c.record %}<div class="claim {
 (:func:`harness.report.equations.claim_equations`, with its classification ``record``): the system page includes it,
 and a test measures the rows in Chromium."""
 
+BODIES = """<div class="wide"><table><tr><th>link</th><th>mass</th><th>centre of mass (link frame)</th><th>inertia about the centre of mass</th><th>description</th></tr>
+{% for b in model.links %}<tr><td><code>{{ b.name }}</code></td><td>{{ b.mass|safe }}</td><td>{{ b.com|safe }}</td><td>{{ b.inertia|safe }}</td><td>{{ b.description }}</td></tr>{% endfor %}</table></div>
+{% for b in model.links %}{% for title, m in b.below %}<div class="eq"><div class="eqtitle">{{ title }}</div>{{ m|safe }}</div>{% endfor %}{% endfor %}
+"""
+"""A system's bodies (:func:`harness.report.model_text.link_rows`): a table, and below it, entry by entry, what is too
+wide for its cells; the system page includes it, and a test measures it in Chromium."""
+
 SYSTEM = """{% extends "base" %}
 {% block title %}{{ s.name }} — {{ s.title }}{% endblock %}
 {% block body %}
@@ -159,8 +166,7 @@ SYSTEM = """{% extends "base" %}
 {% if model.inputs %}<h3>Inputs u</h3><table><tr><th>input</th><th>unit</th><th>meaning</th></tr>
 {% for i in model.inputs %}<tr><td title="{{ i.name }}">{{ i.symbol|safe }}</td><td>{{ i.unit }}</td><td>{{ i.description }}</td></tr>{% endfor %}</table>{% endif %}
 <h3>Bodies</h3>
-<div class="wide"><table><tr><th>link</th><th>mass</th><th>centre of mass (link frame)</th><th>inertia about the centre of mass</th><th>description</th></tr>
-{% for b in model.links %}<tr><td><code>{{ b.name }}</code></td><td>{{ b.mass|safe }}</td><td>{{ b.com|safe }}</td><td>{{ b.inertia|safe }}</td><td>{{ b.description }}</td></tr>{% endfor %}</table></div>
+{% include "bodies" %}
 <h3>Joints and the map θ = φ(q)</h3>
 <div class="wide"><table><tr><th>joint</th><th>type</th><th>parent → child</th><th>axis</th><th>origin</th><th>θ = φ(q)</th></tr>
 {% for j in model.joints %}<tr><td><code>{{ j.name }}</code></td><td>{{ j.type }}</td><td>{{ j.parent }} → {{ j.child }}</td><td>{{ j.axis|safe }}</td><td>{{ j.origin|safe }}</td><td>{{ j.phi|safe }}</td></tr>{% endfor %}</table></div>
@@ -286,6 +292,7 @@ torques: {% if step.warnings %}warnings:</p><ul>{% for w in step.warnings %}<li>
 
 def environment() -> jinja2.Environment:
     env = jinja2.Environment(loader=jinja2.DictLoader({"base": BASE, "index": INDEX, "system": SYSTEM, "equations": EQUATIONS, "claims": CLAIMS,
+                                                        "bodies": BODIES,
                                                         "errata": ERRATA, "generic": GENERIC,
                                                         "robot": ROBOT}),
                              autoescape=True, undefined=jinja2.StrictUndefined, trim_blocks=True, lstrip_blocks=True)
