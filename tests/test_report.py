@@ -135,7 +135,7 @@ def test_an_in_page_link_reaches_its_heading_as_on_a_code_host():
 def test_the_hard_cases_page_reads_case_by_case(tmp_path):
     """``hard.md`` (written with hard.json by harness hard; rendered as hard.html): a table of the cases linking
     each case's section, which shows what goes wrong naively with its number, the remedy, the checks against their
-    bounds and the case's figure."""
+    bounds and the case's figure; the table gives each naive number with what it measures."""
     import json as _json
 
     from harness.report.markdown import hard_markdown
@@ -149,6 +149,7 @@ def test_the_hard_cases_page_reads_case_by_case(tmp_path):
         assert f"![{case['title']}]({case['figure']})" in text
         for check in case["checks"]:
             assert check["check"].replace("|", "\\|") in text
+        assert f": {case['naive']['metric']} |" in text   # the summary says what the naive number measures
     html = markdown_html(text)
     assert html.count("<img") == sum(1 for c in doc["cases"] if c["figure"]) and "**" not in html
     # the margins: every check on a margin bound within 0.1 of it, the derived ones counted and their reason given

@@ -125,8 +125,9 @@ def hard_markdown(doc: dict) -> str:
     thin = [row for row in margins.above(doc) if not row["derived"]]
     lines += [f"- thin margin: {row['system']}, {row['check']} ({row['source']}): {fmt_ratio(row['ratio'])} of its "
               "bound" for row in thin] + ([""] if thin else [])
-    lines += _table(("case", "strategy", "naive", "checks", "largest share of a margin bound", "seconds", "verdict"),
-                    [(f"[{c['id']}](#{slug(_hard_heading(c))})", c["strategy"], _naive_value(c.get("naive") or {}),
+    lines += _table(("case", "strategy", "done naively: what it measures", "checks", "largest share of a margin bound",
+                     "seconds", "verdict"),
+                    [(f"[{c['id']}](#{slug(_hard_heading(c))})", c["strategy"], _naive_cell(c.get("naive") or {}),
                       len(c["checks"]), "—" if worst[c["id"]] is None else
                       f"{fmt_ratio(worst[c['id']]['ratio'])} ({worst[c['id']]['check']}, "
                       f"{worst[c['id']]['source']})", f"{c.get('seconds', 0):.1f}",
@@ -163,6 +164,13 @@ def _why(check: dict, bounds: dict) -> str:
 
 def _hard_heading(case: dict) -> str:
     return f"{case['id']}: {case['title']}"
+
+
+def _naive_cell(naive: dict) -> str:
+    """The summary's cell of what goes wrong naively: the number and what it measures (a number alone, 1.099 or
+    1.757e-15, had not said whether the naive run was bad, nor in what)."""
+    metric = naive.get("metric")
+    return f"**{_naive_value(naive)}**: {metric}" if metric else _naive_value(naive)
 
 
 def _naive_value(naive: dict) -> str:
