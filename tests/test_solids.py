@@ -81,6 +81,19 @@ def test_solids_are_given_as_solid_and_density_pairs_and_a_drawing_offset_as_thr
             Link("body", 1.0, drawn_at=where)
 
 
+def test_a_drawing_offset_on_a_link_merged_in_mujoco_is_one_clear_error():
+    """A massless link is merged in MuJoCo with the link it carries: the picture has no body of its own to move."""
+    import dataclasses
+
+    from harness.report.render import Scene3D, mjcf_text
+
+    system = models.get("cable_pulley")
+    moved = tuple(dataclasses.replace(k, drawn_at=(0, 0, 0.5)) if k.name == "load_x" else k for k in system.links)
+    edited = dataclasses.replace(system, links=moved)
+    with pytest.raises(ModelError, match="link load_x: drawn_at: the MJCF has no body of that name"):
+        Scene3D(edited, mjcf_text(edited))
+
+
 _VOLUME = {mujoco.mjtGeom.mjGEOM_BOX: lambda s: 8.0 * s[0] * s[1] * s[2],
            mujoco.mjtGeom.mjGEOM_CYLINDER: lambda s: 2.0 * np.pi * s[0] ** 2 * s[1],
            mujoco.mjtGeom.mjGEOM_SPHERE: lambda s: 4.0 / 3.0 * np.pi * s[0] ** 3}

@@ -94,6 +94,7 @@ class Scene3D:
 
         from harness.derivation.compile import compiled
         from harness.engines.mujoco_engine import MujocoModel
+        from harness.errors import ModelError
         from harness.export.numeric import instantiate
 
         self.mujoco, self.system = mujoco, system
@@ -102,8 +103,11 @@ class Scene3D:
         self.model, self.data = self.engine.model, self.engine.data
         for link in system.links:   # where the model says to draw a link elsewhere (Link.drawn_at): this copy only
             if any(link.drawn_at):
-                self.model.body_pos[mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_BODY, link.name)] += \
-                    np.asarray(link.drawn_at, dtype=float)
+                body = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_BODY, link.name)
+                if body < 0:
+                    raise ModelError(f"link {link.name}: drawn_at: the MJCF has no body of that name (a massless "
+                                     "link is merged with the link it carries): move that link instead")
+                self.model.body_pos[body] += np.asarray(link.drawn_at, dtype=float)
         self.compiled = compiled(system)
         self.p = [self.params[s.name] for s in system.p]
         self.width, self.height = width, height
