@@ -16,7 +16,7 @@ The lecture allows a velocity-dependent suspension damping ``d_A(v_RA)``; the mo
 (the engines' joint damping is linear). A nonlinear damper law belongs to the scenes.
 
 The heights put the body 0.2 m below the wheel at rest (A.42); the picture draws it 0.5 m higher, above the wheel
-as in Figure A.8 (``drawn_at``: the picture's offset only, the model is unchanged).
+where a vehicle has it (``drawn_at``: the picture's offset only, the model is unchanged).
 """
 
 from sympy import Matrix

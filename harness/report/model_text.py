@@ -11,6 +11,7 @@ import re
 import sympy as sp
 from sympy.printing.pretty.pretty_symbology import greek_unicode
 
+from harness.report.equations import entry_by_entry
 from harness.report.mathml import LINE_WIDTH, body, bold, math, width
 
 _NAME = re.compile(r"^[A-Za-z]+[0-9]*(?:_[A-Za-z0-9]+)*(?:\^\{?[A-Za-z0-9]+\}?)?$")
@@ -142,8 +143,6 @@ def link_rows(system) -> list[dict]:
     than a line (:data:`~harness.report.mathml.LINE_WIDTH`) is written below the table instead, entry by entry
     (``below``: ``[(title, MathML)]``, :func:`~harness.report.equations.entry_by_entry`): in its cell it had made
     the table four screens wide."""
-    from harness.report.equations import entry_by_entry
-
     rows = []
     for k in system.links:
         row = {"name": k.name, "mass": inline(k.mass), "description": k.description, "below": []}
