@@ -476,3 +476,45 @@ print(json.dumps(out))
     assert body[1] < wheel[1] - 30, (wheel, body)   # above it in the picture (pixel rows count down)
     assert np.allclose(marks, [wheel, body], atol=1.0), (marks, wheel, body)
     assert "for the picture only: body by (0, 0, 0.5) m" in caption, caption
+
+
+def test_a_filmstrip_draws_every_source_and_the_values_no_frame_can_show(tmp_path):
+    """A scene's series names the symbolic model's solution ``reference``: the filmstrip poses its frames there and
+    draws its path (grey, wide) under the engines' (it had read only ``symbolic``, a name no series has, and posed the
+    frames at Pinocchio's). Discs spinning about their own axes show no motion: under each frame's time the strip
+    writes the values of such coordinates (drive_train's φ₁, φ₂), over lines no wider than the frame
+    (two_mass_oscillator's small angles), and the caption says why; a box turning (euler_top) and a swinging
+    pendulum are seen, nothing written. Through the report, which renders in a process of its own."""
+    from harness.report.results import write_results
+
+    states = {"drive_train": [[0.0, 0.0], [6.0, 5.5], [20.0, 19.0]],
+              "two_mass_oscillator": [[0.3, 0.0], [-0.0164, -0.0437], [-0.0338, -0.0856]],
+              "euler_top": [[0.0, 0.5, 0.0], [0.0, 0.5, 2.0], [0.0, 0.5, 4.0]],
+              "pendulum": [[0.3], [-0.3], [0.3]]}
+    systems = []
+    for name, q in states.items():
+        scene = models.scenes(name)[0].name
+        source = {"t": [0.0, 1.0, 2.0], "q": q, "qd": q, "energy": None}
+        series = f"trajectories/{name}.{scene}.json"
+        (tmp_path / "trajectories").mkdir(exist_ok=True)
+        (tmp_path / series).write_text(json.dumps({
+            "system": name, "scene": scene, "t": [0.0, 1.0, 2.0], "error": {},
+            "sources": {"reference": source, "pinocchio": source, "mujoco": source}}))
+        systems.append({"system": name, "lecture": "-", "passed": True, "checks": [], "timings": {"seconds": 1.0},
+                        "scenes": [{"scene": scene, "description": "-", "effects": [], "horizon": 2.0,
+                                    "series": series, "passed": True, "failure": None, "checks": [], "notes": {}}]})
+    write_results({"systems": systems, "versions": {}}, tmp_path)
+    assert build_site(tmp_path, models.CATALOGUE, progress=open("/dev/null", "w"))["failed"] == {}
+    shown = {}
+    for name in states:
+        page = (tmp_path / "systems" / f"{name}.html").read_text()
+        figure = re.search(r'<figure class="strip"><img src="[^"]+" width="(\d+)" height="(\d+)".*?<figcaption>(.*?)'
+                           r'</figcaption>', page, re.S)
+        shown[name] = int(figure.group(2)), re.sub(r"<[^>]+>", "", figure.group(3))
+    frame, line = 166, 14   # a frame and its time; a line of values under it
+    assert all("as computed by mujoco, pinocchio, symbolic" in caption for _, caption in shown.values()), shown
+    assert shown["drive_train"][0] == frame + line
+    assert "the value of φ₁, φ₂, which turn bodies only about their own axes of symmetry" in shown["drive_train"][1]
+    assert shown["two_mass_oscillator"][0] == frame + 2 * line   # φ₁ = −0.0164 rad, φ₂ = −0.0437 rad: two lines
+    for name in ("euler_top", "pendulum"):
+        assert shown[name][0] == frame and "the value of" not in shown[name][1], shown[name]

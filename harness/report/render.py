@@ -27,9 +27,13 @@ FRAMES = 4
 _FONT = Path("/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf")
 _SOURCES = {"symbolic": (150, 150, 150), "pinocchio": (31, 119, 180), "mujoco": (214, 39, 40)}
 _WIDTHS = {"symbolic": 6, "pinocchio": 3, "mujoco": 1}
+_SERIES_NAMES = {"reference": "symbolic"}
+"""A scene's series names the symbolic model's solution its reference (:func:`harness.scenes.trajectories.series`)."""
 _BACKENDS = ("egl", "osmesa")
 TENDON_WIDTH = 0.006   # of the picture's extent: a spatial tendon (a spring or damper between two points), 1-2 px
 HIDDEN_GROUP = 5       # a tendon group no picture shows (MjvOption.tendongroup: groups 0-2 are shown)
+UNSEEN_STEP = 0.7      # a coordinate's change that tests whether a picture shows it (rad or m: no symmetry's angle)
+UNSEEN_TOLERANCE = 1e-9   # of the picture's world coordinates and rotation matrices: what does not move in round-off
 
 
 def backend() -> str:
@@ -252,6 +256,41 @@ class Scene3D:
         """The centre of mass of the body farthest down the tree (the end of the chain)."""
         return np.array(self.data.xipos[self.model.nbody - 1])
 
+    def unseen(self, q) -> list[int]:
+        """The lecture coordinates whose change at ``q`` moves nothing a picture shows: each moving geom stays where
+        it is, turned at most about its own axis of symmetry (a sphere about any, a cylinder, a capsule or a round
+        ellipsoid about its own), and the springs' ends, the joints' labels and the tracked point stay (a drive
+        train's discs spinning, a top's spin). Tested by turning or moving each coordinate by :data:`UNSEEN_STEP`
+        (in its own unit) alone: exact geometry, no rendering."""
+        m, d = self.model, self.data
+        moving = m.geom_bodyid > 0
+
+        def drawn() -> tuple[np.ndarray, np.ndarray]:
+            marks = np.vstack([d.geom_xpos[moving], d.site_xpos, d.xanchor, self.tracked_point()[None]])
+            return marks, d.geom_xmat[moving].reshape(-1, 3, 3).copy()
+
+        q = np.asarray(q, dtype=float)
+        self.set_q(q)
+        marks, turns = drawn()
+        scale = UNSEEN_TOLERANCE * max(1.0, float(np.max(np.abs(marks))))
+        kinds = m.geom_type[moving]
+        sizes = m.geom_size[moving]
+        mj = self.mujoco.mjtGeom
+        out = []
+        for i in range(len(q)):
+            self.set_q(q + UNSEEN_STEP * np.eye(len(q))[i])
+            moved, turned = drawn()
+            if np.max(np.abs(moved - marks)) > scale:
+                continue
+            axis_kept = np.abs(turned[:, :, 2] - turns[:, :, 2]).max(axis=1) <= UNSEEN_TOLERANCE
+            still = np.abs(turned - turns).max(axis=(1, 2)) <= UNSEEN_TOLERANCE
+            round_about_z = np.isin(kinds, [mj.mjGEOM_CYLINDER, mj.mjGEOM_CAPSULE]) | (
+                (kinds == mj.mjGEOM_ELLIPSOID) & np.isclose(sizes[:, 0], sizes[:, 1]))
+            if np.all(still | (kinds == mj.mjGEOM_SPHERE) | (round_about_z & axis_kept)):
+                out.append(i)
+        self.set_q(q)
+        return out
+
 
 def _font(size: int):
     from PIL import ImageFont
@@ -369,7 +408,8 @@ def filmstrip(system, xml: str, series: dict, path: Path, effects=None) -> dict:
     from PIL import Image, ImageDraw
 
     t = np.asarray(series["t"], dtype=float)
-    sources = {name: np.asarray(s["q"], dtype=float) for name, s in series["sources"].items()
+    named = {_SERIES_NAMES.get(name, name): s for name, s in series["sources"].items()}
+    sources = {name: np.asarray(s["q"], dtype=float) for name, s in named.items()
                if name in _SOURCES and s.get("q") is not None}
     sources = {k: (v.reshape(len(t), -1) if v.ndim == 1 else (v if v.shape[0] == len(t) else v.T))
                for k, v in sources.items()}
@@ -387,9 +427,14 @@ def filmstrip(system, xml: str, series: dict, path: Path, effects=None) -> dict:
             paths[name] = np.array(pts)
         scene.frame([reference[k] for k in range(0, len(t), max(1, len(t) // 20))])
         picks = np.linspace(0, len(t) - 1, FRAMES).round().astype(int)
-        strip = Image.new("RGB", (FRAME[0] * FRAMES, FRAME[1] + 16), (255, 255, 255))
+        unseen = sorted({i for k in picks for i in scene.unseen(reference[k])})
         font = _font(11)
+        values = [_values(system, reference[k], unseen, font) for k in picks]   # what a frame cannot show
+        strip = Image.new("RGB", (FRAME[0] * FRAMES, FRAME[1] + 16 + 14 * max(map(len, values))), (255, 255, 255))
         for n, k in enumerate(picks):
+            for row, text in enumerate(values[n]):   # under the frame's time
+                ImageDraw.Draw(strip).text((n * FRAME[0] + 4, FRAME[1] + 15 + 14 * row), text, fill=(0, 0, 0),
+                                           font=font)
             scene.set_q(reference[k])
             image = Image.fromarray(scene.render())
             draw = ImageDraw.Draw(image)
@@ -404,7 +449,22 @@ def filmstrip(system, xml: str, series: dict, path: Path, effects=None) -> dict:
     finally:
         scene.close()
     size = _png(strip, path)
-    return {"size": size, "sources": sorted(paths), "tendons": tendons}
+    return {"size": size, "sources": sorted(paths), "tendons": tendons,
+            "unseen": [_greek(system.coordinates[i].name) for i in unseen]}
+
+
+def _values(system, q, indices, font) -> list[str]:
+    """``φ₁ = 12.3 rad, φ₂ = −4.05 rad``: the coordinates ``indices`` at ``q`` to three digits, as lines of a frame's
+    label no wider than the frame in ``font``."""
+    lines: list[str] = []
+    for i in indices:
+        c = system.coordinates[i]
+        value = f"{_greek(c.name)} = {q[i]:.3g} {c.unit}".replace("-", "\u2212")
+        if lines and font.getlength(f"{lines[-1]}, {value}") <= FRAME[0] - 8:
+            lines[-1] = f"{lines[-1]}, {value}"
+        else:
+            lines.append(value)
+    return lines
 
 
 def _exported(system) -> Path:

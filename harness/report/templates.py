@@ -210,7 +210,7 @@ number follows (compared in <a href="#claims">Printed equations</a>).</p>
 {% endif %}
 {% if sc.notes %}<ul>{% for k, v in sc.notes.items() %}<li>{{ k }}: {{ v }}</li>{% endfor %}</ul>{% endif %}
 {% if sc.strip %}<figure class="strip"><img src="../{{ sc.strip }}" width="{{ sc.strip_size[0] }}" height="{{ sc.strip_size[1] }}" alt="filmstrip of {{ s.name }} {{ sc.scene }}">
-<figcaption>The reference trajectory at a few instants; the lines are the path of the last body's centre of mass as computed by {% for src in sc.strip_sources %}<span class="src-{{ src }}">{{ src }}</span>{{ ", " if not loop.last }}{% endfor %} (they overlap where the engines agree){% if sc.strip_tendons %}; the black lines are its springs and dampers between points{% endif %}.</figcaption></figure>
+<figcaption>The reference trajectory at a few instants; the lines are the path of the last body's centre of mass as computed by {% for src in sc.strip_sources %}<span class="src-{{ src }}">{{ src }}</span>{{ ", " if not loop.last }}{% endfor %} (they overlap where the engines agree){% if sc.strip_tendons %}; the black lines are its springs and dampers between points{% endif %}{% if sc.strip_unseen %}; under each frame's time, the value of {{ sc.strip_unseen | join(", ") }}, which {{ "turns" if sc.strip_unseen | length == 1 else "turn" }} bodies only about their own axes of symmetry, a motion no frame shows{% endif %}.</figcaption></figure>
 {% elif sc.strip_note %}<p><small>{{ sc.strip_note }}</small></p>{% endif %}
 {% if sc.figure %}<p><img class="figure" src="../{{ sc.figure }}" alt="trajectories, error and energy of {{ s.name }} {{ sc.scene }}"></p>
 {% elif sc.figure_note %}<p><small>{{ sc.figure_note }}</small></p>{% endif %}
