@@ -1,9 +1,9 @@
 """A reader of the report's MathML, as a reader of the page reads it: rows in order, an invisible times or two
 operands side by side a product, a fraction, a root, a power (also a bracket raised, ``(…)²`` closing a sum opened
-over lines), ``|…|``, a function applied to the bracket after it, a table's rows one after the other, a table in
-square brackets a matrix. Each symbol as it is set (its letter with sub- and superscripts and accent) becomes a
-name of its own, so a page that sets two symbols alike reads them as one. Used by tests/test_mathml.py and
-tests/test_report_equations.py."""
+over lines, and a function's name raised, sin²(α)), ``|…|``, a function applied to the bracket after it, a table's
+rows one after the other, a table in square brackets a matrix; − (U+2212) a minus sign. Each symbol as it is set
+(its letter with sub- and superscripts and accent) becomes a name of its own, so a page that sets two symbols alike
+reads them as one. Used by tests/test_mathml.py and tests/test_report_equations.py."""
 
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ import sympy as sp
 
 FUNCTIONS = {"sin": "sin", "cos": "cos", "tan": "tan", "arccos": "acos", "arcsin": "asin", "arctan": "atan",
              "sign": "sign", "exp": "exp", "log": "log"}
-OPERATORS = {"\u2062": "*", "-": "-", "+": "+", "(": "(", ")": ")", ",": ",", "|": "|", "=": "=",
+OPERATORS = {"\u2062": "*", "\u2212": "-", "-": "-", "+": "+", "(": "(", ")": ")", ",": ",", "|": "|", "=": "=",
              "\u2202": "d",   # ∂ of a left-hand side ∂L/∂q̇: read, never evaluated
              ":": "="}   # "column j :" of a matrix set column by column
 
@@ -134,7 +134,7 @@ class Reader:
                 return "pi"
             return FUNCTIONS[name] + " " if name in FUNCTIONS else self._name(node)
         if tag == "mn":
-            return node.firstChild.data
+            return node.firstChild.data.replace("\u2212", "-")
         if tag == "mtext":   # "column j" of a matrix set column by column
             return node.firstChild.data.replace(" ", "_")
         if tag == "mo":
@@ -155,13 +155,26 @@ class Reader:
             return "\n".join(self._text(k) for k in kids)
         return self._row(kids)
 
+    def _power_of_function(self, node) -> bool:
+        """``<msup><mi>sin</mi>…</msup>``: a function's name raised, as the lecture sets sin²(α)."""
+        if node.tagName != "msup":
+            return False
+        base = next(k for k in node.childNodes if k.nodeType == k.ELEMENT_NODE)
+        return base.tagName == "mi" and base.firstChild.data in FUNCTIONS
+
     def _row(self, kids) -> str:
-        out, bars = "", 0
+        out, bars, skip = "", 0, set()
         for k, kid in enumerate(kids):
             if self._is(kid, "mo", "[") or self._is(kid, "mo", "]"):
                 continue
             if kid.tagName == "mtable" and k and self._is(kids[k - 1], "mo", "["):
                 piece = self._matrix(kid)
+            elif self._power_of_function(kid):   # sin²(α): the power of the function applied to the next bracket
+                power = [e for e in kid.childNodes if e.nodeType == e.ELEMENT_NODE]
+                piece = f"({self._text(power[0])}{self._text(kids[k + 1])})**({self._text(power[1])})"
+                skip.add(k + 1)
+            elif k in skip:
+                continue
             else:
                 piece = self._text(kid)
             if piece == "|":

@@ -40,12 +40,36 @@ def test_a_sum_negated_or_nested_keeps_its_parentheses():
     a, b, c = sp.symbols("a b c")
 
     def read(expr):
-        return " ".join(re.sub(r"<[^>]+>", " ", body(expr)).split())
-    assert read(sp.Mul(-1, a + b, evaluate=False)) == "- ( a + b )"
-    assert read(sp.Add(c, sp.Mul(-1, a + b, evaluate=False), evaluate=False)) == "c - ( a + b )"
-    assert read(sp.Add(c, sp.Add(-a, b, evaluate=False), evaluate=False)) == "c - ( a - b )"
-    assert read(sp.factor_terms(-a * sp.sin(b) - c * sp.sin(a + b))).startswith("- (")
-    assert read(c - a * b) == "- a &#8290; b + c" and read(-a + c * (a + b)) == "- a + c &#8290; ( a + b )"
+        return " ".join(re.sub(r"<[^>]+>", " ", body(expr)).replace("&#8722;", "−").split())
+    assert read(sp.Mul(-1, a + b, evaluate=False)) == "− ( a + b )"
+    assert read(sp.Add(c, sp.Mul(-1, a + b, evaluate=False), evaluate=False)) == "c − ( a + b )"
+    assert read(sp.Add(c, sp.Add(-a, b, evaluate=False), evaluate=False)) == "c − ( a − b )"
+    assert read(sp.factor_terms(-a * sp.sin(b) - c * sp.sin(a + b))).startswith("− (")
+    assert read(c - a * b) == "− a &#8290; b + c" and read(-a + c * (a + b)) == "− a + c &#8290; ( a + b )"
+
+
+def test_minus_signs_powers_of_sines_and_bold_quantities_as_the_lecture_sets_them():
+    """A minus sign is −, never the hyphen-minus Chromium sets as a short dash: of a difference, a sign, a negative
+    number, an exponent, a term broken onto a line of its own; a power of sin, cos or tan carries the exponent on the
+    name, sin²(α), as (2.18) and (5.76) print it, and a function's name in a product follows a thin space (``m sin``,
+    not ``msin``); 𝐌(𝐪) is bold and upright (Unicode's bold letters: Chromium sets ``mathvariant="bold"`` italic),
+    its brackets as high as the line."""
+    from harness.report.mathml import body, bold, pieces, signed_terms
+
+    a, b = sp.symbols("a b")
+    shown = [body(a - b), body(-a * b), body(sp.Matrix([0, -1])), body(sp.Float(-2.5e-20) * a),
+             signed_terms([a, -b]), "".join(text for _, text in pieces([a, -b * (a + b) ** 2]))]
+    assert all("&#8722;" in text and "<mo>-</mo>" not in text and "<mn>-" not in text for text in shown), shown
+    assert body(sp.sin(a) ** 2 * b).count("<msup><mi>sin</mi><mn>2</mn></msup><mrow><mo>(</mo><mi>a</mi>") == 1
+    assert "<msup><mi>cos</mi><mn>3</mn></msup>" in body(b / sp.cos(a + b) ** 3)
+    assert "<msup><mi>cos</mi><mn>2</mn></msup>" in body(sp.cos(a) ** -2)
+    assert "<msup><mi>log</mi>" not in body(sp.log(a) ** 2) and "<mi>log</mi>" in body(sp.log(a) ** 2)   # trig only
+    spaced = '<mo rspace="0.1667em">&#8290;</mo>'
+    assert body(b * sp.sin(a) ** 2).count(spaced) == body(b * sp.cos(a) * sp.asin(b)).count(spaced) - 1 == 1
+    assert spaced not in body(a * b) + body(b * (a + sp.sin(a)))   # before a name only, not before a bracket
+    assert bold("M", args="q") == ('<mrow><mi>&#119820;</mi><mo stretchy="false">(</mo><mi>&#119850;</mi>'
+                                   '<mo stretchy="false">)</mo></mrow>')
+    assert "mathvariant" not in bold("C", args="q, qd") + bold("ω", subscript="0")
 
 
 def _unevaluated_sums():
@@ -64,6 +88,7 @@ def _unevaluated_sums():
                          children.map(lambda x: sp.Mul(-1, x, evaluate=False)),
                          children.map(lambda x: sp.Pow(x, 2, evaluate=False)),
                          children.map(lambda x: sp.Pow(x, -1, evaluate=False)),
+                         children.map(lambda x: sp.Pow(x, -2, evaluate=False)),
                          children.map(lambda x: sp.cos(x, evaluate=False)))
     return st.recursive(leaves, grow, max_leaves=8)
 

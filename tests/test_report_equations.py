@@ -175,7 +175,7 @@ def test_equations_simplified_ahead_in_other_processes_are_the_pages_own(monkeyp
 def _tokens(fragment: str) -> str:
     import re
 
-    return " ".join(re.sub(r"<[^>]+>", " ", fragment).replace("&#8290;", "").split())
+    return " ".join(re.sub(r"<[^>]+>", " ", fragment).replace("&#8290;", "").replace("&#8722;", "−").split())
 
 
 def test_a_sum_reads_each_term_with_its_own_sign_in_the_lecture_order():
@@ -186,14 +186,14 @@ def test_a_sum_reads_each_term_with_its_own_sign_in_the_lecture_order():
 
     a, c, x, y = sp.symbols("a c x y")
     nested = sp.Add(a, -c * x + c * y, evaluate=False)
-    assert _tokens(body(nested)) == "a - ( c x - c y )"      # SymPy's own reading, "a - c x - c y", lost c y's sign
-    assert _tokens(signed_terms([a, -c * x, c * y])) == "a - c x + c y"
-    assert _tokens(signed_terms([-a, c * x])) == "- a + c x"
+    assert _tokens(body(nested)) == "a − ( c x − c y )"      # SymPy's own reading, "a − c x − c y", lost c y's sign
+    assert _tokens(signed_terms([a, -c * x, c * y])) == "a − c x + c y"
+    assert _tokens(signed_terms([-a, c * x])) == "− a + c x"
     page = equations.page_equations(models.get("torsion_spring_body"), models.claims("torsion_spring_body"),
                                     use_cache=False)
     row = page["equations"]["eom"][0]["math"]
     _parses(row)
-    assert "+ c F &#966; - L s g m" in _tokens(row)           # M q̈, then g: + c_F φ − L_s g m (…)
+    assert "+ c F &#966; − L s g m" in _tokens(row)           # M q̈, then g: + c_F φ − L_s g m (…)
 
 
 def test_a_matrix_wider_than_a_line_is_written_entry_by_entry_each_broken_after_its_terms():
@@ -214,7 +214,7 @@ def test_a_matrix_wider_than_a_line_is_written_entry_by_entry_each_broken_after_
     text = broken([("<mi>M</mi>", "<mo>=</mo>", [x, *(-t for t in terms)])])
     _parses(text)
     assert text.count("<mtr>") == len(lines([x, *terms]))
-    assert all(row.split('text-align:left">', 1)[1].startswith("<mrow><mo>-</mo>")
+    assert all(row.split('text-align:left">', 1)[1].startswith("<mrow><mo>&#8722;</mo>")
                for row in text.split("<mtr>")[2:])                  # each later line after its own sign
     # a product wider than a line with a sum among its factors (a Christoffel entry grouped by a rate) is opened:
     # "y (" ends its first line, the sum goes on over lines, ")" ends the last

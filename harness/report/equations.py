@@ -20,7 +20,7 @@ from html import escape
 import sympy as sp
 
 from harness.limits import OutOfTime, cpu_budget
-from harness.report.mathml import LINE_WIDTH, body, bold, broken, math, pieces, signed_terms, width
+from harness.report.mathml import LINE_WIDTH, body, bold, bold_argument, broken, math, pieces, signed_terms, width
 
 SIMPLIFY_MAX_OPS = 150
 """Entries with more operations are shown as derived, and an entry with more once expanded is not passed to
@@ -281,8 +281,8 @@ def _claim_lhs(claim) -> str:
            "g": bold("g", subscript=index), "f_np": bold("f", subscript=index, superscript="np"),
            "K": bold("K", subscript=index),
            "T": "<mi>T</mi>", "V": "<mi>V</mi>",
-           "Cqd": f'<mrow>{bold("C")}<mover accent="true"><mi mathvariant="bold">q</mi><mo>\u02d9</mo></mover>'
-                  f'</mrow>' + (f"<msub><mrow/><mi>{index}</mi></msub>" if index else ""),
+           "Cqd": f'<mrow>{bold("C")}{bold_argument("qd")}</mrow>'
+                  + (f"<msub><mrow/><mi>{index}</mi></msub>" if index else ""),
            "position": bold("p", subscript=point)}.get(kind)
     if kind == "constraint":  # a constraint force by its lecture name (f_S, tau_1)
         lhs = body(sp.Symbol(point, real=True))

@@ -5,7 +5,9 @@ Our symbol names map to the lecture's by one rule, stated here once: ``<base>_<s
 parts as subscripts (``phi_1`` → φ₁, ``m_S`` → m_S, ``I_zz1`` → I_zz1), a trailing ``_dot``/``_ddot`` is the
 time derivative written as an accent (``phi_1_dot`` → φ̇₁, ``s_ddot`` → s̈), Greek names are letters. A name the
 rule renders wrongly takes an override (``names={"I_zz_S": ("I", ("zz",), ("S",))}``: base, subscripts,
-superscripts)."""
+superscripts). A minus sign is set as the lecture sets it, − (U+2212), where SymPy writes the hyphen-minus, which a
+browser sets as a short dash; a power of sin, cos or tan carries its exponent on the function's name, sin²(α), as the
+lecture writes it ((2.18), (5.76)), and a function's name in a product follows a thin space."""
 
 from __future__ import annotations
 
@@ -17,11 +19,22 @@ import sympy as sp
 from sympy.printing.conventions import split_super_sub
 from sympy.printing.mathml import MathMLPresentationPrinter
 from sympy.printing.precedence import PRECEDENCE
+from sympy.printing.printer import Printer
 from sympy.printing.pretty.pretty_symbology import greek_unicode
 
 _ACCENTS = {"dot": "\u02d9", "ddot": "\u00a8"}  # ˙ and ¨ above the base letter
 
 Override = tuple[str, tuple[str, ...], tuple[str, ...]]
+
+MINUS = "\u2212"
+"""The minus sign (−) of every sign, difference and negative number on a page (module docstring)."""
+MINUS_SIGN = f"<mo>&#{ord(MINUS)};</mo>"
+TRIGONOMETRIC = ("sin", "cos", "tan", "cot", "sec", "csc", "sinh", "cosh", "tanh")
+"""The functions whose powers the lecture sets with the exponent on the name: sin²(φ) (2.18), (5.76)."""
+FUNCTIONS = (*TRIGONOMETRIC, "arcsin", "arccos", "arctan", "log", "ln", "sign")
+FUNCTION_SPACE = "0.1667em"
+"""The thin space before a function's name in a product, as the lecture's ``m l \\sin(θ)`` sets it: ``2 l² m sin(α)``
+had read ``2l²msin(α)``, the name run into the factor before it."""
 
 
 def lecture_parts(name: str) -> tuple[str, tuple[str, ...], tuple[str, ...], str | None]:
@@ -41,6 +54,38 @@ class LecturePrinter(MathMLPresentationPrinter):
         super().__init__(settings)
         self._names = dict(names or {})
         self._joints = {f"theta_{j}": j for j in joints}
+
+    def doprint(self, expr):
+        """SymPy's MathML of ``expr``, each minus sign of an operator or a number set as :data:`MINUS`; non-ASCII
+        characters as numeric references, as SymPy writes them."""
+        node = Printer._print(self, expr)
+        for tag in ("mo", "mn"):
+            for element in [node] * (node.tagName == tag) + node.getElementsByTagName(tag):
+                text = element.firstChild
+                if text is not None and text.data.startswith("-") and (tag == "mn" or text.data == "-"):
+                    text.data = MINUS + text.data[1:]
+                elif text is not None and text.data == "&InvisibleTimes;" and _names_a_function(element.nextSibling):
+                    element.setAttribute("rspace", FUNCTION_SPACE)
+        return node.toxml().encode("ascii", "xmlcharrefreplace").decode()
+
+    def _print_Pow(self, e):
+        """An integer power of a trigonometric function with the exponent on its name, sin²(α), 1/sin²(α)
+        (:data:`TRIGONOMETRIC`); any other power as SymPy prints it."""
+        if not (isinstance(e.base, sp.Function) and type(e.base).__name__ in TRIGONOMETRIC and e.exp.is_Integer
+                and abs(e.exp) > 1):
+            return super()._print_Pow(e)
+        if e.exp < 0:
+            fraction = self.dom.createElement("mfrac")
+            fraction.appendChild(self._print(sp.S.One))
+            fraction.appendChild(self._print(sp.Pow(e.base, -e.exp)))
+            return fraction
+        power = self.dom.createElement("msup")
+        power.appendChild(self._text("mi", type(e.base).__name__))
+        power.appendChild(self._print(e.exp))
+        row = self.dom.createElement("mrow")
+        row.appendChild(power)
+        row.appendChild(self._paren_comma_separated(*e.base.args))
+        return row
 
     def _text(self, tag: str, text: str):
         node = self.dom.createElement(tag)
@@ -111,7 +156,7 @@ class LecturePrinter(MathMLPresentationPrinter):
         (planar_manipulator's page showed the derived ``J_v`` of link 2 as ``− l₁ sin φ₁ + l_s2 sin(φ₁ + φ₂)``)."""
         if expr.could_extract_minus_sign() and isinstance(-expr, sp.Add):
             row = self.dom.createElement("mrow")
-            row.appendChild(self._text("mo", "-"))
+            row.appendChild(self._text("mo", MINUS))
             row.appendChild(self.parenthesize(-expr, PRECEDENCE["Mul"]))
             return row
         return super()._print_Mul(expr)
@@ -124,11 +169,19 @@ class LecturePrinter(MathMLPresentationPrinter):
         for k, term in enumerate(self._as_ordered_terms(expr, order=order)):
             minus = bool(k) and term.could_extract_minus_sign()
             if k:
-                row.appendChild(self._text("mo", "-" if minus else "+"))
+                row.appendChild(self._text("mo", MINUS if minus else "+"))
             shown = -term if minus else term
             nested = k and isinstance(shown, sp.Add)
             row.appendChild(self.parenthesize(shown, PRECEDENCE["Add"]) if nested else self._print(shown))
         return row
+
+
+def _names_a_function(node) -> bool:
+    """Whether ``node`` begins with a function's name (:data:`FUNCTIONS`): ``sin(α)``, ``sin²(α)``, ``sin(α)²``."""
+    while node is not None and node.nodeType == node.ELEMENT_NODE and node.tagName in ("mrow", "msup", "msub"):
+        node = next((k for k in node.childNodes if k.nodeType == k.ELEMENT_NODE), None)
+    return node is not None and node.nodeType == node.ELEMENT_NODE and node.tagName == "mi" and \
+        node.firstChild is not None and node.firstChild.data in FUNCTIONS
 
 
 def _numeric_entities(text: str) -> str:
@@ -165,7 +218,7 @@ def signed_terms(terms) -> str:
     for k, term in enumerate(terms):
         minus = term.could_extract_minus_sign()
         if minus:
-            out.append("<mo>-</mo>")
+            out.append(MINUS_SIGN)
             term = -term
         elif k:
             out.append("<mo>+</mo>")
@@ -218,7 +271,7 @@ def pieces(terms, deep: bool = True) -> list[tuple[float, str]]:
     for k, term in enumerate(terms):
         minus = not isinstance(term, sp.MatrixBase) and term.could_extract_minus_sign()   # a matrix: one piece
         term = -term if minus else term
-        sign = "<mo>-</mo>" if minus else ("<mo>+</mo>" if k else "")
+        sign = MINUS_SIGN if minus else ("<mo>+</mo>" if k else "")
         inner = (sp.S.One, term, None) if minus and term.is_Add else _opened(term, deep)   # −(a + b): bracketed
         if inner is None:
             out.append((width(term) + bool(sign), sign + body(term)))
@@ -283,23 +336,39 @@ def broken(equations) -> str:
     return f'<math xmlns="http://www.w3.org/1998/Math/MathML" display="block"><mtable>{"".join(rows)}</mtable></math>'
 
 
+_BOLD = {**{chr(ord("A") + k): 0x1D400 + k for k in range(26)}, **{chr(ord("a") + k): 0x1D41A + k for k in range(26)},
+         **{chr(0x3B1 + k): 0x1D6C2 + k for k in range(25)}}
+"""Latin and small Greek letters → Unicode's mathematical bold letters (𝐌, 𝐪, 𝛚)."""
+
+
+def bold_letter(letter: str) -> str:
+    """A letter set bold and upright as the lecture's ``\\mathbf`` sets it: Unicode's mathematical bold letter (𝐌),
+    which Chromium shows; ``mathvariant="bold"``, which MathML Core leaves out, had set an italic M. A letter
+    without a bold form keeps the attribute."""
+    if letter in _BOLD:
+        return f"<mi>&#{_BOLD[letter]};</mi>"
+    return f'<mi mathvariant="bold">{escape(letter)}</mi>'
+
+
 def bold(letter: str, *, subscript: str = "", superscript: str = "", args: str = "") -> str:
-    """The lecture's bold quantity symbol (``M``, ``C``, ``g``, ``f``) with optional sub- and superscript and
-    argument list (``args="q"`` gives M(q), ``"q, qd"`` gives C(q, q̇)) as MathML, for left-hand sides."""
-    node = f'<mi mathvariant="bold">{escape(letter)}</mi>'
+    """The lecture's bold quantity symbol (``M``, ``C``, ``g``, ``f``, :func:`bold_letter`) with optional sub- and
+    superscript and argument list (``args="q"`` gives M(q), ``"q, qd"`` gives C(q, q̇)) as MathML, for left-hand
+    sides."""
+    node = bold_letter(letter)
     if subscript and superscript:
         node = f"<msubsup>{node}<mi>{escape(subscript)}</mi><mi>{escape(superscript)}</mi></msubsup>"
     elif subscript or superscript:
         tag = "msub" if subscript else "msup"
         node = f"<{tag}>{node}<mi>{escape(subscript or superscript)}</mi></{tag}>"
     if args:
-        inner = "<mo>,</mo>".join(_argument(a.strip()) for a in args.split(","))
-        node += f"<mo>(</mo>{inner}<mo>)</mo>"
+        inner = "<mo>,</mo>".join(bold_argument(a.strip()) for a in args.split(","))
+        node += f'<mo stretchy="false">(</mo>{inner}<mo stretchy="false">)</mo>'   # M(q) as set in a line
     return f"<mrow>{node}</mrow>"
 
 
-def _argument(name: str) -> str:
-    letter = f'<mi mathvariant="bold">{escape(name.removesuffix("dd").removesuffix("d"))}</mi>'
+def bold_argument(name: str) -> str:
+    """``q``, ``qd`` or ``qdd`` as the bold 𝐪, 𝐪̇ or 𝐪̈ of an argument list or a product (``𝐂 𝐪̇``)."""
+    letter = bold_letter(name.removesuffix("dd").removesuffix("d"))
     accent = {"dd": _ACCENTS["ddot"], "d": _ACCENTS["dot"]}
     for suffix in ("dd", "d"):
         if name.endswith(suffix) and len(name) > len(suffix):
