@@ -25,6 +25,17 @@ def test_wrong_claim_is_an_erratum_with_minimal_counterexample():
     verdict = classify(SYSTEM, Claim("(t2)", "C", wrong), examples=20)
     assert verdict.classification == "erratum"
     assert verdict.counterexample and "q=[" in verdict.counterexample and verdict.corrected
+    assert verdict.corrected.startswith("Matrix([[")   # a printed matrix: the derived one beside it
+
+
+def test_a_scalar_erratum_reads_its_derived_value_as_a_scalar():
+    """A printed scalar (an entry, one equation of motion) is set beside its derived value as a scalar: the errata
+    sheet had shown ``derived: Matrix([[…]])`` beside ``printed: …`` for 9 of the lecture's findings."""
+    verdict = classify(SYSTEM, Claim("(t3)", "M", 2 * h, index=(0, 1)), examples=20)
+    assert verdict.classification == "erratum" and "Matrix" not in verdict.corrected, verdict.corrected
+    from harness.derivation.compile import compiled
+
+    assert verdict.corrected == str(compiled(SYSTEM).derivation.M[0, 1])
 
 
 def test_the_systems_states_come_first_and_a_failure_is_shrunk_from_their_seed(monkeypatch):

@@ -586,7 +586,9 @@ def classify_as_printed(system: System, claim: Claim, engines, examples, base: d
     if failure is None:
         return verdict
     verdict.counterexample, verdict.state = failure
-    verdict.corrected = str(_derived(system, claim))
+    derived = _derived(system, claim)   # a scalar where the printed one is: Matrix([[…]]) had stood beside it
+    scalar = derived.shape == (1, 1) and not isinstance(claim.printed, sp.MatrixBase)
+    verdict.corrected = str(derived[0] if scalar else derived)
     if claim.quantity == "C":  # C is not unique: search separately for a state where C·q̇ differs
         def cqd_check(state: State):
             if evaluate_claim(system, claim, state, engines, base).get("Cqd (from printed C)", 0.0) > 1:
