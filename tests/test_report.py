@@ -350,7 +350,8 @@ def test_a_spring_between_points_is_drawn_as_a_line_in_the_picture(tmp_path):
     under a pixel in a picture of the whole mechanism. They are drawn at a width relative to the picture's extent
     (``render.TENDON_WIDTH``): hidden, hundreds of pixels fewer are drawn; the caption says what the lines are. A
     scene's filmstrip shows those its effects call for (the planar manipulator's swing leaves out its spring). Those
-    in joints (the quarter car's) have no points to draw between: the caption names them as not drawn.
+    in prismatic joints (the quarter car's) are lines between the two bodies the joint joins, and the caption says
+    so; those in other joints have no points to draw between (test_a_label_and_a_line_stand_on_the_bodies_drawn).
     Rendered in a process of its own, as the report renders (its OpenGL backend chosen before MuJoCo is imported)."""
     import subprocess
     import sys
@@ -388,9 +389,8 @@ print(json.dumps([drawn, hidden, caption, shown, in_joints]))
     assert "lines: its springs and dampers between points" in caption
     assert shown == [0, 1, 1]   # a scene's filmstrip: only the springs and dampers it calls for
     assert "not drawn" not in caption   # the spring-mass-damper has no spring or damper in a joint
-    assert in_joints == ("; not drawn: the springs and dampers in joints (tyre_spring, tyre_damper, "
-                         "suspension_spring, suspension_damper), which act along their joint's own coordinate and have "
-                         "no points to draw a line between")
+    assert in_joints == ("; black lines between the bodies a prismatic joint joins: its springs and dampers "
+                         "(tyre_spring, tyre_damper, suspension_spring, suspension_damper)")
 
 
 def test_a_picture_looks_where_the_mechanism_s_links_show_whole():
@@ -518,3 +518,57 @@ def test_a_filmstrip_draws_every_source_and_the_values_no_frame_can_show(tmp_pat
     assert shown["two_mass_oscillator"][0] == frame + 2 * line   # φ₁ = −0.0164 rad, φ₂ = −0.0437 rad: two lines
     for name in ("euler_top", "pendulum"):
         assert shown[name][0] == frame and "the value of" not in shown[name][1], shown[name]
+
+
+def test_a_label_and_a_line_stand_on_the_bodies_drawn(tmp_path):
+    """What the pictures draw over MuJoCo's image (joint labels, the paths of a filmstrip, the lines of springs in
+    prismatic joints) is projected through the camera MuJoCo renders with, the average of its two eyes: through the
+    left eye alone every label had stood 17.6 px to the right of the quarter car's wheel. The quarter car's tyre and
+    suspension springs are drawn as black lines between road and wheel and between wheel and body; the torsion
+    spring of torsion_spring_body, in a revolute joint, is named as not drawn. Rendered in a process of its own."""
+    import subprocess
+    import sys
+
+    import numpy as np
+    from PIL import Image
+
+    script = f"""
+import json
+from pathlib import Path
+import numpy as np
+from harness.report import render
+render.backend()
+import models
+system, scenes = models.CATALOGUE.get("quarter_car"), models.CATALOGUE.scenes("quarter_car")
+scene = render.Scene3D(system, render.mjcf_text(system))
+q = np.asarray(scenes[0].q0, dtype=float)
+scene.frame(render._states(system, scenes), shown=[q])
+scene.set_q(q)
+image = scene.render()
+drawn = (image < 200).any(axis=2)
+centres = []
+for body in (1, 2):   # the wheel and the body: each a sphere at its origin, in its own half of the picture
+    rows = slice(135, 270) if body == 1 else slice(0, 135)
+    ys, xs = np.nonzero(drawn[rows])
+    centres.append([float(xs.mean()) + 0.5, float(ys.mean()) + rows.start + 0.5])   # pixel k spans [k, k + 1)
+projected = scene.project(scene.data.xpos[1:]).tolist()
+lines = [scene.project(np.array(line)).tolist() for line in scene.slide_lines()]
+scene.close()
+caption = render.picture(system, render.mjcf_text(system), Path({str(tmp_path / "qc.png")!r}), scenes)["caption"]
+torsion = render._in_joints(models.CATALOGUE.get("torsion_spring_body"))
+print(json.dumps([centres, projected, lines, caption, torsion]))
+"""
+    run = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=300,
+                         cwd=Path(models.__file__).parent.parent)
+    assert run.returncode == 0, run.stderr[-2000:]
+    centres, projected, lines, caption, torsion = json.loads(run.stdout.strip().splitlines()[-1])
+    assert np.allclose(projected, centres, atol=1.0), (projected, centres)   # 17.6 px off through one eye; a
+    # sphere seen off the axis is drawn 0.6 px from its projected centre
+    wheel, body = projected
+    assert len(lines) == 2 and np.allclose(lines[1], [wheel, body], atol=1e-6), lines   # suspension: wheel to body
+    assert np.allclose(lines[0][1], wheel, atol=1e-6)   # tyre: from the road to the wheel
+    picture = np.asarray(Image.open(tmp_path / "qc.png").convert("RGB"))
+    x, y = np.round(np.mean([wheel, body], axis=0)).astype(int)   # between the spheres: the suspension's line
+    assert (picture[y, x - 1:x + 2] < 80).all(axis=1).any(), picture[y, x - 3:x + 4]
+    assert "black lines between the bodies a prismatic joint joins" in caption
+    assert torsion.startswith("; not drawn: the springs and dampers in other joints (spring_F)"), torsion

@@ -115,6 +115,7 @@ class Scene3D:
         self.compiled = compiled(system)
         self.p = [self.params[s.name] for s in system.p]
         self.width, self.height = width, height
+        self.slides = self._slides()
         self.renderer = mujoco.Renderer(self.model, height, width)
         self.option = mujoco.MjvOption()
         self.option.geomgroup[:] = 1
@@ -206,8 +207,12 @@ class Scene3D:
         return image
 
     def project(self, points: np.ndarray) -> np.ndarray:
-        """World points to pixel coordinates of the last rendered image (MuJoCo's OpenGL camera)."""
-        cam = self.renderer.scene.camera[0]
+        """World points to pixel coordinates of the last rendered image: through the camera MuJoCo renders a mono
+        image with, the average of its scene's two eyes (``mjv_averageCamera``). ``camera[0]`` alone is the left
+        eye, half the interpupillary distance aside: every label and path had stood beside its body, 17.6 px to the
+        right of the quarter car's wheel at 360 px."""
+        scene = self.renderer.scene
+        cam = self.mujoco.mjv_averageCamera(scene.camera[0], scene.camera[1])
         pos, forward, up = np.array(cam.pos), np.array(cam.forward), np.array(cam.up)
         right = np.cross(forward, up)
         v = np.atleast_2d(points) - pos
@@ -242,15 +247,48 @@ class Scene3D:
         return marks
 
     def springs_and_dampers(self, effects=None) -> int:
-        """Show the spatial tendons (springs and dampers between points) of the scene ``effects`` call for, hide the
-        others (a tendon group no picture shows; None: every tendon); how many are shown."""
+        """Show the spatial tendons (springs and dampers between points) and the springs and dampers in prismatic
+        joints (:meth:`slide_lines`) the scene ``effects`` call for, hide the others (a tendon group no picture
+        shows; None: every one); how many are shown."""
         shown = 0
         for i in range(self.model.ntendon):
             acts = effects is None or ("springs" in effects and self.model.tendon_stiffness[i] > 0) or (
                 "dampers" in effects and self.model.tendon_damping[i] > 0)
             self.model.tendon_group[i] = 0 if acts else HIDDEN_GROUP
             shown += bool(acts)
-        return shown
+        self.slides = self._slides(effects)
+        return shown + len(self.slides)
+
+    def _slides(self, effects=None) -> list[int]:
+        """MuJoCo's joints of the prismatic tree joints that carry a spring or a damper (``JointSpring``,
+        ``JointDamper``) the scene ``effects`` call for (None: every one)."""
+        from harness.modeling import JointDamper, JointSpring
+
+        index = {j.name: k for k, j in enumerate(self.system.joints)}
+        kinds = {JointSpring: "springs", JointDamper: "dampers"}
+        out = []
+        for f in self.system.forces:
+            if type(f) in kinds and (effects is None or kinds[type(f)] in effects):
+                jid = self.engine.jids[index[f.joint]]
+                if self.model.jnt_type[jid] == self.mujoco.mjtJoint.mjJNT_SLIDE and jid not in out:
+                    out.append(jid)
+        return out
+
+    def slide_lines(self) -> list[tuple[np.ndarray, np.ndarray]]:
+        """A line per spring or damper in a prismatic joint (:meth:`_slides`): from the origin of the body the joint
+        is carried by to that of the body it moves, the two bodies between which it acts along the joint's axis
+        (the quarter car's tyre from the road to the wheel, its suspension from the wheel to the body)."""
+        m, d = self.model, self.data
+        bodies = [m.jnt_bodyid[jid] for jid in self.slides]
+        return [(np.array(d.xpos[m.body_parentid[b]]), np.array(d.xpos[b])) for b in bodies]
+
+    def draw_slides(self, image) -> None:
+        """:meth:`slide_lines` on ``image`` (the last rendered), black as MuJoCo draws a spatial tendon."""
+        from PIL import ImageDraw
+
+        draw = ImageDraw.Draw(image)
+        for a, b in self.slide_lines():
+            draw.line([tuple(p) for p in self.project(np.array([a, b]))], fill=(0, 0, 0), width=2)
 
     def tracked_point(self) -> np.ndarray:
         """The centre of mass of the body farthest down the tree (the end of the chain)."""
@@ -371,7 +409,9 @@ def picture(system, xml: str, path: Path, scenes=()) -> dict:
         q = states[1] if len(states) > 1 else states[0]
         scene.frame(states, shown=[q])   # framed around q alone: the other states are not drawn
         scene.set_q(q)
-        image = _annotate(Image.fromarray(scene.render()), scene)
+        image = Image.fromarray(scene.render())
+        scene.draw_slides(image)
+        image = _annotate(image, scene)
     finally:
         scene.close()
     size = _png(image, path)
@@ -392,19 +432,30 @@ def _drawn_elsewhere(system) -> str:
 
 
 def _in_joints(system) -> str:
-    """The caption's words on the springs and dampers in joints: a coefficient of a joint's own coordinate, at
-    rest where the joint is at 0, with no points of their own to draw a line between (empty where there are none)."""
+    """The caption's words on the springs and dampers in joints: in a prismatic joint a line between the two bodies
+    it joins (:meth:`Scene3D.slide_lines`); in any other joint not drawn, a coefficient of the joint's own angle with
+    no points of its own to draw a line between (empty where there are none)."""
     from harness.modeling import JointDamper, JointSpring
 
-    names = [f.name for f in system.forces if isinstance(f, (JointSpring, JointDamper))]
-    return (f"; not drawn: the springs and dampers in joints ({', '.join(names)}), which act along their joint's "
-            "own coordinate and have no points to draw a line between") if names else ""
+    types = {j.name: j.type for j in system.joints}
+    elements = [f for f in system.forces if isinstance(f, (JointSpring, JointDamper))]
+    slides = [f.name for f in elements if types[f.joint] == "prismatic"]
+    others = [f.name for f in elements if types[f.joint] != "prismatic"]
+    out = ""
+    if slides:
+        out += (f"; black lines between the bodies a prismatic joint joins: its springs and dampers "
+                f"({', '.join(slides)})")
+    if others:
+        out += (f"; not drawn: the springs and dampers in other joints ({', '.join(others)}), which act on their "
+                "joint's own angle and have no points to draw a line between")
+    return out
 
 
 def filmstrip(system, xml: str, series: dict, path: Path, effects=None) -> dict:
     """A few frames of a scene's reference trajectory; on each, the path of the tracked point as every engine
     computed it (grey symbolic, wide; blue Pinocchio; red MuJoCo, thin) up to that frame's time, and the springs
-    and dampers between points the scene's ``effects`` call for (:meth:`Scene3D.springs_and_dampers`)."""
+    and dampers between points and in prismatic joints the scene's ``effects`` call for
+    (:meth:`Scene3D.springs_and_dampers`)."""
     from PIL import Image, ImageDraw
 
     t = np.asarray(series["t"], dtype=float)
@@ -437,6 +488,7 @@ def filmstrip(system, xml: str, series: dict, path: Path, effects=None) -> dict:
                                            font=font)
             scene.set_q(reference[k])
             image = Image.fromarray(scene.render())
+            scene.draw_slides(image)
             draw = ImageDraw.Draw(image)
             upto = k // step + 1
             for name, pts in paths.items():  # widest first: where the lines coincide, every colour shows
