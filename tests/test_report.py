@@ -350,8 +350,8 @@ def test_a_spring_between_points_is_drawn_as_a_line_in_the_picture(tmp_path):
     under a pixel in a picture of the whole mechanism. They are drawn at a width relative to the picture's extent
     (``render.TENDON_WIDTH``): hidden, hundreds of pixels fewer are drawn; the caption says what the lines are. A
     scene's filmstrip shows those its effects call for (the planar manipulator's swing leaves out its spring). Those
-    in prismatic joints (the quarter car's) are lines between the two bodies the joint joins, and the caption says
-    so; those in other joints have no points to draw between (test_a_label_and_a_line_stand_on_the_bodies_drawn).
+    in joints: a spring in a prismatic joint (the quarter car's) is a line between the two bodies the joint joins;
+    the others (a damper in a joint may be its own friction) have no points to draw between: the caption says which.
     Rendered in a process of its own, as the report renders (its OpenGL backend chosen before MuJoCo is imported)."""
     import subprocess
     import sys
@@ -389,8 +389,10 @@ print(json.dumps([drawn, hidden, caption, shown, in_joints]))
     assert "lines: its springs and dampers between points" in caption
     assert shown == [0, 1, 1]   # a scene's filmstrip: only the springs and dampers it calls for
     assert "not drawn" not in caption   # the spring-mass-damper has no spring or damper in a joint
-    assert in_joints == ("; black lines between the bodies a prismatic joint joins: its springs and dampers "
-                         "(tyre_spring, tyre_damper, suspension_spring, suspension_damper)")
+    assert in_joints == ("; black lines between the bodies a prismatic joint joins: its springs (tyre_spring, "
+                         "suspension_spring); not drawn: the other springs and dampers in joints (tyre_damper, "
+                         "suspension_damper), which act along their joint's own coordinate and have no points to "
+                         "draw a line between")
 
 
 def test_a_picture_looks_where_the_mechanism_s_links_show_whole():
@@ -525,7 +527,8 @@ def test_a_label_and_a_line_stand_on_the_bodies_drawn(tmp_path):
     prismatic joints) is projected through the camera MuJoCo renders with, the average of its two eyes: through the
     left eye alone every label had stood 17.6 px to the right of the quarter car's wheel. The quarter car's tyre and
     suspension springs are drawn as black lines between road and wheel and between wheel and body; the torsion
-    spring of torsion_spring_body, in a revolute joint, is named as not drawn. Rendered in a process of its own."""
+    spring of torsion_spring_body, in a revolute joint, is named as not drawn (and so are the dampers in joints,
+    which may be a joint's own friction). Rendered in a process of its own."""
     import subprocess
     import sys
 
@@ -571,4 +574,4 @@ print(json.dumps([centres, projected, lines, caption, torsion]))
     x, y = np.round(np.mean([wheel, body], axis=0)).astype(int)   # between the spheres: the suspension's line
     assert (picture[y, x - 1:x + 2] < 80).all(axis=1).any(), picture[y, x - 3:x + 4]
     assert "black lines between the bodies a prismatic joint joins" in caption
-    assert torsion.startswith("; not drawn: the springs and dampers in other joints (spring_F)"), torsion
+    assert torsion.startswith("; not drawn: the springs and dampers in joints (spring_F)"), torsion

@@ -136,14 +136,18 @@ class Scene3D:
         """World positions that outline the mechanism: body origins, centres of mass, the 8 corners of each geom's
         bounding box in its own axes (MuJoCo's ``geom_aabb``: a long thin box or capsule is framed as it is, not as
         the cube around its bounding sphere; a sphere by that cube in world axes, which its turning does not
-        move), sites."""
+        move), sites, where the joints' labels stand (:meth:`joint_marks`: a pendulum's pivot, where its bob is a body
+        merged with a massless link) and the ends of the lines of springs in prismatic joints (:meth:`slide_lines`)."""
         d, m = self.data, self.model
         corners = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)])
         local = m.geom_aabb[:, None, :3] + corners[None, :, :] * m.geom_aabb[:, None, 3:]   # (geoms, 8, 3)
         boxes = d.geom_xpos[:, None, :] + np.einsum("gij,gkj->gki", d.geom_xmat.reshape(-1, 3, 3), local)
         cubes = d.geom_xpos[:, None, :] + m.geom_rbound[:, None, None] * corners
         sphere = (m.geom_type == self.mujoco.mjtGeom.mjGEOM_SPHERE)[:, None, None]
-        return np.vstack([d.xpos[1:], d.xipos[1:], np.where(sphere, cubes, boxes).reshape(-1, 3), d.site_xpos])
+        marks = np.reshape([point for point, _ in self.joint_marks()], (-1, 3))
+        ends = np.reshape([point for line in self.slide_lines() for point in line], (-1, 3))
+        return np.vstack([d.xpos[1:], d.xipos[1:], np.where(sphere, cubes, boxes).reshape(-1, 3), d.site_xpos,
+                          marks, ends])
 
     # ----------------------------------------------------------------- camera
     def frame(self, states, shown=None) -> None:
@@ -247,9 +251,9 @@ class Scene3D:
         return marks
 
     def springs_and_dampers(self, effects=None) -> int:
-        """Show the spatial tendons (springs and dampers between points) and the springs and dampers in prismatic
-        joints (:meth:`slide_lines`) the scene ``effects`` call for, hide the others (a tendon group no picture
-        shows; None: every one); how many are shown."""
+        """Show the spatial tendons (springs and dampers between points) and the springs in prismatic joints
+        (:meth:`slide_lines`) the scene ``effects`` call for, hide the others (a tendon group no picture shows; None:
+        every one); how many are shown."""
         shown = 0
         for i in range(self.model.ntendon):
             acts = effects is None or ("springs" in effects and self.model.tendon_stiffness[i] > 0) or (
@@ -260,24 +264,24 @@ class Scene3D:
         return shown + len(self.slides)
 
     def _slides(self, effects=None) -> list[int]:
-        """MuJoCo's joints of the prismatic tree joints that carry a spring or a damper (``JointSpring``,
-        ``JointDamper``) the scene ``effects`` call for (None: every one)."""
-        from harness.modeling import JointDamper, JointSpring
+        """MuJoCo's joints of the prismatic tree joints that carry a spring (``JointSpring``), where the scene
+        ``effects`` call for springs (None: every one). A damper in a joint is not drawn: it may be the joint's own
+        viscous friction (the tower crane's trolley on its jib), not an element between two bodies."""
+        from harness.modeling import JointSpring
 
         index = {j.name: k for k, j in enumerate(self.system.joints)}
-        kinds = {JointSpring: "springs", JointDamper: "dampers"}
         out = []
         for f in self.system.forces:
-            if type(f) in kinds and (effects is None or kinds[type(f)] in effects):
+            if isinstance(f, JointSpring) and (effects is None or "springs" in effects):
                 jid = self.engine.jids[index[f.joint]]
                 if self.model.jnt_type[jid] == self.mujoco.mjtJoint.mjJNT_SLIDE and jid not in out:
                     out.append(jid)
         return out
 
     def slide_lines(self) -> list[tuple[np.ndarray, np.ndarray]]:
-        """A line per spring or damper in a prismatic joint (:meth:`_slides`): from the origin of the body the joint
-        is carried by to that of the body it moves, the two bodies between which it acts along the joint's axis
-        (the quarter car's tyre from the road to the wheel, its suspension from the wheel to the body)."""
+        """A line per spring in a prismatic joint (:meth:`_slides`): from the origin of the body the joint is
+        carried by to that of the body it moves, the two bodies between which it acts along the joint's axis (the
+        quarter car's tyre from the road to the wheel, its suspension from the wheel to the body)."""
         m, d = self.model, self.data
         bodies = [m.jnt_bodyid[jid] for jid in self.slides]
         return [(np.array(d.xpos[m.body_parentid[b]]), np.array(d.xpos[b])) for b in bodies]
@@ -432,22 +436,19 @@ def _drawn_elsewhere(system) -> str:
 
 
 def _in_joints(system) -> str:
-    """The caption's words on the springs and dampers in joints: in a prismatic joint a line between the two bodies
-    it joins (:meth:`Scene3D.slide_lines`); in any other joint not drawn, a coefficient of the joint's own angle with
-    no points of its own to draw a line between (empty where there are none)."""
+    """The caption's words on the springs and dampers in joints: a spring in a prismatic joint is a line between
+    the two bodies it joins (:meth:`Scene3D.slide_lines`); the others are not drawn, coefficients of their joint's
+    own coordinate with no points of their own to draw a line between (empty where there are none)."""
     from harness.modeling import JointDamper, JointSpring
 
     types = {j.name: j.type for j in system.joints}
     elements = [f for f in system.forces if isinstance(f, (JointSpring, JointDamper))]
-    slides = [f.name for f in elements if types[f.joint] == "prismatic"]
-    others = [f.name for f in elements if types[f.joint] != "prismatic"]
-    out = ""
-    if slides:
-        out += (f"; black lines between the bodies a prismatic joint joins: its springs and dampers "
-                f"({', '.join(slides)})")
+    drawn = [f.name for f in elements if isinstance(f, JointSpring) and types[f.joint] == "prismatic"]
+    others = [f.name for f in elements if f.name not in drawn]
+    out = f"; black lines between the bodies a prismatic joint joins: its springs ({', '.join(drawn)})" if drawn else ""
     if others:
-        out += (f"; not drawn: the springs and dampers in other joints ({', '.join(others)}), which act on their "
-                "joint's own angle and have no points to draw a line between")
+        out += (f"; not drawn: the {'other ' if drawn else ''}springs and dampers in joints ({', '.join(others)}), "
+                "which act along their joint's own coordinate and have no points to draw a line between")
     return out
 
 
