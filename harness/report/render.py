@@ -322,7 +322,7 @@ class Scene3D:
         for i in range(len(q)):
             self.set_q(q + UNSEEN_STEP * np.eye(len(q))[i])
             moved, turned = drawn()
-            if np.max(np.abs(moved - marks)) > scale:
+            if not np.isfinite(moved).all() or np.max(np.abs(moved - marks)) > scale:   # moved, or off the map's domain
                 continue
             axis_kept = np.abs(turned[:, :, 2] - turns[:, :, 2]).max(axis=1) <= UNSEEN_TOLERANCE
             still = np.abs(turned - turns).max(axis=(1, 2)) <= UNSEEN_TOLERANCE
@@ -455,8 +455,9 @@ def _in_joints(system) -> str:
 def filmstrip(system, xml: str, series: dict, path: Path, effects=None) -> dict:
     """A few frames of a scene's reference trajectory; on each, the path of the tracked point as every engine
     computed it (grey symbolic, wide; blue Pinocchio; red MuJoCo, thin) up to that frame's time, and the springs
-    and dampers between points and in prismatic joints the scene's ``effects`` call for
-    (:meth:`Scene3D.springs_and_dampers`)."""
+    and dampers between points and the springs in prismatic joints the scene's ``effects`` call for
+    (:meth:`Scene3D.springs_and_dampers`); under each frame's time, the values of the coordinates no frame can show
+    (:meth:`Scene3D.unseen`)."""
     from PIL import Image, ImageDraw
 
     t = np.asarray(series["t"], dtype=float)
