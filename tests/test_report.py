@@ -486,13 +486,15 @@ def test_a_filmstrip_draws_every_source_and_the_values_no_frame_can_show(tmp_pat
     frames at Pinocchio's). Discs spinning about their own axes show no motion: under each frame's time the strip
     writes the values of such coordinates (drive_train's φ₁, φ₂), over lines no wider than the frame
     (two_mass_oscillator's small angles), and the caption says why; a box turning (euler_top) and a swinging
-    pendulum are seen, nothing written. Through the report, which renders in a process of its own."""
+    pendulum are seen, nothing written. The caption names the lines a strip draws (the quarter car's springs in its
+    prismatic joints). Through the report, which renders in a process of its own."""
     from harness.report.results import write_results
 
     states = {"drive_train": [[0.0, 0.0], [6.0, 5.5], [20.0, 19.0]],
               "two_mass_oscillator": [[0.3, 0.0], [-0.0164, -0.0437], [-0.0338, -0.0856]],
               "euler_top": [[0.0, 0.5, 0.0], [0.0, 0.5, 2.0], [0.0, 0.5, 4.0]],
-              "pendulum": [[0.3], [-0.3], [0.3]]}
+              "pendulum": [[0.3], [-0.3], [0.3]],
+              "quarter_car": [[0.0, 0.0], [0.01, 0.02], [0.0, 0.0]]}
     systems = []
     for name, q in states.items():
         scene = models.scenes(name)[0].name
@@ -520,6 +522,9 @@ def test_a_filmstrip_draws_every_source_and_the_values_no_frame_can_show(tmp_pat
     assert shown["two_mass_oscillator"][0] == frame + 2 * line   # φ₁ = −0.0164 rad, φ₂ = −0.0437 rad: two lines
     for name in ("euler_top", "pendulum"):
         assert shown[name][0] == frame and "the value of" not in shown[name][1], shown[name]
+        assert "black lines" not in shown[name][1]
+    assert "the black lines joining two bodies along a prismatic joint are its springs" in shown["quarter_car"][1]
+    assert "between points" not in shown["quarter_car"][1]   # the quarter car has no spring between points
 
 
 def test_a_label_and_a_line_stand_on_the_bodies_drawn(tmp_path):
@@ -559,12 +564,15 @@ lines = [scene.project(np.array(line)).tolist() for line in scene.slide_lines()]
 scene.close()
 caption = render.picture(system, render.mjcf_text(system), Path({str(tmp_path / "qc.png")!r}), scenes)["caption"]
 torsion = render._in_joints(models.CATALOGUE.get("torsion_spring_body"))
-print(json.dumps([centres, projected, lines, caption, torsion]))
+series = {{"t": [0.0, 1.0], "sources": {{"reference": {{"q": [list(q), list(q)]}}}}}}
+slides = [render.filmstrip(system, render.mjcf_text(system), series, Path({str(tmp_path)!r}) / f"{{k}}.png",
+                           effects)["slides"] for k, effects in enumerate(({{"gravity"}}, {{"springs"}}, None))]
+print(json.dumps([centres, projected, lines, caption, torsion, slides]))
 """
     run = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=300,
                          cwd=Path(models.__file__).parent.parent)
     assert run.returncode == 0, run.stderr[-2000:]
-    centres, projected, lines, caption, torsion = json.loads(run.stdout.strip().splitlines()[-1])
+    centres, projected, lines, caption, torsion, slides = json.loads(run.stdout.strip().splitlines()[-1])
     assert np.allclose(projected, centres, atol=1.0), (projected, centres)   # 17.6 px off through one eye; a
     # sphere seen off the axis is drawn 0.6 px from its projected centre
     wheel, body = projected
@@ -575,3 +583,4 @@ print(json.dumps([centres, projected, lines, caption, torsion]))
     assert (picture[y, x - 1:x + 2] < 80).all(axis=1).any(), picture[y, x - 3:x + 4]
     assert "black lines between the bodies a prismatic joint joins" in caption
     assert torsion.startswith("; not drawn: the springs and dampers in joints (spring_F)"), torsion
+    assert slides == [0, 2, 2]   # a filmstrip: the springs in prismatic joints where its scene calls for springs

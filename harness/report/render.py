@@ -253,7 +253,7 @@ class Scene3D:
     def springs_and_dampers(self, effects=None) -> int:
         """Show the spatial tendons (springs and dampers between points) and the springs in prismatic joints
         (:meth:`slide_lines`) the scene ``effects`` call for, hide the others (a tendon group no picture shows; None:
-        every one); how many are shown."""
+        every one); how many tendons are shown."""
         shown = 0
         for i in range(self.model.ntendon):
             acts = effects is None or ("springs" in effects and self.model.tendon_stiffness[i] > 0) or (
@@ -261,7 +261,7 @@ class Scene3D:
             self.model.tendon_group[i] = 0 if acts else HIDDEN_GROUP
             shown += bool(acts)
         self.slides = self._slides(effects)
-        return shown + len(self.slides)
+        return shown
 
     def _slides(self, effects=None) -> list[int]:
         """MuJoCo's joints of the prismatic tree joints that carry a spring (``JointSpring``), where the scene
@@ -503,7 +503,7 @@ def filmstrip(system, xml: str, series: dict, path: Path, effects=None) -> dict:
     finally:
         scene.close()
     size = _png(strip, path)
-    return {"size": size, "sources": sorted(paths), "tendons": tendons,
+    return {"size": size, "sources": sorted(paths), "tendons": tendons, "slides": len(scene.slides),
             "unseen": [_greek(system.coordinates[i].name) for i in unseen]}
 
 

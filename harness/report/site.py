@@ -229,7 +229,7 @@ def system_view(record: dict, claims: list[dict], out: Path, figures: set, bench
                 "pruning": pruning_view(name, sc, bench),
                 "checks": [_check_view(c) for c in sc.get("checks", [])], "figure": None,
                 "figure_note": "", "series": sc.get("series"), "strip": None, "strip_size": (0, 0),
-                "strip_sources": [], "strip_tendons": 0, "strip_unseen": [], "strip_note": "",
+                "strip_sources": [], "strip_tendons": 0, "strip_slides": 0, "strip_unseen": [], "strip_note": "",
                 "work_precision": work_precision(bench, out, name, sc.get("scene", "?"))}
         series = sc.get("series")
         if series and (out / series).is_file():
@@ -291,7 +291,8 @@ def _add_pictures(view: dict, rendered: dict | None, figures: set) -> None:
             continue
         figures.add(strip["target"])
         sc.update(strip=strip["target"], strip_size=tuple(strip["size"]), strip_sources=strip["sources"],
-                  strip_tendons=strip.get("tendons", 0), strip_unseen=strip.get("unseen", []))
+                  strip_tendons=strip.get("tendons", 0), strip_slides=strip.get("slides", 0),
+                  strip_unseen=strip.get("unseen", []))
 
 
 # --------------------------------------------------------------------------- generic JSON (optional pages)
