@@ -515,7 +515,9 @@ def test_a_filmstrip_draws_every_source_and_the_values_no_frame_can_show(tmp_pat
         figure = re.search(r'<figure class="strip"><img src="[^"]+" width="(\d+)" height="(\d+)".*?<figcaption>(.*?)'
                            r'</figcaption>', page, re.S)
         shown[name] = int(figure.group(2)), re.sub(r"<[^>]+>", "", figure.group(3))
-    frame, line = 166, 14   # a frame and its time; a line of values under it
+    from harness.report.render import FRAME, TIME_LINE, VALUE_LINE
+
+    frame, line = FRAME[1] + TIME_LINE, VALUE_LINE   # a frame and its time; a line of values under it
     assert all("as computed by mujoco, pinocchio, symbolic" in caption for _, caption in shown.values()), shown
     assert shown["drive_train"][0] == frame + line
     assert "the value of φ₁, φ₂, which turn bodies only about their own axes of symmetry" in shown["drive_train"][1]

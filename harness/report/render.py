@@ -24,6 +24,8 @@ import numpy as np
 WIDTH, HEIGHT = 360, 270
 FRAME = (200, 150)
 FRAMES = 4
+TIME_LINE = 16    # px under a filmstrip's frame for its time
+VALUE_LINE = 14   # px for each line of the values a frame cannot show (:meth:`Scene3D.unseen`), under its time
 _FONT = Path("/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf")
 _SOURCES = {"symbolic": (150, 150, 150), "pinocchio": (31, 119, 180), "mujoco": (214, 39, 40)}
 _WIDTHS = {"symbolic": 6, "pinocchio": 3, "mujoco": 1}
@@ -116,6 +118,7 @@ class Scene3D:
         self.p = [self.params[s.name] for s in system.p]
         self.width, self.height = width, height
         self.slides = self._slides()
+        self.labels = self._labels()
         self.renderer = mujoco.Renderer(self.model, height, width)
         self.option = mujoco.MjvOption()
         self.option.geomgroup[:] = 1
@@ -235,20 +238,27 @@ class Scene3D:
         """(world point, label) per tree joint: the lecture coordinates its θ depends on, at the joint's anchor; a
         prismatic joint's at its anchor moved by θ along the axis, on the body it moves (MuJoCo's ``xanchor`` of a
         slide joint is where θ = 0 puts it: a body that fell 39 km from it had its label at the ground)."""
-        import sympy as sp
-
         m, d = self.model, self.data
         marks = []
-        for jid, expr in zip(self.engine.jids, self.system.phi):
-            names = {s.name for s in sp.sympify(expr).free_symbols}
-            used = [c.name for c in self.system.coordinates if c.name in names]
-            if not used:
-                continue
+        for jid, label in self.labels:
             point = np.array(d.xanchor[jid])
             if m.jnt_type[jid] == self.mujoco.mjtJoint.mjJNT_SLIDE:
                 point = point + d.qpos[m.jnt_qposadr[jid]] * np.array(d.xaxis[jid])
-            marks.append((point, ", ".join(_greek(u) for u in used)))
+            marks.append((point, label))
         return marks
+
+    def _labels(self) -> list[tuple[int, str]]:
+        """(MuJoCo joint, label) per tree joint whose θ depends on lecture coordinates, those coordinates named
+        (:meth:`joint_marks`; found once: :meth:`points` places the labels at every state it frames)."""
+        import sympy as sp
+
+        out = []
+        for jid, expr in zip(self.engine.jids, self.system.phi):
+            names = {s.name for s in sp.sympify(expr).free_symbols}
+            used = [c.name for c in self.system.coordinates if c.name in names]
+            if used:
+                out.append((jid, ", ".join(_greek(u) for u in used)))
+        return out
 
     def springs_and_dampers(self, effects=None) -> int:
         """Show the spatial tendons (springs and dampers between points) and the springs in prismatic joints
@@ -483,11 +493,12 @@ def filmstrip(system, xml: str, series: dict, path: Path, effects=None) -> dict:
         unseen = sorted({i for k in picks for i in scene.unseen(reference[k])})
         font = _font(11)
         values = [_values(system, reference[k], unseen, font) for k in picks]   # what a frame cannot show
-        strip = Image.new("RGB", (FRAME[0] * FRAMES, FRAME[1] + 16 + 14 * max(map(len, values))), (255, 255, 255))
+        height = FRAME[1] + TIME_LINE + VALUE_LINE * max(map(len, values))
+        strip = Image.new("RGB", (FRAME[0] * FRAMES, height), (255, 255, 255))
         for n, k in enumerate(picks):
             for row, text in enumerate(values[n]):   # under the frame's time
-                ImageDraw.Draw(strip).text((n * FRAME[0] + 4, FRAME[1] + 15 + 14 * row), text, fill=(0, 0, 0),
-                                           font=font)
+                ImageDraw.Draw(strip).text((n * FRAME[0] + 4, FRAME[1] + TIME_LINE - 1 + VALUE_LINE * row), text,
+                                           fill=(0, 0, 0), font=font)
             scene.set_q(reference[k])
             image = Image.fromarray(scene.render())
             scene.draw_slides(image)
